@@ -1,0 +1,756 @@
+//! Executing one addressed frame: the order of checks, every command, the fault
+//! model. // DESIGN:order, 000:2.4.2, 000:2.4.3
+
+use super::fields::FieldStatus;
+use super::{CodeSet, Outcome, Reply, Silence, Slave};
+use crate::address::{AddressByte, SlaveAddress};
+use crate::checksum;
+use crate::clause::{self, ClauseId};
+use crate::command::{CommandByte, CommandId};
+use crate::fault::FaultCode::{self, *};
+use crate::profile::{AnalogSource, Profile};
+use crate::request::{Request, RequestFrame};
+use crate::response::{Response, ResponseFrame, Version};
+use crate::settings::{Edition, UartSettings};
+use crate::slave::powerup::CommState;
+
+/// Status of the Extended Type Label in Data Field Status: 64 bytes (size bits 011),
+/// code disabled, Code0, read-only, exists (DESIGN:fields).
+pub const EXTENDED_TYPE_LABEL_STATUS: u8 = 0x83;
+pub const EXTENDED_TYPE_LABEL_FIELD: u8 = 0xFF;
+
+/// Collects every error condition that holds, in check order: the first is answered,
+/// the others are acceptable alternatives.
+#[derive(Default)]
+struct Checks {
+    first: Option<(FaultCode, ClauseId)>,
+    also: CodeSet,
+}
+
+impl Checks {
+    fn check(&mut self, condition: bool, code: FaultCode, clause: ClauseId) {
+        if condition {
+            match self.first {
+                None => self.first = Some((code, clause)),
+                Some((first, _)) if first != code => self.also.insert(code),
+                Some(_) => {}
+            }
+        }
+    }
+
+    /// An alternative code that is acceptable but never preferred.
+    fn tolerate(&mut self, condition: bool, code: FaultCode) {
+        if condition {
+            self.also.insert(code);
+        }
+    }
+}
+
+/// What a command produced before the reply is framed.
+enum Done {
+    Ok(Response, ClauseId),
+    Err(FaultCode, ClauseId),
+    Reset,
+}
+
+/// The response time the reply must start within. // 000:T10, 000:T35
+pub(super) fn max_response_ms(profile: &Profile, reply: &ResponseFrame, request: &[u8]) -> u16 {
+    let command = request.get(1).map(|b| CommandId::decode(*b & 0x7F));
+    let spec = command.and_then(|c| c.spec());
+    match (spec, reply.response) {
+        (Some(s), _) if s.id == CommandId::SensorAdjustment => profile.adjustment_response_ms,
+        (Some(s), _) => s.max_response_ms.unwrap_or(5),
+        // Errors to unknown or unreadable commands: the shortest time of Table 10.
+        (None, _) => 5,
+    }
+}
+
+impl Slave {
+    pub(super) fn execute(
+        &mut self,
+        bytes: &[u8],
+        uart_fault: bool,
+        overflowed: bool,
+        at_us: u64,
+    ) -> Outcome {
+        // 1) Not our address: silent. // DESIGN:order, 000:2.3.1
+        let own = self.nv.address;
+        match bytes.first() {
+            Some(b) if AddressByte::decode(*b).addresses(own) => {}
+            _ => return silent(Silence::NotAddressed, clause::ADDRESS),
+        }
+        // 000:T9: any request in the default window keeps the default settings.
+        if self.state(at_us) == CommState::DefaultCommunication {
+            self.power.kept_default = true;
+        }
+
+        let mut c = Checks::default();
+        self.protocol_checks(&mut c, bytes, uart_fault, overflowed);
+        let mut then_settings = None;
+        let done = match c.first {
+            Some((code, clause)) => Done::Err(code, clause),
+            None => match RequestFrame::decode(bytes) {
+                Ok(rf) => self.command(rf.request, &mut c, &mut then_settings),
+                // Unreachable: protocol_checks found no fault the decoder could report.
+                Err(_) => Done::Err(WrongLength, clause::WRONG_LENGTH),
+            },
+        };
+
+        let (response, clause) = match done {
+            Done::Reset => {
+                self.initialize(at_us);
+                return Outcome {
+                    reply: Reply::Silent(Silence::Reset),
+                    clause: clause::ENCODER_RESET,
+                    also: c.also,
+                    then_settings: None,
+                };
+            }
+            Done::Ok(r, clause) => (r, clause),
+            Done::Err(code, clause) => (Response::Error(code), clause),
+        };
+        self.monitor(&response);
+        let reply = ResponseFrame {
+            address: self.nv.address.byte(),
+            warning: !self.stack.is_empty(),
+            response,
+        };
+        let then_settings = if matches!(response, Response::Error(_)) {
+            None
+        } else {
+            then_settings
+        };
+        if let Some(s) = then_settings {
+            self.temp_settings = Some(s);
+        }
+        Outcome {
+            reply: Reply::Frame(reply),
+            clause,
+            also: c.also,
+            then_settings,
+        }
+    }
+
+    /// Steps 2-6 of the check order: UART fault, length, checksum, command, length.
+    fn protocol_checks(&self, c: &mut Checks, bytes: &[u8], uart_fault: bool, overflowed: bool) {
+        c.check(uart_fault, Parity, clause::PARITY_ERROR);
+        c.check(
+            bytes.len() < 3 || overflowed,
+            WrongLength,
+            clause::WRONG_LENGTH,
+        );
+        c.check(
+            bytes.len() >= 2 && !checksum::is_valid(bytes),
+            Checksum,
+            clause::CHECKSUM_ERROR,
+        );
+        let Some(command_byte) = bytes.get(1) else {
+            return;
+        };
+        let id = match CommandByte::decode(*command_byte) {
+            Some(CommandByte {
+                id,
+                error_bit: false,
+            }) if self.profile.commands.contains(id) => id,
+            _ => {
+                c.check(true, UnknownCommand, clause::UNKNOWN_COMMAND);
+                return;
+            }
+        };
+        if let (Some(spec), true) = (id.spec(), bytes.len() >= 3) {
+            let data = &bytes[2..bytes.len() - 1];
+            let mut ok = spec.master_data.accepts(data.len());
+            if id == CommandId::StoreData {
+                ok &= data
+                    .get(2)
+                    .is_some_and(|count| *count as usize + 4 == data.len());
+            }
+            c.check(!ok, WrongLength, clause::WRONG_LENGTH);
+        }
+    }
+
+    /// Others-group monitoring, "checked prior to every Slave response message":
+    /// faults unrelated to the command go onto the stack. // 000:T58, 000:T59
+    fn monitor(&mut self, response: &Response) {
+        let p = &self.profile;
+        let t = self.inputs.temperature_c;
+        if t < p.temperature_min_c || t > p.temperature_max_c {
+            self.stack.push(Temperature);
+        }
+        let position_answer = matches!(response, Response::Error(LedCurrent));
+        if self.inputs.led_current_ma > p.led_current_max_ma && !position_answer {
+            self.stack.push(LedCurrent);
+        }
+    }
+
+    fn code0_wrong(&self, code0: u8) -> bool {
+        code0 != self.nv.codes[0]
+    }
+
+    fn count_write(&mut self) {
+        self.eeprom_writes = self.eeprom_writes.saturating_add(1);
+    }
+
+    fn command(
+        &mut self,
+        request: Request,
+        c: &mut Checks,
+        then_settings: &mut Option<UartSettings>,
+    ) -> Done {
+        let spec_clause = request
+            .command()
+            .spec()
+            .map_or(clause::COMMANDS, |s| s.clause);
+        let result = match request {
+            Request::ReadPosition => self
+                .position_faults(c, true)
+                .map(|()| Response::Position(self.position() as u32)),
+            Request::SetPosition { preset, code0 }
+            | Request::SetPositionInternalSync { preset, code0 } => self
+                .set_position(c, preset, code0, false)
+                .map(|_| match request {
+                    Request::SetPosition { .. } => Response::PositionSet,
+                    _ => Response::PositionInternalSyncSet,
+                }),
+            Request::SetPositionWithSync { preset, code0 } => self
+                .set_position(c, preset, code0, true)
+                .map(|used| Response::PositionWithSyncSet(used as u32)),
+            Request::ReadAnalogValue { channel } => {
+                let ch = self.profile.analog_channel(channel);
+                c.check(ch.is_none(), WrongArgument, clause::READ_ANALOG);
+                match (c.first, ch) {
+                    (None, Some(ch)) => {
+                        let reading = match ch.source {
+                            AnalogSource::Temperature => self.inputs.temperature_c as i32,
+                            AnalogSource::LedCurrent => self.inputs.led_current_ma as i32,
+                        };
+                        Ok(Response::AnalogValue {
+                            channel,
+                            value: ch.encoding.encode(reading),
+                        })
+                    }
+                    _ => Err(()),
+                }
+            }
+            Request::ReadCounter => {
+                c.check(self.locks.nonvolatile, InternalChecksum, clause::NV_LOCK);
+                c.tolerate(self.locks.nonvolatile, I2cBus);
+                ok_if(c, Response::Counter(self.nv.counter))
+            }
+            Request::IncrementCounter => self.increment_counter(c),
+            Request::ResetCounter { code0 } => {
+                c.check(
+                    self.code0_wrong(code0),
+                    WrongAccessCode,
+                    clause::WRONG_ACCESS_CODE,
+                );
+                c.check(self.locks.nonvolatile, InternalChecksum, clause::NV_LOCK);
+                c.tolerate(self.locks.nonvolatile, I2cBus);
+                if c.first.is_none() {
+                    self.nv.counter = 0;
+                    self.count_write();
+                }
+                ok_if(c, Response::CounterReset)
+            }
+            Request::ReadData {
+                field,
+                offset,
+                count,
+                code,
+            } => self.read_data(c, field, offset, count, code),
+            Request::StoreData {
+                field,
+                offset,
+                code,
+                data,
+            } => self.store_data(c, field, offset, code, data.as_bytes()),
+            Request::DataFieldStatus { field } => {
+                c.check(self.locks.data_fields, PartitionTable, clause::INIT_FAULTS);
+                let status = match field {
+                    EXTENDED_TYPE_LABEL_FIELD if self.profile.extended_type_label.is_some() => {
+                        Some(EXTENDED_TYPE_LABEL_STATUS)
+                    }
+                    _ => self.nv.fields.status(field).map(|s| s.0),
+                };
+                c.check(
+                    status.is_none(),
+                    WrongFieldNumber,
+                    clause::WRONG_FIELD_NUMBER,
+                );
+                match status {
+                    Some(status) => ok_if(c, Response::FieldStatus { field, status }),
+                    None => Err(()),
+                }
+            }
+            Request::CreateDataField {
+                field,
+                status,
+                code,
+            } => self.create_data_field(c, field, status, code),
+            Request::MemoryStatus => {
+                // 000:T44 does not list 4Eh among the locked commands; Table 25 lists 06h.
+                c.tolerate(self.locks.nonvolatile, InternalChecksum);
+                ok_if(
+                    c,
+                    Response::MemoryStatus {
+                        free_blocks: self.nv.fields.free_blocks(),
+                        fields: self.nv.fields.count(),
+                    },
+                )
+            }
+            Request::SetAccessCode { number, old, new } => {
+                let current = self.nv.codes.get(number as usize).copied();
+                c.check(current.is_none(), WrongArgument, clause::SET_ACCESS_CODE);
+                c.check(
+                    current.is_some_and(|cur| cur != old),
+                    WrongAccessCode,
+                    clause::WRONG_ACCESS_CODE,
+                );
+                c.check(self.locks.nonvolatile, InternalChecksum, clause::NV_LOCK);
+                c.tolerate(self.locks.nonvolatile, I2cBus);
+                match (c.first, self.nv.codes.get_mut(number as usize)) {
+                    (None, Some(slot)) => {
+                        *slot = new;
+                        self.count_write();
+                        Ok(Response::AccessCodeSet { number })
+                    }
+                    _ => Err(()),
+                }
+            }
+            Request::ReadEncoderStatus => {
+                // The stack is read before the Others monitoring of this reply. // 000:T27
+                Ok(Response::EncoderStatus(
+                    self.stack.pop(self.profile.stack_order),
+                ))
+            }
+            Request::ReadTypeLabel => Ok(Response::TypeLabel {
+                // DESIGN:52h: the stored settings byte.
+                settings: self.nv.settings.byte(),
+                type_code: self.profile.type_code,
+                memory_blocks: self.profile.memory_blocks,
+                option: self.profile.option_code,
+            }),
+            Request::EncoderReset => return Done::Reset,
+            Request::SetEncoderAddress { address, code0 } => {
+                let new = SlaveAddress::new(address);
+                c.check(new.is_none(), WrongArgument, clause::SET_ADDRESS);
+                c.check(
+                    self.code0_wrong(code0),
+                    WrongAccessCode,
+                    clause::WRONG_ACCESS_CODE,
+                );
+                c.check(self.locks.nonvolatile, InternalChecksum, clause::NV_LOCK);
+                c.tolerate(self.locks.nonvolatile, I2cBus);
+                match (c.first, new) {
+                    (None, Some(new)) => {
+                        // 000:T30: the response already uses the new address.
+                        self.nv.address = new;
+                        self.count_write();
+                        Ok(Response::AddressSet)
+                    }
+                    _ => Err(()),
+                }
+            }
+            Request::ReadVersion => Ok(Response::Version(Version {
+                serial: self.profile.serial,
+                firmware: self.profile.firmware,
+                date: self.profile.firmware_date,
+            })),
+            Request::SetSerialInterface { settings, code0 } => {
+                let new = self.acceptable_settings(settings);
+                c.check(new.is_none(), WrongArgument, clause::SETTINGS_BYTE);
+                c.check(
+                    self.code0_wrong(code0),
+                    WrongAccessCode,
+                    clause::WRONG_ACCESS_CODE,
+                );
+                c.check(self.locks.nonvolatile, InternalChecksum, clause::NV_LOCK);
+                c.tolerate(self.locks.nonvolatile, I2cBus);
+                match (c.first, new) {
+                    (None, Some(new)) => {
+                        // 000:T32: used only after an encoder reset or power cycle.
+                        self.nv.settings = new;
+                        self.count_write();
+                        Ok(Response::SerialInterfaceSet { settings })
+                    }
+                    _ => Err(()),
+                }
+            }
+            Request::TemporarilySetSerialInterface { settings } => {
+                let new = self.acceptable_settings(settings);
+                c.check(new.is_none(), WrongArgument, clause::SETTINGS_BYTE);
+                match (c.first, new) {
+                    (None, Some(new)) => {
+                        // 000:T33: the reply still uses the previous settings.
+                        *then_settings = Some(new);
+                        Ok(Response::SerialInterfaceTemporarilySet { settings })
+                    }
+                    _ => Err(()),
+                }
+            }
+            Request::SensorAdjustment { option, code0 } => {
+                let known = self.profile.adjustment_option(option);
+                c.check(known.is_none(), WrongArgument, clause::SENSOR_ADJUSTMENT);
+                c.check(
+                    self.code0_wrong(code0),
+                    WrongAccessCode,
+                    clause::WRONG_ACCESS_CODE,
+                );
+                match (c.first, known) {
+                    (None, Some(o)) => {
+                        self.count_write();
+                        Ok(Response::SensorAdjusted {
+                            option,
+                            status: o.status,
+                        })
+                    }
+                    _ => Err(()),
+                }
+            }
+            Request::ReadSyncOffset => {
+                // DESIGN:position: position + value = raw (mod 32).
+                Ok(Response::SyncOffset(
+                    ((32 - self.nv.offset % 32) % 32) as u8,
+                ))
+            }
+        };
+        match (result, c.first) {
+            (Ok(r), None) => Done::Ok(r, spec_clause),
+            (_, Some((code, clause))) => Done::Err(code, clause),
+            // A command returned Err without recording why: a model defect, answered as 0Dh.
+            (Err(()), None) => Done::Err(WrongArgument, clause::WRONG_ARGUMENT),
+        }
+    }
+
+    /// Settings the device accepts: a defined byte and a data rate it supports.
+    fn acceptable_settings(&self, byte: u8) -> Option<UartSettings> {
+        UartSettings::decode(byte)
+            .ok()
+            .filter(|s| self.profile.supports_baud(s.baud))
+    }
+
+    /// The state checks of position commands. // 000:2.3.4, 000:T12, 000:T37 position group
+    fn position_faults(&mut self, c: &mut Checks, reading: bool) -> Result<(), ()> {
+        // A request already rejected (argument, access code) measures nothing: its
+        // faults are only recorded as acceptable alternatives.
+        let measured = c.first.is_none();
+        c.check(self.locks.position, AngularOffset, clause::POSITION_LOCK);
+        let linear = self.profile.resolution.is_linear();
+        let mut newly_locked = false;
+        for fault in self.injected.position_faults() {
+            let answered = c.first.is_none();
+            c.check(true, fault.code(), clause::POSITION_FAULTS);
+            if measured && !answered {
+                // "the first one is sent and the other error messages are stored"
+                self.stack.push(fault.code());
+            }
+            newly_locked |= measured && fault.locks(linear);
+        }
+        c.check(
+            self.inputs.led_current_ma > self.profile.led_current_max_ma,
+            LedCurrent,
+            clause::LED_CURRENT,
+        );
+        let moving = if reading {
+            self.inputs.speed.unsigned_abs() > self.profile.max_read_speed
+        } else {
+            // 000:T60: shaft motion during Set Position.
+            self.inputs.speed != 0
+        };
+        c.check(moving, Speed, clause::SPEED);
+        self.locks.position |= newly_locked;
+        if c.first.is_some() {
+            Err(())
+        } else {
+            Ok(())
+        }
+    }
+
+    /// Set Position (43h, 63h) and Set Position with Synchronization (6Ah). Returns
+    /// the preset actually used. // 000:T13, 000:T34, DESIGN:position
+    fn set_position(
+        &mut self,
+        c: &mut Checks,
+        preset: u32,
+        code0: u8,
+        synchronize: bool,
+    ) -> Result<u64, ()> {
+        let range = self.profile.range();
+        c.check(preset as u64 >= range, WrongArgument, clause::SET_POSITION);
+        c.check(
+            self.code0_wrong(code0),
+            WrongAccessCode,
+            clause::WRONG_ACCESS_CODE,
+        );
+        self.position_faults(c, false)?;
+        if c.first.is_some() {
+            return Err(());
+        }
+        let raw = self.inputs.position % range;
+        let used = if synchronize {
+            synchronized_preset(preset as u64, raw, range)
+        } else {
+            preset as u64
+        };
+        self.nv.offset = (used + range - raw) % range;
+        self.count_write();
+        Ok(used)
+    }
+
+    fn increment_counter(&mut self, c: &mut Checks) -> Result<Response, ()> {
+        const MAX: u32 = 0xFF_FFFF;
+        c.check(self.locks.nonvolatile, InternalChecksum, clause::NV_LOCK);
+        c.tolerate(self.locks.nonvolatile, I2cBus);
+        let full = self.nv.counter >= MAX;
+        match self.profile.edition {
+            // 000:T46: at FFFFFFh the counter stays and increment answers 08h.
+            Edition::Current => c.check(full, CounterOverflow, clause::COUNTER_OVERFLOW),
+            // 002:47h: "any overflow is shown by the ERROR bit".
+            Edition::Legacy if full && c.first.is_none() => self.stack.push(CounterOverflow),
+            Edition::Legacy => {}
+        }
+        if c.first.is_some() {
+            return Err(());
+        }
+        if !full {
+            self.nv.counter += 1;
+            self.count_write();
+        }
+        Ok(Response::CounterIncremented)
+    }
+
+    /// Field number, access code and bounds of a data field access; the Extended Type
+    /// Label is field FFh, 64 bytes, no code. Returns the field's size in bytes.
+    fn field_access(&self, c: &mut Checks, field: u8, code: u8) -> Option<usize> {
+        if field == EXTENDED_TYPE_LABEL_FIELD && self.profile.extended_type_label.is_some() {
+            return Some(64);
+        }
+        let status = self.nv.fields.status(field);
+        c.check(
+            status.is_none(),
+            WrongFieldNumber,
+            clause::WRONG_FIELD_NUMBER,
+        );
+        let status = status?;
+        let expected = self.nv.codes.get(status.code_number()).copied();
+        c.check(
+            status.code_enabled() && expected != Some(code),
+            WrongAccessCode,
+            clause::WRONG_ACCESS_CODE,
+        );
+        Some(status.size_bytes())
+    }
+
+    fn read_data(
+        &mut self,
+        c: &mut Checks,
+        field: u8,
+        offset: u8,
+        count: u8,
+        code: u8,
+    ) -> Result<Response, ()> {
+        c.check(self.locks.data_fields, PartitionTable, clause::INIT_FAULTS);
+        let size = self.field_access(c, field, code);
+        // DESIGN: 1..=128 and offset + count <= size, else 11h; 0Dh for count 0 is acceptable.
+        let bounds_bad = |size: usize| count == 0 || offset as usize + count as usize > size;
+        c.check(
+            size.is_some_and(bounds_bad),
+            WrongOffset,
+            clause::WRONG_OFFSET,
+        );
+        c.tolerate(count == 0, WrongArgument);
+        if c.first.is_some() {
+            return Err(());
+        }
+        let bytes =
+            if field == EXTENDED_TYPE_LABEL_FIELD && self.profile.extended_type_label.is_some() {
+                let label = self.profile.extended_type_label.as_ref();
+                label.and_then(|l| l.get(offset as usize..offset as usize + count as usize))
+            } else {
+                self.nv.fields.read(field, offset, count)
+            };
+        let data = bytes.and_then(crate::frame::FieldBytes::new).ok_or(())?;
+        Ok(Response::Data {
+            field,
+            offset,
+            data,
+        })
+    }
+
+    fn store_data(
+        &mut self,
+        c: &mut Checks,
+        field: u8,
+        offset: u8,
+        code: u8,
+        data: &[u8],
+    ) -> Result<Response, ()> {
+        c.check(self.locks.data_fields, PartitionTable, clause::INIT_FAULTS);
+        c.check(self.locks.nonvolatile, InternalChecksum, clause::NV_LOCK);
+        c.tolerate(self.locks.nonvolatile, I2cBus);
+        let etl = field == EXTENDED_TYPE_LABEL_FIELD && self.profile.extended_type_label.is_some();
+        c.check(etl, ReadOnlyField, clause::READ_ONLY_FIELD);
+        if !etl {
+            let size = self.field_access(c, field, code);
+            let writable = self.nv.fields.status(field).is_some_and(|s| s.writable());
+            c.check(
+                size.is_some() && !writable,
+                ReadOnlyField,
+                clause::READ_ONLY_FIELD,
+            );
+            c.check(
+                size.is_some_and(|size| offset as usize + data.len() > size),
+                WrongOffset,
+                clause::WRONG_OFFSET,
+            );
+        }
+        if c.first.is_some() || !self.nv.fields.write(field, offset, data) {
+            return Err(());
+        }
+        self.count_write();
+        Ok(Response::DataStored {
+            field,
+            offset,
+            count: data.len() as u8,
+        })
+    }
+
+    /// Create, modify or delete a data field. // 000:T24, DESIGN:fields
+    fn create_data_field(
+        &mut self,
+        c: &mut Checks,
+        field: u8,
+        status: u8,
+        code: u8,
+    ) -> Result<Response, ()> {
+        let new = FieldStatus(status);
+        let fields = &self.nv.fields;
+        let count = fields.count();
+        c.check(self.locks.data_fields, PartitionTable, clause::INIT_FAULTS);
+        c.check(self.locks.nonvolatile, InternalChecksum, clause::NV_LOCK);
+        c.tolerate(self.locks.nonvolatile, I2cBus);
+        // 000:T54: a Create Data Field request that targets the Extended Type Label.
+        if field == EXTENDED_TYPE_LABEL_FIELD {
+            c.check(true, OutOfMemory, clause::OUT_OF_MEMORY);
+            return Err(());
+        }
+        let code_of = |n: usize| self.nv.codes.get(n).copied();
+        if !new.exists() {
+            // Delete: only the last field, with all other status bits as stored.
+            let last = count.checked_sub(1);
+            c.check(
+                last != Some(field),
+                WrongFieldNumber,
+                clause::WRONG_FIELD_NUMBER,
+            );
+            if let Some(old) = fields.status(field) {
+                c.check(
+                    code_of(old.code_number()) != Some(code),
+                    WrongAccessCode,
+                    clause::WRONG_ACCESS_CODE,
+                );
+                let mismatch = old.attributes() != new.attributes();
+                c.check(mismatch, WrongFieldNumber, clause::CREATE_FIELD);
+                c.tolerate(mismatch, WrongArgument);
+            }
+            if c.first.is_some() || !self.nv.fields.delete_last() {
+                return Err(());
+            }
+        } else if field == count {
+            // Create: the code byte must be the code the new status names, even if disabled.
+            c.check(
+                code_of(new.code_number()) != Some(code),
+                WrongAccessCode,
+                clause::WRONG_ACCESS_CODE,
+            );
+            c.check(
+                !fields.fits(new.blocks() as u32),
+                OutOfMemory,
+                clause::OUT_OF_MEMORY,
+            );
+            if c.first.is_some() || !self.nv.fields.create(new) {
+                return Err(());
+            }
+        } else if let Some(old) = fields.status(field) {
+            // Modify: the code byte must be the field's current code.
+            c.check(
+                code_of(old.code_number()) != Some(code),
+                WrongAccessCode,
+                clause::WRONG_ACCESS_CODE,
+            );
+            let resize = old.blocks() != new.blocks();
+            c.check(
+                resize && field + 1 != count,
+                WrongFieldNumber,
+                clause::WRONG_FIELD_NUMBER,
+            );
+            let grow = new.blocks().saturating_sub(old.blocks()) as u32;
+            c.check(
+                resize && field + 1 == count && !fields.fits(grow),
+                OutOfMemory,
+                clause::OUT_OF_MEMORY,
+            );
+            if c.first.is_some() || !self.nv.fields.modify(field, new) {
+                return Err(());
+            }
+        } else {
+            c.check(true, WrongFieldNumber, clause::WRONG_FIELD_NUMBER);
+            return Err(());
+        }
+        self.count_write();
+        Ok(Response::FieldCreated { field, status })
+    }
+}
+
+/// 6Ah: the value nearest to `preset` with the same 5 LSBs as the raw position (zero
+/// phase shift), ties downward, modulo the range (a multiple of 32). // DESIGN:position
+pub fn synchronized_preset(preset: u64, raw: u64, range: u64) -> u64 {
+    let d = preset.wrapping_sub(raw) & 31;
+    let candidate = if d <= 16 {
+        preset + range - d
+    } else {
+        preset + (32 - d)
+    };
+    candidate % range
+}
+
+fn ok_if(c: &Checks, r: Response) -> Result<Response, ()> {
+    if c.first.is_some() {
+        Err(())
+    } else {
+        Ok(r)
+    }
+}
+
+fn silent(why: Silence, clause: ClauseId) -> Outcome {
+    Outcome {
+        reply: Reply::Silent(why),
+        clause,
+        also: CodeSet::default(),
+        then_settings: None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn synchronized_preset_keeps_the_raw_phase() {
+        // 001:5.1.4: preset 0005D2C7h answered with 0005D2C1h.
+        assert_eq!(synchronized_preset(0x0005_D2C7, 1, 1 << 20), 0x0005_D2C1);
+        assert_eq!(synchronized_preset(16, 0, 1 << 20), 0, "ties downward");
+        assert_eq!(synchronized_preset(17, 0, 1 << 20), 32);
+        assert_eq!(synchronized_preset((1 << 20) - 1, 0, 1 << 20), 0, "wraps");
+        assert_eq!(synchronized_preset(3, 5, 512), 5);
+        assert_eq!(synchronized_preset(2, 30, 512), 510);
+        for preset in 0..512 {
+            for raw in [0u64, 1, 17, 31, 100] {
+                let used = synchronized_preset(preset, raw, 512);
+                assert_eq!(used % 32, raw % 32);
+                let dist = (used + 512 - preset) % 512;
+                assert!(dist <= 15 || 512 - dist <= 16, "{preset} {raw} {used}");
+            }
+        }
+    }
+}

@@ -1,0 +1,231 @@
+//! Data fields in user memory. // 000:2.4.2 data field specification, 000:T21-T25, DESIGN:fields
+//!
+//! Fields are stored back to back in the order of their numbers, so only the last one
+//! can grow, shrink or be deleted, and memory is accounted in 16-byte blocks.
+
+use crate::frame::MAX_FIELD_BYTES;
+
+pub const BLOCK: usize = 16;
+/// The memory size byte counts blocks: at most 255 blocks.
+pub const MAX_MEMORY: usize = 255 * BLOCK;
+/// The number of fields is bounded by the number of blocks.
+pub const MAX_FIELDS: usize = 255;
+/// Erased EEPROM reads FFh (001 §5.1.4 reads 16 x FFh from a new field).
+pub const ERASED: u8 = 0xFF;
+
+/// A data field status byte. // 000:T23
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct FieldStatus(pub u8);
+
+impl FieldStatus {
+    pub const EXISTS: u8 = 0x80;
+    pub const WRITABLE: u8 = 0x40;
+    pub const CODE_ENABLED: u8 = 0x08;
+
+    pub const fn blocks(self) -> u8 {
+        (self.0 & 0x07) + 1
+    }
+    pub const fn size_bytes(self) -> usize {
+        self.blocks() as usize * BLOCK
+    }
+    pub const fn code_enabled(self) -> bool {
+        self.0 & Self::CODE_ENABLED != 0
+    }
+    /// Code0...Code3.
+    pub const fn code_number(self) -> usize {
+        ((self.0 >> 4) & 0x03) as usize
+    }
+    pub const fn writable(self) -> bool {
+        self.0 & Self::WRITABLE != 0
+    }
+    pub const fn exists(self) -> bool {
+        self.0 & Self::EXISTS != 0
+    }
+    /// The status without the exists/create bit.
+    pub const fn attributes(self) -> u8 {
+        self.0 & !Self::EXISTS
+    }
+}
+
+/// The data field table and user memory.
+#[derive(Clone, PartialEq, Eq, Hash)]
+pub struct DataFields {
+    statuses: [u8; MAX_FIELDS],
+    count: u8,
+    capacity_blocks: u8,
+    memory: [u8; MAX_MEMORY],
+}
+
+impl core::fmt::Debug for DataFields {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("DataFields")
+            .field("statuses", &&self.statuses[..self.count as usize])
+            .field("free_blocks", &self.free_blocks())
+            .finish()
+    }
+}
+
+impl DataFields {
+    pub fn new(capacity_blocks: u8) -> DataFields {
+        DataFields {
+            statuses: [0; MAX_FIELDS],
+            count: 0,
+            capacity_blocks,
+            memory: [ERASED; MAX_MEMORY],
+        }
+    }
+
+    pub const fn count(&self) -> u8 {
+        self.count
+    }
+
+    pub const fn capacity_blocks(&self) -> u8 {
+        self.capacity_blocks
+    }
+
+    pub fn status(&self, number: u8) -> Option<FieldStatus> {
+        (number < self.count).then(|| FieldStatus(self.statuses[number as usize]))
+    }
+
+    pub fn used_blocks(&self) -> u32 {
+        self.statuses[..self.count as usize]
+            .iter()
+            .map(|s| FieldStatus(*s).blocks() as u32)
+            .sum()
+    }
+
+    pub fn free_blocks(&self) -> u8 {
+        (self.capacity_blocks as u32).saturating_sub(self.used_blocks()) as u8
+    }
+
+    fn start(&self, number: u8) -> usize {
+        self.statuses[..number as usize]
+            .iter()
+            .map(|s| FieldStatus(*s).size_bytes())
+            .sum()
+    }
+
+    /// Bytes `offset..offset+count` of a field; `None` if out of bounds.
+    pub fn read(&self, number: u8, offset: u8, count: u8) -> Option<&[u8]> {
+        let size = self.status(number)?.size_bytes();
+        let (offset, count) = (offset as usize, count as usize);
+        if count == 0 || count > MAX_FIELD_BYTES || offset + count > size {
+            return None;
+        }
+        let start = self.start(number) + offset;
+        self.memory.get(start..start + count)
+    }
+
+    /// Store bytes; `false` (nothing written) if out of bounds.
+    pub fn write(&mut self, number: u8, offset: u8, data: &[u8]) -> bool {
+        let Some(status) = self.status(number) else {
+            return false;
+        };
+        let offset = offset as usize;
+        if data.is_empty() || offset + data.len() > status.size_bytes() {
+            return false;
+        }
+        let start = self.start(number) + offset;
+        match self.memory.get_mut(start..start + data.len()) {
+            Some(dst) => {
+                dst.copy_from_slice(data);
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Whether `blocks` more blocks fit.
+    pub fn fits(&self, extra_blocks: u32) -> bool {
+        self.used_blocks() + extra_blocks <= self.capacity_blocks as u32
+    }
+
+    /// Append a field (the caller checked number == count and that it fits). New
+    /// contents read FFh.
+    pub fn create(&mut self, status: FieldStatus) -> bool {
+        let size = status.size_bytes();
+        if self.count as usize >= MAX_FIELDS || !self.fits(status.blocks() as u32) {
+            return false;
+        }
+        let start = self.start(self.count);
+        if let Some(mem) = self.memory.get_mut(start..start + size) {
+            mem.fill(ERASED);
+        }
+        self.statuses[self.count as usize] = status.0 | FieldStatus::EXISTS;
+        self.count += 1;
+        true
+    }
+
+    /// Change a field's status. A size change is only possible for the last field;
+    /// grown blocks read FFh.
+    pub fn modify(&mut self, number: u8, status: FieldStatus) -> bool {
+        let Some(old) = self.status(number) else {
+            return false;
+        };
+        if old.blocks() != status.blocks() {
+            if number + 1 != self.count {
+                return false;
+            }
+            let grow = status.blocks().saturating_sub(old.blocks()) as u32;
+            if !self.fits(grow) {
+                return false;
+            }
+            let start = self.start(number);
+            if let Some(mem) = self.memory.get_mut(
+                start + old.size_bytes().min(status.size_bytes())..start + status.size_bytes(),
+            ) {
+                mem.fill(ERASED);
+            }
+        }
+        self.statuses[number as usize] = status.0 | FieldStatus::EXISTS;
+        true
+    }
+
+    /// Delete the last field; its blocks become free and read FFh again.
+    pub fn delete_last(&mut self) -> bool {
+        let Some(last) = self.count.checked_sub(1) else {
+            return false;
+        };
+        let start = self.start(last);
+        let size = FieldStatus(self.statuses[last as usize]).size_bytes();
+        if let Some(mem) = self.memory.get_mut(start..start + size) {
+            mem.fill(ERASED);
+        }
+        self.statuses[last as usize] = 0;
+        self.count = last;
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn memory_is_conserved_and_new_fields_read_ff() {
+        let mut f = DataFields::new(8);
+        assert!(f.create(FieldStatus(0xC9)));
+        assert_eq!((f.free_blocks(), f.count()), (6, 1));
+        assert!(f.write(0, 30, &[1, 2]));
+        assert!(!f.write(0, 31, &[1, 2]), "offset + count beyond the field");
+        assert_eq!(f.read(0, 29, 3), Some(&[0xFF, 1, 2][..]));
+        assert!(f.create(FieldStatus(0xE0)));
+        assert!(
+            !f.modify(0, FieldStatus(0xCA)),
+            "only the last field changes size"
+        );
+        assert!(f.modify(1, FieldStatus(0xE3)));
+        assert_eq!(f.free_blocks(), 2);
+        assert!(!f.modify(1, FieldStatus(0xE6)), "does not fit");
+        assert!(f.delete_last() && f.delete_last() && !f.delete_last());
+        assert_eq!(f.free_blocks(), 8);
+        assert!(f.create(FieldStatus(0xC9)));
+        assert_eq!(
+            f.read(0, 29, 3),
+            Some(&[0xFF; 3][..]),
+            "re-created field starts at FFh"
+        );
+        assert_eq!(f.read(0, 0, 0), None);
+        assert_eq!(f.read(1, 0, 1), None);
+    }
+}

@@ -1,0 +1,367 @@
+//! The slave: the executable specification of a HIPERFACE encoder, sans-IO.
+//!
+//! Characters go in with their receive time ([`Slave::receive`]); time advances with
+//! [`Slave::poll`]; when a frame is complete the slave answers with a [`Step`] saying
+//! what it received, what it decided and, if it replies, what to send, in which
+//! window and with which UART settings. [`Slave::handle_frame`] skips the data link
+//! for callers that already hold a whole frame.
+
+mod execute;
+pub mod fields;
+pub mod inputs;
+pub mod powerup;
+pub mod stack;
+
+use crate::address::SlaveAddress;
+use crate::clause::ClauseId;
+use crate::datalink::{DataLink, ReceivedFrame, RxChar};
+use crate::fault::FaultCode;
+use crate::frame::Frame;
+use crate::profile::Profile;
+use crate::response::ResponseFrame;
+use crate::settings::UartSettings;
+use fields::DataFields;
+use inputs::{InitFault, InjectedFaults, PhysicalInputs, PositionFault};
+use powerup::{CommState, PowerUp};
+use stack::ErrorStack;
+
+/// What survives a reset or power cycle (EEPROM).
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct NonVolatile {
+    pub address: SlaveAddress,
+    /// Stored UART settings (57h), used from the next reset on.
+    pub settings: UartSettings,
+    /// Code0...Code3. // 000:T26
+    pub codes: [u8; 4],
+    /// Set Position offset, `0..range`.
+    pub offset: u64,
+    /// 24-bit counter. // 000:T16
+    pub counter: u32,
+    pub fields: DataFields,
+}
+
+/// Why the slave stays silent.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Silence {
+    /// The first byte is neither the own address nor FFh.
+    NotAddressed,
+    /// Initialization or change of settings: no UART communication. // 000:T9
+    NotListening,
+    /// Encoder Reset: no response. // 000:T29
+    Reset,
+}
+
+/// The slave's decision on one frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Reply {
+    Frame(ResponseFrame),
+    Silent(Silence),
+}
+
+/// Error codes, as a set (codes 00h...3Fh).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct CodeSet(u64);
+
+impl CodeSet {
+    pub fn insert(&mut self, code: FaultCode) {
+        if let Some(bit) = 1u64.checked_shl(code.byte() as u32) {
+            self.0 |= bit;
+        }
+    }
+
+    pub fn contains(&self, code: FaultCode) -> bool {
+        1u64.checked_shl(code.byte() as u32)
+            .is_some_and(|bit| self.0 & bit != 0)
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.0 == 0
+    }
+
+    pub fn iter(&self) -> impl Iterator<Item = FaultCode> + '_ {
+        (0u8..64)
+            .map(FaultCode::decode)
+            .filter(|c| self.contains(*c))
+    }
+}
+
+/// The outcome of one frame: the preferred reply, the clause it follows, and the
+/// other error codes whose conditions also hold (acceptable, graded NON-STRICT).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Outcome {
+    pub reply: Reply,
+    pub clause: ClauseId,
+    pub also: CodeSet,
+    /// UART settings that take effect right after this reply (67h). // 000:T33
+    pub then_settings: Option<UartSettings>,
+}
+
+impl Outcome {
+    const NOT_LISTENING: Outcome = Outcome {
+        reply: Reply::Silent(Silence::NotListening),
+        clause: crate::clause::STATE_MACHINE,
+        also: CodeSet(0),
+        then_settings: None,
+    };
+}
+
+/// A reply to put on the wire.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Transmission {
+    pub frame: Frame,
+    /// The first byte may start once the request's timeout has elapsed... // 000:2.2.2
+    pub earliest_start_us: u64,
+    /// ...and must start within the command's maximum response time. // 000:T8
+    pub latest_start_us: u64,
+    /// Send with these settings.
+    pub settings: UartSettings,
+    /// Then listen with these (67h).
+    pub then_settings: Option<UartSettings>,
+}
+
+/// One processed frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Step {
+    pub received: ReceivedFrame,
+    pub outcome: Outcome,
+    pub transmission: Option<Transmission>,
+}
+
+/// Locks left by faults until the next reset.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct Locks {
+    /// Position output locked: Read/Set Position answer 02h. // 000:2.3.4
+    pub position: bool,
+    /// Internal checksum error at start-up: NV commands answer 06h. // 000:T44
+    pub nonvolatile: bool,
+    /// Partitioning table destroyed: data field commands answer 03h. // 000:T41
+    pub data_fields: bool,
+}
+
+/// A HIPERFACE slave.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Slave {
+    profile: Profile,
+    nv: NonVolatile,
+    stack: ErrorStack,
+    power: PowerUp,
+    /// Stored settings as of the last power-on or reset.
+    boot_settings: UartSettings,
+    /// 67h settings, until reset.
+    temp_settings: Option<UartSettings>,
+    link: DataLink,
+    inputs: PhysicalInputs,
+    injected: InjectedFaults,
+    locks: Locks,
+    eeprom_writes: u32,
+}
+
+impl Slave {
+    /// A slave in its factory state, powered on at time 0.
+    pub fn new(profile: Profile) -> Slave {
+        let nv = NonVolatile {
+            address: profile.address,
+            settings: profile.settings,
+            codes: [0x55; 4],
+            offset: 0,
+            counter: 0,
+            fields: DataFields::new(profile.user_memory_blocks),
+        };
+        let mut s = Slave {
+            profile,
+            boot_settings: nv.settings,
+            nv,
+            stack: ErrorStack::new(),
+            power: PowerUp::at(0),
+            temp_settings: None,
+            link: DataLink::new(UartSettings::DEFAULT.timeout_us(profile.edition)),
+            inputs: PhysicalInputs::default(),
+            injected: InjectedFaults::default(),
+            locks: Locks::default(),
+            eeprom_writes: 0,
+        };
+        s.initialize(0);
+        s
+    }
+
+    /// A slave powered on long ago: Operational with its stored settings at any time,
+    /// for callers that only exchange frames.
+    pub fn operational(profile: Profile) -> Slave {
+        let mut s = Slave::new(profile);
+        s.power = PowerUp::settled();
+        s
+    }
+
+    /// Power-on or reset: volatile state starts again; initialization faults are found.
+    fn initialize(&mut self, at_us: u64) {
+        self.power = PowerUp::at(at_us);
+        self.stack.clear();
+        self.temp_settings = None;
+        self.boot_settings = self.nv.settings;
+        self.link.clear();
+        self.locks = Locks::default();
+        for fault in self.injected.init_faults() {
+            let e = fault.effect();
+            // 000:T38-T46: stored "along with the internal checksum error".
+            if e.with_checksum_error {
+                self.stack.push(FaultCode::InternalChecksum);
+                self.locks.nonvolatile = true;
+            }
+            self.stack.push(e.code);
+            self.locks.position |= e.locks_position;
+            self.locks.data_fields |= e.locks_data_fields;
+        }
+    }
+
+    /// Power cycle at `at_us`: EEPROM contents survive.
+    pub fn power_cycle(&mut self, at_us: u64) {
+        self.initialize(at_us);
+    }
+
+    pub fn profile(&self) -> &Profile {
+        &self.profile
+    }
+
+    pub fn nonvolatile(&self) -> &NonVolatile {
+        &self.nv
+    }
+
+    pub fn error_stack(&self) -> &ErrorStack {
+        &self.stack
+    }
+
+    pub fn locks(&self) -> Locks {
+        self.locks
+    }
+
+    pub fn inputs(&self) -> PhysicalInputs {
+        self.inputs
+    }
+
+    /// Set the physical inputs for the following steps.
+    pub fn set_inputs(&mut self, inputs: PhysicalInputs) {
+        self.inputs = inputs;
+    }
+
+    /// Inject or clear an initialization fault; it shows from the next power-on or reset.
+    pub fn inject_init_fault(&mut self, fault: InitFault, on: bool) {
+        self.injected.set_init(fault, on);
+    }
+
+    /// Inject or clear a position fault; it shows on the next position command.
+    pub fn inject_position_fault(&mut self, fault: PositionFault, on: bool) {
+        self.injected.set_position(fault, on);
+    }
+
+    /// EEPROM writes done since creation (successful writing commands).
+    pub fn eeprom_writes(&self) -> u32 {
+        self.eeprom_writes
+    }
+
+    pub fn state(&self, now_us: u64) -> CommState {
+        self.power.state(&self.profile, now_us)
+    }
+
+    /// The settings the slave listens with now; `None` while it does not listen.
+    pub fn listening_settings(&self, now_us: u64) -> Option<UartSettings> {
+        let base = self
+            .power
+            .settings(&self.profile, now_us, self.boot_settings)?;
+        Some(self.temp_settings.unwrap_or(base))
+    }
+
+    /// The frame timeout now (with the listening settings, or the defaults).
+    pub fn timeout_us(&self, now_us: u64) -> u64 {
+        self.listening_settings(now_us)
+            .unwrap_or(UartSettings::DEFAULT)
+            .timeout_us(self.profile.edition)
+    }
+
+    /// The reported position: raw + offset, modulo the measuring range.
+    pub fn position(&self) -> u64 {
+        let range = self.profile.range();
+        (self.inputs.position % range + self.nv.offset) % range
+    }
+
+    /// Take a received character. Returns the previous frame's step if this character
+    /// shows that frame ended.
+    pub fn receive(&mut self, ch: RxChar) -> Option<Step> {
+        let done = self.poll(ch.at_us);
+        if self.listening_settings(ch.at_us).is_none() {
+            return done;
+        }
+        self.link.set_timeout(self.timeout_us(ch.at_us));
+        let closed = self.link.receive(ch).map(|f| self.process(f));
+        done.or(closed)
+    }
+
+    /// Advance time: a frame whose timeout has elapsed is processed.
+    pub fn poll(&mut self, now_us: u64) -> Option<Step> {
+        let deadline = self.link.deadline()?;
+        if now_us < deadline {
+            return None;
+        }
+        let frame = self.link.poll(deadline)?;
+        Some(self.process(frame))
+    }
+
+    /// The next time [`Slave::poll`] has work: a frame's timeout or a state change.
+    pub fn next_deadline(&self, now_us: u64) -> Option<u64> {
+        let state_change = self.power.next_change(&self.profile, now_us);
+        match (self.link.deadline(), state_change) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
+    }
+
+    fn process(&mut self, frame: ReceivedFrame) -> Step {
+        let at = frame.complete_us;
+        let settings = self.listening_settings(at);
+        let outcome = match settings {
+            None => Outcome::NOT_LISTENING,
+            Some(_) => self.execute(
+                frame.bytes.as_bytes(),
+                frame.uart_fault.is_some(),
+                frame.overflowed(),
+                at,
+            ),
+        };
+        let transmission = match (outcome.reply, settings) {
+            (Reply::Frame(rf), Some(settings)) => {
+                let max_ms = execute::max_response_ms(&self.profile, &rf, frame.bytes.as_bytes());
+                Some(Transmission {
+                    frame: rf.encode(),
+                    earliest_start_us: at,
+                    latest_start_us: at + max_ms as u64 * 1000,
+                    settings,
+                    then_settings: outcome.then_settings,
+                })
+            }
+            _ => None,
+        };
+        Step {
+            received: frame,
+            outcome,
+            transmission,
+        }
+    }
+
+    /// Network and application layer on a whole frame, processed at `at_us` (when its
+    /// timeout elapsed). `uart_fault`: a character had a parity or framing fault;
+    /// `overflowed`: more characters arrived than any frame has.
+    pub fn handle_frame(&mut self, bytes: &[u8], at_us: u64) -> Outcome {
+        self.handle(bytes, false, at_us)
+    }
+
+    /// As [`Slave::handle_frame`], for a frame with a UART fault in some character.
+    pub fn handle_faulty_frame(&mut self, bytes: &[u8], at_us: u64) -> Outcome {
+        self.handle(bytes, true, at_us)
+    }
+
+    fn handle(&mut self, bytes: &[u8], uart_fault: bool, at_us: u64) -> Outcome {
+        match self.listening_settings(at_us) {
+            None => Outcome::NOT_LISTENING,
+            Some(_) => self.execute(bytes, uart_fault, false, at_us),
+        }
+    }
+}
