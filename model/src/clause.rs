@@ -72,6 +72,7 @@ clauses! {
     READ_SYNC_OFFSET = "000:T36": "Read Synchronization Offset 6Ch: phase shift 0...31 to be added to the current position value.";
     FAULT_GROUPS = "000:T37": "Protocol and data errors are answered and not stacked; position errors are answered, further ones stacked; others are stored in the error stack.";
     INIT_FAULTS = "000:T38-T46": "Initialization faults are stored in the error stack along with the internal checksum error (06h); 01h, 02h, 04h lock position output (02h).";
+    I2C_BUS = "000:T43": "Internal I2C bus not operational: the Slave could not establish communication to its nonvolatile memory.";
     NV_LOCK = "000:T44": "If an internal checksum error is detected at start-up no command will be executed that reads critical or writes any data to nonvolatile memory.";
     COUNTER_OVERFLOW = "000:T46": "The counter stays at its maximum value FFFFFFh until it is reset; increment answers 08h.";
     PARITY_ERROR = "000:T47": "A UART fault in a Master request: the message will not be parsed further.";
@@ -117,11 +118,7 @@ mod tests {
     fn ids_are_unique_and_well_formed() {
         for (i, a) in CLAUSES.iter().enumerate() {
             let (doc, place) = a.id.split_once(':').expect("DOC:PLACE");
-            assert!(
-                matches!(doc, "000" | "001" | "002" | "003" | "004" | "DESIGN"),
-                "{}",
-                a.id
-            );
+            assert!(matches!(doc, "000" | "001" | "002" | "003" | "004" | "DESIGN"), "{}", a.id);
             assert!(!place.is_empty() && !a.quote.is_empty(), "{}", a.id);
             for b in &CLAUSES[i + 1..] {
                 assert_ne!(a.id, b.id, "duplicate clause id");

@@ -126,10 +126,7 @@ impl CommandByte {
         if byte & Self::FIXED_ONE == 0 {
             return None;
         }
-        Some(CommandByte {
-            id: CommandId::decode(byte & !Self::ERROR_BIT),
-            error_bit: byte & Self::ERROR_BIT != 0,
-        })
+        Some(CommandByte { id: CommandId::decode(byte & !Self::ERROR_BIT), error_bit: byte & Self::ERROR_BIT != 0 })
     }
 
     pub const fn byte(self) -> u8 {
@@ -202,8 +199,7 @@ impl CommandSpec {
     /// True when the error code may be answered to this command: a listed one, a
     /// protocol error common to all commands (000:2.4.2), or a wrong argument.
     pub fn may_answer(&self, code: FaultCode) -> bool {
-        matches!(code, Parity | Checksum | UnknownCommand | WrongLength)
-            || self.errors.contains(&code)
+        matches!(code, Parity | Checksum | UnknownCommand | WrongLength) || self.errors.contains(&code)
     }
 
     /// Whether the command writes non-volatile memory (DESIGN: safety on real devices).
@@ -359,13 +355,7 @@ pub const COMMAND_TABLE: &[CommandSpec] = &[
         None,
         Fixed(4),
         Range { min: 4, max: 131 },
-        &[
-            PartitionTable,
-            I2cBus,
-            WrongAccessCode,
-            WrongOffset,
-            WrongFieldNumber
-        ],
+        &[PartitionTable, I2cBus, WrongAccessCode, WrongOffset, WrongFieldNumber],
         false,
         Both,
         clause::READ_DATA
@@ -378,15 +368,7 @@ pub const COMMAND_TABLE: &[CommandSpec] = &[
         None,
         Range { min: 5, max: 132 },
         Fixed(3),
-        &[
-            PartitionTable,
-            I2cBus,
-            InternalChecksum,
-            ReadOnlyField,
-            WrongAccessCode,
-            WrongOffset,
-            WrongFieldNumber
-        ],
+        &[PartitionTable, I2cBus, InternalChecksum, ReadOnlyField, WrongAccessCode, WrongOffset, WrongFieldNumber],
         false,
         Both,
         clause::STORE_DATA
@@ -412,14 +394,7 @@ pub const COMMAND_TABLE: &[CommandSpec] = &[
         None,
         Fixed(3),
         Fixed(2),
-        &[
-            PartitionTable,
-            I2cBus,
-            InternalChecksum,
-            WrongAccessCode,
-            OutOfMemory,
-            WrongFieldNumber
-        ],
+        &[PartitionTable, I2cBus, InternalChecksum, WrongAccessCode, OutOfMemory, WrongFieldNumber],
         false,
         Both,
         clause::CREATE_FIELD
@@ -476,19 +451,7 @@ pub const COMMAND_TABLE: &[CommandSpec] = &[
         Both,
         clause::READ_TYPE_LABEL
     ),
-    spec!(
-        EncoderReset,
-        "Encoder Reset",
-        None,
-        None,
-        None,
-        Fixed(0),
-        NoFrame,
-        &[],
-        false,
-        Both,
-        clause::ENCODER_RESET
-    ),
+    spec!(EncoderReset, "Encoder Reset", None, None, None, Fixed(0), NoFrame, &[], false, Both, clause::ENCODER_RESET),
     spec!(
         SetEncoderAddress,
         "Set Encoder Address",
@@ -640,9 +603,7 @@ impl CommandSet {
     }
 
     pub fn iter(&self) -> impl Iterator<Item = CommandId> + '_ {
-        (0x40u8..=0x7F)
-            .map(CommandId::decode)
-            .filter(|id| self.contains(*id))
+        (0x40u8..=0x7F).map(CommandId::decode).filter(|id| self.contains(*id))
     }
 }
 
@@ -702,10 +663,7 @@ mod tests {
     fn command_sets_per_edition() {
         let current = CommandSet::all_for(false);
         let legacy = CommandSet::all_for(true);
-        assert!(
-            current.contains(CommandId::ReadSyncOffset)
-                && !current.contains(CommandId::SetPositionInternalSync)
-        );
+        assert!(current.contains(CommandId::ReadSyncOffset) && !current.contains(CommandId::SetPositionInternalSync));
         assert!(
             legacy.contains(CommandId::SetPositionInternalSync)
                 && !legacy.contains(CommandId::TemporarilySetSerialInterface)

@@ -30,11 +30,7 @@ pub struct RxChar {
 
 impl RxChar {
     pub const fn ok(byte: u8, at_us: u64) -> RxChar {
-        RxChar {
-            byte,
-            at_us,
-            fault: None,
-        }
+        RxChar { byte, at_us, fault: None }
     }
 }
 
@@ -62,13 +58,7 @@ impl ReceivedFrame {
 
 impl fmt::Debug for ReceivedFrame {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "[{}] at {}..{} µs",
-            Hex(self.bytes.as_bytes()),
-            self.first_us,
-            self.last_us
-        )?;
+        write!(f, "[{}] at {}..{} µs", Hex(self.bytes.as_bytes()), self.first_us, self.last_us)?;
         if let Some(fault) = self.uart_fault {
             write!(f, " {fault:?}")?;
         }
@@ -85,10 +75,7 @@ pub struct DataLink {
 
 impl DataLink {
     pub const fn new(timeout_us: u64) -> DataLink {
-        DataLink {
-            timeout_us,
-            current: None,
-        }
+        DataLink { timeout_us, current: None }
     }
 
     pub const fn timeout_us(&self) -> u64 {
@@ -146,8 +133,7 @@ impl DataLink {
 
     /// When the frame in progress will be complete, if one is.
     pub fn deadline(&self) -> Option<u64> {
-        self.current
-            .map(|c| c.last_us.saturating_add(self.timeout_us))
+        self.current.map(|c| c.last_us.saturating_add(self.timeout_us))
     }
 
     fn close(&mut self) -> Option<ReceivedFrame> {
@@ -165,10 +151,7 @@ mod tests {
     fn frames_are_split_exactly_at_the_timeout() {
         let mut link = DataLink::new(5730);
         assert!(link.receive(RxChar::ok(0x40, 1000)).is_none());
-        assert!(
-            link.receive(RxChar::ok(0x42, 1000 + 5729)).is_none(),
-            "just inside the timeout"
-        );
+        assert!(link.receive(RxChar::ok(0x42, 1000 + 5729)).is_none(), "just inside the timeout");
         assert!(link.poll(1000 + 5729 + 5729).is_none());
         let f = link.poll(1000 + 5729 + 5730).expect("timeout elapsed");
         assert_eq!(f.bytes.as_bytes(), &[0x40, 0x42]);
@@ -176,19 +159,10 @@ mod tests {
         assert!(link.poll(u64::MAX).is_none());
 
         link.receive(RxChar::ok(1, 0));
-        let f = link
-            .receive(RxChar {
-                byte: 2,
-                at_us: 5730,
-                fault: Some(UartFault::Parity),
-            })
-            .expect("split");
+        let f = link.receive(RxChar { byte: 2, at_us: 5730, fault: Some(UartFault::Parity) }).expect("split");
         assert_eq!(f.bytes.as_bytes(), &[1]);
         let g = link.poll(20_000).unwrap();
-        assert_eq!(
-            (g.bytes.as_bytes(), g.uart_fault),
-            (&[2u8][..], Some(UartFault::Parity))
-        );
+        assert_eq!((g.bytes.as_bytes(), g.uart_fault), (&[2u8][..], Some(UartFault::Parity)));
     }
 
     #[test]

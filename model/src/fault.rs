@@ -308,17 +308,8 @@ mod tests {
         for code in FaultCode::ALL.iter().skip(1) {
             assert!(rows(*code).next().is_some(), "{code}");
         }
-        assert_eq!(
-            rows(FaultCode::Temperature).next().map(|r| r.indication),
-            Some(Indication::WarningBit)
-        );
-        assert_eq!(
-            runtime_group(FaultCode::Checksum),
-            Some(FaultGroup::Protocol)
-        );
-        assert_eq!(
-            runtime_group(FaultCode::InternalChecksum),
-            Some(FaultGroup::Initialization)
-        );
+        assert_eq!(rows(FaultCode::Temperature).next().map(|r| r.indication), Some(Indication::WarningBit));
+        assert_eq!(runtime_group(FaultCode::Checksum), Some(FaultGroup::Protocol));
+        assert_eq!(runtime_group(FaultCode::InternalChecksum), Some(FaultGroup::Initialization));
     }
 }

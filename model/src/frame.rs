@@ -22,10 +22,7 @@ pub struct FrameFull;
 
 impl Frame {
     pub const fn new() -> Frame {
-        Frame {
-            buf: [0; MAX_FRAME],
-            len: 0,
-        }
+        Frame { buf: [0; MAX_FRAME], len: 0 }
     }
 
     /// Copy bytes into a frame; `Err` when there are more than [`MAX_FRAME`].
@@ -45,10 +42,7 @@ impl Frame {
     pub fn extend(&mut self, bytes: &[u8]) -> Result<(), FrameFull> {
         let start = self.len as usize;
         let end = start + bytes.len();
-        self.buf
-            .get_mut(start..end)
-            .ok_or(FrameFull)?
-            .copy_from_slice(bytes);
+        self.buf.get_mut(start..end).ok_or(FrameFull)?.copy_from_slice(bytes);
         self.len = end as u8;
         Ok(())
     }
@@ -116,10 +110,7 @@ impl FieldBytes {
     pub fn new(bytes: &[u8]) -> Option<FieldBytes> {
         let mut buf = [0; MAX_FIELD_BYTES];
         buf.get_mut(..bytes.len())?.copy_from_slice(bytes);
-        Some(FieldBytes {
-            buf,
-            len: bytes.len() as u8,
-        })
+        Some(FieldBytes { buf, len: bytes.len() as u8 })
     }
 
     pub fn as_bytes(&self) -> &[u8] {

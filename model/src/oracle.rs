@@ -94,21 +94,16 @@ pub enum Deviation {
 impl fmt::Display for Deviation {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Deviation::UnexpectedReply => {
-                f.write_str("the device answered where the slave must stay silent")
-            }
+            Deviation::UnexpectedReply => f.write_str("the device answered where the slave must stay silent"),
             Deviation::NoReply => f.write_str("no reply where the slave must answer"),
             Deviation::Malformed(e) => write!(f, "malformed reply: {e}"),
-            Deviation::WrongAddress { expected, found } => write!(
-                f,
-                "reply from address {found:02X}h, expected {expected:02X}h"
-            ),
+            Deviation::WrongAddress { expected, found } => {
+                write!(f, "reply from address {found:02X}h, expected {expected:02X}h")
+            }
             Deviation::WarningBitMissing => {
                 f.write_str("warning bit clear while the error stack holds an unread entry")
             }
-            Deviation::WarningBitUnexpected => {
-                f.write_str("warning bit set while the model's error stack is empty")
-            }
+            Deviation::WarningBitUnexpected => f.write_str("warning bit set while the model's error stack is empty"),
             Deviation::OtherApplicableError { preferred, found } => {
                 write!(f, "answered {found}; its condition holds too, but the check order prefers {preferred}")
             }
@@ -130,10 +125,9 @@ impl fmt::Display for Deviation {
             Deviation::ActiveSettingsInTypeLabel { stored, active } => {
                 write!(f, "type label reports the active settings {active:02X}h, not the stored {stored:02X}h")
             }
-            Deviation::ShortVersion { data_len } => write!(
-                f,
-                "Read Version with {data_len} data bytes (legacy: up to 20 firmware characters)"
-            ),
+            Deviation::ShortVersion { data_len } => {
+                write!(f, "Read Version with {data_len} data bytes (legacy: up to 20 firmware characters)")
+            }
             Deviation::ImpossibleValue { response } => {
                 write!(f, "value out of range: {response:?}")
             }
@@ -151,25 +145,13 @@ pub struct Grade {
 
 impl Grade {
     const fn pass(clause: ClauseId) -> Grade {
-        Grade {
-            verdict: Verdict::Pass,
-            deviation: None,
-            clause,
-        }
+        Grade { verdict: Verdict::Pass, deviation: None, clause }
     }
     const fn non_strict(d: Deviation, clause: ClauseId) -> Grade {
-        Grade {
-            verdict: Verdict::NonStrict,
-            deviation: Some(d),
-            clause,
-        }
+        Grade { verdict: Verdict::NonStrict, deviation: Some(d), clause }
     }
     const fn fail(d: Deviation, clause: ClauseId) -> Grade {
-        Grade {
-            verdict: Verdict::Fail,
-            deviation: Some(d),
-            clause,
-        }
+        Grade { verdict: Verdict::Fail, deviation: Some(d), clause }
     }
 }
 
@@ -205,45 +187,26 @@ impl Oracle {
         expected: &Outcome,
         observed: Option<&[u8]>,
     ) -> Grade {
-        let command = request
-            .get(1)
-            .map(|b| CommandId::decode(b & 0x7F))
-            .unwrap_or(CommandId::Unknown(0));
+        let command = request.get(1).map(|b| CommandId::decode(b & 0x7F)).unwrap_or(CommandId::Unknown(0));
         let expected_frame = match (expected.reply, observed) {
             (Reply::Silent(_), None) => return Grade::pass(expected.clause),
-            (Reply::Silent(_), Some(_)) => {
-                return Grade::fail(Deviation::UnexpectedReply, expected.clause)
-            }
+            (Reply::Silent(_), Some(_)) => return Grade::fail(Deviation::UnexpectedReply, expected.clause),
             (Reply::Frame(_), None) => return Grade::fail(Deviation::NoReply, expected.clause),
             (Reply::Frame(e), Some(_)) => e,
         };
         let bytes = observed.unwrap_or(&[]);
         let found = match ResponseFrame::decode(bytes, command) {
             Ok(found) => found,
-            Err(ResponseError::WrongLength {
-                to: CommandId::ReadVersion,
-                data_len,
-            }) if before.profile().edition == Edition::Legacy && data_len < 37 => {
-                return Grade::non_strict(
-                    Deviation::ShortVersion { data_len },
-                    clause::LEGACY_VERSION,
-                );
+            Err(ResponseError::WrongLength { to: CommandId::ReadVersion, data_len })
+                if before.profile().edition == Edition::Legacy && data_len < 37 =>
+            {
+                return Grade::non_strict(Deviation::ShortVersion { data_len }, clause::LEGACY_VERSION);
             }
             Err(e) => return Grade::fail(Deviation::Malformed(e), malformed_clause(e)),
         };
         if found.address != expected_frame.address {
-            let c = if command == CommandId::SetEncoderAddress {
-                clause::SET_ADDRESS
-            } else {
-                clause::BROADCAST
-            };
-            return Grade::fail(
-                Deviation::WrongAddress {
-                    expected: expected_frame.address,
-                    found: found.address,
-                },
-                c,
-            );
+            let c = if command == CommandId::SetEncoderAddress { clause::SET_ADDRESS } else { clause::BROADCAST };
+            return Grade::fail(Deviation::WrongAddress { expected: expected_frame.address, found: found.address }, c);
         }
         let active = before.listening_settings(at_us).map(|s| s.byte());
         let content = self.content(before, active, expected, &expected_frame, &found);
@@ -251,18 +214,11 @@ impl Oracle {
             return content;
         }
         let warning = match (expected_frame.warning, found.warning) {
-            (true, false) => Some(Grade::fail(
-                Deviation::WarningBitMissing,
-                clause::WARNING_BIT,
-            )),
-            (false, true) if self.knowledge == Knowledge::Exact => Some(Grade::fail(
-                Deviation::WarningBitUnexpected,
-                clause::WARNING_BIT,
-            )),
-            (false, true) => Some(Grade::non_strict(
-                Deviation::WarningBitUnexpected,
-                clause::WARNING_BIT,
-            )),
+            (true, false) => Some(Grade::fail(Deviation::WarningBitMissing, clause::WARNING_BIT)),
+            (false, true) if self.knowledge == Knowledge::Exact => {
+                Some(Grade::fail(Deviation::WarningBitUnexpected, clause::WARNING_BIT))
+            }
+            (false, true) => Some(Grade::non_strict(Deviation::WarningBitUnexpected, clause::WARNING_BIT)),
             _ => None,
         };
         match warning {
@@ -282,67 +238,28 @@ impl Oracle {
         let c = expected.clause;
         match (e.response, found.response) {
             (Response::Error(pref), Response::Error(got)) if pref == got => Grade::pass(c),
-            (Response::EncoderStatus(pref), Response::EncoderStatus(got)) if pref == got => {
-                Grade::pass(c)
-            }
+            (Response::EncoderStatus(pref), Response::EncoderStatus(got)) if pref == got => Grade::pass(c),
             (Response::Error(pref), Response::Error(got)) if expected.also.contains(got) => {
-                Grade::non_strict(
-                    Deviation::OtherApplicableError {
-                        preferred: pref,
-                        found: got,
-                    },
-                    clause::CHECK_ORDER,
-                )
+                Grade::non_strict(Deviation::OtherApplicableError { preferred: pref, found: got }, clause::CHECK_ORDER)
             }
-            (Response::Error(pref), Response::Error(got)) => Grade::fail(
-                Deviation::WrongError {
-                    expected: pref,
-                    found: got,
-                },
-                c,
-            ),
+            (Response::Error(pref), Response::Error(got)) => {
+                Grade::fail(Deviation::WrongError { expected: pref, found: got }, c)
+            }
             (_, Response::Error(got)) if expected.also.contains(got) => {
                 Grade::non_strict(Deviation::TolerableError { found: got }, c)
             }
-            (_, Response::Error(got)) => {
-                Grade::fail(Deviation::ErrorInsteadOfReply { found: got }, c)
-            }
-            (Response::Error(pref), _) => {
-                Grade::fail(Deviation::ReplyInsteadOfError { expected: pref }, c)
-            }
+            (_, Response::Error(got)) => Grade::fail(Deviation::ErrorInsteadOfReply { found: got }, c),
+            (Response::Error(pref), _) => Grade::fail(Deviation::ReplyInsteadOfError { expected: pref }, c),
             (a, b) if a == b => Grade::pass(c),
             (
-                Response::TypeLabel {
-                    settings: stored,
-                    type_code,
-                    memory_blocks,
-                    option,
-                },
-                Response::TypeLabel {
-                    settings: got,
-                    type_code: t,
-                    memory_blocks: m,
-                    option: o,
-                },
-            ) if (type_code, memory_blocks, option) == (t, m, o) && active == Some(got) => {
-                Grade::non_strict(
-                    Deviation::ActiveSettingsInTypeLabel {
-                        stored,
-                        active: got,
-                    },
-                    clause::TYPE_LABEL_SETTINGS,
-                )
-            }
-            (a, b) if self.knowledge == Knowledge::PhysicalUnknown => {
-                self.physical(before, a, b, c, e, found)
-            }
-            _ => Grade::fail(
-                Deviation::WrongReply {
-                    expected: *e,
-                    found: *found,
-                },
-                c,
+                Response::TypeLabel { settings: stored, type_code, memory_blocks, option },
+                Response::TypeLabel { settings: got, type_code: t, memory_blocks: m, option: o },
+            ) if (type_code, memory_blocks, option) == (t, m, o) && active == Some(got) => Grade::non_strict(
+                Deviation::ActiveSettingsInTypeLabel { stored, active: got },
+                clause::TYPE_LABEL_SETTINGS,
             ),
+            (a, b) if self.knowledge == Knowledge::PhysicalUnknown => self.physical(before, a, b, c, e, found),
+            _ => Grade::fail(Deviation::WrongReply { expected: *e, found: *found }, c),
         }
     }
 
@@ -359,10 +276,7 @@ impl Oracle {
         let range = before.profile().range();
         let ok = match (a, b) {
             (Response::Position(_), Response::Position(v)) => (v as u64) < range,
-            (
-                Response::AnalogValue { channel: x, .. },
-                Response::AnalogValue { channel: y, .. },
-            ) => x == y,
+            (Response::AnalogValue { channel: x, .. }, Response::AnalogValue { channel: y, .. }) => x == y,
             (Response::SyncOffset(_), Response::SyncOffset(v)) => v < 32,
             (Response::PositionWithSyncSet(x), Response::PositionWithSyncSet(v)) => {
                 // Same phase as an unknown raw position: only "within 16 steps of the preset" is checkable.
@@ -370,15 +284,7 @@ impl Oracle {
                 let d = (v + range - x) % range;
                 v < range && (d <= 16 || range - d <= 16)
             }
-            _ => {
-                return Grade::fail(
-                    Deviation::WrongReply {
-                        expected: *e,
-                        found: *found,
-                    },
-                    c,
-                )
-            }
+            _ => return Grade::fail(Deviation::WrongReply { expected: *e, found: *found }, c),
         };
         if ok {
             Grade::pass(c)
@@ -393,11 +299,7 @@ fn malformed_clause(e: ResponseError) -> ClauseId {
         ResponseError::BadChecksum { .. } => clause::CHECKSUM,
         ResponseError::BadCommandByte { .. } => clause::COMMAND_BYTE,
         ResponseError::NoResponseExpected { .. } => clause::ENCODER_RESET,
-        ResponseError::TooShort { .. } | ResponseError::WrongCommand { .. } => {
-            clause::ERROR_RESPONSE
-        }
-        ResponseError::WrongLength { .. } | ResponseError::CountMismatch { .. } => {
-            clause::COMMAND_DEFINITION
-        }
+        ResponseError::TooShort { .. } | ResponseError::WrongCommand { .. } => clause::ERROR_RESPONSE,
+        ResponseError::WrongLength { .. } | ResponseError::CountMismatch { .. } => clause::COMMAND_DEFINITION,
     }
 }

@@ -18,10 +18,7 @@ impl<const N: usize> Text<N> {
     pub fn new(s: &str) -> Option<Text<N>> {
         let mut buf = [0; N];
         buf.get_mut(..s.len())?.copy_from_slice(s.as_bytes());
-        Some(Text {
-            buf,
-            len: s.len() as u8,
-        })
+        Some(Text { buf, len: s.len() as u8 })
     }
 
     /// The longest prefix of `s` that fits, cut at a character boundary.
@@ -32,10 +29,7 @@ impl<const N: usize> Text<N> {
         }
         let mut buf = [0; N];
         buf[..end].copy_from_slice(&s.as_bytes()[..end]);
-        Text {
-            buf,
-            len: end as u8,
-        }
+        Text { buf, len: end as u8 }
     }
 
     pub fn as_str(&self) -> &str {
@@ -75,10 +69,9 @@ impl Resolution {
     /// Position steps over the whole measuring range (position values are `0..range`).
     pub const fn range_steps(self) -> u64 {
         match self {
-            Resolution::Rotary {
-                periods_per_turn,
-                turns,
-            } => Self::STEPS_PER_PERIOD * periods_per_turn as u64 * turns as u64,
+            Resolution::Rotary { periods_per_turn, turns } => {
+                Self::STEPS_PER_PERIOD * periods_per_turn as u64 * turns as u64
+            }
             Resolution::Linear { periods, .. } => Self::STEPS_PER_PERIOD * periods as u64,
         }
     }
@@ -114,11 +107,7 @@ impl AnalogEncoding {
             AnalogEncoding::Celsius2048 => {
                 // (T + 40) / 2.048 = (T + 40) * 1000 / 2048, rounded half away from zero.
                 let num = (reading + 40) * 1000;
-                let q = if num >= 0 {
-                    (num + 1024) / 2048
-                } else {
-                    (num - 1024) / 2048
-                };
+                let q = if num >= 0 { (num + 1024) / 2048 } else { (num - 1024) / 2048 };
                 q as i16 as u16
             }
             AnalogEncoding::Milliamps => reading as u16,
@@ -224,8 +213,9 @@ impl ProfileError {
             ProfileError::StoredBaudUnsupported => "settings",
             ProfileError::CommandNotInEdition { .. } => "commands",
             ProfileError::TemperatureLimits => "limits",
-            ProfileError::ExtendedTypeLabelChecksum
-            | ProfileError::ExtendedTypeLabelWithoutCode => "extended_type_label",
+            ProfileError::ExtendedTypeLabelChecksum | ProfileError::ExtendedTypeLabelWithoutCode => {
+                "extended_type_label"
+            }
         }
     }
 }
@@ -239,9 +229,7 @@ impl fmt::Display for ProfileError {
             ProfileError::WindowsOutOfOrder => {
                 f.write_str("need init_ms < default_window_ms <= user_settings_ms (000:T9)")
             }
-            ProfileError::UserMemoryExceedsTotal => {
-                f.write_str("user memory exceeds the total memory")
-            }
+            ProfileError::UserMemoryExceedsTotal => f.write_str("user memory exceeds the total memory"),
             ProfileError::EmptyRange => f.write_str("the measuring range is empty"),
             ProfileError::RangeTooLarge => {
                 f.write_str("the measuring range exceeds 2^32 position steps (000:T12: 32 bit)")
@@ -255,12 +243,10 @@ impl fmt::Display for ProfileError {
             ProfileError::CommandNotInEdition { command } => {
                 write!(f, "{command} is not defined in this edition")
             }
-            ProfileError::TemperatureLimits => {
-                f.write_str("temperature_min_c exceeds temperature_max_c")
+            ProfileError::TemperatureLimits => f.write_str("temperature_min_c exceeds temperature_max_c"),
+            ProfileError::ExtendedTypeLabelChecksum => {
+                f.write_str("byte 0 of the Extended Type Label is not the XOR of bytes 1..63 (000:T20)")
             }
-            ProfileError::ExtendedTypeLabelChecksum => f.write_str(
-                "byte 0 of the Extended Type Label is not the XOR of bytes 1..63 (000:T20)",
-            ),
             ProfileError::ExtendedTypeLabelWithoutCode => {
                 f.write_str("type code FFh needs an Extended Type Label (000:T19)")
             }
@@ -275,38 +261,23 @@ impl Profile {
     }
 
     pub fn supports_baud(&self, baud: Baud) -> bool {
-        Baud::ALL
-            .iter()
-            .zip(self.baud_rates)
-            .any(|(b, ok)| *b == baud && ok)
+        Baud::ALL.iter().zip(self.baud_rates).any(|(b, ok)| *b == baud && ok)
     }
 
     pub fn analog_channel(&self, selector: u8) -> Option<AnalogChannel> {
-        self.analog
-            .iter()
-            .flatten()
-            .copied()
-            .find(|c| c.selector == selector)
+        self.analog.iter().flatten().copied().find(|c| c.selector == selector)
     }
 
     pub fn adjustment_option(&self, option: u8) -> Option<AdjustmentOption> {
-        self.adjustment
-            .iter()
-            .flatten()
-            .copied()
-            .find(|o| o.option == option)
+        self.adjustment.iter().flatten().copied().find(|o| o.option == option)
     }
 
     /// Check the profile's internal consistency.
     pub fn validate(&self) -> Result<(), ProfileError> {
         if self.init_ms > 200 {
-            return Err(ProfileError::InitTooLong {
-                init_ms: self.init_ms,
-            });
+            return Err(ProfileError::InitTooLong { init_ms: self.init_ms });
         }
-        if !(self.init_ms < self.default_window_ms
-            && self.default_window_ms <= self.user_settings_ms)
-        {
+        if !(self.init_ms < self.default_window_ms && self.default_window_ms <= self.user_settings_ms) {
             return Err(ProfileError::WindowsOutOfOrder);
         }
         if self.user_memory_blocks > self.memory_blocks {
@@ -318,16 +289,8 @@ impl Profile {
             _ => {}
         }
         for (i, a) in self.analog.iter().flatten().enumerate() {
-            if self
-                .analog
-                .iter()
-                .flatten()
-                .skip(i + 1)
-                .any(|b| b.selector == a.selector)
-            {
-                return Err(ProfileError::DuplicateAnalogChannel {
-                    selector: a.selector,
-                });
+            if self.analog.iter().flatten().skip(i + 1).any(|b| b.selector == a.selector) {
+                return Err(ProfileError::DuplicateAnalogChannel { selector: a.selector });
             }
         }
         if !self.supports_baud(self.settings.baud) {
@@ -341,12 +304,8 @@ impl Profile {
             return Err(ProfileError::TemperatureLimits);
         }
         match self.extended_type_label {
-            Some(etl) if crate::checksum::xor(&etl) != 0 => {
-                return Err(ProfileError::ExtendedTypeLabelChecksum)
-            }
-            None if self.type_code == 0xFF => {
-                return Err(ProfileError::ExtendedTypeLabelWithoutCode)
-            }
+            Some(etl) if crate::checksum::xor(&etl) != 0 => return Err(ProfileError::ExtendedTypeLabelChecksum),
+            None if self.type_code == 0xFF => return Err(ProfileError::ExtendedTypeLabelWithoutCode),
             _ => {}
         }
         Ok(())
@@ -370,10 +329,7 @@ impl ExtendedTypeLabel<'_> {
         let linear = self.resolution.is_linear();
         l[1] = linear as u8 | ((self.bipolar as u8) << 1);
         let (res, range) = match self.resolution {
-            Resolution::Rotary {
-                periods_per_turn,
-                turns,
-            } => (periods_per_turn, turns),
+            Resolution::Rotary { periods_per_turn, turns } => (periods_per_turn, turns),
             Resolution::Linear { period_nm, periods } => (period_nm, periods),
         };
         l[2..6].copy_from_slice(&res.to_be_bytes());
@@ -414,10 +370,7 @@ mod tests {
     #[test]
     fn extended_type_label_checksum() {
         let l = ExtendedTypeLabel {
-            resolution: Resolution::Rotary {
-                periods_per_turn: 128,
-                turns: 4096,
-            },
+            resolution: Resolution::Rotary { periods_per_turn: 128, turns: 4096 },
             bipolar: false,
             designation: "SKM36",
             temperature: Some((0x48, -20, 110)),

@@ -8,21 +8,15 @@
 use crate::address::SlaveAddress;
 use crate::command::{CommandId, CommandSet};
 use crate::profile::{
-    AdjustmentOption, AnalogChannel, AnalogEncoding, AnalogSource, ExtendedTypeLabel, Profile,
-    Resolution, StackOrder, Text,
+    AdjustmentOption, AnalogChannel, AnalogEncoding, AnalogSource, ExtendedTypeLabel, Profile, Resolution, StackOrder,
+    Text,
 };
 use crate::settings::{Edition, UartSettings};
 
-const TEMPERATURE: AnalogChannel = AnalogChannel {
-    selector: 0x48,
-    source: AnalogSource::Temperature,
-    encoding: AnalogEncoding::Celsius,
-};
-const LEGACY_TEMPERATURE: AnalogChannel = AnalogChannel {
-    selector: 0xF0,
-    source: AnalogSource::Temperature,
-    encoding: AnalogEncoding::Celsius2048,
-};
+const TEMPERATURE: AnalogChannel =
+    AnalogChannel { selector: 0x48, source: AnalogSource::Temperature, encoding: AnalogEncoding::Celsius };
+const LEGACY_TEMPERATURE: AnalogChannel =
+    AnalogChannel { selector: 0xF0, source: AnalogSource::Temperature, encoding: AnalogEncoding::Celsius2048 };
 
 fn padded<const N: usize>(s: &str) -> [u8; N] {
     let mut a = [0u8; N];
@@ -94,68 +88,27 @@ fn with_etl(mut p: Profile, designation: &str) -> Profile {
 
 /// SKS36: 128 periods, 4096 steps per turn, singleturn.
 pub fn sks36() -> Profile {
-    with_etl(
-        current(
-            "SKS36",
-            Resolution::Rotary {
-                periods_per_turn: 128,
-                turns: 1,
-            },
-            0xFF,
-        ),
-        "SKS36",
-    )
+    with_etl(current("SKS36", Resolution::Rotary { periods_per_turn: 128, turns: 1 }, 0xFF), "SKS36")
 }
 
 /// SKM36: 128 periods, 4096 steps per turn, 4096 turns.
 pub fn skm36() -> Profile {
-    with_etl(
-        current(
-            "SKM36",
-            Resolution::Rotary {
-                periods_per_turn: 128,
-                turns: 4096,
-            },
-            0xFF,
-        ),
-        "SKM36",
-    )
+    with_etl(current("SKM36", Resolution::Rotary { periods_per_turn: 128, turns: 4096 }, 0xFF), "SKM36")
 }
 
 /// SRS50: 1024 periods, 32768 steps per turn, singleturn, type 22h.
 pub fn srs50() -> Profile {
-    current(
-        "SRS50",
-        Resolution::Rotary {
-            periods_per_turn: 1024,
-            turns: 1,
-        },
-        0x22,
-    )
+    current("SRS50", Resolution::Rotary { periods_per_turn: 1024, turns: 1 }, 0x22)
 }
 
 /// SRM50: 1024 periods, 32768 steps per turn, 4096 turns, type 27h.
 pub fn srm50() -> Profile {
-    current(
-        "SRM50",
-        Resolution::Rotary {
-            periods_per_turn: 1024,
-            turns: 4096,
-        },
-        0x27,
-    )
+    current("SRM50", Resolution::Rotary { periods_per_turn: 1024, turns: 4096 }, 0x27)
 }
 
 /// SEK37: 16 periods, 512 steps per turn, type 42h; also answers the legacy F0h channel.
 pub fn sek37() -> Profile {
-    let mut p = current(
-        "SEK37",
-        Resolution::Rotary {
-            periods_per_turn: 16,
-            turns: 1,
-        },
-        0x42,
-    );
+    let mut p = current("SEK37", Resolution::Rotary { periods_per_turn: 16, turns: 1 }, 0x42);
     p.analog[1] = Some(LEGACY_TEMPERATURE);
     p
 }
@@ -163,24 +116,11 @@ pub fn sek37() -> Profile {
 /// TTK70 linear: 1 period per mm, 32 steps per mm, 4000 mm; Sensor Adjustment for
 /// read-head and tape assembly (000:T35), options invented for the simulator.
 pub fn ttk70() -> Profile {
-    let mut p = current(
-        "TTK70",
-        Resolution::Linear {
-            period_nm: 1_000_000,
-            periods: 4000,
-        },
-        0xFF,
-    );
+    let mut p = current("TTK70", Resolution::Linear { period_nm: 1_000_000, periods: 4000 }, 0xFF);
     p.commands.insert(CommandId::SensorAdjustment);
     p.adjustment = [
-        Some(AdjustmentOption {
-            option: 0x00,
-            status: 0x00,
-        }),
-        Some(AdjustmentOption {
-            option: 0x01,
-            status: 0x01,
-        }),
+        Some(AdjustmentOption { option: 0x00, status: 0x00 }),
+        Some(AdjustmentOption { option: 0x01, status: 0x01 }),
         None,
         None,
     ];
@@ -192,14 +132,7 @@ pub fn ttk70() -> Profile {
 /// serial "123456789", firmware "v1.0.8", date "12072019"; 20 bit position (001 §5.1.2:
 /// "20 (32) bit"); implements 6Ah but not 67h, 6Bh, 6Ch (001 §5.1.2 command list).
 pub fn kuebler_s36() -> Profile {
-    let mut p = current(
-        "Kuebler-S36-ST",
-        Resolution::Rotary {
-            periods_per_turn: 1 << 15,
-            turns: 1,
-        },
-        0x22,
-    );
+    let mut p = current("Kuebler-S36-ST", Resolution::Rotary { periods_per_turn: 1 << 15, turns: 1 }, 0x22);
     p.commands.insert(CommandId::SetPositionWithSync);
     p.memory_blocks = 0x16;
     p.user_memory_blocks = 0x16;
@@ -218,24 +151,14 @@ pub fn kuebler_s36_mt() -> Profile {
     let mut p = kuebler_s36();
     p.name = text("Kuebler-S36-MT");
     p.type_code = 0x27;
-    p.resolution = Resolution::Rotary {
-        periods_per_turn: 1 << 15,
-        turns: 4096,
-    };
+    p.resolution = Resolution::Rotary { periods_per_turn: 1 << 15, turns: 4096 };
     p
 }
 
 /// A legacy-edition SICK-STEGMANN encoder (002): 11/44 bit-time timeouts, 63h, the
 /// ~1 s default window, 128 bytes of memory (002's data-field example), type 22h.
 pub fn legacy_srs() -> Profile {
-    let mut p = current(
-        "Legacy-SRS",
-        Resolution::Rotary {
-            periods_per_turn: 1024,
-            turns: 1,
-        },
-        0x22,
-    );
+    let mut p = current("Legacy-SRS", Resolution::Rotary { periods_per_turn: 1024, turns: 1 }, 0x22);
     p.edition = Edition::Legacy;
     p.commands = CommandSet::all_for(true);
     p.memory_blocks = 0x08;
@@ -263,10 +186,7 @@ pub const BUILTIN: &[(&str, fn() -> Profile)] = &[
 
 /// Look a built-in profile up by name (case-insensitive).
 pub fn builtin(name: &str) -> Option<Profile> {
-    BUILTIN
-        .iter()
-        .find(|(n, _)| n.eq_ignore_ascii_case(name))
-        .map(|(_, f)| f())
+    BUILTIN.iter().find(|(n, _)| n.eq_ignore_ascii_case(name)).map(|(_, f)| f())
 }
 
 #[cfg(test)]
@@ -281,11 +201,7 @@ mod tests {
             assert_eq!(p.name.as_str(), *name);
         }
         assert_eq!(builtin("srm50").map(|p| p.range()), Some(32768 * 4096));
-        assert_eq!(
-            builtin("TTK70").map(|p| p.range()),
-            Some(32 * 4000),
-            "000:T11: 32 steps/mm, 4000 mm"
-        );
+        assert_eq!(builtin("TTK70").map(|p| p.range()), Some(32 * 4000), "000:T11: 32 steps/mm, 4000 mm");
         assert_eq!(builtin("SEK37").map(|p| p.range()), Some(512));
         assert!(builtin("nope").is_none());
     }

@@ -96,15 +96,11 @@ pub enum RequestError {
 impl fmt::Display for RequestError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            RequestError::TooShort { len } => write!(
-                f,
-                "frame of {len} bytes is shorter than address, command and checksum"
-            ),
+            RequestError::TooShort { len } => {
+                write!(f, "frame of {len} bytes is shorter than address, command and checksum")
+            }
             RequestError::BadChecksum { expected, found } => {
-                write!(
-                    f,
-                    "checksum {found:02X}h, the XOR of the other bytes is {expected:02X}h"
-                )
+                write!(f, "checksum {found:02X}h, the XOR of the other bytes is {expected:02X}h")
             }
             RequestError::UnknownCommand { byte } => {
                 write!(f, "command byte {byte:02X}h is not a request command")
@@ -158,9 +154,7 @@ impl Request {
             Request::ReadVersion => CommandId::ReadVersion,
             Request::SetSerialInterface { .. } => CommandId::SetSerialInterface,
             Request::SetPositionInternalSync { .. } => CommandId::SetPositionInternalSync,
-            Request::TemporarilySetSerialInterface { .. } => {
-                CommandId::TemporarilySetSerialInterface
-            }
+            Request::TemporarilySetSerialInterface { .. } => CommandId::TemporarilySetSerialInterface,
             Request::SetPositionWithSync { .. } => CommandId::SetPositionWithSync,
             Request::SensorAdjustment { .. } => CommandId::SensorAdjustment,
             Request::ReadSyncOffset => CommandId::ReadSyncOffset,
@@ -169,32 +163,21 @@ impl Request {
 
     /// Decode the data bytes of a known command whose length the table accepts.
     fn from_data(command: CommandId, d: &[u8]) -> Result<Request, RequestError> {
-        let wrong = RequestError::WrongLength {
-            command,
-            data_len: d.len(),
-        };
-        let spec = command.spec().ok_or(RequestError::UnknownCommand {
-            byte: command.byte(),
-        })?;
+        let wrong = RequestError::WrongLength { command, data_len: d.len() };
+        let spec = command.spec().ok_or(RequestError::UnknownCommand { byte: command.byte() })?;
         if !spec.master_data.accepts(d.len()) {
             return Err(wrong);
         }
         Ok(match command {
             CommandId::ReadPosition => Request::ReadPosition,
-            CommandId::SetPosition => Request::SetPosition {
-                preset: be32(d),
-                code0: at(d, 4),
-            },
+            CommandId::SetPosition => Request::SetPosition { preset: be32(d), code0: at(d, 4) },
             CommandId::ReadAnalogValue => Request::ReadAnalogValue { channel: at(d, 0) },
             CommandId::ReadCounter => Request::ReadCounter,
             CommandId::IncrementCounter => Request::IncrementCounter,
             CommandId::ResetCounter => Request::ResetCounter { code0: at(d, 0) },
-            CommandId::ReadData => Request::ReadData {
-                field: at(d, 0),
-                offset: at(d, 1),
-                count: at(d, 2),
-                code: at(d, 3),
-            },
+            CommandId::ReadData => {
+                Request::ReadData { field: at(d, 0), offset: at(d, 1), count: at(d, 2), code: at(d, 3) }
+            }
             CommandId::StoreData => {
                 // The count byte must equal the number of data bytes that follow. // 000:T22
                 let data = d.get(4..).ok_or(wrong)?;
@@ -202,52 +185,24 @@ impl Request {
                     return Err(wrong);
                 }
                 let data = FieldBytes::new(data).ok_or(wrong)?;
-                Request::StoreData {
-                    field: at(d, 0),
-                    offset: at(d, 1),
-                    code: at(d, 3),
-                    data,
-                }
+                Request::StoreData { field: at(d, 0), offset: at(d, 1), code: at(d, 3), data }
             }
             CommandId::DataFieldStatus => Request::DataFieldStatus { field: at(d, 0) },
-            CommandId::CreateDataField => Request::CreateDataField {
-                field: at(d, 0),
-                status: at(d, 1),
-                code: at(d, 2),
-            },
+            CommandId::CreateDataField => {
+                Request::CreateDataField { field: at(d, 0), status: at(d, 1), code: at(d, 2) }
+            }
             CommandId::MemoryStatus => Request::MemoryStatus,
-            CommandId::SetAccessCode => Request::SetAccessCode {
-                number: at(d, 0),
-                old: at(d, 1),
-                new: at(d, 2),
-            },
+            CommandId::SetAccessCode => Request::SetAccessCode { number: at(d, 0), old: at(d, 1), new: at(d, 2) },
             CommandId::ReadEncoderStatus => Request::ReadEncoderStatus,
             CommandId::ReadTypeLabel => Request::ReadTypeLabel,
             CommandId::EncoderReset => Request::EncoderReset,
-            CommandId::SetEncoderAddress => Request::SetEncoderAddress {
-                address: at(d, 0),
-                code0: at(d, 1),
-            },
+            CommandId::SetEncoderAddress => Request::SetEncoderAddress { address: at(d, 0), code0: at(d, 1) },
             CommandId::ReadVersion => Request::ReadVersion,
-            CommandId::SetSerialInterface => Request::SetSerialInterface {
-                settings: at(d, 0),
-                code0: at(d, 1),
-            },
-            CommandId::SetPositionInternalSync => Request::SetPositionInternalSync {
-                preset: be32(d),
-                code0: at(d, 4),
-            },
-            CommandId::TemporarilySetSerialInterface => {
-                Request::TemporarilySetSerialInterface { settings: at(d, 0) }
-            }
-            CommandId::SetPositionWithSync => Request::SetPositionWithSync {
-                preset: be32(d),
-                code0: at(d, 4),
-            },
-            CommandId::SensorAdjustment => Request::SensorAdjustment {
-                option: at(d, 0),
-                code0: at(d, 1),
-            },
+            CommandId::SetSerialInterface => Request::SetSerialInterface { settings: at(d, 0), code0: at(d, 1) },
+            CommandId::SetPositionInternalSync => Request::SetPositionInternalSync { preset: be32(d), code0: at(d, 4) },
+            CommandId::TemporarilySetSerialInterface => Request::TemporarilySetSerialInterface { settings: at(d, 0) },
+            CommandId::SetPositionWithSync => Request::SetPositionWithSync { preset: be32(d), code0: at(d, 4) },
+            CommandId::SensorAdjustment => Request::SensorAdjustment { option: at(d, 0), code0: at(d, 1) },
             CommandId::ReadSyncOffset => Request::ReadSyncOffset,
             CommandId::Unknown(byte) => return Err(RequestError::UnknownCommand { byte }),
         })
@@ -273,27 +228,13 @@ impl Request {
             }
             Request::ReadAnalogValue { channel } => f.push(channel),
             Request::ResetCounter { code0 } => f.push(code0),
-            Request::ReadData {
-                field,
-                offset,
-                count,
-                code,
-            } => f.extend(&[field, offset, count, code]),
-            Request::StoreData {
-                field,
-                offset,
-                code,
-                data,
-            } => {
+            Request::ReadData { field, offset, count, code } => f.extend(&[field, offset, count, code]),
+            Request::StoreData { field, offset, code, data } => {
                 f.extend(&[field, offset, data.len() as u8, code])?;
                 f.extend(data.as_bytes())
             }
             Request::DataFieldStatus { field } => f.push(field),
-            Request::CreateDataField {
-                field,
-                status,
-                code,
-            } => f.extend(&[field, status, code]),
+            Request::CreateDataField { field, status, code } => f.extend(&[field, status, code]),
             Request::SetAccessCode { number, old, new } => f.extend(&[number, old, new]),
             Request::SetEncoderAddress { address, code0 } => f.extend(&[address, code0]),
             Request::SetSerialInterface { settings, code0 } => f.extend(&[settings, code0]),
@@ -328,34 +269,20 @@ impl RequestFrame {
         };
         if !checksum::is_valid(bytes) {
             let body = &bytes[..bytes.len() - 1];
-            return Err(RequestError::BadChecksum {
-                expected: checksum::xor(body),
-                found: bytes[bytes.len() - 1],
-            });
+            return Err(RequestError::BadChecksum { expected: checksum::xor(body), found: bytes[bytes.len() - 1] });
         }
         let id = match CommandByte::decode(*command) {
-            Some(CommandByte {
-                id,
-                error_bit: false,
-            }) if id.spec().is_some() => id,
+            Some(CommandByte { id, error_bit: false }) if id.spec().is_some() => id,
             _ => return Err(RequestError::UnknownCommand { byte: *command }),
         };
         let request = Request::from_data(id, data)?;
-        Ok(RequestFrame {
-            address: AddressByte::decode(*address),
-            request,
-        })
+        Ok(RequestFrame { address: AddressByte::decode(*address), request })
     }
 }
 
 impl fmt::Display for RequestFrame {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "{} [{}]",
-            self.request.command(),
-            Hex(self.encode().as_bytes())
-        )
+        write!(f, "{} [{}]", self.request.command(), Hex(self.encode().as_bytes()))
     }
 }
 
@@ -370,66 +297,32 @@ mod tests {
     fn documents_requests_decode() {
         // 001:5.1.4
         let r = RequestFrame::decode(&[0x40, 0x6A, 0x00, 0x05, 0xD2, 0xC7, 0x55, 0x6F]).unwrap();
-        assert_eq!(
-            r.request,
-            Request::SetPositionWithSync {
-                preset: 0x0005_D2C7,
-                code0: 0x55
-            }
-        );
-        let r = RequestFrame::decode(&[
-            0x40, 0x4B, 0x00, 0x00, 0x08, 0x55, 0xFF, 0, 0xFF, 0, 0xFF, 0, 0xFF, 0, 0x56,
-        ])
-        .unwrap();
-        assert!(
-            matches!(r.request, Request::StoreData { field: 0, offset: 0, code: 0x55, data } if data.len() == 8)
-        );
+        assert_eq!(r.request, Request::SetPositionWithSync { preset: 0x0005_D2C7, code0: 0x55 });
+        let r = RequestFrame::decode(&[0x40, 0x4B, 0x00, 0x00, 0x08, 0x55, 0xFF, 0, 0xFF, 0, 0xFF, 0, 0xFF, 0, 0x56])
+            .unwrap();
+        assert!(matches!(r.request, Request::StoreData { field: 0, offset: 0, code: 0x55, data } if data.len() == 8));
         // 001 erratum: 40 57 E4 55 5C (A6 is right)
         assert_eq!(
             RequestFrame::decode(&[0x40, 0x57, 0xE4, 0x55, 0x5C]),
-            Err(RequestError::BadChecksum {
-                expected: 0xA6,
-                found: 0x5C
-            })
+            Err(RequestError::BadChecksum { expected: 0xA6, found: 0x5C })
         );
     }
 
     #[test]
     fn malformed_requests_are_typed_errors() {
-        assert_eq!(
-            RequestFrame::decode(&[0x40, 0x42]),
-            Err(RequestError::TooShort { len: 2 })
-        );
-        assert_eq!(
-            RequestFrame::decode(&[]),
-            Err(RequestError::TooShort { len: 0 })
-        );
-        assert_eq!(
-            RequestFrame::decode(&[0x40, 0x45, 0x05]),
-            Err(RequestError::UnknownCommand { byte: 0x45 })
-        );
-        assert_eq!(
-            RequestFrame::decode(&[0x40, 0xC2, 0x82]),
-            Err(RequestError::UnknownCommand { byte: 0xC2 })
-        );
-        assert_eq!(
-            RequestFrame::decode(&[0x40, 0x02, 0x42]),
-            Err(RequestError::UnknownCommand { byte: 0x02 })
-        );
+        assert_eq!(RequestFrame::decode(&[0x40, 0x42]), Err(RequestError::TooShort { len: 2 }));
+        assert_eq!(RequestFrame::decode(&[]), Err(RequestError::TooShort { len: 0 }));
+        assert_eq!(RequestFrame::decode(&[0x40, 0x45, 0x05]), Err(RequestError::UnknownCommand { byte: 0x45 }));
+        assert_eq!(RequestFrame::decode(&[0x40, 0xC2, 0x82]), Err(RequestError::UnknownCommand { byte: 0xC2 }));
+        assert_eq!(RequestFrame::decode(&[0x40, 0x02, 0x42]), Err(RequestError::UnknownCommand { byte: 0x02 }));
         assert_eq!(
             RequestFrame::decode(&[0x40, 0x42, 0x00, 0x02]),
-            Err(RequestError::WrongLength {
-                command: CommandId::ReadPosition,
-                data_len: 1
-            })
+            Err(RequestError::WrongLength { command: CommandId::ReadPosition, data_len: 1 })
         );
         // Store Data whose count byte disagrees with the data bytes.
         let mut f = Frame::from_bytes(&[0x40, 0x4B, 0x00, 0x00, 0x02, 0x55, 0x01]).unwrap();
         f.seal().unwrap();
-        assert!(matches!(
-            RequestFrame::decode(f.as_bytes()),
-            Err(RequestError::WrongLength { .. })
-        ));
+        assert!(matches!(RequestFrame::decode(f.as_bytes()), Err(RequestError::WrongLength { .. })));
     }
 
     #[test]
@@ -437,63 +330,27 @@ mod tests {
         let data = FieldBytes::new(&[7; 128]).unwrap();
         let all = [
             Request::ReadPosition,
-            Request::SetPosition {
-                preset: 0x0102_0304,
-                code0: 0x55,
-            },
+            Request::SetPosition { preset: 0x0102_0304, code0: 0x55 },
             Request::ReadAnalogValue { channel: 0x48 },
             Request::ReadCounter,
             Request::IncrementCounter,
             Request::ResetCounter { code0: 0x55 },
-            Request::ReadData {
-                field: 1,
-                offset: 2,
-                count: 3,
-                code: 4,
-            },
-            Request::StoreData {
-                field: 1,
-                offset: 0,
-                code: 0x55,
-                data,
-            },
+            Request::ReadData { field: 1, offset: 2, count: 3, code: 4 },
+            Request::StoreData { field: 1, offset: 0, code: 0x55, data },
             Request::DataFieldStatus { field: 0xFF },
-            Request::CreateDataField {
-                field: 0,
-                status: 0xC9,
-                code: 0x55,
-            },
+            Request::CreateDataField { field: 0, status: 0xC9, code: 0x55 },
             Request::MemoryStatus,
-            Request::SetAccessCode {
-                number: 2,
-                old: 0x55,
-                new: 0x66,
-            },
+            Request::SetAccessCode { number: 2, old: 0x55, new: 0x66 },
             Request::ReadEncoderStatus,
             Request::ReadTypeLabel,
             Request::EncoderReset,
-            Request::SetEncoderAddress {
-                address: 0x41,
-                code0: 0x55,
-            },
+            Request::SetEncoderAddress { address: 0x41, code0: 0x55 },
             Request::ReadVersion,
-            Request::SetSerialInterface {
-                settings: 0xE4,
-                code0: 0x55,
-            },
-            Request::SetPositionInternalSync {
-                preset: 5,
-                code0: 0x55,
-            },
+            Request::SetSerialInterface { settings: 0xE4, code0: 0x55 },
+            Request::SetPositionInternalSync { preset: 5, code0: 0x55 },
             Request::TemporarilySetSerialInterface { settings: 0xE5 },
-            Request::SetPositionWithSync {
-                preset: 0x0005_D2C7,
-                code0: 0x55,
-            },
-            Request::SensorAdjustment {
-                option: 1,
-                code0: 0x55,
-            },
+            Request::SetPositionWithSync { preset: 0x0005_D2C7, code0: 0x55 },
+            Request::SensorAdjustment { option: 1, code0: 0x55 },
             Request::ReadSyncOffset,
         ];
         assert_eq!(all.len(), crate::command::COMMAND_TABLE.len());
@@ -503,11 +360,6 @@ mod tests {
             assert!(checksum::is_valid(bytes.as_bytes()));
             assert_eq!(RequestFrame::decode(bytes.as_bytes()), Ok(rf), "{rf}");
         }
-        assert_eq!(
-            RequestFrame::new(A, Request::ReadPosition)
-                .encode()
-                .as_bytes(),
-            &[0x40, 0x42, 0x02]
-        );
+        assert_eq!(RequestFrame::new(A, Request::ReadPosition).encode().as_bytes(), &[0x40, 0x42, 0x02]);
     }
 }

@@ -126,10 +126,9 @@ impl fmt::Display for ResponseError {
             ResponseError::NoResponseExpected { to } => {
                 write!(f, "{to} draws no response (000:T29)")
             }
-            ResponseError::TooShort { len } => write!(
-                f,
-                "reply of {len} bytes is shorter than address, command and checksum"
-            ),
+            ResponseError::TooShort { len } => {
+                write!(f, "reply of {len} bytes is shorter than address, command and checksum")
+            }
             ResponseError::BadChecksum { expected, found } => {
                 write!(f, "reply checksum {found:02X}h, the XOR of the other bytes is {expected:02X}h (000:2.3.3)")
             }
@@ -143,10 +142,7 @@ impl fmt::Display for ResponseError {
                 write!(f, "{data_len} data bytes are wrong for a reply to {to}")
             }
             ResponseError::CountMismatch { count, data_len } => {
-                write!(
-                    f,
-                    "Read Data reply says {count} bytes but carries {data_len}"
-                )
+                write!(f, "Read Data reply says {count} bytes but carries {data_len}")
             }
         }
     }
@@ -190,9 +186,7 @@ impl Response {
             Response::Version(_) => CommandId::ReadVersion,
             Response::SerialInterfaceSet { .. } => CommandId::SetSerialInterface,
             Response::PositionInternalSyncSet => CommandId::SetPositionInternalSync,
-            Response::SerialInterfaceTemporarilySet { .. } => {
-                CommandId::TemporarilySetSerialInterface
-            }
+            Response::SerialInterfaceTemporarilySet { .. } => CommandId::TemporarilySetSerialInterface,
             Response::PositionWithSyncSet(_) => CommandId::SetPositionWithSync,
             Response::SensorAdjusted { .. } => CommandId::SensorAdjustment,
             Response::SyncOffset(_) => CommandId::ReadSyncOffset,
@@ -216,102 +210,63 @@ impl Response {
                 let [_, a, b, c] = c.to_be_bytes();
                 f.extend(&[a, b, c])
             }
-            Response::Data {
-                field,
-                offset,
-                data,
-            } => {
+            Response::Data { field, offset, data } => {
                 let _ = f.extend(&[field, offset, data.len() as u8]);
                 f.extend(data.as_bytes())
             }
-            Response::DataStored {
-                field,
-                offset,
-                count,
-            } => f.extend(&[field, offset, count]),
+            Response::DataStored { field, offset, count } => f.extend(&[field, offset, count]),
             Response::FieldStatus { field, status } | Response::FieldCreated { field, status } => {
                 f.extend(&[field, status])
             }
-            Response::MemoryStatus {
-                free_blocks,
-                fields,
-            } => f.extend(&[free_blocks, fields]),
+            Response::MemoryStatus { free_blocks, fields } => f.extend(&[free_blocks, fields]),
             Response::AccessCodeSet { number } => f.push(number),
             Response::EncoderStatus(code) | Response::Error(code) => f.push(code.byte()),
-            Response::TypeLabel {
-                settings,
-                type_code,
-                memory_blocks,
-                option,
-            } => f.extend(&[settings, type_code, memory_blocks, option]),
+            Response::TypeLabel { settings, type_code, memory_blocks, option } => {
+                f.extend(&[settings, type_code, memory_blocks, option])
+            }
             Response::Version(v) => {
                 let _ = f.extend(&v.serial);
                 let _ = f.extend(&v.firmware);
                 f.extend(&v.date)
             }
-            Response::SerialInterfaceSet { settings }
-            | Response::SerialInterfaceTemporarilySet { settings } => f.push(settings),
+            Response::SerialInterfaceSet { settings } | Response::SerialInterfaceTemporarilySet { settings } => {
+                f.push(settings)
+            }
             Response::SensorAdjusted { option, status } => f.extend(&[option, status]),
             Response::SyncOffset(s) => f.push(s),
         };
     }
 
     fn from_data(to: CommandId, d: &[u8]) -> Result<Response, ResponseError> {
-        let wrong = ResponseError::WrongLength {
-            to,
-            data_len: d.len(),
-        };
+        let wrong = ResponseError::WrongLength { to, data_len: d.len() };
         let spec = to.spec().ok_or(wrong)?;
         if !spec.slave_data.accepts(d.len()) {
-            return Err(
-                if matches!(spec.slave_data, crate::command::DataLength::NoFrame) {
-                    ResponseError::NoResponseExpected { to }
-                } else {
-                    wrong
-                },
-            );
+            return Err(if matches!(spec.slave_data, crate::command::DataLength::NoFrame) {
+                ResponseError::NoResponseExpected { to }
+            } else {
+                wrong
+            });
         }
         Ok(match to {
             CommandId::ReadPosition => Response::Position(be32(d)),
             CommandId::SetPosition => Response::PositionSet,
-            CommandId::ReadAnalogValue => Response::AnalogValue {
-                channel: at(d, 0),
-                value: u16::from_be_bytes([at(d, 1), at(d, 2)]),
-            },
+            CommandId::ReadAnalogValue => {
+                Response::AnalogValue { channel: at(d, 0), value: u16::from_be_bytes([at(d, 1), at(d, 2)]) }
+            }
             CommandId::ReadCounter => Response::Counter(be32(&[0, at(d, 0), at(d, 1), at(d, 2)])),
             CommandId::IncrementCounter => Response::CounterIncremented,
             CommandId::ResetCounter => Response::CounterReset,
             CommandId::ReadData => {
                 let data = d.get(3..).unwrap_or(&[]);
                 if at(d, 2) as usize != data.len() {
-                    return Err(ResponseError::CountMismatch {
-                        count: at(d, 2),
-                        data_len: data.len(),
-                    });
+                    return Err(ResponseError::CountMismatch { count: at(d, 2), data_len: data.len() });
                 }
-                Response::Data {
-                    field: at(d, 0),
-                    offset: at(d, 1),
-                    data: FieldBytes::new(data).ok_or(wrong)?,
-                }
+                Response::Data { field: at(d, 0), offset: at(d, 1), data: FieldBytes::new(data).ok_or(wrong)? }
             }
-            CommandId::StoreData => Response::DataStored {
-                field: at(d, 0),
-                offset: at(d, 1),
-                count: at(d, 2),
-            },
-            CommandId::DataFieldStatus => Response::FieldStatus {
-                field: at(d, 0),
-                status: at(d, 1),
-            },
-            CommandId::CreateDataField => Response::FieldCreated {
-                field: at(d, 0),
-                status: at(d, 1),
-            },
-            CommandId::MemoryStatus => Response::MemoryStatus {
-                free_blocks: at(d, 0),
-                fields: at(d, 1),
-            },
+            CommandId::StoreData => Response::DataStored { field: at(d, 0), offset: at(d, 1), count: at(d, 2) },
+            CommandId::DataFieldStatus => Response::FieldStatus { field: at(d, 0), status: at(d, 1) },
+            CommandId::CreateDataField => Response::FieldCreated { field: at(d, 0), status: at(d, 1) },
+            CommandId::MemoryStatus => Response::MemoryStatus { free_blocks: at(d, 0), fields: at(d, 1) },
             CommandId::SetAccessCode => Response::AccessCodeSet { number: at(d, 0) },
             CommandId::ReadEncoderStatus => Response::EncoderStatus(FaultCode::decode(at(d, 0))),
             CommandId::ReadTypeLabel => Response::TypeLabel {
@@ -328,14 +283,9 @@ impl Response {
             }),
             CommandId::SetSerialInterface => Response::SerialInterfaceSet { settings: at(d, 0) },
             CommandId::SetPositionInternalSync => Response::PositionInternalSyncSet,
-            CommandId::TemporarilySetSerialInterface => {
-                Response::SerialInterfaceTemporarilySet { settings: at(d, 0) }
-            }
+            CommandId::TemporarilySetSerialInterface => Response::SerialInterfaceTemporarilySet { settings: at(d, 0) },
             CommandId::SetPositionWithSync => Response::PositionWithSyncSet(be32(d)),
-            CommandId::SensorAdjustment => Response::SensorAdjusted {
-                option: at(d, 0),
-                status: at(d, 1),
-            },
+            CommandId::SensorAdjustment => Response::SensorAdjusted { option: at(d, 0), status: at(d, 1) },
             CommandId::ReadSyncOffset => Response::SyncOffset(at(d, 0)),
             CommandId::EncoderReset | CommandId::Unknown(_) => return Err(wrong),
         })
@@ -347,13 +297,7 @@ impl ResponseFrame {
     pub fn encode(&self) -> Frame {
         let mut f = Frame::new();
         let _ = f.push(self.address);
-        let _ = f.push(
-            CommandByte {
-                id: self.response.command(),
-                error_bit: self.warning,
-            }
-            .byte(),
-        );
+        let _ = f.push(CommandByte { id: self.response.command(), error_bit: self.warning }.byte());
         self.response.write_data(&mut f);
         let _ = f.seal();
         f
@@ -362,44 +306,28 @@ impl ResponseFrame {
     /// Decode bytes as the reply to a request for `to`. A reply with command value
     /// 50h to any other command is an error response.
     pub fn decode(bytes: &[u8], to: CommandId) -> Result<ResponseFrame, ResponseError> {
-        if to == CommandId::EncoderReset {
-            return Err(ResponseError::NoResponseExpected { to });
-        }
         let [address, command, data @ .., _] = bytes else {
             return Err(ResponseError::TooShort { len: bytes.len() });
         };
         if !checksum::is_valid(bytes) {
             let body = &bytes[..bytes.len() - 1];
-            return Err(ResponseError::BadChecksum {
-                expected: checksum::xor(body),
-                found: bytes[bytes.len() - 1],
-            });
+            return Err(ResponseError::BadChecksum { expected: checksum::xor(body), found: bytes[bytes.len() - 1] });
         }
-        let cb = CommandByte::decode(*command)
-            .ok_or(ResponseError::BadCommandByte { byte: *command })?;
-        let response = if cb.id == to {
+        let cb = CommandByte::decode(*command).ok_or(ResponseError::BadCommandByte { byte: *command })?;
+        let response = if cb.id == to && to == CommandId::EncoderReset {
+            // A correct Encoder Reset draws no reply; only an error response may answer it.
+            return Err(ResponseError::NoResponseExpected { to });
+        } else if cb.id == to {
             Response::from_data(to, data)?
         } else if cb.id == CommandId::ReadEncoderStatus {
             match data {
                 [code] => Response::Error(FaultCode::decode(*code)),
-                _ => {
-                    return Err(ResponseError::WrongLength {
-                        to: CommandId::ReadEncoderStatus,
-                        data_len: data.len(),
-                    })
-                }
+                _ => return Err(ResponseError::WrongLength { to: CommandId::ReadEncoderStatus, data_len: data.len() }),
             }
         } else {
-            return Err(ResponseError::WrongCommand {
-                to,
-                found: *command,
-            });
+            return Err(ResponseError::WrongCommand { to, found: *command });
         };
-        Ok(ResponseFrame {
-            address: *address,
-            warning: cb.error_bit,
-            response,
-        })
+        Ok(ResponseFrame { address: *address, warning: cb.error_bit, response })
     }
 }
 
@@ -414,150 +342,78 @@ mod tests {
     use super::*;
 
     fn rf(response: Response) -> ResponseFrame {
-        ResponseFrame {
-            address: 0x40,
-            warning: false,
-            response,
-        }
+        ResponseFrame { address: 0x40, warning: false, response }
     }
 
     #[test]
     fn documents_responses() {
         // 001:5.1.4
+        assert_eq!(rf(Response::Position(0)).encode().as_bytes(), &[0x40, 0x42, 0, 0, 0, 0, 0x02]);
         assert_eq!(
-            rf(Response::Position(0)).encode().as_bytes(),
-            &[0x40, 0x42, 0, 0, 0, 0, 0x02]
-        );
-        assert_eq!(
-            rf(Response::AnalogValue {
-                channel: 0x48,
-                value: 0x25
-            })
-            .encode()
-            .as_bytes(),
+            rf(Response::AnalogValue { channel: 0x48, value: 0x25 }).encode().as_bytes(),
             &[0x40, 0x44, 0x48, 0x00, 0x25, 0x69]
         );
         assert_eq!(
-            rf(Response::MemoryStatus {
-                free_blocks: 0x16,
-                fields: 0
-            })
-            .encode()
-            .as_bytes(),
+            rf(Response::MemoryStatus { free_blocks: 0x16, fields: 0 }).encode().as_bytes(),
             &[0x40, 0x4E, 0x16, 0x00, 0x18]
         );
-        assert_eq!(
-            rf(Response::EncoderStatus(FaultCode::NoFault))
-                .encode()
-                .as_bytes(),
-            &[0x40, 0x50, 0x00, 0x10]
-        );
+        assert_eq!(rf(Response::EncoderStatus(FaultCode::NoFault)).encode().as_bytes(), &[0x40, 0x50, 0x00, 0x10]);
         // The error response drawn by a bad checksum.
-        assert_eq!(
-            rf(Response::Error(FaultCode::Checksum)).encode().as_bytes(),
-            &[0x40, 0x50, 0x0A, 0x1A]
-        );
-        let with_warning = ResponseFrame {
-            warning: true,
-            ..rf(Response::Error(FaultCode::Checksum))
-        };
+        assert_eq!(rf(Response::Error(FaultCode::Checksum)).encode().as_bytes(), &[0x40, 0x50, 0x0A, 0x1A]);
+        let with_warning = ResponseFrame { warning: true, ..rf(Response::Error(FaultCode::Checksum)) };
         assert_eq!(with_warning.encode().as_bytes(), &[0x40, 0xD0, 0x0A, 0x9A]);
         // 001 erratum: 40 4C 00 C8 1E (C4 is right)
         assert_eq!(
             ResponseFrame::decode(&[0x40, 0x4C, 0x00, 0xC8, 0x1E], CommandId::DataFieldStatus),
-            Err(ResponseError::BadChecksum {
-                expected: 0xC4,
-                found: 0x1E
-            })
+            Err(ResponseError::BadChecksum { expected: 0xC4, found: 0x1E })
         );
     }
 
     #[test]
     fn every_response_round_trips_and_errors_decode_to_any_command() {
-        let v = Version {
-            serial: *b"123456789",
-            firmware: *b"v1.0.8\0\0\0\0\0\0\0\0\0\0\0\0\0\0",
-            date: *b"12072019",
-        };
+        let v = Version { serial: *b"123456789", firmware: *b"v1.0.8\0\0\0\0\0\0\0\0\0\0\0\0\0\0", date: *b"12072019" };
         let all = [
             Response::Position(0x0102_0304),
             Response::PositionSet,
-            Response::AnalogValue {
-                channel: 0xF0,
-                value: 0xFFFE,
-            },
+            Response::AnalogValue { channel: 0xF0, value: 0xFFFE },
             Response::Counter(0xFF_FFFF),
             Response::CounterIncremented,
             Response::CounterReset,
-            Response::Data {
-                field: 0,
-                offset: 0,
-                data: FieldBytes::new(&[0xFF; 128]).unwrap(),
-            },
-            Response::DataStored {
-                field: 1,
-                offset: 5,
-                count: 2,
-            },
-            Response::FieldStatus {
-                field: 0,
-                status: 0xC8,
-            },
-            Response::FieldCreated {
-                field: 0,
-                status: 0xC9,
-            },
-            Response::MemoryStatus {
-                free_blocks: 8,
-                fields: 0,
-            },
+            Response::Data { field: 0, offset: 0, data: FieldBytes::new(&[0xFF; 128]).unwrap() },
+            Response::DataStored { field: 1, offset: 5, count: 2 },
+            Response::FieldStatus { field: 0, status: 0xC8 },
+            Response::FieldCreated { field: 0, status: 0xC9 },
+            Response::MemoryStatus { free_blocks: 8, fields: 0 },
             Response::AccessCodeSet { number: 2 },
             Response::EncoderStatus(FaultCode::Temperature),
-            Response::TypeLabel {
-                settings: 0xE4,
-                type_code: 0x22,
-                memory_blocks: 0x16,
-                option: 0,
-            },
+            Response::TypeLabel { settings: 0xE4, type_code: 0x22, memory_blocks: 0x16, option: 0 },
             Response::AddressSet,
             Response::Version(v),
             Response::SerialInterfaceSet { settings: 0xE4 },
             Response::PositionInternalSyncSet,
             Response::SerialInterfaceTemporarilySet { settings: 0xE5 },
             Response::PositionWithSyncSet(0x0005_D2C1),
-            Response::SensorAdjusted {
-                option: 1,
-                status: 0,
-            },
+            Response::SensorAdjusted { option: 1, status: 0 },
             Response::SyncOffset(31),
         ];
         for response in all {
             for warning in [false, true] {
-                let frame = ResponseFrame {
-                    address: 0x41,
-                    warning,
-                    response,
-                };
+                let frame = ResponseFrame { address: 0x41, warning, response };
                 let to = response.command();
-                assert_eq!(
-                    ResponseFrame::decode(frame.encode().as_bytes(), to),
-                    Ok(frame)
-                );
+                assert_eq!(ResponseFrame::decode(frame.encode().as_bytes(), to), Ok(frame));
             }
         }
         let err = rf(Response::Error(FaultCode::WrongAccessCode)).encode();
         assert_eq!(
-            ResponseFrame::decode(err.as_bytes(), CommandId::SetPosition)
-                .unwrap()
-                .response,
+            ResponseFrame::decode(err.as_bytes(), CommandId::SetPosition).unwrap().response,
             Response::Error(FaultCode::WrongAccessCode)
         );
         assert_eq!(
-            ResponseFrame::decode(&[0x40, 0x42, 0x02], CommandId::EncoderReset),
-            Err(ResponseError::NoResponseExpected {
-                to: CommandId::EncoderReset
-            })
+            ResponseFrame::decode(&[0x40, 0x53, 0x13], CommandId::EncoderReset),
+            Err(ResponseError::NoResponseExpected { to: CommandId::EncoderReset })
         );
+        let to_reset = ResponseFrame::decode(&[0x40, 0x50, 0x0A, 0x1A], CommandId::EncoderReset);
+        assert_eq!(to_reset.map(|r| r.response), Ok(Response::Error(FaultCode::Checksum)));
         assert!(matches!(
             ResponseFrame::decode(&[0x40, 0x43, 0x03], CommandId::ReadPosition),
             Err(ResponseError::WrongCommand { .. })

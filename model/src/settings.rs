@@ -24,15 +24,8 @@ pub enum Baud {
 }
 
 impl Baud {
-    pub const ALL: [Baud; 7] = [
-        Baud::B600,
-        Baud::B1200,
-        Baud::B2400,
-        Baud::B4800,
-        Baud::B9600,
-        Baud::B19200,
-        Baud::B38400,
-    ];
+    pub const ALL: [Baud; 7] =
+        [Baud::B600, Baud::B1200, Baud::B2400, Baud::B4800, Baud::B9600, Baud::B19200, Baud::B38400];
 
     pub const fn bits_per_second(self) -> u32 {
         match self {
@@ -121,12 +114,8 @@ pub struct UartSettings {
 
 impl UartSettings {
     /// E4h: 9600 Bd, 8 data bits, even parity, 5*11 timeout, standard slave. // 000:T28
-    pub const DEFAULT: UartSettings = UartSettings {
-        baud: Baud::B9600,
-        parity: Parity::Even,
-        timeout: TimeoutSelect::Long,
-        bus: BusMode::Standard,
-    };
+    pub const DEFAULT: UartSettings =
+        UartSettings { baud: Baud::B9600, parity: Parity::Even, timeout: TimeoutSelect::Long, bus: BusMode::Standard };
 
     /// Strict decoder: undefined data rate or parity codes and bit 3 set are errors.
     pub const fn decode(byte: u8) -> Result<UartSettings, SettingsError> {
@@ -149,22 +138,9 @@ impl UartSettings {
             3 => Parity::Odd,
             _ => return Err(SettingsError::UndefinedParity),
         };
-        let timeout = if byte & 0x40 != 0 {
-            TimeoutSelect::Long
-        } else {
-            TimeoutSelect::Short
-        };
-        let bus = if byte & 0x80 != 0 {
-            BusMode::Standard
-        } else {
-            BusMode::BusSlave
-        };
-        Ok(UartSettings {
-            baud,
-            parity,
-            timeout,
-            bus,
-        })
+        let timeout = if byte & 0x40 != 0 { TimeoutSelect::Long } else { TimeoutSelect::Short };
+        let bus = if byte & 0x80 != 0 { BusMode::Standard } else { BusMode::BusSlave };
+        Ok(UartSettings { baud, parity, timeout, bus })
     }
 
     pub const fn byte(self) -> u8 {
@@ -241,14 +217,7 @@ impl fmt::Display for UartSettings {
             TimeoutSelect::Short => "short",
             TimeoutSelect::Long => "long",
         };
-        write!(
-            f,
-            "{:02X}h ({} Bd 8{}1, {} timeout)",
-            self.byte(),
-            self.baud.bits_per_second(),
-            parity,
-            timeout
-        )
+        write!(f, "{:02X}h ({} Bd 8{}1, {} timeout)", self.byte(), self.baud.bits_per_second(), parity, timeout)
     }
 }
 
@@ -283,23 +252,12 @@ mod tests {
     #[test]
     fn timing() {
         let d = UartSettings::DEFAULT;
-        assert_eq!(
-            d.timeout_us(Edition::Current),
-            5730,
-            "000:2.2.2: 5.73 ms at 9600 Bd"
-        );
+        assert_eq!(d.timeout_us(Edition::Current), 5730, "000:2.2.2: 5.73 ms at 9600 Bd");
         assert_eq!(d.timeout_bits(Edition::Legacy), 44);
         assert_eq!(d.char_time_us(), 1146);
-        let none = UartSettings {
-            parity: Parity::None,
-            ..d
-        };
+        let none = UartSettings { parity: Parity::None, ..d };
         assert_eq!(none.bits_per_char(), 10);
-        let short = UartSettings {
-            timeout: TimeoutSelect::Short,
-            baud: Baud::B38400,
-            ..d
-        };
+        let short = UartSettings { timeout: TimeoutSelect::Short, baud: Baud::B38400, ..d };
         assert_eq!(short.timeout_bits(Edition::Current), 22);
         assert_eq!(short.timeout_us(Edition::Current), 573);
     }

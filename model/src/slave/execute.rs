@@ -66,13 +66,7 @@ pub(super) fn max_response_ms(profile: &Profile, reply: &ResponseFrame, request:
 }
 
 impl Slave {
-    pub(super) fn execute(
-        &mut self,
-        bytes: &[u8],
-        uart_fault: bool,
-        overflowed: bool,
-        at_us: u64,
-    ) -> Outcome {
+    pub(super) fn execute(&mut self, bytes: &[u8], uart_fault: bool, overflowed: bool, at_us: u64) -> Outcome {
         // 1) Not our address: silent. // DESIGN:order, 000:2.3.1
         let own = self.nv.address;
         match bytes.first() {
@@ -110,48 +104,24 @@ impl Slave {
             Done::Err(code, clause) => (Response::Error(code), clause),
         };
         self.monitor(&response);
-        let reply = ResponseFrame {
-            address: self.nv.address.byte(),
-            warning: !self.stack.is_empty(),
-            response,
-        };
-        let then_settings = if matches!(response, Response::Error(_)) {
-            None
-        } else {
-            then_settings
-        };
+        let reply = ResponseFrame { address: self.nv.address.byte(), warning: !self.stack.is_empty(), response };
+        let then_settings = if matches!(response, Response::Error(_)) { None } else { then_settings };
         if let Some(s) = then_settings {
             self.temp_settings = Some(s);
         }
-        Outcome {
-            reply: Reply::Frame(reply),
-            clause,
-            also: c.also,
-            then_settings,
-        }
+        Outcome { reply: Reply::Frame(reply), clause, also: c.also, then_settings }
     }
 
     /// Steps 2-6 of the check order: UART fault, length, checksum, command, length.
     fn protocol_checks(&self, c: &mut Checks, bytes: &[u8], uart_fault: bool, overflowed: bool) {
         c.check(uart_fault, Parity, clause::PARITY_ERROR);
-        c.check(
-            bytes.len() < 3 || overflowed,
-            WrongLength,
-            clause::WRONG_LENGTH,
-        );
-        c.check(
-            bytes.len() >= 2 && !checksum::is_valid(bytes),
-            Checksum,
-            clause::CHECKSUM_ERROR,
-        );
+        c.check(bytes.len() < 3 || overflowed, WrongLength, clause::WRONG_LENGTH);
+        c.check(bytes.len() >= 2 && !checksum::is_valid(bytes), Checksum, clause::CHECKSUM_ERROR);
         let Some(command_byte) = bytes.get(1) else {
             return;
         };
         let id = match CommandByte::decode(*command_byte) {
-            Some(CommandByte {
-                id,
-                error_bit: false,
-            }) if self.profile.commands.contains(id) => id,
+            Some(CommandByte { id, error_bit: false }) if self.profile.commands.contains(id) => id,
             _ => {
                 c.check(true, UnknownCommand, clause::UNKNOWN_COMMAND);
                 return;
@@ -161,9 +131,7 @@ impl Slave {
             let data = &bytes[2..bytes.len() - 1];
             let mut ok = spec.master_data.accepts(data.len());
             if id == CommandId::StoreData {
-                ok &= data
-                    .get(2)
-                    .is_some_and(|count| *count as usize + 4 == data.len());
+                ok &= data.get(2).is_some_and(|count| *count as usize + 4 == data.len());
             }
             c.check(!ok, WrongLength, clause::WRONG_LENGTH);
         }
@@ -183,6 +151,20 @@ impl Slave {
         }
     }
 
+    /// Faults of the non-volatile memory, for the commands whose table rows list them:
+    /// 06h after an internal checksum error at start-up (000:T44; also 57h, which T44
+    /// names), 05h while the I2C bus is down (000:T43). 05h is acceptable where 06h
+    /// applies (000:T43 and T44 disagree on which one a locked command answers).
+    fn memory_checks(&self, c: &mut Checks, command: CommandId) {
+        let Some(spec) = command.spec() else { return };
+        let lockable = spec.errors.contains(&InternalChecksum) || command == CommandId::SetSerialInterface;
+        let nv = self.locks.nonvolatile && lockable;
+        c.check(nv, InternalChecksum, clause::NV_LOCK);
+        c.tolerate(nv && spec.errors.contains(&I2cBus), I2cBus);
+        let i2c = self.injected.i2c() && spec.errors.contains(&I2cBus);
+        c.check(i2c, I2cBus, clause::I2C_BUS);
+    }
+
     fn code0_wrong(&self, code0: u8) -> bool {
         code0 != self.nv.codes[0]
     }
@@ -191,29 +173,18 @@ impl Slave {
         self.eeprom_writes = self.eeprom_writes.saturating_add(1);
     }
 
-    fn command(
-        &mut self,
-        request: Request,
-        c: &mut Checks,
-        then_settings: &mut Option<UartSettings>,
-    ) -> Done {
-        let spec_clause = request
-            .command()
-            .spec()
-            .map_or(clause::COMMANDS, |s| s.clause);
+    fn command(&mut self, request: Request, c: &mut Checks, then_settings: &mut Option<UartSettings>) -> Done {
+        let spec_clause = request.command().spec().map_or(clause::COMMANDS, |s| s.clause);
         let result = match request {
-            Request::ReadPosition => self
-                .position_faults(c, true)
-                .map(|()| Response::Position(self.position() as u32)),
-            Request::SetPosition { preset, code0 }
-            | Request::SetPositionInternalSync { preset, code0 } => self
-                .set_position(c, preset, code0, false)
-                .map(|_| match request {
+            Request::ReadPosition => self.position_faults(c, true).map(|()| Response::Position(self.position() as u32)),
+            Request::SetPosition { preset, code0 } | Request::SetPositionInternalSync { preset, code0 } => {
+                self.set_position(c, request.command(), preset, code0).map(|_| match request {
                     Request::SetPosition { .. } => Response::PositionSet,
                     _ => Response::PositionInternalSyncSet,
-                }),
+                })
+            }
             Request::SetPositionWithSync { preset, code0 } => self
-                .set_position(c, preset, code0, true)
+                .set_position(c, CommandId::SetPositionWithSync, preset, code0)
                 .map(|used| Response::PositionWithSyncSet(used as u32)),
             Request::ReadAnalogValue { channel } => {
                 let ch = self.profile.analog_channel(channel);
@@ -224,72 +195,47 @@ impl Slave {
                             AnalogSource::Temperature => self.inputs.temperature_c as i32,
                             AnalogSource::LedCurrent => self.inputs.led_current_ma as i32,
                         };
-                        Ok(Response::AnalogValue {
-                            channel,
-                            value: ch.encoding.encode(reading),
-                        })
+                        Ok(Response::AnalogValue { channel, value: ch.encoding.encode(reading) })
                     }
                     _ => Err(()),
                 }
             }
             Request::ReadCounter => {
-                c.check(self.locks.nonvolatile, InternalChecksum, clause::NV_LOCK);
-                c.tolerate(self.locks.nonvolatile, I2cBus);
+                self.memory_checks(c, request.command());
                 ok_if(c, Response::Counter(self.nv.counter))
             }
             Request::IncrementCounter => self.increment_counter(c),
             Request::ResetCounter { code0 } => {
-                c.check(
-                    self.code0_wrong(code0),
-                    WrongAccessCode,
-                    clause::WRONG_ACCESS_CODE,
-                );
-                c.check(self.locks.nonvolatile, InternalChecksum, clause::NV_LOCK);
-                c.tolerate(self.locks.nonvolatile, I2cBus);
+                c.check(self.code0_wrong(code0), WrongAccessCode, clause::WRONG_ACCESS_CODE);
+                self.memory_checks(c, request.command());
                 if c.first.is_none() {
                     self.nv.counter = 0;
                     self.count_write();
                 }
                 ok_if(c, Response::CounterReset)
             }
-            Request::ReadData {
-                field,
-                offset,
-                count,
-                code,
-            } => self.read_data(c, field, offset, count, code),
-            Request::StoreData {
-                field,
-                offset,
-                code,
-                data,
-            } => self.store_data(c, field, offset, code, data.as_bytes()),
+            Request::ReadData { field, offset, count, code } => self.read_data(c, field, offset, count, code),
+            Request::StoreData { field, offset, code, data } => {
+                self.store_data(c, field, offset, code, data.as_bytes())
+            }
             Request::DataFieldStatus { field } => {
                 c.check(self.locks.data_fields, PartitionTable, clause::INIT_FAULTS);
+                self.memory_checks(c, request.command());
                 let status = match field {
                     EXTENDED_TYPE_LABEL_FIELD if self.profile.extended_type_label.is_some() => {
                         Some(EXTENDED_TYPE_LABEL_STATUS)
                     }
                     _ => self.nv.fields.status(field).map(|s| s.0),
                 };
-                c.check(
-                    status.is_none(),
-                    WrongFieldNumber,
-                    clause::WRONG_FIELD_NUMBER,
-                );
+                c.check(status.is_none(), WrongFieldNumber, clause::WRONG_FIELD_NUMBER);
                 match status {
                     Some(status) => ok_if(c, Response::FieldStatus { field, status }),
                     None => Err(()),
                 }
             }
-            Request::CreateDataField {
-                field,
-                status,
-                code,
-            } => self.create_data_field(c, field, status, code),
+            Request::CreateDataField { field, status, code } => self.create_data_field(c, field, status, code),
             Request::MemoryStatus => {
-                // 000:T44 does not list 4Eh among the locked commands; Table 25 lists 06h.
-                c.tolerate(self.locks.nonvolatile, InternalChecksum);
+                self.memory_checks(c, request.command());
                 ok_if(
                     c,
                     Response::MemoryStatus {
@@ -301,13 +247,8 @@ impl Slave {
             Request::SetAccessCode { number, old, new } => {
                 let current = self.nv.codes.get(number as usize).copied();
                 c.check(current.is_none(), WrongArgument, clause::SET_ACCESS_CODE);
-                c.check(
-                    current.is_some_and(|cur| cur != old),
-                    WrongAccessCode,
-                    clause::WRONG_ACCESS_CODE,
-                );
-                c.check(self.locks.nonvolatile, InternalChecksum, clause::NV_LOCK);
-                c.tolerate(self.locks.nonvolatile, I2cBus);
+                c.check(current.is_some_and(|cur| cur != old), WrongAccessCode, clause::WRONG_ACCESS_CODE);
+                self.memory_checks(c, request.command());
                 match (c.first, self.nv.codes.get_mut(number as usize)) {
                     (None, Some(slot)) => {
                         *slot = new;
@@ -319,28 +260,27 @@ impl Slave {
             }
             Request::ReadEncoderStatus => {
                 // The stack is read before the Others monitoring of this reply. // 000:T27
-                Ok(Response::EncoderStatus(
-                    self.stack.pop(self.profile.stack_order),
-                ))
+                Ok(Response::EncoderStatus(self.stack.pop(self.profile.stack_order)))
             }
-            Request::ReadTypeLabel => Ok(Response::TypeLabel {
-                // DESIGN:52h: the stored settings byte.
-                settings: self.nv.settings.byte(),
-                type_code: self.profile.type_code,
-                memory_blocks: self.profile.memory_blocks,
-                option: self.profile.option_code,
-            }),
+            Request::ReadTypeLabel => {
+                self.memory_checks(c, request.command());
+                ok_if(
+                    c,
+                    Response::TypeLabel {
+                        // DESIGN:52h: the stored settings byte.
+                        settings: self.nv.settings.byte(),
+                        type_code: self.profile.type_code,
+                        memory_blocks: self.profile.memory_blocks,
+                        option: self.profile.option_code,
+                    },
+                )
+            }
             Request::EncoderReset => return Done::Reset,
             Request::SetEncoderAddress { address, code0 } => {
                 let new = SlaveAddress::new(address);
                 c.check(new.is_none(), WrongArgument, clause::SET_ADDRESS);
-                c.check(
-                    self.code0_wrong(code0),
-                    WrongAccessCode,
-                    clause::WRONG_ACCESS_CODE,
-                );
-                c.check(self.locks.nonvolatile, InternalChecksum, clause::NV_LOCK);
-                c.tolerate(self.locks.nonvolatile, I2cBus);
+                c.check(self.code0_wrong(code0), WrongAccessCode, clause::WRONG_ACCESS_CODE);
+                self.memory_checks(c, request.command());
                 match (c.first, new) {
                     (None, Some(new)) => {
                         // 000:T30: the response already uses the new address.
@@ -351,21 +291,22 @@ impl Slave {
                     _ => Err(()),
                 }
             }
-            Request::ReadVersion => Ok(Response::Version(Version {
-                serial: self.profile.serial,
-                firmware: self.profile.firmware,
-                date: self.profile.firmware_date,
-            })),
+            Request::ReadVersion => {
+                self.memory_checks(c, request.command());
+                ok_if(
+                    c,
+                    Response::Version(Version {
+                        serial: self.profile.serial,
+                        firmware: self.profile.firmware,
+                        date: self.profile.firmware_date,
+                    }),
+                )
+            }
             Request::SetSerialInterface { settings, code0 } => {
                 let new = self.acceptable_settings(settings);
                 c.check(new.is_none(), WrongArgument, clause::SETTINGS_BYTE);
-                c.check(
-                    self.code0_wrong(code0),
-                    WrongAccessCode,
-                    clause::WRONG_ACCESS_CODE,
-                );
-                c.check(self.locks.nonvolatile, InternalChecksum, clause::NV_LOCK);
-                c.tolerate(self.locks.nonvolatile, I2cBus);
+                c.check(self.code0_wrong(code0), WrongAccessCode, clause::WRONG_ACCESS_CODE);
+                self.memory_checks(c, request.command());
                 match (c.first, new) {
                     (None, Some(new)) => {
                         // 000:T32: used only after an encoder reset or power cycle.
@@ -391,27 +332,18 @@ impl Slave {
             Request::SensorAdjustment { option, code0 } => {
                 let known = self.profile.adjustment_option(option);
                 c.check(known.is_none(), WrongArgument, clause::SENSOR_ADJUSTMENT);
-                c.check(
-                    self.code0_wrong(code0),
-                    WrongAccessCode,
-                    clause::WRONG_ACCESS_CODE,
-                );
+                c.check(self.code0_wrong(code0), WrongAccessCode, clause::WRONG_ACCESS_CODE);
                 match (c.first, known) {
                     (None, Some(o)) => {
                         self.count_write();
-                        Ok(Response::SensorAdjusted {
-                            option,
-                            status: o.status,
-                        })
+                        Ok(Response::SensorAdjusted { option, status: o.status })
                     }
                     _ => Err(()),
                 }
             }
             Request::ReadSyncOffset => {
                 // DESIGN:position: position + value = raw (mod 32).
-                Ok(Response::SyncOffset(
-                    ((32 - self.nv.offset % 32) % 32) as u8,
-                ))
+                Ok(Response::SyncOffset(((32 - self.nv.offset % 32) % 32) as u8))
             }
         };
         match (result, c.first) {
@@ -424,9 +356,7 @@ impl Slave {
 
     /// Settings the device accepts: a defined byte and a data rate it supports.
     fn acceptable_settings(&self, byte: u8) -> Option<UartSettings> {
-        UartSettings::decode(byte)
-            .ok()
-            .filter(|s| self.profile.supports_baud(s.baud))
+        UartSettings::decode(byte).ok().filter(|s| self.profile.supports_baud(s.baud))
     }
 
     /// The state checks of position commands. // 000:2.3.4, 000:T12, 000:T37 position group
@@ -446,11 +376,7 @@ impl Slave {
             }
             newly_locked |= measured && fault.locks(linear);
         }
-        c.check(
-            self.inputs.led_current_ma > self.profile.led_current_max_ma,
-            LedCurrent,
-            clause::LED_CURRENT,
-        );
+        c.check(self.inputs.led_current_ma > self.profile.led_current_max_ma, LedCurrent, clause::LED_CURRENT);
         let moving = if reading {
             self.inputs.speed.unsigned_abs() > self.profile.max_read_speed
         } else {
@@ -468,30 +394,20 @@ impl Slave {
 
     /// Set Position (43h, 63h) and Set Position with Synchronization (6Ah). Returns
     /// the preset actually used. // 000:T13, 000:T34, DESIGN:position
-    fn set_position(
-        &mut self,
-        c: &mut Checks,
-        preset: u32,
-        code0: u8,
-        synchronize: bool,
-    ) -> Result<u64, ()> {
+    fn set_position(&mut self, c: &mut Checks, command: CommandId, preset: u32, code0: u8) -> Result<u64, ()> {
+        let synchronize = command == CommandId::SetPositionWithSync;
         let range = self.profile.range();
         c.check(preset as u64 >= range, WrongArgument, clause::SET_POSITION);
-        c.check(
-            self.code0_wrong(code0),
-            WrongAccessCode,
-            clause::WRONG_ACCESS_CODE,
-        );
-        self.position_faults(c, false)?;
+        c.check(self.code0_wrong(code0), WrongAccessCode, clause::WRONG_ACCESS_CODE);
+        // 000:T40: a locked position output answers 02h to Set Position, before any
+        // memory fault.
+        let _ = self.position_faults(c, false);
+        self.memory_checks(c, command);
         if c.first.is_some() {
             return Err(());
         }
         let raw = self.inputs.position % range;
-        let used = if synchronize {
-            synchronized_preset(preset as u64, raw, range)
-        } else {
-            preset as u64
-        };
+        let used = if synchronize { synchronized_preset(preset as u64, raw, range) } else { preset as u64 };
         self.nv.offset = (used + range - raw) % range;
         self.count_write();
         Ok(used)
@@ -499,8 +415,7 @@ impl Slave {
 
     fn increment_counter(&mut self, c: &mut Checks) -> Result<Response, ()> {
         const MAX: u32 = 0xFF_FFFF;
-        c.check(self.locks.nonvolatile, InternalChecksum, clause::NV_LOCK);
-        c.tolerate(self.locks.nonvolatile, I2cBus);
+        self.memory_checks(c, CommandId::IncrementCounter);
         let full = self.nv.counter >= MAX;
         match self.profile.edition {
             // 000:T46: at FFFFFFh the counter stays and increment answers 08h.
@@ -526,109 +441,59 @@ impl Slave {
             return Some(64);
         }
         let status = self.nv.fields.status(field);
-        c.check(
-            status.is_none(),
-            WrongFieldNumber,
-            clause::WRONG_FIELD_NUMBER,
-        );
+        c.check(status.is_none(), WrongFieldNumber, clause::WRONG_FIELD_NUMBER);
         let status = status?;
         let expected = self.nv.codes.get(status.code_number()).copied();
-        c.check(
-            status.code_enabled() && expected != Some(code),
-            WrongAccessCode,
-            clause::WRONG_ACCESS_CODE,
-        );
+        c.check(status.code_enabled() && expected != Some(code), WrongAccessCode, clause::WRONG_ACCESS_CODE);
         Some(status.size_bytes())
     }
 
-    fn read_data(
-        &mut self,
-        c: &mut Checks,
-        field: u8,
-        offset: u8,
-        count: u8,
-        code: u8,
-    ) -> Result<Response, ()> {
+    fn read_data(&mut self, c: &mut Checks, field: u8, offset: u8, count: u8, code: u8) -> Result<Response, ()> {
         c.check(self.locks.data_fields, PartitionTable, clause::INIT_FAULTS);
+        self.memory_checks(c, CommandId::ReadData);
         let size = self.field_access(c, field, code);
         // DESIGN: 1..=128 and offset + count <= size, else 11h; 0Dh for count 0 is acceptable.
         let bounds_bad = |size: usize| count == 0 || offset as usize + count as usize > size;
-        c.check(
-            size.is_some_and(bounds_bad),
-            WrongOffset,
-            clause::WRONG_OFFSET,
-        );
+        c.check(size.is_some_and(bounds_bad), WrongOffset, clause::WRONG_OFFSET);
         c.tolerate(count == 0, WrongArgument);
         if c.first.is_some() {
             return Err(());
         }
-        let bytes =
-            if field == EXTENDED_TYPE_LABEL_FIELD && self.profile.extended_type_label.is_some() {
-                let label = self.profile.extended_type_label.as_ref();
-                label.and_then(|l| l.get(offset as usize..offset as usize + count as usize))
-            } else {
-                self.nv.fields.read(field, offset, count)
-            };
+        let bytes = if field == EXTENDED_TYPE_LABEL_FIELD && self.profile.extended_type_label.is_some() {
+            let label = self.profile.extended_type_label.as_ref();
+            label.and_then(|l| l.get(offset as usize..offset as usize + count as usize))
+        } else {
+            self.nv.fields.read(field, offset, count)
+        };
         let data = bytes.and_then(crate::frame::FieldBytes::new).ok_or(())?;
-        Ok(Response::Data {
-            field,
-            offset,
-            data,
-        })
+        Ok(Response::Data { field, offset, data })
     }
 
-    fn store_data(
-        &mut self,
-        c: &mut Checks,
-        field: u8,
-        offset: u8,
-        code: u8,
-        data: &[u8],
-    ) -> Result<Response, ()> {
+    fn store_data(&mut self, c: &mut Checks, field: u8, offset: u8, code: u8, data: &[u8]) -> Result<Response, ()> {
         c.check(self.locks.data_fields, PartitionTable, clause::INIT_FAULTS);
-        c.check(self.locks.nonvolatile, InternalChecksum, clause::NV_LOCK);
-        c.tolerate(self.locks.nonvolatile, I2cBus);
+        self.memory_checks(c, CommandId::StoreData);
         let etl = field == EXTENDED_TYPE_LABEL_FIELD && self.profile.extended_type_label.is_some();
         c.check(etl, ReadOnlyField, clause::READ_ONLY_FIELD);
         if !etl {
             let size = self.field_access(c, field, code);
             let writable = self.nv.fields.status(field).is_some_and(|s| s.writable());
-            c.check(
-                size.is_some() && !writable,
-                ReadOnlyField,
-                clause::READ_ONLY_FIELD,
-            );
-            c.check(
-                size.is_some_and(|size| offset as usize + data.len() > size),
-                WrongOffset,
-                clause::WRONG_OFFSET,
-            );
+            c.check(size.is_some() && !writable, ReadOnlyField, clause::READ_ONLY_FIELD);
+            c.check(size.is_some_and(|size| offset as usize + data.len() > size), WrongOffset, clause::WRONG_OFFSET);
         }
         if c.first.is_some() || !self.nv.fields.write(field, offset, data) {
             return Err(());
         }
         self.count_write();
-        Ok(Response::DataStored {
-            field,
-            offset,
-            count: data.len() as u8,
-        })
+        Ok(Response::DataStored { field, offset, count: data.len() as u8 })
     }
 
     /// Create, modify or delete a data field. // 000:T24, DESIGN:fields
-    fn create_data_field(
-        &mut self,
-        c: &mut Checks,
-        field: u8,
-        status: u8,
-        code: u8,
-    ) -> Result<Response, ()> {
+    fn create_data_field(&mut self, c: &mut Checks, field: u8, status: u8, code: u8) -> Result<Response, ()> {
         let new = FieldStatus(status);
         let fields = &self.nv.fields;
         let count = fields.count();
         c.check(self.locks.data_fields, PartitionTable, clause::INIT_FAULTS);
-        c.check(self.locks.nonvolatile, InternalChecksum, clause::NV_LOCK);
-        c.tolerate(self.locks.nonvolatile, I2cBus);
+        self.memory_checks(c, CommandId::CreateDataField);
         // 000:T54: a Create Data Field request that targets the Extended Type Label.
         if field == EXTENDED_TYPE_LABEL_FIELD {
             c.check(true, OutOfMemory, clause::OUT_OF_MEMORY);
@@ -638,17 +503,9 @@ impl Slave {
         if !new.exists() {
             // Delete: only the last field, with all other status bits as stored.
             let last = count.checked_sub(1);
-            c.check(
-                last != Some(field),
-                WrongFieldNumber,
-                clause::WRONG_FIELD_NUMBER,
-            );
+            c.check(last != Some(field), WrongFieldNumber, clause::WRONG_FIELD_NUMBER);
             if let Some(old) = fields.status(field) {
-                c.check(
-                    code_of(old.code_number()) != Some(code),
-                    WrongAccessCode,
-                    clause::WRONG_ACCESS_CODE,
-                );
+                c.check(code_of(old.code_number()) != Some(code), WrongAccessCode, clause::WRONG_ACCESS_CODE);
                 let mismatch = old.attributes() != new.attributes();
                 c.check(mismatch, WrongFieldNumber, clause::CREATE_FIELD);
                 c.tolerate(mismatch, WrongArgument);
@@ -658,38 +515,18 @@ impl Slave {
             }
         } else if field == count {
             // Create: the code byte must be the code the new status names, even if disabled.
-            c.check(
-                code_of(new.code_number()) != Some(code),
-                WrongAccessCode,
-                clause::WRONG_ACCESS_CODE,
-            );
-            c.check(
-                !fields.fits(new.blocks() as u32),
-                OutOfMemory,
-                clause::OUT_OF_MEMORY,
-            );
+            c.check(code_of(new.code_number()) != Some(code), WrongAccessCode, clause::WRONG_ACCESS_CODE);
+            c.check(!fields.fits(new.blocks() as u32), OutOfMemory, clause::OUT_OF_MEMORY);
             if c.first.is_some() || !self.nv.fields.create(new) {
                 return Err(());
             }
         } else if let Some(old) = fields.status(field) {
             // Modify: the code byte must be the field's current code.
-            c.check(
-                code_of(old.code_number()) != Some(code),
-                WrongAccessCode,
-                clause::WRONG_ACCESS_CODE,
-            );
+            c.check(code_of(old.code_number()) != Some(code), WrongAccessCode, clause::WRONG_ACCESS_CODE);
             let resize = old.blocks() != new.blocks();
-            c.check(
-                resize && field + 1 != count,
-                WrongFieldNumber,
-                clause::WRONG_FIELD_NUMBER,
-            );
+            c.check(resize && field + 1 != count, WrongFieldNumber, clause::WRONG_FIELD_NUMBER);
             let grow = new.blocks().saturating_sub(old.blocks()) as u32;
-            c.check(
-                resize && field + 1 == count && !fields.fits(grow),
-                OutOfMemory,
-                clause::OUT_OF_MEMORY,
-            );
+            c.check(resize && field + 1 == count && !fields.fits(grow), OutOfMemory, clause::OUT_OF_MEMORY);
             if c.first.is_some() || !self.nv.fields.modify(field, new) {
                 return Err(());
             }
@@ -706,11 +543,7 @@ impl Slave {
 /// phase shift), ties downward, modulo the range (a multiple of 32). // DESIGN:position
 pub fn synchronized_preset(preset: u64, raw: u64, range: u64) -> u64 {
     let d = preset.wrapping_sub(raw) & 31;
-    let candidate = if d <= 16 {
-        preset + range - d
-    } else {
-        preset + (32 - d)
-    };
+    let candidate = if d <= 16 { preset + range - d } else { preset + (32 - d) };
     candidate % range
 }
 
@@ -723,12 +556,7 @@ fn ok_if(c: &Checks, r: Response) -> Result<Response, ()> {
 }
 
 fn silent(why: Silence, clause: ClauseId) -> Outcome {
-    Outcome {
-        reply: Reply::Silent(why),
-        clause,
-        also: CodeSet::default(),
-        then_settings: None,
-    }
+    Outcome { reply: Reply::Silent(why), clause, also: CodeSet::default(), then_settings: None }
 }
 
 #[cfg(test)]

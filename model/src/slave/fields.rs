@@ -67,12 +67,7 @@ impl core::fmt::Debug for DataFields {
 
 impl DataFields {
     pub fn new(capacity_blocks: u8) -> DataFields {
-        DataFields {
-            statuses: [0; MAX_FIELDS],
-            count: 0,
-            capacity_blocks,
-            memory: [ERASED; MAX_MEMORY],
-        }
+        DataFields { statuses: [0; MAX_FIELDS], count: 0, capacity_blocks, memory: [ERASED; MAX_MEMORY] }
     }
 
     pub const fn count(&self) -> u8 {
@@ -88,10 +83,7 @@ impl DataFields {
     }
 
     pub fn used_blocks(&self) -> u32 {
-        self.statuses[..self.count as usize]
-            .iter()
-            .map(|s| FieldStatus(*s).blocks() as u32)
-            .sum()
+        self.statuses[..self.count as usize].iter().map(|s| FieldStatus(*s).blocks() as u32).sum()
     }
 
     pub fn free_blocks(&self) -> u8 {
@@ -99,10 +91,7 @@ impl DataFields {
     }
 
     fn start(&self, number: u8) -> usize {
-        self.statuses[..number as usize]
-            .iter()
-            .map(|s| FieldStatus(*s).size_bytes())
-            .sum()
+        self.statuses[..number as usize].iter().map(|s| FieldStatus(*s).size_bytes()).sum()
     }
 
     /// Bytes `offset..offset+count` of a field; `None` if out of bounds.
@@ -171,9 +160,9 @@ impl DataFields {
                 return false;
             }
             let start = self.start(number);
-            if let Some(mem) = self.memory.get_mut(
-                start + old.size_bytes().min(status.size_bytes())..start + status.size_bytes(),
-            ) {
+            if let Some(mem) =
+                self.memory.get_mut(start + old.size_bytes().min(status.size_bytes())..start + status.size_bytes())
+            {
                 mem.fill(ERASED);
             }
         }
@@ -210,21 +199,14 @@ mod tests {
         assert!(!f.write(0, 31, &[1, 2]), "offset + count beyond the field");
         assert_eq!(f.read(0, 29, 3), Some(&[0xFF, 1, 2][..]));
         assert!(f.create(FieldStatus(0xE0)));
-        assert!(
-            !f.modify(0, FieldStatus(0xCA)),
-            "only the last field changes size"
-        );
+        assert!(!f.modify(0, FieldStatus(0xCA)), "only the last field changes size");
         assert!(f.modify(1, FieldStatus(0xE3)));
         assert_eq!(f.free_blocks(), 2);
         assert!(!f.modify(1, FieldStatus(0xE6)), "does not fit");
         assert!(f.delete_last() && f.delete_last() && !f.delete_last());
         assert_eq!(f.free_blocks(), 8);
         assert!(f.create(FieldStatus(0xC9)));
-        assert_eq!(
-            f.read(0, 29, 3),
-            Some(&[0xFF; 3][..]),
-            "re-created field starts at FFh"
-        );
+        assert_eq!(f.read(0, 29, 3), Some(&[0xFF; 3][..]), "re-created field starts at FFh");
         assert_eq!(f.read(0, 0, 0), None);
         assert_eq!(f.read(1, 0, 1), None);
     }

@@ -16,12 +16,7 @@ pub struct PhysicalInputs {
 
 impl Default for PhysicalInputs {
     fn default() -> Self {
-        PhysicalInputs {
-            position: 0,
-            speed: 0,
-            temperature_c: 25,
-            led_current_ma: 10,
-        }
+        PhysicalInputs { position: 0, speed: 0, temperature_c: 25, led_current_ma: 10 }
     }
 }
 
@@ -88,12 +83,7 @@ impl InitFault {
             InitFault::ExtendedTypeLabel => (F::WrongFieldNumber, true, true, false),
             InitFault::MultiturnParameters => (F::MultiturnAmplitude, true, false, false),
         };
-        InitEffect {
-            code,
-            with_checksum_error,
-            locks_position,
-            locks_data_fields,
-        }
+        InitEffect { code, with_checksum_error, locks_position, locks_data_fields }
     }
 
     const fn bit(self) -> u16 {
@@ -163,9 +153,19 @@ impl PositionFault {
 pub struct InjectedFaults {
     init: u16,
     position: u16,
+    i2c: bool,
 }
 
 impl InjectedFaults {
+    /// The internal I2C bus to the EEPROM is down: commands that use it answer 05h. // 000:T43
+    pub fn set_i2c(&mut self, on: bool) {
+        self.i2c = on;
+    }
+
+    pub const fn i2c(&self) -> bool {
+        self.i2c
+    }
+
     pub fn set_init(&mut self, fault: InitFault, on: bool) {
         if on {
             self.init |= fault.bit()
@@ -183,14 +183,10 @@ impl InjectedFaults {
     }
 
     pub fn init_faults(&self) -> impl Iterator<Item = InitFault> + '_ {
-        InitFault::ALL
-            .into_iter()
-            .filter(|f| self.init & f.bit() != 0)
+        InitFault::ALL.into_iter().filter(|f| self.init & f.bit() != 0)
     }
 
     pub fn position_faults(&self) -> impl Iterator<Item = PositionFault> + '_ {
-        PositionFault::ALL
-            .into_iter()
-            .filter(|f| self.position & f.bit() != 0)
+        PositionFault::ALL.into_iter().filter(|f| self.position & f.bit() != 0)
     }
 }

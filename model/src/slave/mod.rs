@@ -70,8 +70,7 @@ impl CodeSet {
     }
 
     pub fn contains(&self, code: FaultCode) -> bool {
-        1u64.checked_shl(code.byte() as u32)
-            .is_some_and(|bit| self.0 & bit != 0)
+        1u64.checked_shl(code.byte() as u32).is_some_and(|bit| self.0 & bit != 0)
     }
 
     pub fn is_empty(&self) -> bool {
@@ -79,9 +78,7 @@ impl CodeSet {
     }
 
     pub fn iter(&self) -> impl Iterator<Item = FaultCode> + '_ {
-        (0u8..64)
-            .map(FaultCode::decode)
-            .filter(|c| self.contains(*c))
+        (0u8..64).map(FaultCode::decode).filter(|c| self.contains(*c))
     }
 }
 
@@ -188,8 +185,14 @@ impl Slave {
     /// for callers that only exchange frames.
     pub fn operational(profile: Profile) -> Slave {
         let mut s = Slave::new(profile);
-        s.power = PowerUp::settled();
+        s.settle();
         s
+    }
+
+    /// Declare the power-up windows over: Operational with the stored settings from
+    /// now on, at any time argument.
+    pub fn settle(&mut self) {
+        self.power = PowerUp::settled();
     }
 
     /// Power-on or reset: volatile state starts again; initialization faults are found.
@@ -253,6 +256,17 @@ impl Slave {
         self.injected.set_position(fault, on);
     }
 
+    /// Set the counter (24 bit; larger values are clamped), e.g. to adopt a device's
+    /// value or to reach the overflow at FFFFFFh.
+    pub fn set_counter(&mut self, value: u32) {
+        self.nv.counter = value.min(0xFF_FFFF);
+    }
+
+    /// Take the internal I2C bus down or bring it back. // 000:T43
+    pub fn inject_i2c_fault(&mut self, on: bool) {
+        self.injected.set_i2c(on);
+    }
+
     /// EEPROM writes done since creation (successful writing commands).
     pub fn eeprom_writes(&self) -> u32 {
         self.eeprom_writes
@@ -264,17 +278,13 @@ impl Slave {
 
     /// The settings the slave listens with now; `None` while it does not listen.
     pub fn listening_settings(&self, now_us: u64) -> Option<UartSettings> {
-        let base = self
-            .power
-            .settings(&self.profile, now_us, self.boot_settings)?;
+        let base = self.power.settings(&self.profile, now_us, self.boot_settings)?;
         Some(self.temp_settings.unwrap_or(base))
     }
 
     /// The frame timeout now (with the listening settings, or the defaults).
     pub fn timeout_us(&self, now_us: u64) -> u64 {
-        self.listening_settings(now_us)
-            .unwrap_or(UartSettings::DEFAULT)
-            .timeout_us(self.profile.edition)
+        self.listening_settings(now_us).unwrap_or(UartSettings::DEFAULT).timeout_us(self.profile.edition)
     }
 
     /// The reported position: raw + offset, modulo the measuring range.
@@ -319,12 +329,7 @@ impl Slave {
         let settings = self.listening_settings(at);
         let outcome = match settings {
             None => Outcome::NOT_LISTENING,
-            Some(_) => self.execute(
-                frame.bytes.as_bytes(),
-                frame.uart_fault.is_some(),
-                frame.overflowed(),
-                at,
-            ),
+            Some(_) => self.execute(frame.bytes.as_bytes(), frame.uart_fault.is_some(), frame.overflowed(), at),
         };
         let transmission = match (outcome.reply, settings) {
             (Reply::Frame(rf), Some(settings)) => {
@@ -339,11 +344,7 @@ impl Slave {
             }
             _ => None,
         };
-        Step {
-            received: frame,
-            outcome,
-            transmission,
-        }
+        Step { received: frame, outcome, transmission }
     }
 
     /// Network and application layer on a whole frame, processed at `at_us` (when its

@@ -20,10 +20,7 @@ pub enum CommState {
 
 impl CommState {
     pub const fn listens(self) -> bool {
-        !matches!(
-            self,
-            CommState::Initialization | CommState::ChangeOfSettings
-        )
+        !matches!(self, CommState::Initialization | CommState::ChangeOfSettings)
     }
 
     pub const fn name(self) -> &'static str {
@@ -49,27 +46,17 @@ pub struct PowerUp {
 
 impl PowerUp {
     pub const fn at(since_us: u64) -> PowerUp {
-        PowerUp {
-            since_us: Some(since_us),
-            kept_default: false,
-        }
+        PowerUp { since_us: Some(since_us), kept_default: false }
     }
 
     /// Powered on long ago: Operational with the stored settings.
     pub const fn settled() -> PowerUp {
-        PowerUp {
-            since_us: None,
-            kept_default: false,
-        }
+        PowerUp { since_us: None, kept_default: false }
     }
 
     pub fn state(&self, profile: &Profile, now_us: u64) -> CommState {
         let Some(since) = self.since_us else {
-            return if self.kept_default {
-                CommState::OperationalDefault
-            } else {
-                CommState::OperationalUser
-            };
+            return if self.kept_default { CommState::OperationalDefault } else { CommState::OperationalUser };
         };
         let ms = |m: u16| since.saturating_add(m as u64 * 1000);
         if now_us < ms(profile.init_ms) {
@@ -86,16 +73,9 @@ impl PowerUp {
     }
 
     /// The settings the slave listens with, `None` when it does not listen.
-    pub fn settings(
-        &self,
-        profile: &Profile,
-        now_us: u64,
-        stored: UartSettings,
-    ) -> Option<UartSettings> {
+    pub fn settings(&self, profile: &Profile, now_us: u64, stored: UartSettings) -> Option<UartSettings> {
         match self.state(profile, now_us) {
-            CommState::DefaultCommunication | CommState::OperationalDefault => {
-                Some(UartSettings::DEFAULT)
-            }
+            CommState::DefaultCommunication | CommState::OperationalDefault => Some(UartSettings::DEFAULT),
             CommState::OperationalUser => Some(stored),
             CommState::Initialization | CommState::ChangeOfSettings => None,
         }
@@ -104,14 +84,10 @@ impl PowerUp {
     /// The next time the state changes by itself, if any.
     pub fn next_change(&self, profile: &Profile, now_us: u64) -> Option<u64> {
         let since = self.since_us?;
-        [
-            profile.init_ms,
-            profile.default_window_ms,
-            profile.user_settings_ms,
-        ]
-        .into_iter()
-        .map(|m| since.saturating_add(m as u64 * 1000))
-        .find(|t| *t > now_us)
+        [profile.init_ms, profile.default_window_ms, profile.user_settings_ms]
+            .into_iter()
+            .map(|m| since.saturating_add(m as u64 * 1000))
+            .find(|t| *t > now_us)
     }
 }
 
@@ -136,9 +112,6 @@ mod tests {
         let up = PowerUp::at(0);
         assert_eq!(up.state(&legacy, 999_999), CommState::DefaultCommunication);
         assert_eq!(up.state(&legacy, 1_000_000), CommState::OperationalUser);
-        assert_eq!(
-            PowerUp::settled().state(&legacy, 0),
-            CommState::OperationalUser
-        );
+        assert_eq!(PowerUp::settled().state(&legacy, 0), CommState::OperationalUser);
     }
 }

@@ -14,16 +14,11 @@ pub struct ErrorStack {
 
 impl ErrorStack {
     pub const fn new() -> ErrorStack {
-        ErrorStack {
-            entries: [0; STACK_DEPTH],
-            len: 0,
-        }
+        ErrorStack { entries: [0; STACK_DEPTH], len: 0 }
     }
 
     pub fn entries(&self) -> impl Iterator<Item = FaultCode> + '_ {
-        self.entries[..self.len as usize]
-            .iter()
-            .map(|b| FaultCode::decode(*b))
+        self.entries[..self.len as usize].iter().map(|b| FaultCode::decode(*b))
     }
 
     pub const fn len(&self) -> usize {
@@ -82,26 +77,13 @@ mod tests {
     fn dedup_overflow_and_order() {
         let mut s = ErrorStack::new();
         assert_eq!(s.pop(StackOrder::OldestFirst), NoFault);
-        for c in [
-            Temperature,
-            Temperature,
-            LedCurrent,
-            Watchdog,
-            InternalChecksum,
-            AngularOffset,
-        ] {
+        for c in [Temperature, Temperature, LedCurrent, Watchdog, InternalChecksum, AngularOffset] {
             s.push(c);
         }
         // Temperature stored once; five distinct codes: the oldest (Temperature) dropped.
         assert_eq!(s.len(), 4);
         let mut t = s;
-        assert_eq!(
-            [
-                t.pop(StackOrder::OldestFirst),
-                t.pop(StackOrder::OldestFirst)
-            ],
-            [LedCurrent, Watchdog]
-        );
+        assert_eq!([t.pop(StackOrder::OldestFirst), t.pop(StackOrder::OldestFirst)], [LedCurrent, Watchdog]);
         assert_eq!(s.pop(StackOrder::NewestFirst), AngularOffset);
         s.push(NoFault);
         assert_eq!(s.len(), 3);
