@@ -171,8 +171,11 @@ pub fn legacy_srs() -> Profile {
     p
 }
 
+/// A built-in profile's name and constructor.
+pub type Builtin = (&'static str, fn() -> Profile);
+
 /// Every built-in profile by its name.
-pub const BUILTIN: &[(&str, fn() -> Profile)] = &[
+pub const BUILTIN: &[Builtin] = &[
     ("SKS36", sks36),
     ("SKM36", skm36),
     ("SRS50", srs50),
