@@ -41,7 +41,9 @@ fn exchange(slave: &mut Slave, title: &'static str, request: Vec<u8>, at_us: u64
             let window = s.transmission.map(|t| (t.earliest_start_us, t.latest_start_us));
             let reply = s.transmission.map(|t| {
                 let start = t.earliest_start_us + reply_delay_us;
-                idle = start + t.frame.len() as u64 * t.settings.char_time_us() + t.settings.timeout_us(slave.profile().edition);
+                idle = start
+                    + t.frame.len() as u64 * t.settings.char_time_us()
+                    + t.settings.timeout_us(slave.profile().edition);
                 (start, t.frame.as_bytes().to_vec())
             });
             if let Reply::Silent(_) = s.outcome.reply {
@@ -60,8 +62,18 @@ pub fn run(profile: Profile) -> String {
     let mut slave = Slave::new(profile);
     slave.set_inputs(PhysicalInputs { position: 12_345, speed: 0, temperature_c: 37, led_current_ma: 10 });
     let p = *slave.profile();
-    let _ = writeln!(out, "Reference slave: {} ({:?} edition), address {}, stored settings {}", p.name, p.edition, p.address, p.settings);
-    let _ = writeln!(out, "Measuring range {} steps; {} user memory blocks; type code {:02X}h", p.range(), p.user_memory_blocks, p.type_code);
+    let _ = writeln!(
+        out,
+        "Reference slave: {} ({:?} edition), address {}, stored settings {}",
+        p.name, p.edition, p.address, p.settings
+    );
+    let _ = writeln!(
+        out,
+        "Measuring range {} steps; {} user memory blocks; type code {:02X}h",
+        p.range(),
+        p.user_memory_blocks,
+        p.type_code
+    );
     let _ = writeln!(out, "Power-on at t = 0. State machine (000:T9):");
     for t in [0u64, p.init_ms as u64, p.default_window_ms as u64, p.user_settings_ms as u64] {
         let _ = writeln!(out, "  t = {:>5} ms  {}", t, slave.state(t * 1000).name());

@@ -49,7 +49,13 @@ fn main() -> ExitCode {
         }
         Command::CheckProfile { profile } => match profile_file::resolve(&profile) {
             Ok(p) => {
-                println!("{}: valid ({:?} edition, {} commands, range {} steps)", p.name, p.edition, p.commands.iter().count(), p.range());
+                println!(
+                    "{}: valid ({:?} edition, {} commands, range {} steps)",
+                    p.name,
+                    p.edition,
+                    p.commands.iter().count(),
+                    p.range()
+                );
                 ExitCode::SUCCESS
             }
             Err(e) => fail(e),

@@ -225,8 +225,15 @@ pub fn parse(text: &str, path: &Path) -> Result<Profile, ProfileLoadError> {
         message,
     };
     let file: ProfileFile = toml::from_str(text).map_err(|e| {
-        let line = e.span().map_or(1, |s| 1 + text.as_bytes()[..s.start.min(text.len())].iter().filter(|b| **b == b'\n').count());
-        ProfileLoadError::Invalid { path: path.into(), line, field: field_of(e.message()), message: e.message().to_string() }
+        let line = e
+            .span()
+            .map_or(1, |s| 1 + text.as_bytes()[..s.start.min(text.len())].iter().filter(|b| **b == b'\n').count());
+        ProfileLoadError::Invalid {
+            path: path.into(),
+            line,
+            field: field_of(e.message()),
+            message: e.message().to_string(),
+        }
     })?;
     let mut p = match &file.base {
         Some(base) => profiles::builtin(base)
@@ -252,7 +259,8 @@ pub fn parse(text: &str, path: &Path) -> Result<Profile, ProfileLoadError> {
             p.serial = fixed(s).ok_or_else(|| invalid("identity.serial", "must be at most 9 ASCII bytes".into()))?;
         }
         if let Some(s) = &id.firmware {
-            p.firmware = fixed(s).ok_or_else(|| invalid("identity.firmware", "must be at most 20 ASCII bytes".into()))?;
+            p.firmware =
+                fixed(s).ok_or_else(|| invalid("identity.firmware", "must be at most 20 ASCII bytes".into()))?;
         }
         if let Some(s) = &id.firmware_date {
             p.firmware_date =
@@ -261,8 +269,8 @@ pub fn parse(text: &str, path: &Path) -> Result<Profile, ProfileLoadError> {
     }
     if let Some(i) = &file.interface {
         if let Some(a) = i.address {
-            p.address =
-                SlaveAddress::new(a).ok_or_else(|| invalid("interface.address", format!("{a:02X}h is not in 40h...5Fh")))?;
+            p.address = SlaveAddress::new(a)
+                .ok_or_else(|| invalid("interface.address", format!("{a:02X}h is not in 40h...5Fh")))?;
         }
         if let Some(s) = i.settings {
             p.settings = UartSettings::decode(s).map_err(|e| invalid("interface.settings", e.to_string()))?;
@@ -474,8 +482,14 @@ pub fn to_toml(p: &Profile) -> String {
             user_settings_ms: Some(p.user_settings_ms),
             adjustment_response_ms: Some(p.adjustment_response_ms),
         }),
-        extended_type_label: p.extended_type_label.map(|l| Etl { designation: None, bipolar: None, bytes: Some(l.to_vec()) }),
-        adjustment: Some(p.adjustment.iter().flatten().map(|a| Adjustment { option: a.option, status: a.status }).collect()),
+        extended_type_label: p.extended_type_label.map(|l| Etl {
+            designation: None,
+            bipolar: None,
+            bytes: Some(l.to_vec()),
+        }),
+        adjustment: Some(
+            p.adjustment.iter().flatten().map(|a| Adjustment { option: a.option, status: a.status }).collect(),
+        ),
         stack_order: Some(match p.stack_order {
             StackOrder::OldestFirst => StackOrderName::OldestFirst,
             StackOrder::NewestFirst => StackOrderName::NewestFirst,
@@ -487,8 +501,18 @@ pub fn to_toml(p: &Profile) -> String {
 }
 
 /// Keys whose values read best in hex, as the documents write them.
-const HEX_KEYS: &[&str] =
-    &["type_code", "option_code", "address", "settings", "supported", "selector", "total_blocks", "user_blocks", "option", "status"];
+const HEX_KEYS: &[&str] = &[
+    "type_code",
+    "option_code",
+    "address",
+    "settings",
+    "supported",
+    "selector",
+    "total_blocks",
+    "user_blocks",
+    "option",
+    "status",
+];
 
 /// `type_code = 34` -> `type_code = 0x22` (and each number of an array).
 fn hex_literals(line: &str) -> String {

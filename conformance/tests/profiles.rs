@@ -34,14 +34,34 @@ fn a_file_can_override_a_builtin() {
 #[rstest]
 #[case::unknown_field("name = \"x\"\n[timing]\ninit_ms = 100\nint_ms = 5\n", 4, "int_ms", "unknown field")]
 #[case::wrong_type("name = \"x\"\n\n[memory]\nuser_blocks = \"many\"\n", 4, "", "invalid type")]
-#[case::bad_address("name = \"x\"\n[interface]\nsettings = 0xE4\naddress = 0x60\n", 4, "interface.address", "60h is not in 40h...5Fh")]
+#[case::bad_address(
+    "name = \"x\"\n[interface]\nsettings = 0xE4\naddress = 0x60\n",
+    4,
+    "interface.address",
+    "60h is not in 40h...5Fh"
+)]
 #[case::bad_settings("name = \"x\"\n[interface]\nsettings = 0xE7\n", 3, "interface.settings", "data rate bits 111")]
 #[case::init_too_long("name = \"x\"\n[timing]\n\ninit_ms = 300\n", 4, "timing.init_ms", "exceeds 200 ms")]
-#[case::bad_command("name = \"x\"\n[commands]\nsupported = [0x42, 0x45]\n", 3, "commands.supported", "45h is not a HIPERFACE command")]
-#[case::legacy_command("name = \"x\"\nedition = \"legacy\"\n[commands]\nsupported = [0x42, 0x6C]\n", 3, "commands", "not defined in this edition")]
+#[case::bad_command(
+    "name = \"x\"\n[commands]\nsupported = [0x42, 0x45]\n",
+    3,
+    "commands.supported",
+    "45h is not a HIPERFACE command"
+)]
+#[case::legacy_command(
+    "name = \"x\"\nedition = \"legacy\"\n[commands]\nsupported = [0x42, 0x6C]\n",
+    3,
+    "commands",
+    "not defined in this edition"
+)]
 #[case::unknown_base("name = \"x\"\nbase = \"SRS51\"\n", 2, "base", "unknown built-in profile")]
 #[case::missing_name("[timing]\ninit_ms = 100\n", 1, "name", "missing field")]
-#[case::short_label("name = \"x\"\n[extended_type_label]\nbytes = [0, 1]\n", 3, "extended_type_label.bytes", "2 bytes, need 64")]
+#[case::short_label(
+    "name = \"x\"\n[extended_type_label]\nbytes = [0, 1]\n",
+    3,
+    "extended_type_label.bytes",
+    "2 bytes, need 64"
+)]
 fn malformed_profiles_name_file_line_and_field(
     #[case] text: &str,
     #[case] line: usize,
