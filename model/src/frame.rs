@@ -9,25 +9,31 @@ pub const MAX_FRAME: usize = 135;
 /// Up to 128 data bytes (Read Data reply, Store Data request). // 000:T21, 000:T22
 pub const MAX_FIELD_BYTES: usize = 128;
 
-/// A frame: address, command, data and checksum.
+/// Up to `N` bytes held inline (no allocation).
 #[derive(Clone, Copy, PartialEq, Eq, Hash)]
-pub struct Frame {
-    buf: [u8; MAX_FRAME],
+pub struct Bytes<const N: usize> {
+    buf: [u8; N],
     len: u8,
 }
 
-/// A frame would exceed [`MAX_FRAME`] bytes.
+/// A frame: address, command, data and checksum.
+pub type Frame = Bytes<MAX_FRAME>;
+
+/// 1..=128 data bytes of a data field access.
+pub type FieldBytes = Bytes<MAX_FIELD_BYTES>;
+
+/// More bytes than the buffer holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct FrameFull;
 
-impl Frame {
-    pub const fn new() -> Frame {
-        Frame { buf: [0; MAX_FRAME], len: 0 }
+impl<const N: usize> Bytes<N> {
+    pub const fn new() -> Bytes<N> {
+        Bytes { buf: [0; N], len: 0 }
     }
 
-    /// Copy bytes into a frame; `Err` when there are more than [`MAX_FRAME`].
-    pub fn from_bytes(bytes: &[u8]) -> Result<Frame, FrameFull> {
-        let mut f = Frame::new();
+    /// Copy bytes in; `Err` when there are more than `N`.
+    pub fn from_bytes(bytes: &[u8]) -> Result<Bytes<N>, FrameFull> {
+        let mut f = Bytes::new();
         f.extend(bytes)?;
         Ok(f)
     }
@@ -47,11 +53,6 @@ impl Frame {
         Ok(())
     }
 
-    /// Append the XOR checksum of the bytes so far. // 000:2.3.3
-    pub fn seal(&mut self) -> Result<(), FrameFull> {
-        self.push(checksum::xor(self.as_bytes()))
-    }
-
     pub fn as_bytes(&self) -> &[u8] {
         &self.buf[..self.len as usize]
     }
@@ -65,21 +66,28 @@ impl Frame {
     }
 }
 
-impl Default for Frame {
-    fn default() -> Self {
-        Frame::new()
+impl Frame {
+    /// Append the XOR checksum of the bytes so far. // 000:2.3.3
+    pub fn seal(&mut self) -> Result<(), FrameFull> {
+        self.push(checksum::xor(self.as_bytes()))
     }
 }
 
-impl AsRef<[u8]> for Frame {
+impl<const N: usize> Default for Bytes<N> {
+    fn default() -> Self {
+        Bytes::new()
+    }
+}
+
+impl<const N: usize> AsRef<[u8]> for Bytes<N> {
     fn as_ref(&self) -> &[u8] {
         self.as_bytes()
     }
 }
 
-impl fmt::Debug for Frame {
+impl<const N: usize> fmt::Debug for Bytes<N> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "Frame[{}]", Hex(self.as_bytes()))
+        write!(f, "[{}]", Hex(self.as_bytes()))
     }
 }
 
@@ -95,40 +103,6 @@ impl fmt::Display for Hex<'_> {
             write!(f, "{b:02X}")?;
         }
         Ok(())
-    }
-}
-
-/// 1..=128 data bytes of a data field access.
-#[derive(Clone, Copy, PartialEq, Eq, Hash)]
-pub struct FieldBytes {
-    buf: [u8; MAX_FIELD_BYTES],
-    len: u8,
-}
-
-impl FieldBytes {
-    /// `None` when `bytes` is longer than 128.
-    pub fn new(bytes: &[u8]) -> Option<FieldBytes> {
-        let mut buf = [0; MAX_FIELD_BYTES];
-        buf.get_mut(..bytes.len())?.copy_from_slice(bytes);
-        Some(FieldBytes { buf, len: bytes.len() as u8 })
-    }
-
-    pub fn as_bytes(&self) -> &[u8] {
-        &self.buf[..self.len as usize]
-    }
-
-    pub fn len(&self) -> usize {
-        self.len as usize
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.len == 0
-    }
-}
-
-impl fmt::Debug for FieldBytes {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "[{}]", Hex(self.as_bytes()))
     }
 }
 
@@ -148,7 +122,7 @@ mod tests {
         let mut g = Frame::from_bytes(&[0x40, 0x42]).unwrap();
         g.seal().unwrap();
         assert_eq!(g.as_bytes(), &[0x40, 0x42, 0x02]);
-        assert!(FieldBytes::new(&[0; 129]).is_none());
-        assert_eq!(FieldBytes::new(&[1, 2]).unwrap().as_bytes(), &[1, 2]);
+        assert!(FieldBytes::from_bytes(&[0; 129]).is_err());
+        assert_eq!(FieldBytes::from_bytes(&[1, 2]).unwrap().as_bytes(), &[1, 2]);
     }
 }

@@ -184,7 +184,7 @@ impl Request {
                 if at(d, 2) as usize != data.len() {
                     return Err(wrong);
                 }
-                let data = FieldBytes::new(data).ok_or(wrong)?;
+                let data = FieldBytes::from_bytes(data).map_err(|_| wrong)?;
                 Request::StoreData { field: at(d, 0), offset: at(d, 1), code: at(d, 3), data }
             }
             CommandId::DataFieldStatus => Request::DataFieldStatus { field: at(d, 0) },
@@ -327,7 +327,7 @@ mod tests {
 
     #[test]
     fn every_request_round_trips() {
-        let data = FieldBytes::new(&[7; 128]).unwrap();
+        let data = FieldBytes::from_bytes(&[7; 128]).unwrap();
         let all = [
             Request::ReadPosition,
             Request::SetPosition { preset: 0x0102_0304, code0: 0x55 },

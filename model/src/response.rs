@@ -261,7 +261,11 @@ impl Response {
                 if at(d, 2) as usize != data.len() {
                     return Err(ResponseError::CountMismatch { count: at(d, 2), data_len: data.len() });
                 }
-                Response::Data { field: at(d, 0), offset: at(d, 1), data: FieldBytes::new(data).ok_or(wrong)? }
+                Response::Data {
+                    field: at(d, 0),
+                    offset: at(d, 1),
+                    data: FieldBytes::from_bytes(data).map_err(|_| wrong)?,
+                }
             }
             CommandId::StoreData => Response::DataStored { field: at(d, 0), offset: at(d, 1), count: at(d, 2) },
             CommandId::DataFieldStatus => Response::FieldStatus { field: at(d, 0), status: at(d, 1) },
@@ -379,7 +383,7 @@ mod tests {
             Response::Counter(0xFF_FFFF),
             Response::CounterIncremented,
             Response::CounterReset,
-            Response::Data { field: 0, offset: 0, data: FieldBytes::new(&[0xFF; 128]).unwrap() },
+            Response::Data { field: 0, offset: 0, data: FieldBytes::from_bytes(&[0xFF; 128]).unwrap() },
             Response::DataStored { field: 1, offset: 5, count: 2 },
             Response::FieldStatus { field: 0, status: 0xC8 },
             Response::FieldCreated { field: 0, status: 0xC9 },

@@ -465,7 +465,7 @@ impl Slave {
         } else {
             self.nv.fields.read(field, offset, count)
         };
-        let data = bytes.and_then(crate::frame::FieldBytes::new).ok_or(())?;
+        let data = bytes.and_then(|b| crate::frame::FieldBytes::from_bytes(b).ok()).ok_or(())?;
         Ok(Response::Data { field, offset, data })
     }
 
