@@ -1,6 +1,11 @@
-//! hiperface-conformance: the harness around the model. So far: profiles as TOML
-//! files and a demonstration of the model in virtual time; the certification harness
-//! (issue 3) builds on these.
+//! hiperface-conformance: the harness around the model: profiles as TOML files, the
+//! master on a serial line, slave certification with the model's oracle in
+//! lockstep, reports, and the simulator serving the model as a virtual encoder.
 
+pub mod certify;
 pub mod demo;
+pub mod line;
+pub mod master;
 pub mod profile_file;
+pub mod report;
+pub mod simulate;

@@ -1,9 +1,18 @@
 //! The `hiperface` command.
 
-use clap::{Parser, Subcommand};
-use hiperface_conformance::{demo, profile_file};
+use clap::{Parser, Subcommand, ValueEnum};
+use hiperface_conformance::certify::{self, CaseVerdict, Options};
+use hiperface_conformance::line::serial::SerialLine;
+use hiperface_conformance::line::Line;
+use hiperface_conformance::simulate::{self, PtySimulator};
+use hiperface_conformance::{demo, profile_file, report};
 use hiperface_model::command::COMMAND_TABLE;
+use hiperface_model::{Knowledge, Profile};
+use serialport::SerialPort as _;
+use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 
 #[derive(Parser)]
 #[command(name = "hiperface", version, about = "HIPERFACE reference model and conformance suite")]
@@ -14,6 +23,22 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Certify a device under test.
+    Certify {
+        #[command(subcommand)]
+        what: CertifyWhat,
+    },
+    /// Serve the reference model as a virtual encoder on a port or a new pseudo-terminal.
+    Simulate {
+        /// `pty` for a new pseudo-terminal pair (its path is printed), or a port path.
+        #[arg(long, default_value = "pty")]
+        port: String,
+        #[arg(long, default_value = "SRS50")]
+        profile: String,
+        /// Log every frame to standard error.
+        #[arg(long)]
+        log: bool,
+    },
     /// Run a demonstration session against the reference slave in virtual time.
     Demo {
         /// A built-in profile name or a profile TOML file.
@@ -30,9 +55,48 @@ enum Command {
     ExportProfile { profile: String },
 }
 
+#[derive(Subcommand)]
+enum CertifyWhat {
+    /// Act as master against a slave (encoder).
+    Slave {
+        /// `sim` (the reference model on an in-process pseudo-terminal) or a serial port path.
+        #[arg(long)]
+        port: String,
+        /// The device's profile: a built-in name or a TOML file.
+        #[arg(long, default_value = "SRS50")]
+        profile: String,
+        /// Allow EEPROM writes (each case restores what it changes). Implied by `--port sim`.
+        #[arg(long)]
+        allow_writes: bool,
+        /// Allow changing the counter, which cannot be restored. Implied by `--port sim`.
+        #[arg(long)]
+        allow_counter_change: bool,
+        /// Cap on EEPROM writes in the run.
+        #[arg(long, default_value_t = 200)]
+        write_budget: u32,
+        /// Run only cases whose id matches (glob with `*` and `?`, comma-separated).
+        #[arg(long)]
+        cases: Option<String>,
+        /// Write report.json, junit.xml, certificate.md and certificate.html here.
+        #[arg(long)]
+        report: Option<PathBuf>,
+        /// How values of the physical world are graded (default: exact for `sim`, by range otherwise).
+        #[arg(long)]
+        grading: Option<Grading>,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum Grading {
+    Exact,
+    Range,
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
+        Command::Certify { what } => certify_slave(what),
+        Command::Simulate { port, profile, log } => run_simulator(&port, &profile, log),
         Command::Demo { profile } => match profile_file::resolve(&profile) {
             Ok(p) => {
                 print!("{}", demo::run(p));
@@ -81,4 +145,119 @@ fn main() -> ExitCode {
 fn fail(e: impl std::fmt::Display) -> ExitCode {
     eprintln!("error: {e}");
     ExitCode::from(2)
+}
+
+fn certify_slave(what: CertifyWhat) -> ExitCode {
+    let CertifyWhat::Slave {
+        port,
+        profile,
+        allow_writes,
+        allow_counter_change,
+        write_budget,
+        cases,
+        report: dir,
+        grading,
+    } = what;
+    let profile = match profile_file::resolve(&profile) {
+        Ok(p) => p,
+        Err(e) => return fail(e),
+    };
+    let sim = port == "sim";
+    let knowledge = match grading {
+        Some(Grading::Exact) => Knowledge::Exact,
+        Some(Grading::Range) => Knowledge::PhysicalUnknown,
+        None if sim => Knowledge::Exact,
+        None => Knowledge::PhysicalUnknown,
+    };
+    let options = Options {
+        allow_writes: allow_writes || sim,
+        allow_counter_change: allow_counter_change || sim,
+        write_budget,
+        cases,
+        knowledge,
+    };
+    // Keep the simulator alive for the whole run.
+    let mut simulator = None;
+    let line: Box<dyn Line> = if sim {
+        match PtySimulator::start(profile) {
+            Ok((s, port)) => {
+                let name = format!("{} (simulator)", s.path);
+                simulator = Some(s);
+                Box::new(SerialLine::from_port(port, name, profile.settings, true))
+            }
+            Err(e) => return fail(e),
+        }
+    } else {
+        match SerialLine::open(&port, hiperface_model::UartSettings::DEFAULT) {
+            Ok(l) => Box::new(l),
+            Err(e) => return fail(e),
+        }
+    };
+    eprintln!("certifying {} on {}", profile.name, line.describe());
+    let report = certify::run(line, profile, &options, |i, n, r| {
+        eprintln!("[{i:>2}/{n}] {:<16} {}", r.verdict.label(), r.id);
+        for f in r.findings.iter().filter(|f| f.verdict == CaseVerdict::Fail || f.verdict == CaseVerdict::Error) {
+            eprintln!("          {} ({})", f.message, f.clause);
+        }
+    });
+    drop(simulator);
+    summarize(&report, &profile);
+    if let Some(dir) = dir {
+        if let Err(e) = report::write_all(&report, &dir) {
+            eprintln!("error: cannot write the report to {}: {e}", dir.display());
+            return ExitCode::from(2);
+        }
+        eprintln!("reports written to {}", dir.display());
+    }
+    if report.passed() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    }
+}
+
+fn summarize(report: &certify::Report, profile: &Profile) {
+    let summary: Vec<String> = report.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
+    println!("{}: {}", profile.name, summary.join(", "));
+    println!(
+        "wall time {:.0} ms; physical minimum from the wire log {:.0} ms (ratio {:.2}); EEPROM writes {}",
+        report.wall_time_ms,
+        report.physical_minimum_ms,
+        report.wall_time_ms / report.physical_minimum_ms.max(1.0),
+        report.eeprom_writes
+    );
+    if let Some(a) = &report.aborted {
+        println!("ABORTED: {a}");
+    }
+    println!("{}", if report.passed() { "PASSED" } else { "NOT PASSED" });
+}
+
+fn run_simulator(port: &str, profile: &str, log: bool) -> ExitCode {
+    let profile = match profile_file::resolve(profile) {
+        Ok(p) => p,
+        Err(e) => return fail(e),
+    };
+    let port: Box<dyn serialport::SerialPort> = if port == "pty" {
+        match serialport::TTYPort::pair() {
+            Ok((sim_end, other)) => {
+                println!("{}", other.name().unwrap_or_default());
+                // Keep the other end open so the pseudo-terminal lives until we stop.
+                std::mem::forget(other);
+                Box::new(sim_end)
+            }
+            Err(e) => return fail(format!("cannot create a pseudo-terminal pair: {e}")),
+        }
+    } else {
+        match serialport::new(port, profile.settings.baud.bits_per_second()).open() {
+            Ok(p) => p,
+            Err(e) => return fail(format!("cannot open {port}: {e}")),
+        }
+    };
+    let stop = Arc::new(AtomicBool::new(false));
+    let mut stderr = std::io::stderr();
+    let log: Option<&mut dyn std::io::Write> = if log { Some(&mut stderr) } else { None };
+    match simulate::serve(port, profile, stop, log) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => fail(e),
+    }
 }

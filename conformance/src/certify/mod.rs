@@ -1,0 +1,486 @@
+//! Certify a slave: run the case catalogue against a device under test, with the
+//! model's oracle in lockstep grading every answer and its timing.
+
+pub mod cases;
+
+use crate::line::{Line, LineError};
+use crate::master::{Exchange, Master};
+use hiperface_model::oracle::Verdict;
+use hiperface_model::{checksum, CommandId, Hex, Knowledge, Oracle, Profile, Reply, Slave};
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+/// A case's verdict. PASS and NON-STRICT pass certification; FAIL does not; ERROR
+/// means the harness could not run the case; NOT-APPLICABLE, that the profile or
+/// the options exclude it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "SCREAMING-KEBAB-CASE")]
+pub enum CaseVerdict {
+    Pass,
+    NonStrict,
+    Fail,
+    NotApplicable,
+    Error,
+}
+
+impl CaseVerdict {
+    /// Severity for "worst of": FAIL > ERROR > NON-STRICT > PASS.
+    fn rank(self) -> u8 {
+        match self {
+            CaseVerdict::Pass | CaseVerdict::NotApplicable => 0,
+            CaseVerdict::NonStrict => 1,
+            CaseVerdict::Error => 2,
+            CaseVerdict::Fail => 3,
+        }
+    }
+
+    pub fn label(self) -> &'static str {
+        match self {
+            CaseVerdict::Pass => "PASS",
+            CaseVerdict::NonStrict => "NON-STRICT",
+            CaseVerdict::Fail => "FAIL",
+            CaseVerdict::NotApplicable => "NOT-APPLICABLE",
+            CaseVerdict::Error => "ERROR",
+        }
+    }
+}
+
+impl From<Verdict> for CaseVerdict {
+    fn from(v: Verdict) -> Self {
+        match v {
+            Verdict::Pass => CaseVerdict::Pass,
+            Verdict::NonStrict => CaseVerdict::NonStrict,
+            Verdict::Fail => CaseVerdict::Fail,
+        }
+    }
+}
+
+/// What a case may do to the device.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Needs {
+    /// Reads only.
+    Nothing,
+    /// EEPROM writes, all restored by the case.
+    Writes,
+    /// Changes the counter, which cannot be restored (000:T17, T18).
+    CounterChange,
+}
+
+/// Options of a run.
+#[derive(Debug, Clone)]
+pub struct Options {
+    pub allow_writes: bool,
+    pub allow_counter_change: bool,
+    /// At most this many EEPROM writes (counted by the model in lockstep).
+    pub write_budget: u32,
+    /// Only cases whose id matches this glob (`*` and `?`).
+    pub cases: Option<String>,
+    pub knowledge: Knowledge,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            allow_writes: false,
+            allow_counter_change: false,
+            write_budget: 200,
+            cases: None,
+            knowledge: Knowledge::Exact,
+        }
+    }
+}
+
+/// One statement of a case's result.
+#[derive(Debug, Clone, Serialize)]
+pub struct Finding {
+    pub verdict: CaseVerdict,
+    pub message: String,
+    pub clause: String,
+}
+
+/// One line of the wire log.
+#[derive(Debug, Clone, Serialize)]
+pub struct WireEntry {
+    /// µs since the run started (receive time of the last character for requests,
+    /// start of the first character for replies).
+    pub t_us: u64,
+    pub direction: &'static str,
+    pub bytes: String,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct CaseResult {
+    pub id: &'static str,
+    pub title: &'static str,
+    pub clauses: Vec<&'static str>,
+    pub verdict: CaseVerdict,
+    pub findings: Vec<Finding>,
+    pub exchanges: usize,
+    pub wire: Vec<WireEntry>,
+    pub duration_ms: f64,
+}
+
+/// A case of the catalogue.
+pub struct Case {
+    pub id: &'static str,
+    pub title: &'static str,
+    pub clauses: &'static [&'static str],
+    pub needs: Needs,
+    /// `Some(reason)` when the profile excludes the case.
+    pub applies: fn(&Profile) -> Option<&'static str>,
+    pub run: fn(&mut Ctx<'_>) -> Result<(), CaseError>,
+}
+
+/// Why a case stopped early.
+#[derive(Debug, thiserror::Error)]
+pub enum CaseError {
+    #[error("{0}")]
+    Line(#[from] LineError),
+    /// The case cannot go on (e.g. a precondition failed); already recorded.
+    #[error("{0}")]
+    Abort(String),
+    #[error("EEPROM write budget of {0} exhausted")]
+    Budget(u32),
+}
+
+/// Response-time statistics of one command.
+#[derive(Debug, Clone, Serialize)]
+pub struct TimingStats {
+    pub command: String,
+    pub count: usize,
+    pub min_us: i64,
+    pub median_us: i64,
+    pub max_us: i64,
+}
+
+/// What a case sees: the master on the line and the model in lockstep.
+pub struct Ctx<'a> {
+    master: &'a mut Master<Box<dyn Line>>,
+    pub model: &'a mut Slave,
+    oracle: Oracle,
+    result: &'a mut CaseResult,
+    response_times: &'a mut BTreeMap<u8, Vec<i64>>,
+    pub(crate) physical_min_us: &'a mut u64,
+    options: &'a Options,
+}
+
+/// A graded exchange.
+pub struct Graded {
+    pub exchange: Exchange,
+    pub verdict: CaseVerdict,
+    pub reply: Option<Vec<u8>>,
+}
+
+impl Ctx<'_> {
+    pub fn profile(&self) -> Profile {
+        *self.model.profile()
+    }
+
+    pub fn address(&self) -> u8 {
+        self.model.nonvolatile().address.byte()
+    }
+
+    /// Record a finding; the case verdict is the worst of its findings.
+    pub fn finding(&mut self, verdict: CaseVerdict, message: impl Into<String>, clause: &str) {
+        if verdict.rank() > self.result.verdict.rank() {
+            self.result.verdict = verdict;
+        }
+        self.result.findings.push(Finding { verdict, message: message.into(), clause: clause.to_string() });
+    }
+
+    /// A harness-level check (e.g. data read back equals data stored).
+    pub fn check(&mut self, ok: bool, message: impl Into<String>, clause: &str) {
+        if !ok {
+            self.finding(CaseVerdict::Fail, message, clause);
+        }
+    }
+
+    /// Send a body with its checksum appended; grade the answer.
+    pub fn ask(&mut self, body: &[u8]) -> Result<Graded, CaseError> {
+        let mut frame = body.to_vec();
+        frame.push(checksum::xor(body));
+        self.send_frame(&frame)
+    }
+
+    /// Send a frame as it is (for malformed frames); grade the answer.
+    pub fn send_frame(&mut self, frame: &[u8]) -> Result<Graded, CaseError> {
+        let command = frame.get(1).map(|b| CommandId::decode(b & 0x7F));
+        let spec = command.and_then(|c| c.spec());
+        let max_ms = match spec {
+            Some(s) if s.id == CommandId::SensorAdjustment => self.model.profile().adjustment_response_ms,
+            Some(s) => s.max_response_ms.unwrap_or(5),
+            None => 5,
+        };
+        let before = self.model.clone();
+        let x = self.master.exchange(frame, max_ms)?;
+        let expected = self.model.handle_frame(frame, x.complete_us);
+        if self.model.eeprom_writes() > self.options.write_budget {
+            return Err(CaseError::Budget(self.options.write_budget));
+        }
+        let observed = x.reply_bytes();
+        let grade = self.oracle.grade(&before, frame, x.complete_us, &expected, observed.as_deref());
+        let mut verdict: CaseVerdict = grade.verdict.into();
+        self.result.exchanges += 1;
+        self.result.wire.push(WireEntry { t_us: x.sent_end_us, direction: "M>", bytes: Hex(frame).to_string() });
+        if let (Some(bytes), Some(start)) = (&observed, x.reply_start_us()) {
+            self.result.wire.push(WireEntry { t_us: start, direction: "S<", bytes: Hex(bytes).to_string() });
+        }
+        if verdict != CaseVerdict::Pass {
+            let reason = grade.deviation.map_or(String::new(), |d| d.to_string());
+            self.finding(verdict, format!("request [{}]: {reason}", Hex(frame)), grade.clause);
+        }
+        if !x.stray.is_empty() {
+            let bytes: Vec<u8> = x.stray.iter().map(|c| c.byte).collect();
+            let msg = format!("{} characters [{}] arrived outside any reply", bytes.len(), Hex(&bytes));
+            self.finding(CaseVerdict::Fail, msg, "000:2.2.1");
+            verdict = CaseVerdict::Fail;
+        }
+        let ct = x.settings.char_time_us();
+        // The request on the wire and the slave's timeout after it, from the wire log.
+        let request_and_timeout = x.complete_us.saturating_sub(x.sent_start_us);
+        match (x.response_time_us(), matches!(expected.reply, Reply::Frame(_))) {
+            (Some(rt), true) => {
+                let tol = self.master.line.tolerance_us() as i64;
+                if rt + tol < 0 {
+                    let msg = format!("reply started {} µs before the request's timeout elapsed", -rt);
+                    self.finding(CaseVerdict::Fail, msg, "000:2.2.2");
+                    verdict = CaseVerdict::Fail;
+                } else if rt > max_ms as i64 * 1000 + tol {
+                    let msg = format!(
+                        "reply started {:.3} ms after the request's timeout; the limit is {max_ms} ms",
+                        rt as f64 / 1000.0
+                    );
+                    self.finding(CaseVerdict::Fail, msg, "000:T10");
+                    verdict = CaseVerdict::Fail;
+                } else if let Some(strict) = spec.and_then(|s| s.strict_response_ms) {
+                    if rt > strict as i64 * 1000 + tol {
+                        let msg = format!(
+                            "reply after {:.3} ms: within Table 10's limit, beyond Table 36's {strict} ms",
+                            rt as f64 / 1000.0
+                        );
+                        self.finding(CaseVerdict::NonStrict, msg, "000:T36");
+                    }
+                }
+                if let Some(cmd) = command {
+                    self.response_times.entry(cmd.byte()).or_default().push(rt);
+                }
+                let reply_wire = x.reply.len() as u64 * ct;
+                *self.physical_min_us += request_and_timeout + rt.max(0) as u64 + reply_wire + x.timeout_us;
+            }
+            _ => {
+                // Silence is only known once a reply can no longer start: the request,
+                // its timeout, the whole response time and one character.
+                *self.physical_min_us += request_and_timeout + max_ms as u64 * 1000 + ct;
+            }
+        }
+        if let Some(s) = expected.then_settings {
+            self.master.line.configure(s)?;
+        }
+        Ok(Graded { exchange: x, verdict, reply: observed })
+    }
+
+    /// Wait, with nothing on the line; anything that arrives is a FAIL.
+    pub fn wait_ms(&mut self, ms: u64) -> Result<(), CaseError> {
+        let until = self.master.now_us() + ms * 1000;
+        let got = self.master.listen_until(until)?;
+        *self.physical_min_us += ms * 1000;
+        if !got.is_empty() {
+            let bytes: Vec<u8> = got.iter().map(|c| c.byte).collect();
+            self.finding(CaseVerdict::Fail, format!("unsolicited characters [{}]", Hex(&bytes)), "000:2.2.1");
+        }
+        Ok(())
+    }
+
+    /// Now on the line's clock, µs.
+    pub fn now_us(&mut self) -> u64 {
+        self.master.now_us()
+    }
+
+    pub fn allow_counter_change(&self) -> bool {
+        self.options.allow_counter_change
+    }
+}
+
+/// The result of a whole run.
+#[derive(Debug, Clone, Serialize)]
+pub struct Report {
+    pub tool: String,
+    pub profile: String,
+    pub edition: String,
+    pub line: String,
+    pub knowledge: String,
+    pub identity: Identity,
+    pub cases: Vec<CaseResult>,
+    pub summary: BTreeMap<&'static str, usize>,
+    pub response_times: Vec<TimingStats>,
+    pub eeprom_writes: u32,
+    pub wall_time_ms: f64,
+    pub physical_minimum_ms: f64,
+    pub notes: Vec<String>,
+    /// Set when the run stopped early (port gone, Ctrl-C): the report is partial.
+    pub aborted: Option<String>,
+}
+
+/// What the device said of itself.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Identity {
+    pub type_label: Option<String>,
+    pub serial: Option<String>,
+    pub firmware: Option<String>,
+    pub firmware_date: Option<String>,
+}
+
+impl Report {
+    /// No case FAILed.
+    pub fn passed(&self) -> bool {
+        self.cases.iter().all(|c| c.verdict != CaseVerdict::Fail) && self.aborted.is_none()
+    }
+}
+
+/// `*` and `?` glob matching for `--cases`.
+pub fn glob_match(pattern: &str, text: &str) -> bool {
+    fn go(p: &[u8], t: &[u8]) -> bool {
+        match (p.first(), t.first()) {
+            (None, None) => true,
+            (Some(b'*'), _) => go(&p[1..], t) || (!t.is_empty() && go(p, &t[1..])),
+            (Some(b'?'), Some(_)) => go(&p[1..], &t[1..]),
+            (Some(a), Some(b)) if a == b => go(&p[1..], &t[1..]),
+            _ => false,
+        }
+    }
+    pattern.split(',').any(|p| go(p.trim().as_bytes(), text.as_bytes()))
+}
+
+/// Run the catalogue. `progress` is called after each case.
+pub fn run(
+    line: Box<dyn Line>,
+    profile: Profile,
+    options: &Options,
+    mut progress: impl FnMut(usize, usize, &CaseResult),
+) -> Report {
+    let started = Instant::now();
+    let edition = profile.edition;
+    let line_name = line.describe();
+    let mut master = Master::new(line, edition);
+    let mut model = Slave::operational(profile);
+    let mut response_times = BTreeMap::new();
+    let mut physical_min_us = 0u64;
+    let catalogue = cases::catalogue();
+    let selected: Vec<&Case> =
+        catalogue.iter().filter(|c| options.cases.as_deref().is_none_or(|g| glob_match(g, c.id))).collect();
+    let mut results = Vec::new();
+    let mut aborted = None;
+    let mut identity = Identity::default();
+    for (i, case) in selected.iter().enumerate() {
+        let mut result = CaseResult {
+            id: case.id,
+            title: case.title,
+            clauses: case.clauses.to_vec(),
+            verdict: CaseVerdict::Pass,
+            findings: Vec::new(),
+            exchanges: 0,
+            wire: Vec::new(),
+            duration_ms: 0.0,
+        };
+        let case_start = Instant::now();
+        let excluded = (case.applies)(&profile).map(str::to_string).or_else(|| match case.needs {
+            Needs::Writes if !options.allow_writes => Some("writes EEPROM; run with --allow-writes".into()),
+            Needs::CounterChange if !options.allow_counter_change => {
+                Some("changes the counter, which cannot be restored; run with --allow-counter-change".into())
+            }
+            _ => None,
+        });
+        if let Some(reason) = excluded {
+            result.verdict = CaseVerdict::NotApplicable;
+            result.findings.push(Finding {
+                verdict: CaseVerdict::NotApplicable,
+                message: reason,
+                clause: String::new(),
+            });
+        } else if aborted.is_some() {
+            result.verdict = CaseVerdict::Error;
+            result.findings.push(Finding {
+                verdict: CaseVerdict::Error,
+                message: format!("not run: {}", aborted.as_deref().unwrap_or("")),
+                clause: String::new(),
+            });
+        } else {
+            let mut ctx = Ctx {
+                master: &mut master,
+                model: &mut model,
+                oracle: Oracle::new(options.knowledge),
+                result: &mut result,
+                response_times: &mut response_times,
+                physical_min_us: &mut physical_min_us,
+                options,
+            };
+            if let Err(e) = (case.run)(&mut ctx) {
+                let gone = matches!(e, CaseError::Line(LineError::Gone(_)) | CaseError::Budget(_));
+                ctx.finding(CaseVerdict::Error, e.to_string(), "");
+                if gone {
+                    aborted = Some(e.to_string());
+                }
+            }
+            if case.id == "identity.type-label" || case.id == "identity.version" {
+                identity_from(&result, &mut identity);
+            }
+        }
+        result.duration_ms = case_start.elapsed().as_secs_f64() * 1000.0;
+        progress(i + 1, selected.len(), &result);
+        results.push(result);
+    }
+    let mut summary = BTreeMap::new();
+    for r in &results {
+        *summary.entry(r.verdict.label()).or_insert(0) += 1;
+    }
+    let response_times = response_times
+        .into_iter()
+        .map(|(cmd, mut v)| {
+            v.sort_unstable();
+            TimingStats {
+                command: CommandId::decode(cmd).to_string(),
+                count: v.len(),
+                min_us: v[0],
+                median_us: v[v.len() / 2],
+                max_us: v[v.len() - 1],
+            }
+        })
+        .collect();
+    Report {
+        tool: format!("hiperface {}", env!("CARGO_PKG_VERSION")),
+        profile: profile.name.to_string(),
+        edition: format!("{:?}", profile.edition),
+        line: line_name,
+        knowledge: format!("{:?}", options.knowledge),
+        identity,
+        cases: results,
+        summary,
+        response_times,
+        eeprom_writes: model.eeprom_writes(),
+        wall_time_ms: started.elapsed().as_secs_f64() * 1000.0,
+        physical_minimum_ms: physical_min_us as f64 / 1000.0,
+        notes: vec![
+            "Power cycling is out of reach on a serial line: the power-up cases start from an Encoder Reset (53h), which 000:T29 says leads to the same initialization as power-on.".into(),
+        ],
+        aborted,
+    }
+}
+
+fn identity_from(result: &CaseResult, identity: &mut Identity) {
+    for w in result.wire.iter().filter(|w| w.direction == "S<") {
+        let bytes: Vec<u8> = w.bytes.split(' ').filter_map(|b| u8::from_str_radix(b, 16).ok()).collect();
+        match bytes.get(1) {
+            Some(0x52) | Some(0xD2) => identity.type_label = Some(w.bytes.clone()),
+            Some(0x56) | Some(0xD6) if bytes.len() == 40 => {
+                let text =
+                    |r: std::ops::Range<usize>| String::from_utf8_lossy(&bytes[r]).trim_end_matches('\0').to_string();
+                identity.serial = Some(text(2..11));
+                identity.firmware = Some(text(11..31));
+                identity.firmware_date = Some(text(31..39));
+            }
+            _ => {}
+        }
+    }
+}

@@ -1,0 +1,71 @@
+//! The master's view of a serial line: send bytes, receive timestamped characters,
+//! always within a bounded time. Implementations: [`virtual_line::VirtualLine`]
+//! (in-process, virtual time) and [`serial::SerialLine`] (a real port or a
+//! pseudo-terminal, real time).
+
+pub mod serial;
+pub mod virtual_line;
+
+use hiperface_model::datalink::RxChar;
+use hiperface_model::UartSettings;
+
+/// Why the line failed. Each is an ERROR for the case that hit it, never a FAIL.
+#[derive(Debug, thiserror::Error)]
+pub enum LineError {
+    #[error("cannot open {port}: {reason}")]
+    Open { port: String, reason: String },
+    #[error("serial line I/O failed: {0}")]
+    Io(#[from] std::io::Error),
+    #[error("the port is gone: {0}")]
+    Gone(String),
+    #[error("cannot apply UART settings {settings}: {reason}")]
+    Settings { settings: UartSettings, reason: String },
+}
+
+/// A half-duplex serial line as the master sees it. Times are µs since the line
+/// was opened.
+pub trait Line {
+    /// Now, in µs.
+    fn now_us(&mut self) -> u64;
+    /// Transmit `bytes` back to back in the current settings; returns the receive
+    /// time of the last character at the far end (the end of its stop bit).
+    fn send(&mut self, bytes: &[u8]) -> Result<u64, LineError>;
+    /// The next received character, or `None` once `until_us` has passed.
+    fn recv(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError>;
+    /// Idle until `t_us`, discarding nothing: characters arriving meanwhile stay queued.
+    fn wait_until(&mut self, t_us: u64) -> Result<(), LineError>;
+    /// Switch the line's UART settings.
+    fn configure(&mut self, settings: UartSettings) -> Result<(), LineError>;
+    fn settings(&self) -> UartSettings;
+    /// Timing jitter the line adds, in µs (0 in virtual time).
+    fn tolerance_us(&self) -> u64;
+    /// A short description for reports ("virtual", "/dev/pts/3", ...).
+    fn describe(&self) -> String;
+}
+
+impl<L: Line + ?Sized> Line for Box<L> {
+    fn now_us(&mut self) -> u64 {
+        (**self).now_us()
+    }
+    fn send(&mut self, bytes: &[u8]) -> Result<u64, LineError> {
+        (**self).send(bytes)
+    }
+    fn recv(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError> {
+        (**self).recv(until_us)
+    }
+    fn wait_until(&mut self, t_us: u64) -> Result<(), LineError> {
+        (**self).wait_until(t_us)
+    }
+    fn configure(&mut self, settings: UartSettings) -> Result<(), LineError> {
+        (**self).configure(settings)
+    }
+    fn settings(&self) -> UartSettings {
+        (**self).settings()
+    }
+    fn tolerance_us(&self) -> u64 {
+        (**self).tolerance_us()
+    }
+    fn describe(&self) -> String {
+        (**self).describe()
+    }
+}

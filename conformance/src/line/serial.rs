@@ -1,0 +1,150 @@
+//! A real serial port or a pseudo-terminal, in real time. Frames are written whole;
+//! a real port's UART clocks them out. A pseudo-terminal has no baud rate, so this
+//! line plays the UART on it: a frame is written when its first character would be
+//! complete, and received characters are clocked at least one character time apart
+//! (`receive time = max(arrival, previous + character time)`), as a UART delivers
+//! them. The simulator does the same on its end, so both ends agree on the wire time.
+
+use super::{Line, LineError};
+use hiperface_model::datalink::RxChar;
+use hiperface_model::settings::Parity as HfParity;
+use hiperface_model::UartSettings;
+use serialport::{DataBits, FlowControl, Parity, SerialPort, StopBits};
+use std::io::{ErrorKind, Read, Write};
+use std::time::{Duration, Instant};
+
+pub struct SerialLine {
+    port: Box<dyn SerialPort>,
+    name: String,
+    epoch: Instant,
+    settings: UartSettings,
+    /// Pseudo-terminals ignore UART settings; real ports apply them.
+    pseudo_terminal: bool,
+    last_rx_us: u64,
+}
+
+fn parity(s: UartSettings) -> Parity {
+    match s.parity {
+        HfParity::None => Parity::None,
+        HfParity::Even => Parity::Even,
+        HfParity::Odd => Parity::Odd,
+    }
+}
+
+impl SerialLine {
+    /// Open a port by path with the given settings.
+    pub fn open(path: &str, settings: UartSettings) -> Result<SerialLine, LineError> {
+        let port = serialport::new(path, settings.baud.bits_per_second())
+            .data_bits(DataBits::Eight)
+            .stop_bits(StopBits::One)
+            .parity(parity(settings))
+            .flow_control(FlowControl::None)
+            .timeout(Duration::from_millis(1))
+            .open()
+            .map_err(|e| LineError::Open { port: path.to_string(), reason: e.to_string() })?;
+        let pseudo_terminal = path.starts_with("/dev/pts/") || path.contains("pty");
+        Ok(SerialLine::from_port(port, path.to_string(), settings, pseudo_terminal))
+    }
+
+    /// Wrap an open port (e.g. one end of a pseudo-terminal pair).
+    pub fn from_port(
+        port: Box<dyn SerialPort>,
+        name: String,
+        settings: UartSettings,
+        pseudo_terminal: bool,
+    ) -> SerialLine {
+        SerialLine { port, name, epoch: Instant::now(), settings, pseudo_terminal, last_rx_us: 0 }
+    }
+
+    fn sleep_until(&self, t_us: u64) {
+        let target = self.epoch + Duration::from_micros(t_us);
+        let now = Instant::now();
+        if target > now {
+            std::thread::sleep(target - now);
+        }
+    }
+
+    fn gone(e: std::io::Error) -> LineError {
+        match e.kind() {
+            ErrorKind::BrokenPipe | ErrorKind::NotConnected | ErrorKind::UnexpectedEof => {
+                LineError::Gone(e.to_string())
+            }
+            _ if e.raw_os_error() == Some(5) => LineError::Gone(e.to_string()), // EIO: the other end closed
+            _ => LineError::Io(e),
+        }
+    }
+}
+
+impl Line for SerialLine {
+    fn now_us(&mut self) -> u64 {
+        self.epoch.elapsed().as_micros() as u64
+    }
+
+    fn send(&mut self, bytes: &[u8]) -> Result<u64, LineError> {
+        let ct = self.settings.char_time_us();
+        let n = bytes.len() as u64;
+        let start = self.now_us();
+        self.port.write_all(bytes).map_err(Self::gone)?;
+        self.port.flush().map_err(Self::gone)?;
+        // On a pseudo-terminal the write is the first character's receive time.
+        let end = if self.pseudo_terminal { start + n.saturating_sub(1) * ct } else { start + n * ct };
+        // Half duplex: the line is busy until the last character is out.
+        self.sleep_until(end);
+        Ok(end)
+    }
+
+    fn recv(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError> {
+        let mut b = [0u8; 1];
+        loop {
+            let now = self.now_us();
+            if now > until_us {
+                return Ok(None);
+            }
+            let wait = Duration::from_micros((until_us - now).clamp(100, 20_000));
+            self.port.set_timeout(wait).map_err(|e| LineError::Io(e.into()))?;
+            match self.port.read(&mut b) {
+                Ok(1) => {
+                    let arrival = self.now_us();
+                    let at = if self.pseudo_terminal {
+                        arrival.max(self.last_rx_us + self.settings.char_time_us())
+                    } else {
+                        arrival
+                    };
+                    self.last_rx_us = at;
+                    return Ok(Some(RxChar::ok(b[0], at)));
+                }
+                Ok(_) => return Err(LineError::Gone("end of file".into())),
+                Err(e) if e.kind() == ErrorKind::TimedOut || e.kind() == ErrorKind::WouldBlock => continue,
+                Err(e) => return Err(Self::gone(e)),
+            }
+        }
+    }
+
+    fn wait_until(&mut self, t_us: u64) -> Result<(), LineError> {
+        self.sleep_until(t_us);
+        Ok(())
+    }
+
+    fn configure(&mut self, settings: UartSettings) -> Result<(), LineError> {
+        if !self.pseudo_terminal {
+            let err = |e: serialport::Error| LineError::Settings { settings, reason: e.to_string() };
+            self.port.set_baud_rate(settings.baud.bits_per_second()).map_err(err)?;
+            self.port.set_parity(parity(settings)).map_err(err)?;
+        }
+        self.settings = settings;
+        Ok(())
+    }
+
+    fn settings(&self) -> UartSettings {
+        self.settings
+    }
+
+    fn tolerance_us(&self) -> u64 {
+        // Scheduler and pseudo-terminal jitter on a loaded 2-core machine.
+        2_000
+    }
+
+    fn describe(&self) -> String {
+        format!("{} ({})", self.name, if self.pseudo_terminal { "pseudo-terminal" } else { "serial port" })
+    }
+}

@@ -1,0 +1,155 @@
+//! An in-process line in virtual time: the master's characters go straight into a
+//! sans-IO slave with their receive times, and the slave's transmissions come back
+//! character by character. No sleeping: a whole catalogue runs in milliseconds.
+
+use super::{Line, LineError};
+use hiperface_model::datalink::RxChar;
+use hiperface_model::{Edition, Slave, Step, UartSettings};
+use std::collections::VecDeque;
+
+/// A slave as a sans-IO state machine: the reference model, or a defective variant
+/// built for tests.
+pub trait SlaveDevice {
+    fn receive(&mut self, ch: RxChar) -> Option<Step>;
+    fn poll(&mut self, now_us: u64) -> Option<Step>;
+    fn next_deadline(&self, now_us: u64) -> Option<u64>;
+    /// Delay between the earliest allowed start and the actual start of a reply.
+    fn reply_delay_us(&self) -> u64 {
+        300
+    }
+    /// Extra idle time before character `index` of a reply (0 for a conforming slave).
+    fn extra_gap_before_us(&self, _index: usize) -> u64 {
+        0
+    }
+    fn edition(&self) -> Edition;
+}
+
+impl SlaveDevice for Slave {
+    fn receive(&mut self, ch: RxChar) -> Option<Step> {
+        Slave::receive(self, ch)
+    }
+    fn poll(&mut self, now_us: u64) -> Option<Step> {
+        Slave::poll(self, now_us)
+    }
+    fn next_deadline(&self, now_us: u64) -> Option<u64> {
+        Slave::next_deadline(self, now_us)
+    }
+    fn edition(&self) -> Edition {
+        self.profile().edition
+    }
+}
+
+/// The line.
+pub struct VirtualLine<D: SlaveDevice> {
+    pub device: D,
+    now: u64,
+    settings: UartSettings,
+    /// Characters on their way to the master: (receive time, byte).
+    inbound: VecDeque<RxChar>,
+}
+
+impl<D: SlaveDevice> VirtualLine<D> {
+    pub fn new(device: D) -> VirtualLine<D> {
+        VirtualLine { device, now: 0, settings: UartSettings::DEFAULT, inbound: VecDeque::new() }
+    }
+
+    /// Start at `t_us` (e.g. after the power-up windows).
+    pub fn starting_at(mut self, t_us: u64) -> Self {
+        self.now = t_us;
+        self
+    }
+
+    /// Let the device act on everything due up to `t_us`.
+    fn advance(&mut self, t_us: u64) {
+        while let Some(deadline) = self.device.next_deadline(self.now).filter(|d| *d <= t_us) {
+            if let Some(step) = self.device.poll(deadline) {
+                self.transmit(step);
+            }
+            if self.device.next_deadline(deadline) == Some(deadline) {
+                break;
+            }
+            self.now = self.now.max(deadline);
+        }
+        self.now = self.now.max(t_us);
+    }
+
+    fn transmit(&mut self, step: Step) {
+        let Some(t) = step.transmission else { return };
+        // A reply in other settings than the master listens with is garbage to it.
+        let garbled = t.settings != self.settings;
+        let ct = t.settings.char_time_us();
+        let mut at_us = t.earliest_start_us + self.device.reply_delay_us();
+        for (i, b) in t.frame.as_bytes().iter().enumerate() {
+            at_us += self.device.extra_gap_before_us(i) + ct;
+            let fault = garbled.then_some(hiperface_model::UartFault::Framing);
+            self.inbound.push_back(RxChar { byte: *b, at_us, fault });
+        }
+    }
+}
+
+impl<D: SlaveDevice> Line for VirtualLine<D> {
+    fn now_us(&mut self) -> u64 {
+        self.now
+    }
+
+    fn send(&mut self, bytes: &[u8]) -> Result<u64, LineError> {
+        // Half duplex: the master starts after anything still on the wire.
+        let start = self.now.max(self.inbound.back().map_or(0, |c| c.at_us));
+        let ct = self.settings.char_time_us();
+        let mut last = start;
+        for (i, b) in bytes.iter().enumerate() {
+            last = start + (i as u64 + 1) * ct;
+            self.advance(last.saturating_sub(1));
+            if let Some(step) = self.device.receive(RxChar::ok(*b, last)) {
+                self.transmit(step);
+            }
+        }
+        self.now = last;
+        Ok(last)
+    }
+
+    fn recv(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError> {
+        loop {
+            if let Some(c) = self.inbound.front().copied() {
+                if c.at_us <= until_us {
+                    self.advance(c.at_us);
+                    self.inbound.pop_front();
+                    return Ok(Some(c));
+                }
+            }
+            // Nothing due: let the device work until the next event or the limit.
+            match self.device.next_deadline(self.now).filter(|d| *d <= until_us && *d > self.now) {
+                Some(d) => self.advance(d),
+                None => {
+                    if self.inbound.front().is_some_and(|c| c.at_us <= until_us) {
+                        continue;
+                    }
+                    self.advance(until_us);
+                    return Ok(None);
+                }
+            }
+        }
+    }
+
+    fn wait_until(&mut self, t_us: u64) -> Result<(), LineError> {
+        self.advance(t_us);
+        Ok(())
+    }
+
+    fn configure(&mut self, settings: UartSettings) -> Result<(), LineError> {
+        self.settings = settings;
+        Ok(())
+    }
+
+    fn settings(&self) -> UartSettings {
+        self.settings
+    }
+
+    fn tolerance_us(&self) -> u64 {
+        0
+    }
+
+    fn describe(&self) -> String {
+        format!("in-process virtual line ({:?} edition)", self.device.edition())
+    }
+}

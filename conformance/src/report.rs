@@ -1,0 +1,187 @@
+//! Reports of a certification run: JSON and JUnit XML for CI, a Markdown and an HTML
+//! certificate for people. The wire log is included for every failing case.
+
+use crate::certify::{CaseVerdict, Report};
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// Write report.json, junit.xml, certificate.md and certificate.html into `dir`.
+pub fn write_all(report: &Report, dir: &Path) -> std::io::Result<()> {
+    std::fs::create_dir_all(dir)?;
+    let json = serde_json::to_string_pretty(report).map_err(std::io::Error::other)?;
+    std::fs::write(dir.join("report.json"), json)?;
+    std::fs::write(dir.join("junit.xml"), junit(report))?;
+    let md = markdown(report);
+    std::fs::write(dir.join("certificate.md"), &md)?;
+    std::fs::write(dir.join("certificate.html"), html(report))?;
+    Ok(())
+}
+
+pub fn junit(report: &Report) -> String {
+    use quick_junit::{NonSuccessKind, Report as JReport, TestCase, TestCaseStatus, TestSuite};
+    let mut suite = TestSuite::new(format!("hiperface certify slave ({})", report.profile));
+    for c in &report.cases {
+        let detail: String =
+            c.findings.iter().map(|f| format!("[{}] {} ({})\n", f.verdict.label(), f.message, f.clause)).collect();
+        let status = match c.verdict {
+            CaseVerdict::Pass | CaseVerdict::NonStrict => TestCaseStatus::success(),
+            CaseVerdict::NotApplicable => {
+                let mut s = TestCaseStatus::skipped();
+                s.set_message(detail.trim().to_string());
+                s
+            }
+            CaseVerdict::Fail => {
+                let mut s = TestCaseStatus::non_success(NonSuccessKind::Failure);
+                s.set_message(detail.trim().to_string());
+                s.set_description(wire_text(c));
+                s
+            }
+            CaseVerdict::Error => {
+                let mut s = TestCaseStatus::non_success(NonSuccessKind::Error);
+                s.set_message(detail.trim().to_string());
+                s
+            }
+        };
+        let mut t = TestCase::new(c.id, status);
+        t.set_classname(format!("hiperface.{}", c.id.split('.').next().unwrap_or("case")));
+        t.set_time(std::time::Duration::from_secs_f64(c.duration_ms / 1000.0));
+        if c.verdict == CaseVerdict::NonStrict {
+            t.set_system_out(detail);
+        }
+        suite.add_test_case(t);
+    }
+    let mut r = JReport::new("hiperface");
+    r.add_test_suite(suite);
+    r.to_string().unwrap_or_else(|e| format!("<!-- cannot serialise: {e} -->"))
+}
+
+fn wire_text(c: &crate::certify::CaseResult) -> String {
+    c.wire.iter().map(|w| format!("{:>12.3} ms  {}  {}\n", w.t_us as f64 / 1000.0, w.direction, w.bytes)).collect()
+}
+
+pub fn markdown(r: &Report) -> String {
+    let mut s = String::new();
+    let verdict = if r.passed() { "PASSED" } else { "NOT PASSED" };
+    let _ = writeln!(s, "# HIPERFACE slave certificate: {verdict}\n");
+    let _ = writeln!(s, "| | |\n|---|---|");
+    let _ = writeln!(s, "| tool | {} |", r.tool);
+    let _ = writeln!(s, "| profile | {} ({} edition) |", r.profile, r.edition);
+    let _ = writeln!(s, "| line | {} |", r.line);
+    let _ = writeln!(s, "| grading | {} |", r.knowledge);
+    if let Some(t) = &r.identity.type_label {
+        let _ = writeln!(s, "| type label reply | `{t}` |");
+    }
+    for (k, v) in [
+        ("serial number", &r.identity.serial),
+        ("firmware", &r.identity.firmware),
+        ("firmware date", &r.identity.firmware_date),
+    ] {
+        if let Some(v) = v {
+            let _ = writeln!(s, "| {k} | {v} |");
+        }
+    }
+    let _ = writeln!(s, "| EEPROM writes | {} |", r.eeprom_writes);
+    let _ = writeln!(
+        s,
+        "| wall time | {:.0} ms (physical minimum from the wire log {:.0} ms) |",
+        r.wall_time_ms, r.physical_minimum_ms
+    );
+    let summary: Vec<String> = r.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
+    let _ = writeln!(s, "| verdicts | {} |", summary.join(", "));
+    if let Some(a) = &r.aborted {
+        let _ = writeln!(s, "| **aborted** | {a} (partial report) |");
+    }
+    let _ = writeln!(s, "\n## Cases\n\n| case | verdict | clauses | title |\n|---|---|---|---|");
+    for c in &r.cases {
+        let _ = writeln!(s, "| `{}` | {} | {} | {} |", c.id, c.verdict.label(), c.clauses.join(", "), c.title);
+    }
+    let _ = writeln!(s, "\n## Findings\n");
+    for c in r.cases.iter().filter(|c| !c.findings.is_empty() && c.verdict != CaseVerdict::NotApplicable) {
+        let _ = writeln!(s, "### `{}`: {}\n", c.id, c.verdict.label());
+        for f in &c.findings {
+            let _ = writeln!(s, "- {}: {} ({})", f.verdict.label(), f.message, f.clause);
+        }
+        if c.verdict == CaseVerdict::Fail {
+            let _ = writeln!(s, "\nWire log:\n\n```\n{}```\n", wire_text(c));
+        }
+    }
+    let _ = writeln!(s, "\n## Response times (after the request's timeout)\n\n| command | n | min | median | max |\n|---|---|---|---|---|");
+    for t in &r.response_times {
+        let ms = |us: i64| format!("{:.3} ms", us as f64 / 1000.0);
+        let _ =
+            writeln!(s, "| {} | {} | {} | {} | {} |", t.command, t.count, ms(t.min_us), ms(t.median_us), ms(t.max_us));
+    }
+    let _ = writeln!(s, "\n## Notes\n");
+    for n in &r.notes {
+        let _ = writeln!(s, "- {n}");
+    }
+    s
+}
+
+fn escape(t: &str) -> String {
+    t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+}
+
+pub fn html(r: &Report) -> String {
+    let mut s = String::new();
+    let _ = write!(
+        s,
+        "<!doctype html><html><head><meta charset=\"utf-8\"><title>HIPERFACE certificate: {}</title>\
+         <style>body{{font-family:sans-serif;max-width:70em;margin:2em auto}}table{{border-collapse:collapse}}\
+         td,th{{border:1px solid #ccc;padding:.2em .5em;text-align:left}}.PASS{{color:#070}}.FAIL{{color:#b00;font-weight:bold}}\
+         .NON-STRICT{{color:#a60}}.ERROR{{color:#b0b}}pre{{background:#f4f4f4;padding:.5em}}</style></head><body>",
+        escape(&r.profile)
+    );
+    let verdict = if r.passed() { "PASSED" } else { "NOT PASSED" };
+    let _ = write!(s, "<h1>HIPERFACE slave certificate: {verdict}</h1><table>");
+    let rows = [
+        ("tool", r.tool.clone()),
+        ("profile", format!("{} ({} edition)", r.profile, r.edition)),
+        ("line", r.line.clone()),
+        ("type label reply", r.identity.type_label.clone().unwrap_or_default()),
+        ("serial number", r.identity.serial.clone().unwrap_or_default()),
+        ("firmware", r.identity.firmware.clone().unwrap_or_default()),
+        ("EEPROM writes", r.eeprom_writes.to_string()),
+        ("wall time", format!("{:.0} ms (physical minimum {:.0} ms)", r.wall_time_ms, r.physical_minimum_ms)),
+    ];
+    for (k, v) in rows {
+        let _ = write!(s, "<tr><th>{k}</th><td>{}</td></tr>", escape(&v));
+    }
+    let _ = write!(s, "</table><h2>Cases</h2><table><tr><th>case</th><th>verdict</th><th>clauses</th><th>title</th><th>findings</th></tr>");
+    for c in &r.cases {
+        let findings: String =
+            c.findings.iter().map(|f| format!("{} ({})<br>", escape(&f.message), escape(&f.clause))).collect();
+        let wire = if c.verdict == CaseVerdict::Fail {
+            format!("<pre>{}</pre>", escape(&wire_text(c)))
+        } else {
+            String::new()
+        };
+        let _ = write!(
+            s,
+            "<tr><td><code>{}</code></td><td class=\"{}\">{}</td><td>{}</td><td>{}</td><td>{findings}{wire}</td></tr>",
+            c.id,
+            c.verdict.label(),
+            c.verdict.label(),
+            c.clauses.join(", "),
+            escape(c.title)
+        );
+    }
+    let _ = write!(s, "</table><h2>Response times</h2><table><tr><th>command</th><th>n</th><th>min ms</th><th>median ms</th><th>max ms</th></tr>");
+    for t in &r.response_times {
+        let _ = write!(
+            s,
+            "<tr><td>{}</td><td>{}</td><td>{:.3}</td><td>{:.3}</td><td>{:.3}</td></tr>",
+            escape(&t.command),
+            t.count,
+            t.min_us as f64 / 1000.0,
+            t.median_us as f64 / 1000.0,
+            t.max_us as f64 / 1000.0
+        );
+    }
+    let _ = write!(s, "</table><h2>Notes</h2><ul>");
+    for n in &r.notes {
+        let _ = write!(s, "<li>{}</li>", escape(n));
+    }
+    s.push_str("</ul></body></html>\n");
+    s
+}

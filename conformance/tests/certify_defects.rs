@@ -1,0 +1,177 @@
+//! The catalogue against deliberately defective slaves, built here around the
+//! reference model: each defect makes the right cases FAIL.
+
+use hiperface_conformance::certify::{self, CaseVerdict, Options, Report};
+use hiperface_conformance::line::virtual_line::{SlaveDevice, VirtualLine};
+use hiperface_model::datalink::RxChar;
+use hiperface_model::{checksum, profiles, Edition, Frame, Response, ResponseFrame, Slave, Step};
+
+/// A defect: a function that may rewrite a step's transmission, plus timing quirks.
+struct Defective {
+    model: Slave,
+    rewrite: fn(&mut Step),
+    incoming: fn(RxChar, u64, &mut u64) -> RxChar,
+    delay_us: u64,
+    gap_at: Option<usize>,
+    last_rx: u64,
+}
+
+impl Defective {
+    fn new(rewrite: fn(&mut Step)) -> Defective {
+        Defective {
+            model: Slave::operational(profiles::srs50()),
+            rewrite,
+            incoming: |c, _, _| c,
+            delay_us: 300,
+            gap_at: None,
+            last_rx: 0,
+        }
+    }
+}
+
+fn keep(_: &mut Step) {}
+
+fn replace_reply(step: &mut Step, f: impl FnOnce(&mut Vec<u8>)) {
+    if let Some(t) = step.transmission.as_mut() {
+        let mut bytes = t.frame.as_bytes().to_vec();
+        f(&mut bytes);
+        t.frame = Frame::from_bytes(&bytes).unwrap();
+    }
+}
+
+impl SlaveDevice for Defective {
+    fn receive(&mut self, ch: RxChar) -> Option<Step> {
+        let ch = (self.incoming)(ch, self.model.timeout_us(ch.at_us), &mut self.last_rx);
+        let mut step = self.model.receive(ch)?;
+        (self.rewrite)(&mut step);
+        Some(step)
+    }
+    fn poll(&mut self, now_us: u64) -> Option<Step> {
+        let mut step = self.model.poll(now_us)?;
+        (self.rewrite)(&mut step);
+        Some(step)
+    }
+    fn next_deadline(&self, now_us: u64) -> Option<u64> {
+        self.model.next_deadline(now_us)
+    }
+    fn reply_delay_us(&self) -> u64 {
+        self.delay_us
+    }
+    fn extra_gap_before_us(&self, index: usize) -> u64 {
+        if Some(index) == self.gap_at {
+            10_000
+        } else {
+            0
+        }
+    }
+    fn edition(&self) -> Edition {
+        Edition::Current
+    }
+}
+
+fn certify(device: Defective) -> Report {
+    let options = Options { allow_writes: true, allow_counter_change: true, ..Options::default() };
+    certify::run(Box::new(VirtualLine::new(device)), profiles::srs50(), &options, |_, _, _| {})
+}
+
+fn verdict(r: &Report, id: &str) -> CaseVerdict {
+    r.cases.iter().find(|c| c.id == id).map(|c| c.verdict).unwrap()
+}
+
+fn assert_fails(r: &Report, ids: &[&str]) {
+    assert!(!r.passed());
+    for id in ids {
+        assert_eq!(verdict(r, id), CaseVerdict::Fail, "{id}: {:#?}", r.cases.iter().find(|c| c.id == *id));
+    }
+}
+
+#[test]
+fn the_unmodified_wrapper_passes() {
+    let r = certify(Defective::new(keep));
+    assert!(r.passed(), "{:#?}", r.cases.iter().filter(|c| c.verdict == CaseVerdict::Fail).collect::<Vec<_>>());
+}
+
+#[test]
+fn wrong_checksum() {
+    let r = certify(Defective::new(|s| replace_reply(s, |b| *b.last_mut().unwrap() ^= 0x01)));
+    assert_fails(&r, &["identity.type-label", "position.read", "protocol.checksum", "timing.read-position"]);
+    let f = &r.cases.iter().find(|c| c.id == "position.read").unwrap().findings[0];
+    assert_eq!(f.clause, "000:2.3.3", "{}", f.message);
+}
+
+#[test]
+fn warning_bit_never_cleared() {
+    // Every reply carries bit 7: the warning bit is never cleared.
+    let r = certify(Defective::new(|s| {
+        replace_reply(s, |b| {
+            b[1] |= 0x80;
+            let n = b.len() - 1;
+            b[n] = checksum::xor(&b[..n]);
+        })
+    }));
+    assert_fails(&r, &["identity.status", "position.read"]);
+    assert!(r.cases.iter().flat_map(|c| &c.findings).any(|f| f.clause == "000:2.3.4"));
+}
+
+#[test]
+fn off_by_one_in_data_field_bounds() {
+    // Reads ending one byte past the field are answered with data instead of 11h.
+    let r = certify(Defective::new(|s| {
+        let req = s.received.bytes.as_bytes().to_vec();
+        let is_error_11 = matches!(
+            s.outcome.reply,
+            hiperface_model::Reply::Frame(ResponseFrame {
+                response: Response::Error(hiperface_model::FaultCode::WrongOffset),
+                ..
+            })
+        );
+        if req.get(1) == Some(&0x4A) && is_error_11 && req[4] > 0 {
+            let data = hiperface_model::frame::FieldBytes::from_bytes(&vec![0xFF; req[4] as usize]).unwrap();
+            let rf = ResponseFrame {
+                address: 0x40,
+                warning: false,
+                response: Response::Data { field: req[2], offset: req[3], data },
+            };
+            if let Some(t) = s.transmission.as_mut() {
+                t.frame = rf.encode();
+            }
+        }
+    }));
+    assert_fails(&r, &["fields.lifecycle"]);
+    assert_eq!(verdict(&r, "position.read"), CaseVerdict::Pass);
+}
+
+#[test]
+fn reply_later_than_the_window() {
+    let mut d = Defective::new(keep);
+    d.delay_us = 12_000; // Read Position allows 10 ms
+    let r = certify(d);
+    assert_fails(&r, &["position.read", "timing.read-position"]);
+    assert!(r.cases.iter().flat_map(|c| &c.findings).any(|f| f.clause == "000:T10"));
+    // 4Dh allows 70 ms: not late.
+    assert_eq!(verdict(&r, "fields.lifecycle"), CaseVerdict::Fail, "its 4Eh/4Ch replies (5 ms) are late too");
+}
+
+#[test]
+fn answering_frames_for_another_address() {
+    let mut d = Defective::new(keep);
+    // The first character of every frame is taken as its own address.
+    d.incoming = |mut c, timeout, last| {
+        if c.at_us.saturating_sub(*last) >= timeout && c.byte != 0xFF && c.byte & 0xE0 == 0x40 {
+            c.byte = 0x40;
+        }
+        *last = c.at_us;
+        c
+    };
+    let r = certify(d);
+    assert_fails(&r, &["address.other"]);
+    assert_eq!(verdict(&r, "position.read"), CaseVerdict::Pass);
+}
+
+#[test]
+fn reply_with_a_gap_longer_than_the_timeout() {
+    let mut d = Defective::new(keep);
+    d.gap_at = Some(3);
+    let r = certify(d);
+    assert_fails(&r, &["position.read"]);
+}
