@@ -3,6 +3,7 @@
 use clap::{Parser, Subcommand, ValueEnum};
 use hiperface_conformance::certify::{self, CaseVerdict, Options};
 use hiperface_conformance::line::serial::SerialLine;
+use hiperface_conformance::line::virtual_line::VirtualLine;
 use hiperface_conformance::line::Line;
 use hiperface_conformance::simulate::{self, PtySimulator};
 use hiperface_conformance::{demo, profile_file, report};
@@ -59,7 +60,8 @@ enum Command {
 enum CertifyWhat {
     /// Act as master against a slave (encoder).
     Slave {
-        /// `sim` (the reference model on an in-process pseudo-terminal) or a serial port path.
+        /// `sim` (the reference model on an in-process pseudo-terminal, real time),
+        /// `virtual` (the reference model in-process, virtual time), or a serial port path.
         #[arg(long)]
         port: String,
         /// The device's profile: a built-in name or a TOML file.
@@ -162,7 +164,7 @@ fn certify_slave(what: CertifyWhat) -> ExitCode {
         Ok(p) => p,
         Err(e) => return fail(e),
     };
-    let sim = port == "sim";
+    let sim = port == "sim" || port == "virtual";
     let knowledge = match grading {
         Some(Grading::Exact) => Knowledge::Exact,
         Some(Grading::Range) => Knowledge::PhysicalUnknown,
@@ -178,7 +180,9 @@ fn certify_slave(what: CertifyWhat) -> ExitCode {
     };
     // Keep the simulator alive for the whole run.
     let mut simulator = None;
-    let line: Box<dyn Line> = if sim {
+    let line: Box<dyn Line> = if port == "virtual" {
+        Box::new(VirtualLine::new(hiperface_model::Slave::operational(profile)))
+    } else if sim {
         match PtySimulator::start(profile) {
             Ok((s, port)) => {
                 let name = format!("{} (simulator)", s.path);
@@ -190,7 +194,15 @@ fn certify_slave(what: CertifyWhat) -> ExitCode {
     } else {
         match SerialLine::open(&port, hiperface_model::UartSettings::DEFAULT) {
             Ok(l) => Box::new(l),
-            Err(e) => return fail(e),
+            Err(e) => {
+                if let Some(dir) = &dir {
+                    let partial = certify::Report::aborted_before_start(&profile, &port, &e.to_string());
+                    if report::write_all(&partial, dir).is_ok() {
+                        eprintln!("partial report written to {}", dir.display());
+                    }
+                }
+                return fail(e);
+            }
         }
     };
     eprintln!("certifying {} on {}", profile.name, line.describe());
@@ -219,13 +231,20 @@ fn certify_slave(what: CertifyWhat) -> ExitCode {
 fn summarize(report: &certify::Report, profile: &Profile) {
     let summary: Vec<String> = report.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
     println!("{}: {}", profile.name, summary.join(", "));
-    println!(
-        "wall time {:.0} ms; physical minimum from the wire log {:.0} ms (ratio {:.2}); EEPROM writes {}",
-        report.wall_time_ms,
-        report.physical_minimum_ms,
-        report.wall_time_ms / report.physical_minimum_ms.max(1.0),
-        report.eeprom_writes
-    );
+    if report.line.starts_with("in-process virtual") {
+        println!(
+            "virtual time: {:.0} ms of line time run in {:.1} ms; EEPROM writes {}",
+            report.physical_minimum_ms, report.wall_time_ms, report.eeprom_writes
+        );
+    } else {
+        println!(
+            "wall time {:.0} ms; physical minimum from the wire log {:.0} ms (ratio {:.2}); EEPROM writes {}",
+            report.wall_time_ms,
+            report.physical_minimum_ms,
+            report.wall_time_ms / report.physical_minimum_ms.max(1.0),
+            report.eeprom_writes
+        );
+    }
     if let Some(a) = &report.aborted {
         println!("ABORTED: {a}");
     }

@@ -4,6 +4,7 @@
 
 use crate::line::{Line, LineError};
 use hiperface_model::datalink::{DataLink, RxChar};
+use hiperface_model::frame::MAX_FRAME;
 use hiperface_model::{Edition, UartSettings};
 
 /// One request and what came back.
@@ -70,7 +71,9 @@ impl<L: Line> Master<L> {
         let timeout = self.timeout_us();
         let ct = settings.char_time_us();
         // 000:2.2.2: the end of a transmission is a pause of at least the timeout.
-        let ready = self.idle_since_us + timeout;
+        // Never more than a frame's time ahead of now, whatever a babbling line reported.
+        let now = self.line.now_us();
+        let ready = (self.idle_since_us + timeout).min(now + MAX_FRAME as u64 * ct + timeout);
         let mut stray = Vec::new();
         while let Some(c) = self.line.recv(ready)? {
             stray.push(c);
@@ -85,8 +88,9 @@ impl<L: Line> Master<L> {
         if let Some(first) = self.line.recv(deadline)? {
             link.receive(first);
             reply.push(first);
-            // Further characters belong to the reply until the data link's timeout elapses.
-            while let Some(until) = link.deadline() {
+            // Further characters belong to the reply until the data link's timeout
+            // elapses; a device that never stops talking is cut off after two frames' worth.
+            while let Some(until) = link.deadline().filter(|_| reply.len() < 2 * MAX_FRAME) {
                 match self.line.recv(until.saturating_sub(1))? {
                     Some(c) => {
                         link.receive(c);

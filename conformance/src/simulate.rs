@@ -37,8 +37,10 @@ pub fn serve(
                 let t = now(epoch);
                 for b in &buf[..n] {
                     let ct = slave.listening_settings(t).unwrap_or_default().char_time_us();
-                    last_rx = t.max(last_rx + ct);
-                    steps.extend(slave.receive(RxChar::ok(*b, last_rx)));
+                    let (at, overrun) = crate::line::clock_pty_char(t, last_rx, ct);
+                    last_rx = at;
+                    let fault = overrun.then_some(hiperface_model::UartFault::Overrun);
+                    steps.extend(slave.receive(RxChar { byte: *b, at_us: at, fault }));
                 }
             }
             Err(e) if matches!(e.kind(), ErrorKind::TimedOut | ErrorKind::WouldBlock | ErrorKind::Interrupted) => {}

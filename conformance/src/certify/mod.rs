@@ -143,6 +143,8 @@ pub enum CaseError {
     Abort(String),
     #[error("EEPROM write budget of {0} exhausted")]
     Budget(u32),
+    #[error("the device has not answered any request: check the port, power, address and data rate")]
+    Silent,
 }
 
 /// Response-time statistics of one command.
@@ -164,6 +166,8 @@ pub struct Ctx<'a> {
     response_times: &'a mut BTreeMap<u8, Vec<i64>>,
     pub(crate) physical_min_us: &'a mut u64,
     options: &'a Options,
+    /// The device has answered at least once in this run.
+    answered_any: &'a mut bool,
 }
 
 /// A graded exchange.
@@ -220,6 +224,12 @@ impl Ctx<'_> {
             return Err(CaseError::Budget(self.options.write_budget));
         }
         let observed = x.reply_bytes();
+        *self.answered_any |= observed.is_some();
+        if !*self.answered_any && matches!(expected.reply, Reply::Frame(_)) {
+            // Never a word from the device: it is not there, not powered, or at another
+            // address or data rate. The harness cannot run the case.
+            return Err(CaseError::Silent);
+        }
         let grade = self.oracle.grade(&before, frame, x.complete_us, &expected, observed.as_deref());
         let mut verdict: CaseVerdict = grade.verdict.into();
         self.result.exchanges += 1;
@@ -333,6 +343,26 @@ pub struct Identity {
 }
 
 impl Report {
+    /// The report of a run that could not start (e.g. the port cannot be opened).
+    pub fn aborted_before_start(profile: &Profile, line: &str, reason: &str) -> Report {
+        Report {
+            tool: format!("hiperface {}", env!("CARGO_PKG_VERSION")),
+            profile: profile.name.to_string(),
+            edition: format!("{:?}", profile.edition),
+            line: line.to_string(),
+            knowledge: String::new(),
+            identity: Identity::default(),
+            cases: Vec::new(),
+            summary: BTreeMap::new(),
+            response_times: Vec::new(),
+            eeprom_writes: 0,
+            wall_time_ms: 0.0,
+            physical_minimum_ms: 0.0,
+            notes: Vec::new(),
+            aborted: Some(reason.to_string()),
+        }
+    }
+
     /// No case FAILed.
     pub fn passed(&self) -> bool {
         self.cases.iter().all(|c| c.verdict != CaseVerdict::Fail) && self.aborted.is_none()
@@ -373,6 +403,7 @@ pub fn run(
     let mut results = Vec::new();
     let mut aborted = None;
     let mut identity = Identity::default();
+    let mut answered_any = false;
     for (i, case) in selected.iter().enumerate() {
         let mut result = CaseResult {
             id: case.id,
@@ -415,9 +446,10 @@ pub fn run(
                 response_times: &mut response_times,
                 physical_min_us: &mut physical_min_us,
                 options,
+                answered_any: &mut answered_any,
             };
             if let Err(e) = (case.run)(&mut ctx) {
-                let gone = matches!(e, CaseError::Line(LineError::Gone(_)) | CaseError::Budget(_));
+                let gone = matches!(e, CaseError::Line(LineError::Gone(_)) | CaseError::Budget(_) | CaseError::Silent);
                 ctx.finding(CaseVerdict::Error, e.to_string(), "");
                 if gone {
                     aborted = Some(e.to_string());

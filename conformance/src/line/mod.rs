@@ -9,6 +9,20 @@ pub mod virtual_line;
 use hiperface_model::datalink::RxChar;
 use hiperface_model::UartSettings;
 
+/// Receive time of a character on a pseudo-terminal, where bytes arrive without a
+/// baud rate: a UART delivers them at least one character time apart, so
+/// `max(arrival, previous + char time)`. A backlog of more than one frame is more
+/// than any UART could have received: such a character is an overrun at its arrival.
+pub fn clock_pty_char(arrival_us: u64, previous_us: u64, char_time_us: u64) -> (u64, bool) {
+    let clocked = arrival_us.max(previous_us + char_time_us);
+    let backlog_limit = hiperface_model::frame::MAX_FRAME as u64 * char_time_us;
+    if clocked - arrival_us > backlog_limit {
+        (arrival_us, true)
+    } else {
+        (clocked, false)
+    }
+}
+
 /// Why the line failed. Each is an ERROR for the case that hit it, never a FAIL.
 #[derive(Debug, thiserror::Error)]
 pub enum LineError {

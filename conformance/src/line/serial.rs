@@ -105,13 +105,14 @@ impl Line for SerialLine {
             match self.port.read(&mut b) {
                 Ok(1) => {
                     let arrival = self.now_us();
-                    let at = if self.pseudo_terminal {
-                        arrival.max(self.last_rx_us + self.settings.char_time_us())
+                    let (at, overrun) = if self.pseudo_terminal {
+                        super::clock_pty_char(arrival, self.last_rx_us, self.settings.char_time_us())
                     } else {
-                        arrival
+                        (arrival, false)
                     };
                     self.last_rx_us = at;
-                    return Ok(Some(RxChar::ok(b[0], at)));
+                    let fault = overrun.then_some(hiperface_model::UartFault::Overrun);
+                    return Ok(Some(RxChar { byte: b[0], at_us: at, fault }));
                 }
                 Ok(_) => return Err(LineError::Gone("end of file".into())),
                 Err(e) if e.kind() == ErrorKind::TimedOut || e.kind() == ErrorKind::WouldBlock => continue,

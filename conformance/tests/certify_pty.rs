@@ -1,0 +1,153 @@
+//! The harness over real pseudo-terminals, in real time (generous bounds): the whole
+//! catalogue against the simulator, and bad input of every kind.
+
+use hiperface_conformance::certify::{self, CaseVerdict, Options};
+use hiperface_conformance::line::serial::SerialLine;
+use hiperface_conformance::line::LineError;
+use hiperface_conformance::simulate::PtySimulator;
+use hiperface_model::{profiles, UartSettings};
+use serialport::SerialPort;
+use std::io::Write;
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+fn all_allowed() -> Options {
+    Options { allow_writes: true, allow_counter_change: true, ..Options::default() }
+}
+
+#[test]
+fn the_whole_catalogue_passes_against_the_simulator_over_a_pty() {
+    let profile = profiles::skm36();
+    let (sim, port) = PtySimulator::start(profile).unwrap();
+    let line = SerialLine::from_port(port, sim.path.clone(), profile.settings, true);
+    let report = certify::run(Box::new(line), profile, &all_allowed(), |_, _, _| {});
+    let failed: Vec<_> =
+        report.cases.iter().filter(|c| !matches!(c.verdict, CaseVerdict::Pass | CaseVerdict::NotApplicable)).collect();
+    assert!(failed.is_empty(), "{failed:#?}");
+    assert!(report.passed());
+    eprintln!("PTY run: wall {:.0} ms, physical minimum {:.0} ms", report.wall_time_ms, report.physical_minimum_ms);
+}
+
+#[test]
+fn unknown_port_is_a_clear_error() {
+    let e = SerialLine::open("/dev/does-not-exist-hf", UartSettings::DEFAULT).err().expect("must fail");
+    assert!(matches!(e, LineError::Open { .. }));
+    assert!(e.to_string().contains("/dev/does-not-exist-hf"), "{e}");
+}
+
+#[test]
+fn busy_port_is_a_clear_error() {
+    let (_a, b) = serialport::TTYPort::pair().unwrap();
+    let path = b.name().unwrap();
+    let first = SerialLine::open(&path, UartSettings::DEFAULT);
+    let second = SerialLine::open(&path, UartSettings::DEFAULT);
+    // Ports are opened exclusively: at least the second open is refused, with the path.
+    let e = first.err().or(second.err()).expect("an exclusive port cannot be opened twice");
+    assert!(e.to_string().contains(&path), "{e}");
+}
+
+#[test]
+fn a_silent_device_stops_the_run_quickly_with_an_error() {
+    let (_silent_end, port) = serialport::TTYPort::pair().unwrap();
+    let line = SerialLine::from_port(Box::new(port), "silent".into(), UartSettings::DEFAULT, true);
+    let started = Instant::now();
+    let report = certify::run(Box::new(line), profiles::srs50(), &all_allowed(), |_, _, _| {});
+    assert!(started.elapsed() < Duration::from_secs(10), "must not hang");
+    assert!(!report.passed());
+    assert!(report.aborted.as_deref().is_some_and(|a| a.contains("has not answered")), "{:?}", report.aborted);
+    assert_eq!(report.cases[0].verdict, CaseVerdict::Error);
+    assert!(
+        report.cases.iter().all(|c| c.verdict != CaseVerdict::Fail),
+        "nothing is blamed on a device that is not there"
+    );
+}
+
+#[test]
+fn the_port_gone_mid_run_leaves_a_partial_report() {
+    let profile = profiles::srs50();
+    let (sim, port) = PtySimulator::start(profile).unwrap();
+    let line = SerialLine::from_port(port, sim.path.clone(), profile.settings, true);
+    let mut sim = Some(sim);
+    let started = Instant::now();
+    let report = certify::run(Box::new(line), profile, &all_allowed(), |i, _, _| {
+        if i == 4 {
+            sim.take(); // the simulator and its end of the pseudo-terminal go away
+        }
+    });
+    assert!(started.elapsed() < Duration::from_secs(30), "must not hang");
+    assert!(report.aborted.is_some(), "{:#?}", report.cases.iter().map(|c| (c.id, c.verdict)).collect::<Vec<_>>());
+    assert_eq!(report.cases.len(), certify::cases::catalogue().len(), "every case is accounted for");
+    assert!(report.cases[..4].iter().all(|c| c.verdict == CaseVerdict::Pass));
+    assert!(report.cases[5..].iter().all(|c| matches!(c.verdict, CaseVerdict::Error | CaseVerdict::NotApplicable)));
+}
+
+#[test]
+fn garbage_on_the_line_fails_without_hanging() {
+    let (mut noisy, port) = serialport::TTYPort::pair().unwrap();
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let flag = stop.clone();
+    let babbler = std::thread::spawn(move || {
+        let mut x = 0x5Au8;
+        while !flag.load(std::sync::atomic::Ordering::Relaxed) {
+            x = x.wrapping_mul(73).wrapping_add(41);
+            if noisy.write_all(&[x; 8]).is_err() {
+                break;
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
+    });
+    let line = SerialLine::from_port(Box::new(port), "noisy".into(), UartSettings::DEFAULT, true);
+    let options = Options { cases: Some("identity.*,position.read".into()), ..Options::default() };
+    let started = Instant::now();
+    let report = certify::run(Box::new(line), profiles::srs50(), &options, |_, _, _| {});
+    stop.store(true, std::sync::atomic::Ordering::Relaxed);
+    babbler.join().unwrap();
+    assert!(started.elapsed() < Duration::from_secs(20), "must not hang");
+    assert!(!report.passed());
+    assert!(report.cases.iter().all(|c| c.verdict == CaseVerdict::Fail), "{:#?}", report.cases);
+}
+
+#[test]
+fn cli_malformed_profile_and_unknown_port() {
+    let dir = std::env::temp_dir().join(format!("hf-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad.toml");
+    std::fs::write(&bad, "name = \"x\"\n[timing]\ninit_ms = 300\n").unwrap();
+    let exe = env!("CARGO_BIN_EXE_hiperface");
+    let out = Command::new(exe).args(["certify", "slave", "--port", "sim", "--profile"]).arg(&bad).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("bad.toml:3: field `timing.init_ms`"), "{err}");
+
+    let report_dir = dir.join("report");
+    let out = Command::new(exe)
+        .args(["certify", "slave", "--port", "/dev/does-not-exist-hf", "--report"])
+        .arg(&report_dir)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("cannot open /dev/does-not-exist-hf"));
+    let json = std::fs::read_to_string(report_dir.join("report.json")).unwrap();
+    assert!(json.contains("\"aborted\": \"cannot open /dev/does-not-exist-hf"), "{json}");
+}
+
+#[test]
+fn cli_certifies_the_simulator_and_writes_every_report() {
+    let dir = std::env::temp_dir().join(format!("hf-cli-sim-{}", std::process::id()));
+    let exe = env!("CARGO_BIN_EXE_hiperface");
+    let out = Command::new(exe)
+        .args(["certify", "slave", "--port", "sim", "--cases", "identity.*,protocol.*,position.read", "--report"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains("PASSED") && stdout.contains("physical minimum"), "{stdout}");
+    for f in ["report.json", "junit.xml", "certificate.md", "certificate.html"] {
+        assert!(dir.join(f).exists(), "{f}");
+    }
+    let junit = std::fs::read_to_string(dir.join("junit.xml")).unwrap();
+    assert!(junit.contains("<testcase name=\"protocol.checksum\""), "{junit}");
+    let md = std::fs::read_to_string(dir.join("certificate.md")).unwrap();
+    assert!(md.contains("# HIPERFACE slave certificate: PASSED") && md.contains("000000001"), "{md}");
+}
