@@ -218,7 +218,14 @@ impl Ctx<'_> {
             None => 5,
         };
         let before = self.model.clone();
-        let x = self.master.exchange(frame, max_ms)?;
+        // Where the model expects a reply, listen well past the limit so that a late
+        // reply is measured and graded; where it expects silence, only to the limit.
+        let estimate = self.master.now_us()
+            + frame.len() as u64 * self.master.line.settings().char_time_us()
+            + self.master.timeout_us();
+        let expects_reply = matches!(before.clone().handle_frame(frame, estimate).reply, Reply::Frame(_));
+        let listen_ms = if expects_reply { (3 * max_ms).max(max_ms + 100) } else { max_ms };
+        let x = self.master.exchange(frame, listen_ms)?;
         let expected = self.model.handle_frame(frame, x.complete_us);
         if self.model.eeprom_writes() > self.options.write_budget {
             return Err(CaseError::Budget(self.options.write_budget));
