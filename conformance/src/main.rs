@@ -177,6 +177,7 @@ fn certify_slave(what: CertifyWhat) -> ExitCode {
         write_budget,
         cases,
         knowledge,
+        interrupt: Some(interrupt_flag()),
     };
     // Keep the simulator alive for the whole run.
     let mut simulator = None;
@@ -279,4 +280,18 @@ fn run_simulator(port: &str, profile: &str, log: bool) -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => fail(e),
     }
+}
+
+/// A flag set by Ctrl-C: the run stops after the current exchange, restores what the
+/// current case changed, and writes a partial report.
+fn interrupt_flag() -> Arc<AtomicBool> {
+    let flag = Arc::new(AtomicBool::new(false));
+    let f = flag.clone();
+    if let Err(e) = ctrlc::set_handler(move || {
+        eprintln!("\ninterrupted: restoring and writing a partial report");
+        f.store(true, std::sync::atomic::Ordering::Relaxed);
+    }) {
+        eprintln!("warning: Ctrl-C will not restore the device: {e}");
+    }
+    flag
 }

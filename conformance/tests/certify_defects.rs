@@ -175,3 +175,39 @@ fn reply_with_a_gap_longer_than_the_timeout() {
     let r = certify(d);
     assert_fails(&r, &["position.read"]);
 }
+
+#[test]
+fn an_interruption_after_a_change_still_restores_the_device() {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::Arc;
+    static FLAG: std::sync::OnceLock<Arc<AtomicBool>> = std::sync::OnceLock::new();
+    let flag = FLAG.get_or_init(|| Arc::new(AtomicBool::new(false))).clone();
+    // Ctrl-C arrives the moment the address has been changed.
+    let mut d = Defective::new(|s| {
+        let req = s.received.bytes.as_bytes();
+        if req.get(1) == Some(&0x55)
+            && matches!(
+                s.outcome.reply,
+                hiperface_model::Reply::Frame(ResponseFrame { response: Response::AddressSet, .. })
+            )
+        {
+            FLAG.get().unwrap().store(true, Ordering::Relaxed);
+        }
+    });
+    d.model = Slave::operational(profiles::srs50());
+    let options = Options {
+        allow_writes: true,
+        interrupt: Some(flag),
+        cases: Some("address.change-restore".into()),
+        ..Options::default()
+    };
+    let line = VirtualLine::new(d);
+    let r = certify::run(Box::new(line), profiles::srs50(), &options, |_, _, _| {});
+    assert_eq!(r.aborted.as_deref(), Some("interrupted"));
+    let case = r.cases.iter().find(|c| c.id == "address.change-restore").unwrap();
+    assert_eq!(case.verdict, CaseVerdict::Error);
+    // The runner sent the guard: Set Encoder Address back to 40h, from 41h.
+    assert!(case.wire.iter().any(|w| w.direction == "M>" && w.bytes.starts_with("41 55 40")), "{:#?}", case.wire);
+    assert_eq!(verdict(&r, "safety.restored"), CaseVerdict::Pass, "{:#?}", r.cases.last());
+    assert!(r.notes[0].contains(": 1."), "{}", r.notes[0]);
+}

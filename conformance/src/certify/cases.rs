@@ -222,6 +222,7 @@ pub fn catalogue() -> Vec<Case> {
                 }
                 // 16 bytes, Code0, code disabled, writable.
                 c.ask(&[a, 0x4D, n, 0xC0, code0])?;
+                let g = guard_field(c, n);
                 c.ask(&[a, 0x4C, n])?;
                 c.ask(&[a, 0x4A, n, 0, 16, 0x00])?;
                 let data: Vec<u8> = (0..16u8).map(|i| i.wrapping_mul(37) ^ 0xA5).collect();
@@ -241,6 +242,7 @@ pub fn catalogue() -> Vec<Case> {
                 c.ask(&[a, 0x4A, n + 1, 0, 1, 0x00])?;
                 // Restore: delete it (all status bits but bit 7 as stored).
                 c.ask(&[a, 0x4D, n, 0x40, code0])?;
+                release(c, g);
                 c.ask(&[a, 0x4E]).map(drop)
             }
         ),
@@ -259,13 +261,18 @@ pub fn catalogue() -> Vec<Case> {
                 }
                 c.ask(&[a, 0x4D, n, 0xC8, !code0])?; // wrong code at creation: 0Fh
                 c.ask(&[a, 0x4D, n, 0xC8, code0])?;
+                let g = guard_field(c, n);
                 c.ask(&[a, 0x4A, n, 0, 4, !code0])?;
                 c.ask(&[a, 0x4A, n, 0, 4, code0])?;
                 c.ask(&[a, 0x4B, n, 0, 1, !code0, 0x11])?;
                 c.ask(&[a, 0x4D, n, 0x88, code0])?; // read-only
+                release(c, g);
+                let g = guard_field(c, n);
                 c.ask(&[a, 0x4B, n, 0, 1, code0, 0x11])?;
                 c.ask(&[a, 0x4D, n, 0x08, !code0])?; // delete with the wrong code: 0Fh
-                c.ask(&[a, 0x4D, n, 0x08, code0]).map(drop)
+                c.ask(&[a, 0x4D, n, 0x08, code0])?;
+                release(c, g);
+                Ok(())
             }
         ),
         case!(
@@ -314,8 +321,10 @@ pub fn catalogue() -> Vec<Case> {
                 c.ask(&[a, 0x4F, 4, old, new])?; // no Code4: 0Dh
                 c.ask(&[a, 0x4F, 3, new, new])?; // wrong old code: 0Fh
                 c.ask(&[a, 0x4F, 3, old, new])?;
+                let g = (c.model.nonvolatile().codes[3] == new).then(|| c.guard(vec![a, 0x4F, 3, new, old]));
                 c.ask(&[a, 0x4F, 3, old, old])?; // the old one is gone: 0Fh
                 c.ask(&[a, 0x4F, 3, new, old])?;
+                release(c, g);
                 c.check(c.model.nonvolatile().codes[3] == old, "access code not restored", "DESIGN:safety");
                 Ok(())
             }
@@ -333,9 +342,11 @@ pub fn catalogue() -> Vec<Case> {
                 c.ask(&[a, 0x55, 0x60, code0])?; // outside 40h...5Fh: 0Dh
                 c.ask(&[a, 0x55, new, !code0])?; // wrong Code0: 0Fh
                 c.ask(&[a, 0x55, new, code0])?;
+                let g = (c.address() == new).then(|| c.guard(vec![new, 0x55, a, code0]));
                 c.ask(&[new, 0x42])?;
                 c.ask(&[a, 0x42])?; // the old address is silent now
                 c.ask(&[new, 0x55, a, code0])?;
+                release(c, g);
                 c.ask(&[a, 0x42])?;
                 c.check(c.address() == a, "address not restored", "DESIGN:safety");
                 Ok(())
@@ -387,7 +398,10 @@ pub fn catalogue() -> Vec<Case> {
                 let shifted = ((u32::from_be_bytes(p0) as u64 + 7) % c.profile().range()) as u32;
                 let shifted = shifted.to_be_bytes();
                 c.ask(&[a, 0x6A, shifted[0], shifted[1], shifted[2], shifted[3], code0])?;
-                c.ask(&[a, 0x43, p0[0], p0[1], p0[2], p0[3], code0]).map(drop)
+                let g = c.guard(vec![a, 0x43, p0[0], p0[1], p0[2], p0[3], code0]);
+                c.ask(&[a, 0x43, p0[0], p0[1], p0[2], p0[3], code0])?;
+                c.release(g);
+                Ok(())
             }
         ),
         case!("position.sync-offset", "Read Synchronization Offset", ["000:T36"], Nothing, with_6c, |c| {
@@ -419,8 +433,10 @@ pub fn catalogue() -> Vec<Case> {
                 let a = c.address();
                 let Some(other) = other_baud(&c.profile()) else { return Ok(()) };
                 c.ask(&[a, 0x67, other.byte()])?;
+                let g = c.guard(vec![a, 0x67, UartSettings::DEFAULT.byte()]);
                 c.ask(&[a, 0x42])?;
                 c.ask(&[a, 0x67, UartSettings::DEFAULT.byte()])?;
+                c.release(g);
                 c.ask(&[a, 0x42]).map(drop)
             }
         ),
@@ -475,6 +491,19 @@ pub fn catalogue() -> Vec<Case> {
             }
         ),
     ]
+}
+
+/// If the model holds field `n`, guard its deletion (status bits as now stored).
+fn guard_field(c: &mut Ctx<'_>, n: u8) -> Option<super::Guard> {
+    let status = c.model.nonvolatile().fields.status(n)?;
+    let (a, code) = (c.address(), c.model.nonvolatile().codes[status.code_number()]);
+    Some(c.guard(vec![a, 0x4D, n, status.attributes(), code]))
+}
+
+fn release(c: &mut Ctx<'_>, g: Option<super::Guard>) {
+    if let Some(g) = g {
+        c.release(g);
+    }
 }
 
 fn wait_until(c: &mut Ctx<'_>, t_us: u64) -> Res {

@@ -9,6 +9,8 @@ use hiperface_model::oracle::Verdict;
 use hiperface_model::{checksum, CommandId, Hex, Knowledge, Oracle, Profile, Reply, Slave};
 use serde::Serialize;
 use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::Instant;
 
 /// A case's verdict. PASS and NON-STRICT pass certification; FAIL does not; ERROR
@@ -78,6 +80,8 @@ pub struct Options {
     /// Only cases whose id matches this glob (`*` and `?`).
     pub cases: Option<String>,
     pub knowledge: Knowledge,
+    /// Set (e.g. by Ctrl-C) to stop the run: pending restores still run.
+    pub interrupt: Option<Arc<AtomicBool>>,
 }
 
 impl Default for Options {
@@ -88,6 +92,7 @@ impl Default for Options {
             write_budget: 200,
             cases: None,
             knowledge: Knowledge::Exact,
+            interrupt: None,
         }
     }
 }
@@ -145,6 +150,8 @@ pub enum CaseError {
     Budget(u32),
     #[error("the device has not answered any request: check the port, power, address and data rate")]
     Silent,
+    #[error("interrupted")]
+    Interrupted,
 }
 
 /// Response-time statistics of one command.
@@ -168,7 +175,17 @@ pub struct Ctx<'a> {
     options: &'a Options,
     /// The device has answered at least once in this run.
     answered_any: &'a mut bool,
+    /// Requests that undo this case's changes, last first, run by the runner if the
+    /// case does not release them itself.
+    guards: Vec<(u64, Vec<u8>)>,
+    next_guard: u64,
+    restoring: bool,
 }
+
+/// A pending restore, released by the case once it has restored by itself.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[must_use = "release the guard once the case has restored"]
+pub struct Guard(u64);
 
 /// A graded exchange.
 pub struct Graded {
@@ -201,6 +218,29 @@ impl Ctx<'_> {
         }
     }
 
+    /// Register a request (body without checksum) that undoes a change just made.
+    pub fn guard(&mut self, undo: Vec<u8>) -> Guard {
+        self.next_guard += 1;
+        self.guards.push((self.next_guard, undo));
+        Guard(self.next_guard)
+    }
+
+    /// The case restored by itself: drop the guard.
+    pub fn release(&mut self, guard: Guard) {
+        self.guards.retain(|(id, _)| *id != guard.0);
+    }
+
+    /// Run the pending guards, last first.
+    fn restore(&mut self) -> Result<usize, CaseError> {
+        self.restoring = true;
+        let mut n = 0;
+        while let Some((_, undo)) = self.guards.pop() {
+            self.ask(&undo)?;
+            n += 1;
+        }
+        Ok(n)
+    }
+
     /// Send a body with its checksum appended; grade the answer.
     pub fn ask(&mut self, body: &[u8]) -> Result<Graded, CaseError> {
         let mut frame = body.to_vec();
@@ -210,6 +250,14 @@ impl Ctx<'_> {
 
     /// Send a frame as it is (for malformed frames); grade the answer.
     pub fn send_frame(&mut self, frame: &[u8]) -> Result<Graded, CaseError> {
+        if !self.restoring && self.options.interrupt.as_ref().is_some_and(|f| f.load(Ordering::Relaxed)) {
+            return Err(CaseError::Interrupted);
+        }
+        // Talk in the settings the slave listens with now (67h, reset, power-up windows).
+        let now = self.master.now_us();
+        if let Some(s) = self.model.listening_settings(now).filter(|s| *s != self.master.line.settings()) {
+            self.master.line.configure(s)?;
+        }
         let command = frame.get(1).map(|b| CommandId::decode(b & 0x7F));
         let spec = command.and_then(|c| c.spec());
         let max_ms = match spec {
@@ -411,6 +459,8 @@ pub fn run(
     let mut aborted = None;
     let mut identity = Identity::default();
     let mut answered_any = false;
+    let mut restored = 0usize;
+    let initial = model.nonvolatile().clone();
     for (i, case) in selected.iter().enumerate() {
         let mut result = CaseResult {
             id: case.id,
@@ -454,12 +504,23 @@ pub fn run(
                 physical_min_us: &mut physical_min_us,
                 options,
                 answered_any: &mut answered_any,
+                guards: Vec::new(),
+                next_guard: 0,
+                restoring: false,
             };
-            if let Err(e) = (case.run)(&mut ctx) {
-                let gone = matches!(e, CaseError::Line(LineError::Gone(_)) | CaseError::Budget(_) | CaseError::Silent);
+            let outcome = (case.run)(&mut ctx);
+            let line_gone = matches!(outcome, Err(CaseError::Line(LineError::Gone(_))) | Err(CaseError::Silent));
+            if let Err(e) = &outcome {
                 ctx.finding(CaseVerdict::Error, e.to_string(), "");
-                if gone {
+                if !matches!(e, CaseError::Abort(_)) {
                     aborted = Some(e.to_string());
+                }
+            }
+            // DESIGN (safety): restore what the case changed, also after a failure or Ctrl-C.
+            if !line_gone && !ctx.guards.is_empty() {
+                match ctx.restore() {
+                    Ok(n) => restored += n,
+                    Err(e) => ctx.finding(CaseVerdict::Error, format!("restore failed: {e}"), "DESIGN:safety"),
                 }
             }
             if case.id == "identity.type-label" || case.id == "identity.version" {
@@ -470,6 +531,31 @@ pub fn run(
         progress(i + 1, selected.len(), &result);
         results.push(result);
     }
+    // The model follows the device in lockstep: its EEPROM state at the end must be
+    // the state at the start (the counter may have moved where allowed).
+    let mut end = model.nonvolatile().clone();
+    if options.allow_counter_change {
+        end.counter = initial.counter;
+    }
+    let mut safety = CaseResult {
+        id: "safety.restored",
+        title: "The run leaves the device as it found it",
+        clauses: vec!["DESIGN:safety"],
+        verdict: CaseVerdict::Pass,
+        findings: Vec::new(),
+        exchanges: 0,
+        wire: Vec::new(),
+        duration_ms: 0.0,
+    };
+    if end != initial {
+        safety.verdict = CaseVerdict::Fail;
+        safety.findings.push(Finding {
+            verdict: CaseVerdict::Fail,
+            message: format!("EEPROM state changed: before {initial:?}, after {end:?}"),
+            clause: "DESIGN:safety".into(),
+        });
+    }
+    results.push(safety);
     let mut summary = BTreeMap::new();
     for r in &results {
         *summary.entry(r.verdict.label()).or_insert(0) += 1;
@@ -501,6 +587,7 @@ pub fn run(
         wall_time_ms: started.elapsed().as_secs_f64() * 1000.0,
         physical_minimum_ms: physical_min_us as f64 / 1000.0,
         notes: vec![
+            format!("Restores run by the harness after a case did not restore by itself: {restored}."),
             "Power cycling is out of reach on a serial line: the power-up cases start from an Encoder Reset (53h), which 000:T29 says leads to the same initialization as power-on.".into(),
         ],
         aborted,
