@@ -3,6 +3,7 @@
 use clap::{Parser, Subcommand, ValueEnum};
 use hiperface_conformance::certify::{self, CaseVerdict, Options};
 use hiperface_conformance::line::serial::SerialLine;
+use hiperface_conformance::line::tcp::TcpLine;
 use hiperface_conformance::line::virtual_line::VirtualLine;
 use hiperface_conformance::line::Line;
 use hiperface_conformance::simulate::{self, PtySimulator};
@@ -61,7 +62,8 @@ enum CertifyWhat {
     /// Act as master against a slave (encoder).
     Slave {
         /// `sim` (the reference model on an in-process pseudo-terminal, real time),
-        /// `virtual` (the reference model in-process, virtual time), or a serial port path.
+        /// `virtual` (the reference model in-process, virtual time), a serial port path,
+        /// or `tcp://host:port` (a serial device server such as ser2net).
         #[arg(long)]
         port: String,
         /// The device's profile: a built-in name or a TOML file.
@@ -193,8 +195,14 @@ fn certify_slave(what: CertifyWhat) -> ExitCode {
             Err(e) => return fail(e),
         }
     } else {
-        match SerialLine::open(&port, hiperface_model::UartSettings::DEFAULT) {
-            Ok(l) => Box::new(l),
+        let opened: Result<Box<dyn Line>, _> = match port.strip_prefix("tcp://") {
+            Some(address) => {
+                TcpLine::connect(address, hiperface_model::UartSettings::DEFAULT).map(|l| Box::new(l) as _)
+            }
+            None => SerialLine::open(&port, hiperface_model::UartSettings::DEFAULT).map(|l| Box::new(l) as _),
+        };
+        match opened {
+            Ok(l) => l,
             Err(e) => {
                 if let Some(dir) = &dir {
                     let partial = certify::Report::aborted_before_start(&profile, &port, &e.to_string());

@@ -4,6 +4,7 @@
 //! pseudo-terminal, real time).
 
 pub mod serial;
+pub mod tcp;
 pub mod virtual_line;
 
 use hiperface_model::datalink::RxChar;

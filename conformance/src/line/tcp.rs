@@ -1,0 +1,109 @@
+//! Raw TCP to a serial device server (`tcp://host:port`, e.g. ser2net). The server
+//! owns the UART; TCP has no baud rate, so received bytes are clocked like on a
+//! pseudo-terminal (see `clock_pty_char`), and the settings are the server's.
+
+use super::{clock_pty_char, Line, LineError};
+use hiperface_model::datalink::RxChar;
+use hiperface_model::UartSettings;
+use std::io::{ErrorKind, Read, Write};
+use std::net::{TcpStream, ToSocketAddrs};
+use std::time::{Duration, Instant};
+
+pub struct TcpLine {
+    stream: TcpStream,
+    address: String,
+    epoch: Instant,
+    settings: UartSettings,
+    last_rx_us: u64,
+}
+
+impl TcpLine {
+    /// Connect to `host:port` within 5 s.
+    pub fn connect(address: &str, settings: UartSettings) -> Result<TcpLine, LineError> {
+        let open_err = |reason: String| LineError::Open { port: format!("tcp://{address}"), reason };
+        let addr = address
+            .to_socket_addrs()
+            .map_err(|e| open_err(e.to_string()))?
+            .next()
+            .ok_or_else(|| open_err("no address".into()))?;
+        let stream = TcpStream::connect_timeout(&addr, Duration::from_secs(5)).map_err(|e| open_err(e.to_string()))?;
+        stream.set_nodelay(true).map_err(|e| open_err(e.to_string()))?;
+        Ok(TcpLine { stream, address: address.to_string(), epoch: Instant::now(), settings, last_rx_us: 0 })
+    }
+
+    fn sleep_until(&self, t_us: u64) {
+        let target = self.epoch + Duration::from_micros(t_us);
+        if let Some(d) = target.checked_duration_since(Instant::now()) {
+            std::thread::sleep(d);
+        }
+    }
+}
+
+impl Line for TcpLine {
+    fn now_us(&mut self) -> u64 {
+        self.epoch.elapsed().as_micros() as u64
+    }
+
+    fn send(&mut self, bytes: &[u8]) -> Result<u64, LineError> {
+        let ct = self.settings.char_time_us();
+        let start = self.now_us();
+        self.stream.write_all(bytes).map_err(|e| LineError::Gone(e.to_string()))?;
+        // The server's UART clocks the frame out from now on.
+        let end = start + bytes.len() as u64 * ct;
+        self.sleep_until(end);
+        Ok(end)
+    }
+
+    fn recv(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError> {
+        let mut b = [0u8; 1];
+        loop {
+            let now = self.now_us();
+            if now > until_us {
+                return Ok(None);
+            }
+            let wait = Duration::from_micros((until_us - now).clamp(100, 20_000));
+            self.stream.set_read_timeout(Some(wait))?;
+            match self.stream.read(&mut b) {
+                Ok(1) => {
+                    let (at, overrun) = clock_pty_char(self.now_us(), self.last_rx_us, self.settings.char_time_us());
+                    self.last_rx_us = at;
+                    let fault = overrun.then_some(hiperface_model::UartFault::Overrun);
+                    return Ok(Some(RxChar { byte: b[0], at_us: at, fault }));
+                }
+                Ok(_) => return Err(LineError::Gone(format!("tcp://{} closed the connection", self.address))),
+                Err(e) if matches!(e.kind(), ErrorKind::TimedOut | ErrorKind::WouldBlock | ErrorKind::Interrupted) => {}
+                Err(e) => return Err(LineError::Gone(e.to_string())),
+            }
+        }
+    }
+
+    fn wait_until(&mut self, t_us: u64) -> Result<(), LineError> {
+        self.sleep_until(t_us);
+        Ok(())
+    }
+
+    fn configure(&mut self, settings: UartSettings) -> Result<(), LineError> {
+        // The server's port settings are its configuration's; RFC 2217 is not spoken here.
+        if settings.baud != self.settings.baud || settings.parity != self.settings.parity {
+            return Err(LineError::Settings {
+                settings,
+                reason: "a raw TCP serial server keeps its own UART settings".into(),
+            });
+        }
+        self.settings = settings;
+        Ok(())
+    }
+
+    fn settings(&self) -> UartSettings {
+        self.settings
+    }
+
+    fn tolerance_us(&self) -> u64 {
+        // Loopback TCP and the server's polling add jitter.
+        4_000
+    }
+
+    fn describe(&self) -> String {
+        format!("tcp://{} (serial device server)", self.address)
+    }
+}
