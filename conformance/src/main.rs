@@ -180,6 +180,7 @@ fn certify_slave(what: CertifyWhat) -> ExitCode {
         cases,
         knowledge,
         interrupt: Some(interrupt_flag()),
+        world: Default::default(),
     };
     // Keep the simulator alive for the whole run.
     let mut simulator = None;

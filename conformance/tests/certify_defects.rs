@@ -14,6 +14,8 @@ struct Defective {
     delay_us: u64,
     gap_at: Option<usize>,
     last_rx: u64,
+    /// A stack kept without de-duplication, answered instead of the model's.
+    shadow_stack: Option<(Vec<u8>, Vec<u8>)>,
 }
 
 impl Defective {
@@ -25,11 +27,33 @@ impl Defective {
             delay_us: 300,
             gap_at: None,
             last_rx: 0,
+            shadow_stack: None,
         }
     }
 }
 
 fn keep(_: &mut Step) {}
+
+impl Defective {
+    /// With a shadow stack: Read Encoder Status pops it, every reply's warning bit
+    /// follows it, and Encoder Reset refills it with the start-up codes.
+    fn answer_from_shadow_stack(&mut self, step: &mut Step) {
+        let Some((initial, stack)) = self.shadow_stack.as_mut() else { return };
+        let request = step.received.bytes.as_bytes();
+        if request.get(1) == Some(&0x53) && step.transmission.is_none() {
+            *stack = initial.clone();
+        }
+        let Some(t) = step.transmission.as_mut() else { return };
+        let mut bytes = t.frame.as_bytes().to_vec();
+        if request.get(1) == Some(&0x50) && bytes.len() == 4 {
+            bytes[2] = if stack.is_empty() { 0 } else { stack.remove(0) };
+        }
+        bytes[1] = (bytes[1] & 0x7F) | if stack.is_empty() { 0 } else { 0x80 };
+        let n = bytes.len() - 1;
+        bytes[n] = checksum::xor(&bytes[..n]);
+        t.frame = Frame::from_bytes(&bytes).unwrap();
+    }
+}
 
 fn replace_reply(step: &mut Step, f: impl FnOnce(&mut Vec<u8>)) {
     if let Some(t) = step.transmission.as_mut() {
@@ -44,11 +68,13 @@ impl SlaveDevice for Defective {
         let ch = (self.incoming)(ch, self.model.timeout_us(ch.at_us), &mut self.last_rx);
         let mut step = self.model.receive(ch)?;
         (self.rewrite)(&mut step);
+        self.answer_from_shadow_stack(&mut step);
         Some(step)
     }
     fn poll(&mut self, now_us: u64) -> Option<Step> {
         let mut step = self.model.poll(now_us)?;
         (self.rewrite)(&mut step);
+        self.answer_from_shadow_stack(&mut step);
         Some(step)
     }
     fn next_deadline(&self, now_us: u64) -> Option<u64> {
@@ -210,4 +236,31 @@ fn an_interruption_after_a_change_still_restores_the_device() {
     assert!(case.wire.iter().any(|w| w.direction == "M>" && w.bytes.starts_with("41 55 40")), "{:#?}", case.wire);
     assert_eq!(verdict(&r, "safety.restored"), CaseVerdict::Pass, "{:#?}", r.cases.last());
     assert!(r.notes[0].contains(": 1."), "{}", r.notes[0]);
+}
+
+#[test]
+fn stack_not_deduplicated() {
+    use hiperface_conformance::certify::World;
+    use hiperface_model::slave::inputs::InitFault;
+    // The device found two start-up faults, each stored "along with the internal
+    // checksum error" (000:T40, T41): a conforming stack holds 06h once (000:T27).
+    let world = World { inputs: None, init_faults: vec![InitFault::AngularOffset, InitFault::PartitionTable] };
+    let conforming = {
+        let mut d = Defective::new(keep);
+        world.apply(&mut d.model);
+        d
+    };
+    let options =
+        Options { allow_writes: true, allow_counter_change: true, world: world.clone(), ..Options::default() };
+    let r = certify::run(Box::new(VirtualLine::new(conforming)), profiles::srs50(), &options, |_, _, _| {});
+    assert!(r.passed(), "{:#?}", r.cases.iter().filter(|c| c.verdict == CaseVerdict::Fail).collect::<Vec<_>>());
+
+    let mut d = Defective::new(keep);
+    world.apply(&mut d.model);
+    let codes = vec![0x06, 0x02, 0x06, 0x03];
+    d.shadow_stack = Some((codes.clone(), codes));
+    let r = certify::run(Box::new(VirtualLine::new(d)), profiles::srs50(), &options, |_, _, _| {});
+    assert_fails(&r, &["identity.status"]);
+    let f = &r.cases.iter().find(|c| c.id == "identity.status").unwrap().findings[0];
+    assert!(f.message.contains("replied [40 D0 06 96], expected [40 50 03 13]"), "{}", f.message);
 }

@@ -82,6 +82,32 @@ pub struct Options {
     pub knowledge: Knowledge,
     /// Set (e.g. by Ctrl-C) to stop the run: pending restores still run.
     pub interrupt: Option<Arc<AtomicBool>>,
+    /// What the lockstep model knows of the device's world (a simulator's inputs and
+    /// start-up faults); empty for real devices.
+    pub world: World,
+}
+
+/// The device's physical inputs and the faults it found at start-up.
+#[derive(Debug, Clone, Default)]
+pub struct World {
+    pub inputs: Option<hiperface_model::slave::inputs::PhysicalInputs>,
+    pub init_faults: Vec<hiperface_model::slave::inputs::InitFault>,
+}
+
+impl World {
+    /// Bring a model into this world: inputs set, start-up faults found.
+    pub fn apply(&self, model: &mut Slave) {
+        if let Some(inputs) = self.inputs {
+            model.set_inputs(inputs);
+        }
+        if !self.init_faults.is_empty() {
+            for f in &self.init_faults {
+                model.inject_init_fault(*f, true);
+            }
+            model.power_cycle(0);
+            model.settle();
+        }
+    }
 }
 
 impl Default for Options {
@@ -93,6 +119,7 @@ impl Default for Options {
             cases: None,
             knowledge: Knowledge::Exact,
             interrupt: None,
+            world: World::default(),
         }
     }
 }
@@ -450,6 +477,7 @@ pub fn run(
     let line_name = line.describe();
     let mut master = Master::new(line, edition);
     let mut model = Slave::operational(profile);
+    options.world.apply(&mut model);
     let mut response_times = BTreeMap::new();
     let mut physical_min_us = 0u64;
     let catalogue = cases::catalogue();
