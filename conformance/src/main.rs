@@ -9,6 +9,7 @@ use hiperface_conformance::line::Line;
 use hiperface_conformance::simulate::{self, PtySimulator};
 use hiperface_conformance::{demo, profile_file, report};
 use hiperface_model::command::COMMAND_TABLE;
+use hiperface_model::slave::inputs::{InitFault, PhysicalInputs};
 use hiperface_model::{Knowledge, Profile};
 use serialport::SerialPort as _;
 use std::path::PathBuf;
@@ -40,6 +41,8 @@ enum Command {
         /// Log every frame to standard error.
         #[arg(long)]
         log: bool,
+        #[command(flatten)]
+        world: WorldArgs,
     },
     /// Run a demonstration session against the reference slave in virtual time.
     Demo {
@@ -87,7 +90,55 @@ enum CertifyWhat {
         /// How values of the physical world are graded (default: exact for `sim`, by range otherwise).
         #[arg(long)]
         grading: Option<Grading>,
+        /// The simulated encoder's world (with `--port sim` or `virtual`).
+        #[command(flatten)]
+        world: WorldArgs,
     },
+}
+
+/// The simulated encoder's physical inputs and start-up faults.
+#[derive(clap::Args, Clone, Default)]
+struct WorldArgs {
+    /// Encoder temperature in °C (outside the profile's limits raises warning 1Eh).
+    #[arg(long, allow_hyphen_values = true)]
+    temperature: Option<i16>,
+    /// Raw shaft position in steps.
+    #[arg(long)]
+    position: Option<u64>,
+    /// A fault found at start-up (repeatable): alignment-data, angular-offset,
+    /// partition-table, analog-limits, type-code, watchdog, counter, extended-type-label,
+    /// multiturn-parameters.
+    #[arg(long = "init-fault", value_parser = parse_init_fault)]
+    init_faults: Vec<InitFault>,
+}
+
+impl WorldArgs {
+    fn world(&self) -> certify::World {
+        let mut inputs = PhysicalInputs::default();
+        let custom = self.temperature.is_some() || self.position.is_some();
+        if let Some(t) = self.temperature {
+            inputs.temperature_c = t;
+        }
+        if let Some(p) = self.position {
+            inputs.position = p;
+        }
+        certify::World { inputs: custom.then_some(inputs), init_faults: self.init_faults.clone() }
+    }
+}
+
+fn parse_init_fault(s: &str) -> Result<InitFault, String> {
+    Ok(match s {
+        "alignment-data" => InitFault::AlignmentData,
+        "angular-offset" => InitFault::AngularOffset,
+        "partition-table" => InitFault::PartitionTable,
+        "analog-limits" => InitFault::AnalogLimits,
+        "type-code" => InitFault::TypeCode,
+        "watchdog" => InitFault::Watchdog,
+        "counter" => InitFault::Counter,
+        "extended-type-label" => InitFault::ExtendedTypeLabel,
+        "multiturn-parameters" => InitFault::MultiturnParameters,
+        _ => return Err(format!("unknown start-up fault `{s}`")),
+    })
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -100,7 +151,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
         Command::Certify { what } => certify_slave(what),
-        Command::Simulate { port, profile, log } => run_simulator(&port, &profile, log),
+        Command::Simulate { port, profile, log, world } => run_simulator(&port, &profile, log, &world.world()),
         Command::Demo { profile } => match profile_file::resolve(&profile) {
             Ok(p) => {
                 print!("{}", demo::run(p));
@@ -161,6 +212,7 @@ fn certify_slave(what: CertifyWhat) -> ExitCode {
         cases,
         report: dir,
         grading,
+        world,
     } = what;
     let profile = match profile_file::resolve(&profile) {
         Ok(p) => p,
@@ -180,14 +232,16 @@ fn certify_slave(what: CertifyWhat) -> ExitCode {
         cases,
         knowledge,
         interrupt: Some(interrupt_flag()),
-        world: Default::default(),
+        world: if sim { world.world() } else { certify::World::default() },
     };
     // Keep the simulator alive for the whole run.
     let mut simulator = None;
     let line: Box<dyn Line> = if port == "virtual" {
-        Box::new(VirtualLine::new(hiperface_model::Slave::operational(profile)))
+        let mut device = hiperface_model::Slave::operational(profile);
+        options.world.apply(&mut device);
+        Box::new(VirtualLine::new(device))
     } else if sim {
-        match PtySimulator::start(profile) {
+        match PtySimulator::start_in(profile, options.world.clone()) {
             Ok((s, port)) => {
                 let name = format!("{} (simulator)", s.path);
                 simulator = Some(s);
@@ -216,12 +270,32 @@ fn certify_slave(what: CertifyWhat) -> ExitCode {
         }
     };
     eprintln!("certifying {} on {}", profile.name, line.describe());
+    // A progress bar on a terminal; plain lines in logs.
+    let bar = std::io::IsTerminal::is_terminal(&std::io::stderr()).then(|| {
+        let b = indicatif::ProgressBar::new(certify::cases::catalogue().len() as u64);
+        if let Ok(style) = indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}") {
+            b.set_style(style);
+        }
+        b
+    });
     let report = certify::run(line, profile, &options, |i, n, r| {
-        eprintln!("[{i:>2}/{n}] {:<16} {}", r.verdict.label(), r.id);
+        let mut text = format!("[{i:>2}/{n}] {:<16} {}", r.verdict.label(), r.id);
         for f in r.findings.iter().filter(|f| f.verdict == CaseVerdict::Fail || f.verdict == CaseVerdict::Error) {
-            eprintln!("          {} ({})", f.message, f.clause);
+            text.push_str(&format!("\n          {} ({})", f.message, f.clause));
+        }
+        match &bar {
+            Some(b) => {
+                b.set_length(n as u64);
+                b.set_position(i as u64);
+                b.set_message(r.id);
+                b.println(text);
+            }
+            None => eprintln!("{text}"),
         }
     });
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
     drop(simulator);
     summarize(&report, &profile);
     if let Some(dir) = dir {
@@ -261,7 +335,7 @@ fn summarize(report: &certify::Report, profile: &Profile) {
     println!("{}", if report.passed() { "PASSED" } else { "NOT PASSED" });
 }
 
-fn run_simulator(port: &str, profile: &str, log: bool) -> ExitCode {
+fn run_simulator(port: &str, profile: &str, log: bool, world: &certify::World) -> ExitCode {
     let profile = match profile_file::resolve(profile) {
         Ok(p) => p,
         Err(e) => return fail(e),
@@ -285,7 +359,7 @@ fn run_simulator(port: &str, profile: &str, log: bool) -> ExitCode {
     let stop = Arc::new(AtomicBool::new(false));
     let mut stderr = std::io::stderr();
     let log: Option<&mut dyn std::io::Write> = if log { Some(&mut stderr) } else { None };
-    match simulate::serve(port, profile, stop, log) {
+    match simulate::serve(port, profile, world, stop, log) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => fail(e),
     }

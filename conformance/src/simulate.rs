@@ -4,6 +4,7 @@
 //! are clocked one character time apart, and a reply is written whole when its first
 //! character would be complete.
 
+use crate::certify::World;
 use hiperface_model::datalink::RxChar;
 use hiperface_model::{Hex, Profile, Slave};
 use serialport::SerialPort;
@@ -20,16 +21,28 @@ pub const REPLY_DELAY_US: u64 = 300;
 pub fn serve(
     mut port: Box<dyn SerialPort>,
     profile: Profile,
+    world: &World,
     stop: Arc<AtomicBool>,
     mut log: Option<&mut dyn Write>,
 ) -> std::io::Result<()> {
     let epoch = Instant::now();
     let now = |e: Instant| e.elapsed().as_micros() as u64;
     let mut slave = Slave::operational(profile);
+    world.apply(&mut slave);
     let mut buf = [0u8; 64];
     let mut last_rx = 0u64;
     port.set_timeout(Duration::from_micros(500)).map_err(std::io::Error::from)?;
+    let mut port_settings = None;
     while !stop.load(Ordering::Relaxed) {
+        // Follow the slave's listening settings (67h, reset, power-up windows) on the
+        // port; a pseudo-terminal accepts and ignores them.
+        let listening = slave.listening_settings(now(epoch));
+        if listening.is_some() && listening != port_settings {
+            if let Some(s) = listening {
+                apply_settings(port.as_mut(), s)?;
+            }
+            port_settings = listening;
+        }
         let mut steps = Vec::new();
         match port.read(&mut buf) {
             Ok(0) => return Ok(()),
@@ -79,6 +92,17 @@ pub fn serve(
     Ok(())
 }
 
+fn apply_settings(port: &mut dyn SerialPort, s: hiperface_model::UartSettings) -> std::io::Result<()> {
+    use hiperface_model::settings::Parity as P;
+    let parity = match s.parity {
+        P::None => serialport::Parity::None,
+        P::Even => serialport::Parity::Even,
+        P::Odd => serialport::Parity::Odd,
+    };
+    port.set_baud_rate(s.baud.bits_per_second()).map_err(std::io::Error::from)?;
+    port.set_parity(parity).map_err(std::io::Error::from)
+}
+
 /// A pseudo-terminal pair with the simulator on one end, served by a thread until
 /// dropped.
 pub struct PtySimulator {
@@ -90,12 +114,17 @@ pub struct PtySimulator {
 impl PtySimulator {
     /// Start; returns the simulator and the other end of the pair, for the harness.
     pub fn start(profile: Profile) -> Result<(PtySimulator, Box<dyn SerialPort>), String> {
+        PtySimulator::start_in(profile, World::default())
+    }
+
+    /// Start in a given world (inputs, start-up faults).
+    pub fn start_in(profile: Profile, world: World) -> Result<(PtySimulator, Box<dyn SerialPort>), String> {
         let (sim_end, harness_end) =
             serialport::TTYPort::pair().map_err(|e| format!("cannot create a pseudo-terminal pair: {e}"))?;
         let path = harness_end.name().unwrap_or_else(|| "pty".into());
         let stop = Arc::new(AtomicBool::new(false));
         let flag = stop.clone();
-        let thread = std::thread::spawn(move || serve(Box::new(sim_end), profile, flag, None));
+        let thread = std::thread::spawn(move || serve(Box::new(sim_end), profile, &world, flag, None));
         Ok((PtySimulator { path, stop, thread: Some(thread) }, Box::new(harness_end)))
     }
 }

@@ -4,7 +4,7 @@
 
 use crate::clause::{self, ClauseId};
 use crate::command::CommandId;
-use crate::fault::FaultCode;
+use crate::fault::{FaultCode, FaultGroup};
 use crate::response::{Response, ResponseError, ResponseFrame};
 use crate::settings::Edition;
 use crate::slave::{Outcome, Reply, Slave};
@@ -89,6 +89,10 @@ pub enum Deviation {
     ImpossibleValue {
         response: Response,
     },
+    /// The device reports an operational fault the model cannot see.
+    UnseenFault {
+        code: FaultCode,
+    },
 }
 
 impl fmt::Display for Deviation {
@@ -130,6 +134,9 @@ impl fmt::Display for Deviation {
             }
             Deviation::ImpossibleValue { response } => {
                 write!(f, "value out of range: {response:?}")
+            }
+            Deviation::UnseenFault { code } => {
+                write!(f, "the device reports {code}, a fault of its world the model cannot see")
             }
         }
     }
@@ -278,6 +285,17 @@ impl Oracle {
             (Response::Position(_), Response::Position(v)) => (v as u64) < range,
             (Response::AnalogValue { channel: x, .. }, Response::AnalogValue { channel: y, .. }) => x == y,
             (Response::SyncOffset(_), Response::SyncOffset(v)) => v < 32,
+            // A stacked code the model cannot see: an operational fault of the real
+            // world is plausible; protocol and data errors are never stacked. // 000:T37
+            (Response::EncoderStatus(_), Response::EncoderStatus(code)) => {
+                let group = crate::fault::runtime_group(code);
+                let plausible = !matches!(group, Some(FaultGroup::Protocol | FaultGroup::Data) | None);
+                return if plausible {
+                    Grade::non_strict(Deviation::UnseenFault { code }, clause::READ_ENCODER_STATUS)
+                } else {
+                    Grade::fail(Deviation::WrongReply { expected: *e, found: *found }, clause::FAULT_GROUPS)
+                };
+            }
             (Response::PositionWithSyncSet(x), Response::PositionWithSyncSet(v)) => {
                 // Same phase as an unknown raw position: only "within 16 steps of the preset" is checkable.
                 let (x, v) = (x as u64 % range, v as u64);

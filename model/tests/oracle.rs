@@ -69,6 +69,12 @@ fn physical_values_are_graded_by_range_on_real_devices() {
     assert_eq!(g.verdict, Verdict::Pass);
     let g = grade(&s, &req, Some(&sealed(&hex("40 42 00 00 02 00"))), Knowledge::PhysicalUnknown);
     assert_eq!(g.verdict, Verdict::Fail, "512 is outside 0..512");
+    // A stacked temperature warning the model cannot see: NON-STRICT; a stacked
+    // protocol error (never stacked, 000:T37): FAIL.
+    let g = grade(&s, &hex("40 50 10"), Some(&sealed(&hex("40 50 1E"))), Knowledge::PhysicalUnknown);
+    assert_eq!(g.verdict, Verdict::NonStrict, "{g}");
+    let g = grade(&s, &hex("40 50 10"), Some(&sealed(&hex("40 50 0A"))), Knowledge::PhysicalUnknown);
+    assert_eq!(g.verdict, Verdict::Fail, "{g}");
     // An unexpected warning on a real device may be a real fault: NON-STRICT.
     let g = grade(&s, &req, Some(&sealed(&hex("40 C2 00 00 01 2C"))), Knowledge::PhysicalUnknown);
     assert_eq!(g.verdict, Verdict::NonStrict);

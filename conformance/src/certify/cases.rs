@@ -2,7 +2,7 @@
 //! oracle grades every exchange; cases add checks across exchanges (data read back,
 //! state restored). Cases that write restore what they changed.
 
-use super::{Case, CaseError, CaseVerdict, Ctx, Needs};
+use super::{Case, CaseError, Ctx, Needs};
 use hiperface_model::{CommandId, Edition, Profile, UartSettings};
 
 type Res = Result<(), CaseError>;
@@ -70,18 +70,19 @@ pub fn catalogue() -> Vec<Case> {
         ),
         case!(
             "identity.status",
-            "Read Encoder Status until the stack is empty",
+            "Read Encoder Status until the stack is empty (or five times)",
             ["000:T27", "000:2.3.4"],
             Nothing,
             always,
             |c| {
                 let a = c.address();
+                // Up to five reads (the stack holds four): the oracle grades each against
+                // the model's stack; a persisting condition is stacked again after a read.
                 for _ in 0..5 {
                     if c.ask(&[a, 0x50])?.reply.as_ref().and_then(|r| r.get(2)) == Some(&0) {
-                        return Ok(());
+                        break;
                     }
                 }
-                c.finding(CaseVerdict::Fail, "the stack did not empty after 5 reads of at most 4 entries", "000:T27");
                 Ok(())
             }
         ),
