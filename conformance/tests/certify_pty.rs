@@ -17,7 +17,9 @@ fn all_allowed() -> Options {
 
 #[test]
 fn the_whole_catalogue_passes_against_the_simulator_over_a_pty() {
-    let profile = profiles::skm36();
+    // TTK70 with every optional command: 67h switches the data rate on the PTY too.
+    let mut profile = profiles::ttk70();
+    profile.commands = hiperface_model::command::CommandSet::all_for(false);
     let (sim, port) = PtySimulator::start(profile).unwrap();
     let line = SerialLine::from_port(port, sim.path.clone(), profile.settings, true);
     let report = certify::run(Box::new(line), profile, &all_allowed(), |_, _, _| {});

@@ -194,7 +194,10 @@ pub fn catalogue() -> Vec<Case> {
                 c.ask(&[a, 0x46])?;
                 c.ask(&[a, 0x47])?;
                 c.ask(&[a, 0x46])?;
-                c.ask(&[a, 0x49, !c.model.nonvolatile().codes[0]]).map(drop)
+                let code0 = c.model.nonvolatile().codes[0];
+                c.ask(&[a, 0x49, !code0])?;
+                c.ask(&[a, 0x49, code0])?;
+                c.ask(&[a, 0x46]).map(drop)
             }
         ),
         case!(
@@ -406,6 +409,7 @@ pub fn catalogue() -> Vec<Case> {
                 let code0 = c.model.nonvolatile().codes[0];
                 let new = if a == 0x5F { 0x5E } else { a + 1 };
                 c.ask(&[a, 0x55, 0x60, code0])?; // outside 40h...5Fh: 0Dh
+                c.ask(&[a, 0x55, 0x60, !code0])?; // both wrong: 0Dh first (DESIGN:order), 0Fh acceptable
                 c.ask(&[a, 0x55, new, !code0])?; // wrong Code0: 0Fh
                 c.ask(&[a, 0x55, new, code0])?;
                 let g = (c.address() == new).then(|| c.guard(vec![new, 0x55, a, code0]));
@@ -521,7 +525,9 @@ pub fn catalogue() -> Vec<Case> {
                 let stored = c.model.nonvolatile().settings.byte();
                 c.ask(&[a, 0x57, (stored & 0xF8) | 0x07, code0])?; // data rate 111: 0Dh
                 c.ask(&[a, 0x57, (stored & 0xCF) | 0x10, code0])?; // parity 01: 0Dh
-                c.ask(&[a, 0x57, stored, !code0]).map(drop)
+                c.ask(&[a, 0x57, stored, !code0])?;
+                // Rewriting the stored byte: a real write that changes nothing.
+                c.ask(&[a, 0x57, stored, code0]).map(drop)
             }
         ),
         case!(
@@ -533,6 +539,7 @@ pub fn catalogue() -> Vec<Case> {
             |c| {
                 let a = c.address();
                 let Some(other) = other_baud(&c.profile()) else { return Ok(()) };
+                c.ask(&[a, 0x67, 0xE7])?; // data rate 111: 0Dh
                 c.ask(&[a, 0x67, other.byte()])?;
                 let g = c.guard(vec![a, 0x67, UartSettings::DEFAULT.byte()]);
                 c.ask(&[a, 0x42])?;
