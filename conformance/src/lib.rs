@@ -9,3 +9,4 @@ pub mod master;
 pub mod profile_file;
 pub mod report;
 pub mod simulate;
+pub mod vectors;

@@ -56,6 +56,11 @@ enum Command {
     CheckProfile { profile: String },
     /// Print the command table (000 Table 10 and legacy 63h).
     Commands,
+    /// Golden vectors: generate, verify, export.
+    Vectors {
+        #[command(subcommand)]
+        what: VectorsCommand,
+    },
     /// Print a profile as TOML, to start a data sheet of your own.
     ExportProfile { profile: String },
 }
@@ -141,6 +146,36 @@ fn parse_init_fault(s: &str) -> Result<InitFault, String> {
     })
 }
 
+#[derive(Subcommand)]
+enum VectorsCommand {
+    /// Write the document and generated vector files into DIR.
+    Generate {
+        #[arg(default_value = "vectors")]
+        dir: PathBuf,
+    },
+    /// Re-check every vector file in DIR: schema, checksums, agreement with the model.
+    Verify {
+        #[arg(default_value = "vectors")]
+        dir: PathBuf,
+    },
+    /// Write documentation tables (one per command) from the vector files in DIR.
+    Export {
+        #[arg(long, value_enum, default_value = "markdown")]
+        format: ExportFormat,
+        /// Write vectors.md / vectors-tables.json here instead of standard output.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        #[arg(default_value = "vectors")]
+        dir: PathBuf,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum ExportFormat {
+    Markdown,
+    Json,
+}
+
 #[derive(Clone, Copy, ValueEnum)]
 enum Grading {
     Exact,
@@ -186,6 +221,7 @@ fn main() -> ExitCode {
             }
             Err(e) => fail(e),
         },
+        Command::Vectors { what } => vectors_command(what),
         Command::Commands => {
             println!("{:<6} {:<50} {:>8}  master  slave", "cmd", "name", "max ms");
             for s in COMMAND_TABLE {
@@ -377,4 +413,69 @@ fn interrupt_flag() -> Arc<AtomicBool> {
         eprintln!("warning: Ctrl-C will not restore the device: {e}");
     }
     flag
+}
+
+fn vectors_command(what: VectorsCommand) -> ExitCode {
+    use hiperface_conformance::vectors;
+    match what {
+        VectorsCommand::Generate { dir } => {
+            let mut files = vec![("documents.json", vectors::documents::file())];
+            files.extend(vectors::generate::files());
+            for (name, file) in files {
+                let json = match serde_json::to_string_pretty(&file) {
+                    Ok(j) => j + "\n",
+                    Err(e) => return fail(e),
+                };
+                if let Err(e) = std::fs::write(dir.join(name), json) {
+                    return fail(format!("{}: {e}", dir.join(name).display()));
+                }
+                println!("{}: {} vectors", dir.join(name).display(), file.vectors.len());
+            }
+            ExitCode::SUCCESS
+        }
+        VectorsCommand::Verify { dir } => match vectors::verify_dir(&dir) {
+            Ok((count, failures)) if failures.is_empty() => {
+                println!("{count} vectors verified: schema, checksums, agreement with the model");
+                ExitCode::SUCCESS
+            }
+            Ok((count, failures)) => {
+                for f in &failures {
+                    println!("FAIL {f}");
+                }
+                println!("{} of {count} vectors failed", failures.len());
+                ExitCode::from(1)
+            }
+            Err(e) => fail(e),
+        },
+        VectorsCommand::Export { format, out, dir } => {
+            let mut files = Vec::new();
+            let paths = match vectors::files(&dir) {
+                Ok(p) => p,
+                Err(e) => return fail(e),
+            };
+            for path in paths {
+                match vectors::load(&path) {
+                    Ok(f) => files.push(f),
+                    Err(e) => return fail(e),
+                }
+            }
+            let (name, text) = match format {
+                ExportFormat::Markdown => ("vectors.md", vectors::export::markdown(&files)),
+                ExportFormat::Json => match serde_json::to_string_pretty(&vectors::export::tables(&files)) {
+                    Ok(j) => ("vectors-tables.json", j + "\n"),
+                    Err(e) => return fail(e),
+                },
+            };
+            match out {
+                Some(dir) => {
+                    if let Err(e) = std::fs::create_dir_all(&dir).and_then(|()| std::fs::write(dir.join(name), text)) {
+                        return fail(format!("{}: {e}", dir.display()));
+                    }
+                    println!("{}", dir.join(name).display());
+                }
+                None => print!("{text}"),
+            }
+            ExitCode::SUCCESS
+        }
+    }
 }

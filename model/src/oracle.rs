@@ -215,6 +215,13 @@ impl Oracle {
             let c = if command == CommandId::SetEncoderAddress { clause::SET_ADDRESS } else { clause::BROADCAST };
             return Grade::fail(Deviation::WrongAddress { expected: expected_frame.address, found: found.address }, c);
         }
+        // An error response to 50h has the bytes of a status reply. // 000:2.3.4
+        let found = match (expected_frame.response, found.response) {
+            (Response::Error(_), Response::EncoderStatus(code)) => {
+                ResponseFrame { response: Response::Error(code), ..found }
+            }
+            _ => found,
+        };
         let active = before.listening_settings(at_us).map(|s| s.byte());
         let content = self.content(before, active, expected, &expected_frame, &found);
         if content.verdict == Verdict::Fail {

@@ -171,6 +171,18 @@ pub fn legacy_srs() -> Profile {
     p
 }
 
+/// A reference device with every command of the current edition, both temperature
+/// channels, an Extended Type Label and Sensor Adjustment: the profile of the
+/// generated vectors.
+pub fn reference() -> Profile {
+    let mut p = current("Reference", Resolution::Rotary { periods_per_turn: 128, turns: 4096 }, 0xFF);
+    p.commands = CommandSet::all_for(false);
+    p.analog[1] = Some(LEGACY_TEMPERATURE);
+    p.adjustment = [Some(AdjustmentOption { option: 0x01, status: 0x00 }), None, None, None];
+    p.baud_rates = [true; 7];
+    with_etl(p, "Reference")
+}
+
 /// A built-in profile's name and constructor.
 pub type Builtin = (&'static str, fn() -> Profile);
 
@@ -185,6 +197,7 @@ pub const BUILTIN: &[Builtin] = &[
     ("Kuebler-S36-ST", kuebler_s36),
     ("Kuebler-S36-MT", kuebler_s36_mt),
     ("Legacy-SRS", legacy_srs),
+    ("Reference", reference),
 ];
 
 /// Look a built-in profile up by name (case-insensitive).

@@ -102,3 +102,14 @@ fn documented_latitudes_are_non_strict() {
     let req = sealed(&[0x40, 0x4A, 0, 0, 0, 0x55]);
     assert_eq!(grade(&f, &req, Some(&error(0x40, 0x0D)), Knowledge::Exact).verdict, Verdict::NonStrict);
 }
+
+#[test]
+fn an_error_response_to_read_encoder_status_is_recognised() {
+    // `40 50 0A 1A` answers a 50h request with a bad checksum; as bytes it is also a
+    // status reply. Found by `hiperface vectors verify`.
+    let s = operational(profiles::srs50());
+    let g = grade(&s, &hex("40 50 11"), Some(&hex("40 50 0A 1A")), Knowledge::Exact);
+    assert_eq!(g.verdict, Verdict::Pass, "{g}");
+    let g = grade(&s, &hex("40 50 11"), Some(&hex("40 50 0B 1B")), Knowledge::Exact);
+    assert_eq!(g.verdict, Verdict::Fail, "{g}");
+}

@@ -1,0 +1,404 @@
+//! Golden vectors: language-neutral JSON files (schema in `vectors/schema.json`) that
+//! any implementation can replay, in the manner of Wycheproof. Each vector names its
+//! source, clauses and profile, the setup that brings a slave into the needed state,
+//! and one or more timed steps of request and expected response.
+
+pub mod documents;
+pub mod export;
+pub mod generate;
+
+use hiperface_model::slave::inputs::{InitFault, PhysicalInputs, PositionFault};
+use hiperface_model::{checksum, profiles, Hex, Knowledge, Oracle, Reply, Slave, Verdict};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+pub const SCHEMA_VERSION: u32 = 1;
+
+/// A file of vectors.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VectorFile {
+    pub schema_version: u32,
+    pub description: String,
+    pub vectors: Vec<Vector>,
+}
+
+/// What a vector's expected responses are.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Outcome {
+    /// A conforming slave answers exactly this (the preferred answer).
+    Valid,
+    /// The last step's response is allowed, though not preferred (NON-STRICT).
+    Acceptable,
+    /// The last step's response is not allowed (e.g. a response printed with a wrong checksum).
+    Invalid,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Flag {
+    /// Taken from a document that prints it wrongly; see `erratum`.
+    Erratum,
+    Legacy,
+    Broadcast,
+    /// The response carries the warning bit.
+    Warning,
+    /// The request's checksum is wrong on purpose.
+    BadChecksum,
+    /// A request character has a UART fault (parity, framing).
+    UartFault,
+    /// Steps happen at given times after power-on.
+    Timed,
+}
+
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Erratum {
+    pub printed: String,
+    pub corrected: String,
+    pub reason: String,
+}
+
+/// Physical inputs, as in the model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Inputs {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub position: Option<u64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub speed: Option<i32>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub temperature_c: Option<i16>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub led_current_ma: Option<u16>,
+}
+
+impl Inputs {
+    fn apply(&self, to: &mut PhysicalInputs) {
+        to.position = self.position.unwrap_or(to.position);
+        to.speed = self.speed.unwrap_or(to.speed);
+        to.temperature_c = self.temperature_c.unwrap_or(to.temperature_c);
+        to.led_current_ma = self.led_current_ma.unwrap_or(to.led_current_ma);
+    }
+}
+
+/// How to bring a slave into the vector's starting state.
+#[derive(Debug, Clone, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Setup {
+    /// Start from power-on at t = 0 (steps are timed); otherwise the slave has long
+    /// been operational with its stored settings.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub power_on: bool,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inputs: Option<Inputs>,
+    /// Faults found at start-up: alignment-data, angular-offset, partition-table,
+    /// analog-limits, type-code, watchdog, counter, extended-type-label, multiturn-parameters.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub init_faults: Vec<String>,
+    /// Position faults present: analog-signals, analog-monitoring, singleturn,
+    /// multiturn-amplitude, multiturn-sync, multiturn-vector-length, multiturn-counter.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub position_faults: Vec<String>,
+    /// The internal I2C bus to the EEPROM is down.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub i2c_fault: bool,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub counter: Option<u32>,
+    /// Requests (hex, checksum included) sent first; their responses are not part of the vector.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub requests: Vec<String>,
+}
+
+/// One request and the expected response.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Step {
+    /// Time after power-on (timed vectors), µs; when the request's timeout elapsed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub at_us: Option<u64>,
+    /// New physical inputs before this step.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inputs: Option<Inputs>,
+    /// A character of the request arrives with a UART fault.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub uart_fault: bool,
+    pub request: String,
+    /// `null`: no response.
+    pub response: Option<String>,
+    /// What the step shows.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
+}
+
+/// A checksum example (000:T7): the XOR of `frame` is `checksum`.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ChecksumExample {
+    pub frame: String,
+    pub checksum: String,
+}
+
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Vector {
+    pub id: String,
+    /// Document file and section, or "generated".
+    pub source: String,
+    pub clauses: Vec<String>,
+    /// A built-in profile name (`hiperface profiles`).
+    pub profile: String,
+    /// The command the vector is about (for the documentation tables).
+    pub command: String,
+    #[serde(default, skip_serializing_if = "is_default_setup")]
+    pub setup: Setup,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub steps: Vec<Step>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub checksum_example: Option<ChecksumExample>,
+    pub result: Outcome,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub flags: Vec<Flag>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub erratum: Option<Erratum>,
+    /// What the vector shows, in a sentence.
+    pub meaning: String,
+}
+
+fn is_default_setup(s: &Setup) -> bool {
+    *s == Setup::default()
+}
+
+/// Parse `40 42 02`.
+pub fn parse_hex(s: &str) -> Result<Vec<u8>, String> {
+    s.split_whitespace().map(|b| u8::from_str_radix(b, 16).map_err(|_| format!("`{b}` is not a hex byte"))).collect()
+}
+
+pub fn hex(bytes: &[u8]) -> String {
+    Hex(bytes).to_string()
+}
+
+fn init_fault(name: &str) -> Result<InitFault, String> {
+    Ok(match name {
+        "alignment-data" => InitFault::AlignmentData,
+        "angular-offset" => InitFault::AngularOffset,
+        "partition-table" => InitFault::PartitionTable,
+        "analog-limits" => InitFault::AnalogLimits,
+        "type-code" => InitFault::TypeCode,
+        "watchdog" => InitFault::Watchdog,
+        "counter" => InitFault::Counter,
+        "extended-type-label" => InitFault::ExtendedTypeLabel,
+        "multiturn-parameters" => InitFault::MultiturnParameters,
+        _ => return Err(format!("unknown start-up fault `{name}`")),
+    })
+}
+
+fn position_fault(name: &str) -> Result<PositionFault, String> {
+    Ok(match name {
+        "analog-signals" => PositionFault::AnalogSignals,
+        "analog-monitoring" => PositionFault::AnalogMonitoring,
+        "singleturn" => PositionFault::Singleturn,
+        "multiturn-amplitude" => PositionFault::MultiturnAmplitude,
+        "multiturn-sync" => PositionFault::MultiturnSync,
+        "multiturn-vector-length" => PositionFault::MultiturnVectorLength,
+        "multiturn-counter" => PositionFault::MultiturnCounter,
+        _ => return Err(format!("unknown position fault `{name}`")),
+    })
+}
+
+/// Why a vector does not replay.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Mismatch {
+    pub id: String,
+    pub reason: String,
+}
+
+impl std::fmt::Display for Mismatch {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}: {}", self.id, self.reason)
+    }
+}
+
+/// The slave of a vector's setup.
+pub fn prepare(v: &Vector) -> Result<Slave, String> {
+    let profile = profiles::builtin(&v.profile).ok_or_else(|| format!("unknown profile `{}`", v.profile))?;
+    let mut slave = if v.setup.power_on { Slave::new(profile) } else { Slave::operational(profile) };
+    if let Some(i) = v.setup.inputs {
+        let mut inputs = slave.inputs();
+        i.apply(&mut inputs);
+        slave.set_inputs(inputs);
+    }
+    if !v.setup.init_faults.is_empty() {
+        for f in &v.setup.init_faults {
+            slave.inject_init_fault(init_fault(f)?, true);
+        }
+        slave.power_cycle(0);
+        if !v.setup.power_on {
+            slave.settle();
+        }
+    }
+    for f in &v.setup.position_faults {
+        slave.inject_position_fault(position_fault(f)?, true);
+    }
+    slave.inject_i2c_fault(v.setup.i2c_fault);
+    if let Some(c) = v.setup.counter {
+        slave.set_counter(c);
+    }
+    for r in &v.setup.requests {
+        slave.handle_frame(&parse_hex(r)?, 0);
+    }
+    Ok(slave)
+}
+
+/// Replay a vector through the model.
+pub fn replay(v: &Vector) -> Result<(), Mismatch> {
+    let fail = |reason: String| Mismatch { id: v.id.clone(), reason };
+    if let Some(c) = &v.checksum_example {
+        let frame = parse_hex(&c.frame).map_err(fail)?;
+        let sum = parse_hex(&c.checksum).map_err(fail)?;
+        return if sum == [checksum::xor(&frame)] {
+            Ok(())
+        } else {
+            Err(fail(format!("XOR of {} is {:02X}h, not {}", c.frame, checksum::xor(&frame), c.checksum)))
+        };
+    }
+    if v.steps.is_empty() {
+        return Err(fail("no steps and no checksum example".into()));
+    }
+    let mut slave = prepare(v).map_err(fail)?;
+    let oracle = Oracle::new(Knowledge::Exact);
+    for (i, step) in v.steps.iter().enumerate() {
+        let last = i + 1 == v.steps.len();
+        if let Some(inputs) = step.inputs {
+            let mut now = slave.inputs();
+            inputs.apply(&mut now);
+            slave.set_inputs(now);
+        }
+        let request = parse_hex(&step.request).map_err(fail)?;
+        let expected = step.response.as_deref().map(parse_hex).transpose().map_err(fail)?;
+        let at = step.at_us.unwrap_or(0);
+        let before = slave.clone();
+        let outcome =
+            if step.uart_fault { slave.handle_faulty_frame(&request, at) } else { slave.handle_frame(&request, at) };
+        let got = match outcome.reply {
+            Reply::Frame(f) => Some(f.encode().as_bytes().to_vec()),
+            Reply::Silent(_) => None,
+        };
+        let grade = oracle.grade(&before, &request, at, &outcome, expected.as_deref());
+        let want = if last {
+            match v.result {
+                Outcome::Valid => Verdict::Pass,
+                Outcome::Acceptable => Verdict::NonStrict,
+                Outcome::Invalid => Verdict::Fail,
+            }
+        } else {
+            Verdict::Pass
+        };
+        if grade.verdict != want || (want == Verdict::Pass && got != expected) {
+            let shown = |b: &Option<Vec<u8>>| b.as_ref().map_or("no response".to_string(), |b| hex(b));
+            return Err(fail(format!(
+                "step {}: request {} -> the model answers {}; the vector says {} ({:?}), graded {}",
+                i + 1,
+                step.request,
+                shown(&got),
+                shown(&expected),
+                v.result,
+                grade
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Frames whose checksum must be right: all but those flagged otherwise.
+pub fn checksum_problems(v: &Vector) -> Vec<String> {
+    let mut out = Vec::new();
+    let intentional = v.flags.contains(&Flag::BadChecksum) || v.flags.contains(&Flag::Erratum);
+    let mut frames: Vec<(&str, &str)> = v.setup.requests.iter().map(|r| ("setup request", r.as_str())).collect();
+    for s in &v.steps {
+        frames.push(("request", &s.request));
+        if let Some(r) = &s.response {
+            frames.push(("response", r));
+        }
+    }
+    for (what, f) in frames {
+        match parse_hex(f) {
+            Ok(b) if b.len() >= 3 && !checksum::is_valid(&b) && !intentional => {
+                out.push(format!("{what} {f} has a wrong checksum and the vector is not flagged"))
+            }
+            Ok(_) => {}
+            Err(e) => out.push(format!("{what} `{f}`: {e}")),
+        }
+    }
+    out
+}
+
+/// A vector file that could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    #[error("{path}: {source}")]
+    Io { path: PathBuf, source: std::io::Error },
+    #[error("{path}: {message}")]
+    Invalid { path: PathBuf, message: String },
+}
+
+/// The JSON Schema of vector files.
+pub const SCHEMA: &str = include_str!("../../../vectors/schema.json");
+
+/// Read a vector file: JSON Schema first (errors name the vector id where there is one), then the types.
+pub fn load(path: &Path) -> Result<VectorFile, LoadError> {
+    let text = std::fs::read_to_string(path).map_err(|source| LoadError::Io { path: path.into(), source })?;
+    let invalid = |message: String| LoadError::Invalid { path: path.into(), message };
+    let json: serde_json::Value = serde_json::from_str(&text).map_err(|e| invalid(format!("not JSON: {e}")))?;
+    let schema: serde_json::Value = serde_json::from_str(SCHEMA).map_err(|e| invalid(format!("schema: {e}")))?;
+    let validator = jsonschema::validator_for(&schema).map_err(|e| invalid(format!("schema: {e}")))?;
+    if let Some(e) = validator.iter_errors(&json).next() {
+        let pointer = e.instance_path.to_string();
+        let id = vector_id_at(&json, &pointer);
+        return Err(invalid(format!("{}at {pointer}: {e}", id.map_or(String::new(), |i| format!("vector `{i}` ")))));
+    }
+    serde_json::from_value(json).map_err(|e| invalid(e.to_string()))
+}
+
+/// The id of the vector that a JSON pointer such as `/vectors/3/steps/0` points into.
+fn vector_id_at(json: &serde_json::Value, pointer: &str) -> Option<String> {
+    let index: usize = pointer.strip_prefix("/vectors/")?.split('/').next()?.parse().ok()?;
+    json.get("vectors")?.get(index)?.get("id")?.as_str().map(str::to_string)
+}
+
+/// The vector files of a directory, sorted.
+pub fn files(dir: &Path) -> Result<Vec<PathBuf>, LoadError> {
+    let rd = std::fs::read_dir(dir).map_err(|source| LoadError::Io { path: dir.into(), source })?;
+    let mut out: Vec<PathBuf> = rd
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "json") && p.file_name().is_some_and(|n| n != "schema.json"))
+        .collect();
+    out.sort();
+    Ok(out)
+}
+
+/// Verify every file of a directory: schema, checksums, agreement with the model.
+/// Returns the failing vectors (file, id, reason).
+pub fn verify_dir(dir: &Path) -> Result<(usize, Vec<String>), LoadError> {
+    let mut count = 0;
+    let mut failures = Vec::new();
+    for path in files(dir)? {
+        let file = load(&path)?;
+        let name = path.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
+        let mut seen = std::collections::BTreeSet::new();
+        for v in &file.vectors {
+            count += 1;
+            if !seen.insert(v.id.clone()) {
+                failures.push(format!("{name}: {}: duplicate id", v.id));
+            }
+            for p in checksum_problems(v) {
+                failures.push(format!("{name}: {}: {p}", v.id));
+            }
+            if let Err(m) = replay(v) {
+                failures.push(format!("{name}: {m}"));
+            }
+        }
+    }
+    Ok((count, failures))
+}

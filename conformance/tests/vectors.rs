@@ -1,0 +1,154 @@
+//! Golden vectors: every file replays through the model; the generated set is
+//! snapshotted (insta), so any change of behaviour shows up as a reviewed diff; bad
+//! files are rejected with the file and the vector id.
+
+use hiperface_conformance::vectors::{self, export, Outcome};
+use rstest::rstest;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../vectors")
+}
+
+#[rstest]
+#[case::documents("documents.json")]
+#[case::generated_current("generated-current.json")]
+#[case::generated_legacy("generated-legacy.json")]
+fn every_vector_replays_through_the_model(#[case] name: &str) {
+    let file = vectors::load(&dir().join(name)).unwrap_or_else(|e| panic!("{e}"));
+    assert!(!file.vectors.is_empty());
+    let failures: Vec<String> = file
+        .vectors
+        .iter()
+        .flat_map(|v| vectors::checksum_problems(v).into_iter().map(move |p| format!("{}: {p}", v.id)))
+        .chain(file.vectors.iter().filter_map(|v| vectors::replay(v).err().map(|m| m.to_string())))
+        .collect();
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+#[test]
+fn the_files_are_what_the_generator_writes() {
+    let mut expected = vec![("documents.json", vectors::documents::file())];
+    expected.extend(vectors::generate::files());
+    for (name, file) in expected {
+        let on_disk = vectors::load(&dir().join(name)).unwrap();
+        assert!(on_disk == file, "{name} is out of date: run `hiperface vectors generate vectors`");
+    }
+}
+
+#[test]
+fn the_documents_vectors_cover_what_the_issue_names() {
+    let docs = vectors::documents::file();
+    let ids: Vec<&str> = docs.vectors.iter().map(|v| v.id.as_str()).collect();
+    assert_eq!(ids.iter().filter(|i| i.starts_with("000-t7-")).count(), 2);
+    // 19 pairs of 001 §5.1.4 (two errata are shown as printed and as corrected).
+    let sections: std::collections::BTreeSet<&str> =
+        docs.vectors.iter().filter(|v| v.id.starts_with("001-")).map(|v| v.source.as_str()).collect();
+    assert_eq!(sections.len(), 19, "{sections:#?}");
+    let printed = docs.vectors.iter().find(|v| v.id == "001-5.1.4.9-data-field-status-as-printed").unwrap();
+    assert_eq!(printed.result, Outcome::Invalid);
+    let legacy = docs.vectors.iter().find(|v| v.id == "002-data-field-example").unwrap();
+    assert_eq!(legacy.steps.len(), 6);
+    assert_eq!(legacy.erratum.as_ref().map(|e| e.corrected.as_str()), Some("40 4D 01 E0 55 B9"));
+}
+
+#[test]
+fn generated_set_snapshot() {
+    let mut lines = Vec::new();
+    for (name, file) in vectors::generate::files() {
+        lines.push(format!("# {name}"));
+        for v in &file.vectors {
+            let steps: Vec<String> =
+                v.steps.iter().map(|s| format!("{} -> {}", s.request, s.response.as_deref().unwrap_or("-"))).collect();
+            lines.push(format!("{} [{:?}] {}", v.id, v.result, steps.join(" ; ")));
+        }
+    }
+    insta::assert_snapshot!(lines.join("\n"));
+}
+
+#[test]
+fn every_command_and_error_code_has_a_vector_per_edition() {
+    for (name, file) in vectors::generate::files() {
+        let legacy = name.contains("legacy");
+        let profile =
+            if legacy { hiperface_model::profiles::legacy_srs() } else { hiperface_model::profiles::reference() };
+        for spec in hiperface_model::COMMAND_TABLE.iter().filter(|s| profile.commands.contains(s.id)) {
+            let prefix = format!("{}.{:02x}h.", if legacy { "legacy" } else { "current" }, spec.id.byte());
+            assert!(
+                file.vectors.iter().any(|v| v.id.starts_with(&prefix) && v.id.ends_with(".ok")),
+                "{name}: {prefix} success"
+            );
+            for code in spec.errors {
+                let unproducible = matches!((spec.id.byte(), code.byte()), (0x42, 0x0D) | (0x6C, 0x0D) | (0x67, 0x0F));
+                let found = file
+                    .vectors
+                    .iter()
+                    .any(|v| v.id.starts_with(&prefix) && v.id.ends_with(&format!("error-{:02x}", code.byte())));
+                assert!(found || unproducible, "{name}: {prefix} {code}");
+            }
+        }
+    }
+}
+
+fn temp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("hf-vectors-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn verify_lists_failing_ids_and_exits_non_zero() {
+    let d = temp("tampered");
+    let mut file = vectors::documents::file();
+    let v = file.vectors.iter_mut().find(|v| v.id == "001-5.1.4.1-read-position").unwrap();
+    v.steps[0].response = Some("40 42 00 00 00 01 03".into());
+    std::fs::write(d.join("x.json"), serde_json::to_string(&file).unwrap()).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_hiperface")).args(["vectors", "verify"]).arg(&d).output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    assert!(stdout.contains("FAIL x.json: 001-5.1.4.1-read-position: step 1"), "{stdout}");
+    assert!(stdout.contains("1 of 24 vectors failed"), "{stdout}");
+    // And the shipped files verify.
+    let out = Command::new(env!("CARGO_BIN_EXE_hiperface")).args(["vectors", "verify"]).arg(dir()).output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stdout));
+}
+
+#[test]
+fn a_malformed_file_names_the_file_and_the_vector() {
+    let d = temp("malformed");
+    let mut json: serde_json::Value = serde_json::to_value(vectors::documents::file()).unwrap();
+    json["vectors"][3]["steps"][0]["request"] = "40 4G 02".into();
+    let path = d.join("bad.json");
+    std::fs::write(&path, json.to_string()).unwrap();
+    let e = vectors::load(&path).unwrap_err().to_string();
+    assert!(e.starts_with(&format!("{}: vector `", path.display())), "{e}");
+    assert!(e.contains("/vectors/3/steps/0/request"), "{e}");
+    // Not JSON at all.
+    std::fs::write(&path, "{").unwrap();
+    let e = vectors::load(&path).unwrap_err().to_string();
+    assert!(e.contains("bad.json: not JSON"), "{e}");
+    // Unknown fields are refused (schema: additionalProperties false).
+    json = serde_json::to_value(vectors::documents::file()).unwrap();
+    json["vectors"][0]["colour"] = "red".into();
+    std::fs::write(&path, json.to_string()).unwrap();
+    let e = vectors::load(&path).unwrap_err().to_string();
+    assert!(e.contains("vector `000-t7-1`"), "{e}");
+}
+
+#[test]
+fn export_shows_one_table_per_command_and_errata_as_errata() {
+    let files: Vec<_> = vectors::files(&dir()).unwrap().iter().map(|p| vectors::load(p).unwrap()).collect();
+    let md = export::markdown(&files);
+    assert!(md.contains("\n## 42h\n"), "one table per command");
+    assert!(
+        md.contains("| `001-5.1.4.9-data-field-status-as-printed` | `40 4C 00 0C` | `40 4C 00 C8 1E` | **invalid** |"),
+        "{}",
+        &md[..2000]
+    );
+    assert!(md.contains("**erratum**: printed `40 4C 00 C8 1E`, corrected `40 4C 00 C8 C4`"));
+    let tables = export::tables(&files);
+    assert!(tables.iter().any(|t| t.command == "checksum"));
+    let json = serde_json::to_string(&tables).unwrap();
+    assert!(json.contains("\"command\":\"4Dh\""));
+}
