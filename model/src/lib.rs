@@ -26,6 +26,7 @@ pub mod command;
 pub mod datalink;
 pub mod fault;
 pub mod frame;
+pub mod master;
 pub mod oracle;
 pub mod profile;
 pub mod profiles;

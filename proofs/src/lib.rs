@@ -3,6 +3,9 @@
 //! exhausting the same domain. This crate starts with the wire codecs; issue 6 adds
 //! the decoders, the data link, the slave step and the stack and memory invariants.
 
+use hiperface_model::master::interpolation;
+use hiperface_model::master::quadrature::{self, Ab, Count};
+use hiperface_model::master::sync::{self, Correction};
 use hiperface_model::settings::{SettingsError, UartSettings};
 use hiperface_model::{checksum, AddressByte};
 
@@ -39,6 +42,93 @@ pub fn address_codec_round_trips(byte: u8) -> bool {
     a.byte() == byte && is_slave == (0x40..=0x5F).contains(&byte)
 }
 
+/// 000 Table 72 as printed, row by row: (A(n-1), B(n-1), A(n), B(n)) -> counter.
+/// +1 = 1, -1 = -1, no action = 0, invalid = 2.
+const SPEC_TABLE_72: [(u8, i8); 16] = [
+    (0b0000, 0),
+    (0b0001, 1),
+    (0b0010, -1),
+    (0b0011, 2),
+    (0b0100, -1),
+    (0b0101, 0),
+    (0b0110, 2),
+    (0b0111, 1),
+    (0b1000, 1),
+    (0b1001, 2),
+    (0b1010, 0),
+    (0b1011, -1),
+    (0b1100, 2),
+    (0b1101, -1),
+    (0b1110, 1),
+    (0b1111, 0),
+];
+
+/// The quadrature step equals 000 Table 72 for the row `row` (0..16). // 000:T72
+pub fn quadrature_equals_table_72(row: u8) -> bool {
+    let Some((bits, want)) = SPEC_TABLE_72.iter().copied().find(|(b, _)| *b == row & 0x0F) else { return false };
+    let ab = |hi: u8, lo: u8| Ab { a: bits & hi != 0, b: bits & lo != 0 };
+    let got = match quadrature::step(ab(8, 4), ab(2, 1)) {
+        Count::NoAction => 0,
+        Count::Up => 1,
+        Count::Down => -1,
+        Count::Invalid => 2,
+    };
+    got == want
+}
+
+/// 000:3.2.5's table as printed: (f(i:i-1), a(4:3)) -> 0 same, 1 a+1, -1 a-1, 2 invalid.
+const SPEC_SYNC: [(u8, u8, i8); 16] = [
+    (0, 0, 0),
+    (0, 1, 0),
+    (0, 2, 2),
+    (0, 3, 1),
+    (1, 0, 0),
+    (1, 1, 0),
+    (1, 2, 0),
+    (1, 3, 2),
+    (2, 0, 2),
+    (2, 1, 0),
+    (2, 2, 0),
+    (2, 3, 0),
+    (3, 0, -1),
+    (3, 1, 2),
+    (3, 2, 0),
+    (3, 3, 0),
+];
+
+/// The synchronisation correction equals the spec table for (fine, absolute) quadrants. // 000:3.2.5
+pub fn sync_equals_table(fine: u8, absolute: u8) -> bool {
+    let Some((_, _, want)) = SPEC_SYNC.iter().copied().find(|(f, a, _)| *f == fine & 3 && *a == absolute & 3) else {
+        return false;
+    };
+    let got = match sync::correction(fine, absolute) {
+        Correction::Same => 0,
+        Correction::PlusOne => 1,
+        Correction::MinusOne => -1,
+        Correction::Invalid => 2,
+    };
+    got == want
+}
+
+/// For every sign combination: the octant's transformation gives 0 <= X <= Y, Y > 0,
+/// and the retransformed node angles stay inside the octant. // 000:3.2.4
+pub fn octant_transformation_is_sound(sin: i32, cos: i32) -> bool {
+    if sin == 0 && cos == 0 {
+        return true;
+    }
+    let o = interpolation::octant(sin, cos);
+    let (x, y) = interpolation::transform(o, sin, cos);
+    let ordered = x >= 0 && y > 0 && x <= y;
+    // A = 0 and A = 45° map to the octant's two boundaries.
+    let lo = interpolation::retransform(o, 0);
+    let hi = interpolation::retransform(o, interpolation::OCTANT);
+    // The octant's boundaries, modulo a full period (octant 7 ends at 360° = 0).
+    let b0 = (o as u32).wrapping_mul(interpolation::OCTANT);
+    let b1 = b0.wrapping_add(interpolation::OCTANT);
+    let bounds = (lo == b0 && hi == b1) || (lo == b1 && hi == b0);
+    ordered && bounds
+}
+
 #[cfg(kani)]
 mod harnesses {
     use super::*;
@@ -63,6 +153,31 @@ mod harnesses {
     fn address_codec() {
         assert!(address_codec_round_trips(kani::any()));
     }
+
+    /// Bounds: the 16 rows of 000 Table 72.
+    #[kani::proof]
+    #[kani::unwind(17)]
+    fn quadrature_table() {
+        let row: u8 = kani::any();
+        kani::assume(row < 16);
+        assert!(quadrature_equals_table_72(row));
+    }
+
+    /// Bounds: the 16 rows of the synchronisation table.
+    #[kani::proof]
+    #[kani::unwind(17)]
+    fn sync_table() {
+        let (f, a): (u8, u8) = (kani::any(), kani::any());
+        kani::assume(f < 4 && a < 4);
+        assert!(sync_equals_table(f, a));
+    }
+
+    /// Bounds: sin and cos in -128..=127 (every sign and magnitude combination).
+    #[kani::proof]
+    fn octants() {
+        let (s, c): (i8, i8) = (kani::any(), kani::any());
+        assert!(octant_transformation_is_sound(s as i32, c as i32));
+    }
 }
 
 #[cfg(test)]
@@ -80,6 +195,24 @@ mod tests {
             }
         }
         eprintln!("checksum_detects_single_bit_flips: 1572864 cases, exhaustive over 2-byte bodies");
+    }
+
+    #[test]
+    fn master_tables_exhaustive() {
+        for row in 0..16 {
+            assert!(quadrature_equals_table_72(row), "row {row:04b}");
+        }
+        for f in 0..4 {
+            for a in 0..4 {
+                assert!(sync_equals_table(f, a), "{f} {a}");
+            }
+        }
+        for s in -1024..=1024 {
+            for c in -1024..=1024 {
+                assert!(octant_transformation_is_sound(s, c), "{s} {c}");
+            }
+        }
+        eprintln!("master tables: 16 + 16 rows and 4198401 sin/cos pairs, exhaustive");
     }
 
     #[test]

@@ -32,6 +32,7 @@ fn s36(section: &str, id: &str, command: &str, clauses: &[&str], meaning: &str) 
         },
         steps: Vec::new(),
         checksum_example: None,
+        table_case: None,
         result: Outcome::Valid,
         flags: Vec::new(),
         erratum: None,
@@ -67,6 +68,7 @@ pub fn file() -> VectorFile {
             setup: Setup::default(),
             steps: Vec::new(),
             checksum_example: Some(ChecksumExample { frame: frame.into(), checksum: sum.into() }),
+            table_case: None,
             result: Outcome::Valid,
             flags: Vec::new(),
             erratum: None,
@@ -180,6 +182,7 @@ pub fn file() -> VectorFile {
         setup: Setup::default(),
         steps: seq,
         checksum_example: None,
+        table_case: None,
         result: Outcome::Valid,
         flags: vec![Flag::Erratum, Flag::Legacy, Flag::BadChecksum],
         erratum: Some(Erratum {

@@ -34,6 +34,16 @@ pub fn tables(files: &[VectorFile]) -> Vec<Table> {
 fn rows(v: &Vector) -> Vec<Row> {
     let erratum =
         v.erratum.as_ref().map(|e| format!("printed `{}`, corrected `{}`: {}", e.printed, e.corrected, e.reason));
+    if let Some(t) = &v.table_case {
+        return vec![Row {
+            id: v.id.clone(),
+            request: t.input.clone(),
+            response: t.output.clone(),
+            result: v.result,
+            meaning: v.meaning.clone(),
+            erratum,
+        }];
+    }
     if let Some(c) = &v.checksum_example {
         return vec![Row {
             id: v.id.clone(),

@@ -51,6 +51,7 @@ fn vector(
         setup,
         steps: Vec::new(),
         checksum_example: None,
+        table_case: None,
         result: Outcome::Valid,
         flags: Vec::new(),
         erratum: None,
@@ -500,7 +501,7 @@ fn power_up(p: &Profile, edition: &str) -> Vec<Vector> {
 pub fn files() -> Vec<(&'static str, VectorFile)> {
     let current = profiles::reference();
     let legacy = profiles::legacy_srs();
-    let mut out = Vec::new();
+    let mut out = vec![("master-tables.json", super::master::file())];
     for (name, p, edition) in
         [("generated-current.json", current, "current"), ("generated-legacy.json", legacy, "legacy")]
     {

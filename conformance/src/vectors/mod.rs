@@ -6,6 +6,7 @@
 pub mod documents;
 pub mod export;
 pub mod generate;
+pub mod master;
 
 use hiperface_model::slave::inputs::{InitFault, PhysicalInputs, PositionFault};
 use hiperface_model::{checksum, profiles, Hex, Knowledge, Oracle, Reply, Slave, Verdict};
@@ -132,6 +133,20 @@ pub struct Step {
     pub note: Option<String>,
 }
 
+/// A row of a master-side table (000 chapter 3), as the spec table writes it.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TableCase {
+    /// `quadrature` (000:T72), `sync` (000:3.2.5), `octant` (000:3.2.4), `fault-reaction` (000:T74).
+    pub table: String,
+    /// quadrature: `A(n-1) B(n-1) A(n) B(n)` as 4 bits; sync: `f(i:i-1) a(4:3)`;
+    /// octant: `sin>=0 cos>=0 |sin|<|cos|` as T/F; fault-reaction: `code group`.
+    pub input: String,
+    /// quadrature: `+1`, `-1`, `none`, `invalid`; sync: `a`, `a+1`, `a-1`, `invalid`;
+    /// octant: `N: X=... Y=... phi=...`; fault-reaction: `Severity: response`.
+    pub output: String,
+}
+
 /// A checksum example (000:T7): the XOR of `frame` is `checksum`.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -157,6 +172,8 @@ pub struct Vector {
     pub steps: Vec<Step>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub checksum_example: Option<ChecksumExample>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub table_case: Option<TableCase>,
     pub result: Outcome,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub flags: Vec<Flag>,
@@ -263,8 +280,16 @@ pub fn replay(v: &Vector) -> Result<(), Mismatch> {
             Err(fail(format!("XOR of {} is {:02X}h, not {}", c.frame, checksum::xor(&frame), c.checksum)))
         };
     }
+    if let Some(t) = &v.table_case {
+        let got = master::evaluate(&t.table, &t.input).map_err(fail)?;
+        return if got == t.output {
+            Ok(())
+        } else {
+            Err(fail(format!("{} {}: the model gives `{got}`, the vector says `{}`", t.table, t.input, t.output)))
+        };
+    }
     if v.steps.is_empty() {
-        return Err(fail("no steps and no checksum example".into()));
+        return Err(fail("no steps, checksum example or table case".into()));
     }
     let mut slave = prepare(v).map_err(fail)?;
     let oracle = Oracle::new(Knowledge::Exact);
