@@ -303,3 +303,32 @@ fn beyond_a_quarter_period_the_table_can_refuse() {
         }
     }
 }
+
+#[test]
+fn runtime_synchronisation_follows_a_moving_shaft() {
+    // Comparators: A = sin < 0, B = cos < 0, so that quadrants 0,1,2,3 give AB 00, 01,
+    // 11, 10: +1 per quadrant forward (000:T72).
+    let ab = |s: i32, c: i32| Ab { a: s < 0, b: c < 0 };
+    let ip = Interpolator::default();
+    assert_eq!(ip.nodes(), 32);
+    let mut source = SignalSource::new(30_000).with_noise(10, 0, 0);
+    // Start at period 1000 + 0.3; move forward 500 periods, back 800, in steps of 1/16 period.
+    let step = 1u64 << 28; // 1/16 period in 2^32 units
+    let mut pos: u64 = (1000u64 << 32) + (3 << 32) / 10;
+    let sample = |src: &mut SignalSource, p: u64| src.sample(p as u32);
+    let (s, c) = sample(&mut source, pos);
+    let fine = FineAngle { value: ip.angle(s, c).unwrap() >> 16, bits: 16 };
+    let absolute = (pos >> 27) as u64; // 32 steps per period
+    let mut counter = Counter::new(sync::init_counter(absolute, fine).unwrap(), ab(s, c));
+    let moves: Vec<i64> = std::iter::repeat(1).take(500 * 16).chain(std::iter::repeat(-1).take(800 * 16)).collect();
+    for dir in moves {
+        pos = if dir > 0 { pos + step } else { pos - step };
+        let (s, c) = sample(&mut source, pos);
+        assert_ne!(counter.sample(ab(s, c)), Count::Invalid);
+        let fine = FineAngle { value: ip.angle(s, c).unwrap() >> 16, bits: 16 };
+        let full = sync::full_position(counter.value, fine).unwrap();
+        let truth = (pos >> 16) as i64; // periods and 16 bits of fine angle
+        assert!((full - truth).abs() < 8, "pos {pos:x}: full {full:x} truth {truth:x}");
+    }
+    assert_eq!(counter.invalid, 0);
+}

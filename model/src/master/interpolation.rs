@@ -63,6 +63,13 @@ pub const fn retransform(octant: u8, a: u32) -> u32 {
     }
 }
 
+impl Default for Interpolator {
+    /// 32 nodes: "typically 32 nodes are sufficient". // 000:3.2.4 step 4
+    fn default() -> Self {
+        Interpolator { stride: 2, nodes: 32 }
+    }
+}
+
 /// Table-based arctan with a configurable number of nodes (a divisor of 64).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Interpolator {
