@@ -318,9 +318,9 @@ fn runtime_synchronisation_follows_a_moving_shaft() {
     let sample = |src: &mut SignalSource, p: u64| src.sample(p as u32);
     let (s, c) = sample(&mut source, pos);
     let fine = FineAngle { value: ip.angle(s, c).unwrap() >> 16, bits: 16 };
-    let absolute = (pos >> 27) as u64; // 32 steps per period
+    let absolute = pos >> 27; // 32 steps per period
     let mut counter = Counter::new(sync::init_counter(absolute, fine).unwrap(), ab(s, c));
-    let moves: Vec<i64> = std::iter::repeat(1).take(500 * 16).chain(std::iter::repeat(-1).take(800 * 16)).collect();
+    let moves: Vec<i64> = std::iter::repeat_n(1, 500 * 16).chain(std::iter::repeat_n(-1, 800 * 16)).collect();
     for dir in moves {
         pos = if dir > 0 { pos + step } else { pos - step };
         let (s, c) = sample(&mut source, pos);
