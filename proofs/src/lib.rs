@@ -1,7 +1,12 @@
 //! Properties of the model, written once and checked twice: by Kani harnesses
-//! (`cargo kani -p hiperface-proofs`, behind `cfg(kani)`) and under `cargo test` by
-//! exhausting the same domain. This crate starts with the wire codecs; issue 6 adds
-//! the decoders, the data link, the slave step and the stack and memory invariants.
+//! (`cargo kani -p hiperface-proofs`, behind `cfg(kani)`) and under `cargo test`
+//! (`properties::PROPERTIES`: each exhausted over a bounded domain or sampled with
+//! proptest). Also: explicit-state model checking of the slave (`model_check`) and
+//! the fuzz target bodies (`targets`), whose corpus a stable `cargo test` replays.
+
+pub mod model_check;
+pub mod properties;
+pub mod targets;
 
 use hiperface_model::master::interpolation;
 use hiperface_model::master::quadrature::{self, Ab, Count};
@@ -178,11 +183,95 @@ mod harnesses {
         let (s, c): (i8, i8) = (kani::any(), kani::any());
         assert!(octant_transformation_is_sound(s as i32, c as i32));
     }
+
+    /// Bounds: all 256 command bytes.
+    #[kani::proof]
+    fn command_byte_codec() {
+        assert!(crate::properties::command_byte_round_trips(kani::any()));
+    }
+
+    /// Bounds: frames of up to 6 symbolic bytes; unwind 8.
+    #[kani::proof]
+    #[kani::unwind(8)]
+    fn request_decoder() {
+        let frame: [u8; 6] = kani::any();
+        let len: usize = kani::any();
+        kani::assume(len <= 6);
+        assert!(crate::properties::request_decoder_is_total(&frame[..len]));
+    }
+
+    /// Bounds: 4 characters with symbolic bytes and gaps; unwind 6.
+    #[kani::proof]
+    #[kani::unwind(6)]
+    fn datalink() {
+        let timeout: u16 = kani::any();
+        let chars: [(u8, u16); 4] = kani::any();
+        assert!(crate::properties::datalink_frames(timeout, &chars));
+    }
+
+    /// Bounds: sequences of 6 operations over 5 codes and pop; unwind 7.
+    #[kani::proof]
+    #[kani::unwind(7)]
+    fn stack() {
+        let ops: [u8; 6] = kani::any();
+        for o in ops {
+            kani::assume(o < 6);
+        }
+        assert!(crate::properties::stack_invariants(&ops));
+    }
+
+    /// Bounds: a 4-byte frame to 40h on a factory-state SEK37; unwind 140 (field loops).
+    #[kani::proof]
+    #[kani::unwind(140)]
+    fn slave_step() {
+        let cmd: u8 = kani::any();
+        let data: [u8; 2] = kani::any();
+        let frame = [0x40, cmd, data[0], data[1]];
+        let s = hiperface_model::Slave::operational(hiperface_model::profiles::sek37());
+        assert!(crate::properties::slave_step_is_total(&s, &frame));
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn every_property_holds_on_its_domain() {
+        let mut failures = Vec::new();
+        for p in properties::PROPERTIES {
+            let t = std::time::Instant::now();
+            match (p.run)() {
+                Ok(n) => eprintln!(
+                    "{:<30} {:>10} cases  {}  {:.1} s  domain: {}",
+                    p.name,
+                    n,
+                    if p.exhaustive { "exhaustive" } else { "sampled   " },
+                    t.elapsed().as_secs_f64(),
+                    p.domain
+                ),
+                Err(e) => failures.push(format!("{}: {e}", p.name)),
+            }
+        }
+        assert!(failures.is_empty(), "{failures:#?}");
+    }
+
+    #[test]
+    fn model_checking_of_the_slave() {
+        // CI bound: depth 8 (README: the deeper release bound, HF_MC_DEPTH=14).
+        let depth = std::env::var("HF_MC_DEPTH").ok().and_then(|d| d.parse().ok()).unwrap_or(8);
+        let t = std::time::Instant::now();
+        let r = model_check::explore(depth).unwrap_or_else(|e| panic!("{e}"));
+        eprintln!(
+            "model checking: {} states, {} transitions, depth {} ({}), {:.1} s",
+            r.states,
+            r.transitions,
+            r.depth,
+            if r.complete { "complete" } else { "bounded" },
+            t.elapsed().as_secs_f64()
+        );
+        assert!(r.states >= 4000 || depth < 8, "{} states", r.states);
+    }
 
     #[test]
     fn checksum_exhaustive_over_two_byte_bodies() {
@@ -195,32 +284,5 @@ mod tests {
             }
         }
         eprintln!("checksum_detects_single_bit_flips: 1572864 cases, exhaustive over 2-byte bodies");
-    }
-
-    #[test]
-    fn master_tables_exhaustive() {
-        for row in 0..16 {
-            assert!(quadrature_equals_table_72(row), "row {row:04b}");
-        }
-        for f in 0..4 {
-            for a in 0..4 {
-                assert!(sync_equals_table(f, a), "{f} {a}");
-            }
-        }
-        for s in -1024..=1024 {
-            for c in -1024..=1024 {
-                assert!(octant_transformation_is_sound(s, c), "{s} {c}");
-            }
-        }
-        eprintln!("master tables: 16 + 16 rows and 4198401 sin/cos pairs, exhaustive");
-    }
-
-    #[test]
-    fn codecs_exhaustive() {
-        for byte in 0..=255u8 {
-            assert!(settings_codec_round_trips(byte), "{byte:02X}");
-            assert!(address_codec_round_trips(byte), "{byte:02X}");
-        }
-        eprintln!("settings and address codecs: 256 cases each, exhaustive");
     }
 }

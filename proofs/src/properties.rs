@@ -1,0 +1,277 @@
+//! The one mechanism: every property is a function of its input, registered once
+//! with the domain `cargo test` checks (exhausted or sampled with proptest); the Kani
+//! harnesses in `lib.rs` call the same functions on symbolic inputs.
+
+use crate::targets;
+use hiperface_model::command::CommandByte;
+use hiperface_model::datalink::{DataLink, RxChar};
+use hiperface_model::slave::stack::ErrorStack;
+use hiperface_model::{profile::StackOrder, profiles, FaultCode, RequestFrame, Slave};
+use proptest::prelude::*;
+use proptest::test_runner::{Config, TestRunner};
+
+/// A registered property.
+pub struct Property {
+    pub name: &'static str,
+    /// What it proves, with the clause.
+    pub claim: &'static str,
+    /// The domain `cargo test` checks.
+    pub domain: &'static str,
+    pub exhaustive: bool,
+    /// Cases checked, or a counterexample.
+    pub run: fn() -> Result<u64, String>,
+}
+
+/// Check `prop` for every value of `domain`.
+pub fn exhaust<T: std::fmt::Debug>(domain: impl Iterator<Item = T>, prop: impl Fn(&T) -> bool) -> Result<u64, String> {
+    let mut n = 0;
+    for v in domain {
+        let ok = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| prop(&v))).unwrap_or(false);
+        if !ok {
+            return Err(format!("counterexample: {v:?}"));
+        }
+        n += 1;
+    }
+    Ok(n)
+}
+
+/// Check `prop` on `cases` values sampled from `strategy` (proptest, with shrinking).
+pub fn sample<S: Strategy>(strategy: S, cases: u32, prop: impl Fn(&S::Value) -> bool) -> Result<u64, String>
+where
+    S::Value: std::fmt::Debug,
+{
+    let mut runner = TestRunner::new(Config { cases, failure_persistence: None, ..Config::default() });
+    runner
+        .run(&strategy, |v| {
+            let ok = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| prop(&v))).unwrap_or(false);
+            prop_assert!(ok);
+            Ok(())
+        })
+        .map(|()| cases as u64)
+        .map_err(|e| e.to_string())
+}
+
+// ---- the properties ----
+
+/// Decoding never panics, and what decodes re-encodes to the same bytes.
+pub fn request_decoder_is_total(frame: &[u8]) -> bool {
+    match RequestFrame::decode(frame) {
+        Ok(r) => r.encode().as_bytes() == frame,
+        Err(_) => true,
+    }
+}
+
+pub fn decoders_are_total(data: &[u8]) -> bool {
+    targets::decode(data);
+    true
+}
+
+pub fn command_byte_round_trips(b: u8) -> bool {
+    match CommandByte::decode(b) {
+        Some(c) => c.byte() == b,
+        None => b & 0x40 == 0,
+    }
+}
+
+/// Any sequence of stack operations: at most 4 entries, no duplicates. // 000:T27
+pub fn stack_invariants(ops: &[u8]) -> bool {
+    let codes = [
+        FaultCode::Temperature,
+        FaultCode::LedCurrent,
+        FaultCode::Watchdog,
+        FaultCode::InternalChecksum,
+        FaultCode::Speed,
+    ];
+    let mut s = ErrorStack::new();
+    for op in ops {
+        match codes.get(*op as usize) {
+            Some(c) => s.push(*c),
+            None => {
+                s.pop(StackOrder::OldestFirst);
+            }
+        }
+        let e: Vec<_> = s.entries().collect();
+        if e.len() > 4 || (0..e.len()).any(|i| e[i + 1..].contains(&e[i])) {
+            return false;
+        }
+    }
+    true
+}
+
+/// Create/modify/delete sequences keep free + allocated = total and numbers contiguous.
+pub fn memory_is_conserved(ops: &[u8]) -> bool {
+    let requests: [&[u8]; 6] = [
+        &[0x40, 0x4D, 0, 0xC3, 0x55],
+        &[0x40, 0x4D, 1, 0xC7, 0x55],
+        &[0x40, 0x4D, 1, 0x47, 0x55],
+        &[0x40, 0x4D, 0, 0x43, 0x55],
+        &[0x40, 0x4D, 0, 0xC1, 0x55],
+        &[0x40, 0x4D, 2, 0xC0, 0x55],
+    ];
+    let mut s = Slave::operational(profiles::kuebler_s36()); // 22 blocks
+    for op in ops {
+        let body = requests[*op as usize % requests.len()];
+        let mut f = body.to_vec();
+        f.push(hiperface_model::checksum::xor(body));
+        s.handle_frame(&f, 0);
+        if std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| targets::invariants(&s))).is_err() {
+            return false;
+        }
+    }
+    true
+}
+
+/// The data link never merges characters a timeout apart, loses none, never panics.
+pub fn datalink_frames(timeout: u16, chars: &[(u8, u16)]) -> bool {
+    let chars: Vec<targets::TimedChar> =
+        chars.iter().map(|(b, g)| targets::TimedChar { byte: *b, gap_us: *g, fault: None }).collect();
+    targets::datalink(timeout, &chars);
+    true
+}
+
+/// The slave's step never panics for any frame in a reachable state, and the
+/// invariants hold after it.
+pub fn slave_step_is_total(state: &Slave, frame: &[u8]) -> bool {
+    let mut s = state.clone();
+    s.handle_frame(frame, 0);
+    s.handle_faulty_frame(frame, 0);
+    targets::invariants(&s);
+    true
+}
+
+fn reachable_states() -> Vec<Slave> {
+    // Depth 2 of the model checker's alphabet: a few hundred distinct states.
+    let mut out = vec![Slave::operational(profiles::sek37())];
+    let alphabet = crate::model_check::alphabet();
+    for a in &alphabet {
+        let mut s = out[0].clone();
+        crate::model_check::apply(&mut s, a);
+        for b in alphabet.iter().step_by(3) {
+            let mut t = s.clone();
+            crate::model_check::apply(&mut t, b);
+            out.push(t);
+        }
+    }
+    out
+}
+
+fn datalink_link_check() -> Result<u64, String> {
+    sample((1u16..20_000, prop::collection::vec((any::<u8>(), any::<u16>()), 0..64)), 5000, |(t, c)| {
+        datalink_frames(*t, c)
+    })
+}
+
+fn slave_step() -> Result<u64, String> {
+    let states = reachable_states();
+    let mut n = 0;
+    // Exhaustive: every 3-byte frame to 40h, in each of 8 reachable states.
+    for s in states.iter().step_by(states.len() / 8) {
+        n += exhaust((0..=0xFFFFu32).map(|x| [0x40, (x >> 8) as u8, x as u8]), |f| slave_step_is_total(s, f))?;
+    }
+    Ok(n)
+}
+
+/// Every property, with its domain.
+pub const PROPERTIES: &[Property] = &[
+    Property {
+        name: "checksum",
+        claim: "a frame with its checksum XORs to 0; every single-bit flip is detected (000:2.3.3)",
+        domain: "every 2-byte body x every bit of the 3-byte frame (1 572 864)",
+        exhaustive: true,
+        run: || exhaust((0..=0xFFFFu32).flat_map(|b| (0..24).map(move |bit| (b, bit))), |(b, bit)| crate::checksum_detects_single_bit_flips([(*b >> 8) as u8, *b as u8], *bit)),
+    },
+    Property {
+        name: "address_codec",
+        claim: "address bytes round-trip; slave addresses are exactly 40h...5Fh (000:T5)",
+        domain: "all 256 bytes",
+        exhaustive: true,
+        run: || exhaust(0..=255u8, |b| crate::address_codec_round_trips(*b)),
+    },
+    Property {
+        name: "command_byte_codec",
+        claim: "command bytes round-trip; bit 6 clear is refused (000:T6)",
+        domain: "all 256 bytes",
+        exhaustive: true,
+        run: || exhaust(0..=255u8, |b| command_byte_round_trips(*b)),
+    },
+    Property {
+        name: "settings_codec",
+        claim: "the settings byte decodes exactly when defined and round-trips (000:T28)",
+        domain: "all 256 bytes",
+        exhaustive: true,
+        run: || exhaust(0..=255u8, |b| crate::settings_codec_round_trips(*b)),
+    },
+    Property {
+        name: "request_decoder_short_frames",
+        claim: "the request decoder never panics; decoded frames re-encode identically",
+        domain: "every frame of 0 to 3 bytes (16 843 009)",
+        exhaustive: true,
+        run: || {
+            let short = (0..=0xFFu32).map(|a| vec![a as u8]).chain((0..=0xFFFFu32).map(|x| vec![(x >> 8) as u8, x as u8]));
+            let three = (0..=0xFF_FFFFu32).map(|x| vec![(x >> 16) as u8, (x >> 8) as u8, x as u8]);
+            Ok(1 + exhaust(short.chain(three), |f| request_decoder_is_total(f))?)
+        },
+    },
+    Property {
+        name: "decoders_long_frames",
+        claim: "request and response decoders never panic and round-trip on any bytes",
+        domain: "20 000 byte strings of 0..140 bytes (proptest)",
+        exhaustive: false,
+        run: || sample(prop::collection::vec(any::<u8>(), 0..140), 20_000, |d| decoders_are_total(d)),
+    },
+    Property {
+        name: "datalink",
+        claim: "the data link frames any character sequence, never merges characters a timeout apart, loses none (000:2.2.2)",
+        domain: "5 000 sequences of up to 64 characters with any gaps (proptest)",
+        exhaustive: false,
+        run: datalink_link_check,
+    },
+    Property {
+        name: "slave_step",
+        claim: "the slave's step never panics for any frame of up to 3 bytes in reachable states; invariants hold",
+        domain: "every 3-byte frame to 40h x 8 reachable states, with and without a UART fault",
+        exhaustive: true,
+        run: slave_step,
+    },
+    Property {
+        name: "stack",
+        claim: "at most 4 entries, no duplicates, for any push/pop sequence (000:T27)",
+        domain: "every sequence of up to 7 operations over 5 codes and pop (335 923)",
+        exhaustive: true,
+        run: || exhaust((0..=7u32).flat_map(|len| (0..6u32.pow(len)).map(move |x| (0..len).map(|i| ((x / 6u32.pow(i)) % 6) as u8).collect::<Vec<_>>())), |ops| stack_invariants(ops)),
+    },
+    Property {
+        name: "memory",
+        claim: "free + allocated = total and field numbers contiguous after any create/resize/delete sequence (DESIGN:fields)",
+        domain: "every sequence of up to 5 requests over 6 (9 331)",
+        exhaustive: true,
+        run: || exhaust((0..=5u32).flat_map(|len| (0..6u32.pow(len)).map(move |x| (0..len).map(|i| ((x / 6u32.pow(i)) % 6) as u8).collect::<Vec<_>>())), |ops| memory_is_conserved(ops)),
+    },
+    Property {
+        name: "quadrature_table",
+        claim: "the quadrature step equals 000 Table 72",
+        domain: "the 16 rows",
+        exhaustive: true,
+        run: || exhaust(0..16u8, |r| crate::quadrature_equals_table_72(*r)),
+    },
+    Property {
+        name: "sync_table",
+        claim: "the synchronisation correction equals 000:3.2.5's table",
+        domain: "the 16 rows",
+        exhaustive: true,
+        run: || exhaust((0..16u8).map(|x| (x >> 2, x & 3)), |(f, a)| crate::sync_equals_table(*f, *a)),
+    },
+    Property {
+        name: "octants",
+        claim: "octant transformation and retransformation are sound for every sign combination (000:3.2.4)",
+        domain: "sin, cos in -1024..=1024 (4 198 401)",
+        exhaustive: true,
+        run: || exhaust((-1024..=1024i32).flat_map(|s| (-1024..=1024i32).map(move |c| (s, c))), |(s, c)| crate::octant_transformation_is_sound(*s, *c)),
+    },
+];
+
+pub fn check_datalink_merge_example() -> bool {
+    let mut l = DataLink::new(100);
+    l.receive(RxChar::ok(1, 0));
+    l.receive(RxChar::ok(2, 100)).is_some()
+}

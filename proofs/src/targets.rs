@@ -1,0 +1,181 @@
+//! Fuzz target bodies, shared by the cargo-fuzz targets (`fuzz/`) and the corpus
+//! replay under a stable `cargo test`. Each panics on a violated invariant.
+
+use arbitrary::Arbitrary;
+use hiperface_model::datalink::{DataLink, RxChar, UartFault};
+use hiperface_model::slave::inputs::{InitFault, PhysicalInputs, PositionFault};
+use hiperface_model::{checksum, profiles, CommandId, Reply, RequestFrame, ResponseFrame, Slave};
+
+/// Request and response decoding: no panic; whatever decodes re-encodes to the same bytes.
+pub fn decode(data: &[u8]) {
+    if let Ok(r) = RequestFrame::decode(data) {
+        assert_eq!(r.encode().as_bytes(), data);
+    }
+    if let Some((to, bytes)) = data.split_first() {
+        if let Ok(r) = ResponseFrame::decode(bytes, CommandId::decode(*to & 0x7F)) {
+            assert_eq!(r.encode().as_bytes(), bytes);
+        }
+    }
+}
+
+#[derive(Debug, Arbitrary)]
+pub struct TimedChar {
+    pub byte: u8,
+    /// Gap to the previous character, µs.
+    pub gap_us: u16,
+    pub fault: Option<u8>,
+}
+
+fn fault(f: Option<u8>) -> Option<UartFault> {
+    f.map(|f| [UartFault::Parity, UartFault::Framing, UartFault::Noise, UartFault::Overrun][(f % 4) as usize])
+}
+
+/// The data link frames any character sequence without panicking, never merges
+/// characters at least a timeout apart, and loses none.
+pub fn datalink(timeout_us: u16, chars: &[TimedChar]) {
+    let timeout = timeout_us.max(1) as u64;
+    let mut link = DataLink::new(timeout);
+    let mut t = 0u64;
+    let mut frames: Vec<(usize, u64, u64)> = Vec::new(); // (chars, first, last)
+    let mut fed = 0;
+    for c in chars {
+        t += c.gap_us as u64;
+        if let Some(f) = link.receive(RxChar { byte: c.byte, at_us: t, fault: fault(c.fault) }) {
+            frames.push((f.char_count, f.first_us, f.last_us));
+        }
+        fed += 1;
+    }
+    if let Some(f) = link.poll(u64::MAX) {
+        frames.push((f.char_count, f.first_us, f.last_us));
+    }
+    assert_eq!(frames.iter().map(|f| f.0).sum::<usize>(), fed, "characters lost or duplicated");
+    for w in frames.windows(2) {
+        assert!(w[1].1 - w[0].2 >= timeout, "frames split by less than the timeout");
+    }
+    // Within a frame every gap is below the timeout: rebuild and check.
+    let mut t = 0u64;
+    let mut prev: Option<u64> = None;
+    let mut splits = 0;
+    for c in chars {
+        t += c.gap_us as u64;
+        if prev.is_some_and(|p| t - p >= timeout) {
+            splits += 1;
+        }
+        prev = Some(t);
+    }
+    assert_eq!(frames.len(), if chars.is_empty() { 0 } else { splits + 1 });
+}
+
+#[derive(Debug, Arbitrary)]
+pub enum Event {
+    Char(TimedChar),
+    /// A whole frame (checksum appended), to reach deep states quickly.
+    Frame {
+        body: Vec<u8>,
+        gap_ms: u8,
+    },
+    Inputs {
+        position: u32,
+        speed: i16,
+        temperature_c: i8,
+        led_current_ma: u8,
+    },
+    PositionFault(u8, bool),
+    InitFault(u8, bool),
+    PowerCycle,
+    Wait {
+        ms: u16,
+    },
+}
+
+#[derive(Debug, Arbitrary)]
+pub struct SlaveInput {
+    pub profile: u8,
+    pub events: Vec<Event>,
+}
+
+/// The slave driven by timed characters, frames and physical inputs: no panic, and
+/// the invariants hold after every step.
+pub fn slave(input: &SlaveInput) {
+    let builtin = profiles::BUILTIN;
+    let (_, make) = builtin[input.profile as usize % builtin.len()];
+    let mut s = Slave::new(make());
+    let mut t = 0u64;
+    for e in input.events.iter().take(256) {
+        let step = match e {
+            Event::Char(c) => {
+                t += c.gap_us as u64;
+                s.receive(RxChar { byte: c.byte, at_us: t, fault: fault(c.fault) })
+            }
+            Event::Frame { body, gap_ms } => {
+                t += *gap_ms as u64 * 1000;
+                let mut f = body.iter().copied().take(140).collect::<Vec<_>>();
+                f.push(checksum::xor(&f));
+                let mut last = None;
+                for b in f {
+                    t += 1146;
+                    last = last.or(s.receive(RxChar::ok(b, t)));
+                }
+                last
+            }
+            Event::Inputs { position, speed, temperature_c, led_current_ma } => {
+                s.set_inputs(PhysicalInputs {
+                    position: *position as u64,
+                    speed: *speed as i32,
+                    temperature_c: *temperature_c as i16,
+                    led_current_ma: *led_current_ma as u16,
+                });
+                None
+            }
+            Event::PositionFault(f, on) => {
+                s.inject_position_fault(PositionFault::ALL[*f as usize % PositionFault::ALL.len()], *on);
+                None
+            }
+            Event::InitFault(f, on) => {
+                s.inject_init_fault(InitFault::ALL[*f as usize % InitFault::ALL.len()], *on);
+                None
+            }
+            Event::PowerCycle => {
+                s.power_cycle(t);
+                None
+            }
+            Event::Wait { ms } => {
+                t += *ms as u64 * 1000;
+                s.poll(t)
+            }
+        };
+        if let Some(step) = step {
+            if let Some(tx) = step.transmission {
+                assert!(checksum::is_valid(tx.frame.as_bytes()), "reply with a bad checksum");
+                assert!(tx.earliest_start_us <= tx.latest_start_us);
+            }
+            if let Reply::Frame(f) = step.outcome.reply {
+                // 000:2.3.4: the warning bit is set exactly when the stack is not empty.
+                assert_eq!(f.warning, !s.error_stack().is_empty(), "warning bit and stack disagree");
+            }
+        }
+        invariants(&s);
+    }
+}
+
+/// Invariants of every reachable state.
+pub fn invariants(s: &Slave) {
+    let stack: Vec<_> = s.error_stack().entries().collect();
+    assert!(stack.len() <= 4, "stack over 4 entries");
+    for (i, a) in stack.iter().enumerate() {
+        assert!(!stack[i + 1..].contains(a), "duplicate stack entry {a}");
+    }
+    let nv = s.nonvolatile();
+    let fields = &nv.fields;
+    assert_eq!(
+        fields.used_blocks() + fields.free_blocks() as u32,
+        fields.capacity_blocks() as u32,
+        "memory not conserved"
+    );
+    for n in 0..fields.count() {
+        assert!(fields.status(n).is_some_and(|st| st.exists()), "field numbers not contiguous");
+    }
+    assert!(fields.status(fields.count()).is_none());
+    assert!(nv.offset < s.profile().range());
+    assert!(nv.counter <= 0xFF_FFFF);
+}
