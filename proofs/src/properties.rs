@@ -4,7 +4,6 @@
 
 use crate::targets;
 use hiperface_model::command::CommandByte;
-use hiperface_model::datalink::{DataLink, RxChar};
 use hiperface_model::slave::stack::ErrorStack;
 use hiperface_model::{profile::StackOrder, profiles, FaultCode, RequestFrame, Slave};
 use proptest::prelude::*;
@@ -269,9 +268,3 @@ pub const PROPERTIES: &[Property] = &[
         run: || exhaust((-1024..=1024i32).flat_map(|s| (-1024..=1024i32).map(move |c| (s, c))), |(s, c)| crate::octant_transformation_is_sound(*s, *c)),
     },
 ];
-
-pub fn check_datalink_merge_example() -> bool {
-    let mut l = DataLink::new(100);
-    l.receive(RxChar::ok(1, 0));
-    l.receive(RxChar::ok(2, 100)).is_some()
-}
