@@ -36,7 +36,7 @@ fn local_corpus_and_regressions_replay() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fuzz");
     let mut n = 0;
     for dir in ["corpus", "regressions"] {
-        for target in ["decode", "datalink", "slave"] {
+        for target in ["request", "response", "datalink", "slave"] {
             let Ok(entries) = std::fs::read_dir(root.join(dir).join(target)) else { continue };
             for e in entries.flatten() {
                 if let Ok(bytes) = std::fs::read(e.path()) {

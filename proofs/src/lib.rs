@@ -200,6 +200,25 @@ mod harnesses {
         assert!(crate::properties::request_decoder_is_total(&frame[..len]));
     }
 
+    /// Bounds: a command byte and up to 6 reply bytes; unwind 8.
+    #[kani::proof]
+    #[kani::unwind(8)]
+    fn response_decoder() {
+        let data: [u8; 7] = kani::any();
+        let len: usize = kani::any();
+        kani::assume(len <= 7);
+        crate::targets::response(&data[..len]);
+    }
+
+    /// Bounds: every command (index into the table), 6 symbolic argument bytes; unwind 140.
+    #[kani::proof]
+    #[kani::unwind(140)]
+    fn request_round_trip() {
+        let command: u8 = kani::any();
+        let data: [u8; 6] = kani::any();
+        assert!(crate::properties::request_round_trips(command, &data));
+    }
+
     /// Bounds: 4 characters with symbolic bytes and gaps; unwind 6.
     #[kani::proof]
     #[kani::unwind(6)]
