@@ -132,18 +132,7 @@ impl WorldArgs {
 }
 
 fn parse_init_fault(s: &str) -> Result<InitFault, String> {
-    Ok(match s {
-        "alignment-data" => InitFault::AlignmentData,
-        "angular-offset" => InitFault::AngularOffset,
-        "partition-table" => InitFault::PartitionTable,
-        "analog-limits" => InitFault::AnalogLimits,
-        "type-code" => InitFault::TypeCode,
-        "watchdog" => InitFault::Watchdog,
-        "counter" => InitFault::Counter,
-        "extended-type-label" => InitFault::ExtendedTypeLabel,
-        "multiturn-parameters" => InitFault::MultiturnParameters,
-        _ => return Err(format!("unknown start-up fault `{s}`")),
-    })
+    InitFault::from_name(s).ok_or_else(|| format!("unknown start-up fault `{s}`"))
 }
 
 #[derive(Subcommand)]

@@ -432,8 +432,7 @@ pub fn catalogue() -> Vec<Case> {
                 let a = c.address();
                 let code0 = c.model.nonvolatile().codes[0];
                 let range = c.profile().range();
-                let p0 = c.ask(&[a, 0x42])?.reply;
-                let Some(p0) = p0.as_ref().and_then(|r| r.get(2..6)).map(|b| [b[0], b[1], b[2], b[3]]) else {
+                let Some(p0) = read_position(c)? else {
                     return Ok(()); // not a position (e.g. locked, 02h): the oracle graded it
                 };
                 if let Ok(r) = u32::try_from(range) {
@@ -461,8 +460,7 @@ pub fn catalogue() -> Vec<Case> {
             |c| {
                 let a = c.address();
                 let code0 = c.model.nonvolatile().codes[0];
-                let p0 = c.ask(&[a, 0x42])?.reply;
-                let Some(p0) = p0.as_ref().and_then(|r| r.get(2..6)).map(|b| [b[0], b[1], b[2], b[3]]) else {
+                let Some(p0) = read_position(c)? else {
                     return Ok(()); // not a position (e.g. locked, 02h): the oracle graded it
                 };
                 let shifted = ((u32::from_be_bytes(p0) as u64 + 7) % c.profile().range()) as u32;
@@ -500,8 +498,7 @@ pub fn catalogue() -> Vec<Case> {
             |c| {
                 let a = c.address();
                 let code0 = c.model.nonvolatile().codes[0];
-                let p0 = c.ask(&[a, 0x42])?.reply;
-                let Some(p0) = p0.as_ref().and_then(|r| r.get(2..6)).map(|b| [b[0], b[1], b[2], b[3]]) else {
+                let Some(p0) = read_position(c)? else {
                     return Ok(()); // not a position (e.g. locked, 02h): the oracle graded it
                 };
                 c.ask(&[a, 0x63, p0[0], p0[1], p0[2], p0[3], !code0])?;
@@ -599,6 +596,13 @@ pub fn catalogue() -> Vec<Case> {
             }
         ),
     ]
+}
+
+/// Read Position; the four position bytes, or `None` when the reply is no position.
+fn read_position(c: &mut Ctx<'_>) -> Result<Option<[u8; 4]>, CaseError> {
+    let a = c.address();
+    let reply = c.ask(&[a, 0x42])?.reply;
+    Ok(reply.as_ref().filter(|r| r.len() == 7 && r[1] & 0x7F == 0x42).and_then(|r| r[2..6].try_into().ok()))
 }
 
 /// If the model holds field `n`, guard its deletion (status bits as now stored).

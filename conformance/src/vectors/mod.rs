@@ -197,31 +197,11 @@ pub fn hex(bytes: &[u8]) -> String {
 }
 
 fn init_fault(name: &str) -> Result<InitFault, String> {
-    Ok(match name {
-        "alignment-data" => InitFault::AlignmentData,
-        "angular-offset" => InitFault::AngularOffset,
-        "partition-table" => InitFault::PartitionTable,
-        "analog-limits" => InitFault::AnalogLimits,
-        "type-code" => InitFault::TypeCode,
-        "watchdog" => InitFault::Watchdog,
-        "counter" => InitFault::Counter,
-        "extended-type-label" => InitFault::ExtendedTypeLabel,
-        "multiturn-parameters" => InitFault::MultiturnParameters,
-        _ => return Err(format!("unknown start-up fault `{name}`")),
-    })
+    InitFault::from_name(name).ok_or_else(|| format!("unknown start-up fault `{name}`"))
 }
 
 fn position_fault(name: &str) -> Result<PositionFault, String> {
-    Ok(match name {
-        "analog-signals" => PositionFault::AnalogSignals,
-        "analog-monitoring" => PositionFault::AnalogMonitoring,
-        "singleturn" => PositionFault::Singleturn,
-        "multiturn-amplitude" => PositionFault::MultiturnAmplitude,
-        "multiturn-sync" => PositionFault::MultiturnSync,
-        "multiturn-vector-length" => PositionFault::MultiturnVectorLength,
-        "multiturn-counter" => PositionFault::MultiturnCounter,
-        _ => return Err(format!("unknown position fault `{name}`")),
-    })
+    PositionFault::from_name(name).ok_or_else(|| format!("unknown position fault `{name}`"))
 }
 
 /// Why a vector does not replay.

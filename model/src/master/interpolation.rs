@@ -20,10 +20,13 @@ pub const ATAN_64: [u32; 65] = [
 /// Step 1: the octant, from the signs and magnitudes. // 000:3.2.4 step 1
 #[inline]
 pub const fn octant(sin: i32, cos: i32) -> u8 {
-    let s_pos = sin >= 0;
-    let c_pos = cos >= 0;
-    let s_smaller = sin.unsigned_abs() < cos.unsigned_abs();
-    match (s_pos, c_pos, s_smaller) {
+    octant_of(sin >= 0, cos >= 0, sin.unsigned_abs() < cos.unsigned_abs())
+}
+
+/// The octant table: `Vsin >= 0`, `Vcos >= 0`, `|Vsin| < |Vcos|`.
+#[inline]
+pub const fn octant_of(sin_non_negative: bool, cos_non_negative: bool, sin_smaller: bool) -> u8 {
+    match (sin_non_negative, cos_non_negative, sin_smaller) {
         (true, true, true) => 0,
         (true, true, false) => 1,
         (true, false, false) => 2,
@@ -37,8 +40,13 @@ pub const fn octant(sin: i32, cos: i32) -> u8 {
 
 /// Step 2: X and Y of the octant, both >= 0 with X <= Y. // 000:3.2.4 step 2
 #[inline]
-pub const fn transform(octant: u8, sin: i32, cos: i32) -> (i64, i64) {
-    let (s, c) = (sin as i64, cos as i64);
+pub fn transform(octant: u8, sin: i32, cos: i32) -> (i64, i64) {
+    transform_with(octant, sin as i64, cos as i64)
+}
+
+/// The transformation table, for any signed number type.
+#[inline]
+pub fn transform_with<T: Copy + core::ops::Neg<Output = T>>(octant: u8, s: T, c: T) -> (T, T) {
     match octant & 7 {
         0 => (s, c),
         1 => (c, s),
@@ -126,29 +134,8 @@ pub fn reference_degrees(sin: f64, cos: f64) -> Option<f64> {
     if sin == 0.0 && cos == 0.0 {
         return None;
     }
-    let s_pos = sin >= 0.0;
-    let c_pos = cos >= 0.0;
-    let s_smaller = abs(sin) < abs(cos);
-    let o = match (s_pos, c_pos, s_smaller) {
-        (true, true, true) => 0,
-        (true, true, false) => 1,
-        (true, false, false) => 2,
-        (true, false, true) => 3,
-        (false, false, true) => 4,
-        (false, false, false) => 5,
-        (false, true, false) => 6,
-        (false, true, true) => 7,
-    };
-    let (x, y) = match o {
-        0 => (sin, cos),
-        1 => (cos, sin),
-        2 => (-cos, sin),
-        3 => (sin, -cos),
-        4 => (-sin, -cos),
-        5 => (-cos, -sin),
-        6 => (cos, -sin),
-        _ => (-sin, cos),
-    };
+    let o = octant_of(sin >= 0.0, cos >= 0.0, abs(sin) < abs(cos));
+    let (x, y) = transform_with(o, sin, cos);
     let a = atan_unit(x / y) * 180.0 / core::f64::consts::PI;
     let base = 45.0 * o as f64;
     Some(if o % 2 == 0 { base + a } else { base + 45.0 - a })

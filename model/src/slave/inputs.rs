@@ -89,6 +89,25 @@ impl InitFault {
     const fn bit(self) -> u16 {
         1 << self as u16
     }
+
+    /// The fault's name in profiles, vectors and command lines.
+    pub const fn name(self) -> &'static str {
+        match self {
+            InitFault::AlignmentData => "alignment-data",
+            InitFault::AngularOffset => "angular-offset",
+            InitFault::PartitionTable => "partition-table",
+            InitFault::AnalogLimits => "analog-limits",
+            InitFault::TypeCode => "type-code",
+            InitFault::Watchdog => "watchdog",
+            InitFault::Counter => "counter",
+            InitFault::ExtendedTypeLabel => "extended-type-label",
+            InitFault::MultiturnParameters => "multiturn-parameters",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<InitFault> {
+        InitFault::ALL.into_iter().find(|f| f.name() == name)
+    }
 }
 
 /// Faults of the position measurement, reported on position commands while injected.
@@ -132,6 +151,23 @@ impl PositionFault {
             PositionFault::MultiturnVectorLength => FaultCode::MultiturnVectorLength,
             PositionFault::MultiturnCounter => FaultCode::MultiturnCounter,
         }
+    }
+
+    /// The fault's name in vectors and command lines.
+    pub const fn name(self) -> &'static str {
+        match self {
+            PositionFault::AnalogSignals => "analog-signals",
+            PositionFault::AnalogMonitoring => "analog-monitoring",
+            PositionFault::Singleturn => "singleturn",
+            PositionFault::MultiturnAmplitude => "multiturn-amplitude",
+            PositionFault::MultiturnSync => "multiturn-sync",
+            PositionFault::MultiturnVectorLength => "multiturn-vector-length",
+            PositionFault::MultiturnCounter => "multiturn-counter",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<PositionFault> {
+        PositionFault::ALL.into_iter().find(|f| f.name() == name)
     }
 
     /// Whether the fault locks position output until reset (linear 20h does, 000:T62).
