@@ -95,6 +95,10 @@ enum CertifyWhat {
         /// How values of the physical world are graded (default: exact for `sim`, by range otherwise).
         #[arg(long)]
         grading: Option<Grading>,
+        /// Timing jitter allowed before a reply's start is graded, ms (default: 2 on a
+        /// serial port or pseudo-terminal, 4 over TCP).
+        #[arg(long)]
+        tolerance_ms: Option<u64>,
         /// The simulated encoder's world (with `--port sim` or `virtual`).
         #[command(flatten)]
         world: WorldArgs,
@@ -237,6 +241,7 @@ fn certify_slave(what: CertifyWhat) -> ExitCode {
         cases,
         report: dir,
         grading,
+        tolerance_ms,
         world,
     } = what;
     let profile = match profile_file::resolve(&profile) {
@@ -270,7 +275,11 @@ fn certify_slave(what: CertifyWhat) -> ExitCode {
             Ok((s, port)) => {
                 let name = format!("{} (simulator)", s.path);
                 simulator = Some(s);
-                Box::new(SerialLine::from_port(port, name, profile.settings, true))
+                let mut line = SerialLine::from_port(port, name, profile.settings, true);
+                if let Some(ms) = tolerance_ms {
+                    line = line.with_tolerance(ms * 1000);
+                }
+                Box::new(line)
             }
             Err(e) => return fail(e),
         }

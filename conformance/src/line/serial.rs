@@ -13,6 +13,9 @@ use serialport::{DataBits, FlowControl, Parity, SerialPort, StopBits};
 use std::io::{ErrorKind, Read, Write};
 use std::time::{Duration, Instant};
 
+/// Scheduler and pseudo-terminal jitter on a loaded 2-core machine.
+pub const DEFAULT_TOLERANCE_US: u64 = 2_000;
+
 pub struct SerialLine {
     port: Box<dyn SerialPort>,
     name: String,
@@ -21,6 +24,7 @@ pub struct SerialLine {
     /// Pseudo-terminals ignore UART settings; real ports apply them.
     pseudo_terminal: bool,
     last_rx_us: u64,
+    tolerance_us: u64,
 }
 
 fn parity(s: UartSettings) -> Parity {
@@ -53,7 +57,21 @@ impl SerialLine {
         settings: UartSettings,
         pseudo_terminal: bool,
     ) -> SerialLine {
-        SerialLine { port, name, epoch: Instant::now(), settings, pseudo_terminal, last_rx_us: 0 }
+        SerialLine {
+            port,
+            name,
+            epoch: Instant::now(),
+            settings,
+            pseudo_terminal,
+            last_rx_us: 0,
+            tolerance_us: DEFAULT_TOLERANCE_US,
+        }
+    }
+
+    /// Allow this much timing jitter (µs) before a reply's start is graded.
+    pub fn with_tolerance(mut self, tolerance_us: u64) -> SerialLine {
+        self.tolerance_us = tolerance_us;
+        self
     }
 
     fn sleep_until(&self, t_us: u64) {
@@ -141,8 +159,7 @@ impl Line for SerialLine {
     }
 
     fn tolerance_us(&self) -> u64 {
-        // Scheduler and pseudo-terminal jitter on a loaded 2-core machine.
-        2_000
+        self.tolerance_us
     }
 
     fn describe(&self) -> String {

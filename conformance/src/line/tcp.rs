@@ -9,12 +9,16 @@ use std::io::{ErrorKind, Read, Write};
 use std::net::{TcpStream, ToSocketAddrs};
 use std::time::{Duration, Instant};
 
+/// Loopback TCP and the server's polling add jitter.
+pub const DEFAULT_TOLERANCE_US: u64 = 4_000;
+
 pub struct TcpLine {
     stream: TcpStream,
     address: String,
     epoch: Instant,
     settings: UartSettings,
     last_rx_us: u64,
+    tolerance_us: u64,
 }
 
 impl TcpLine {
@@ -28,7 +32,20 @@ impl TcpLine {
             .ok_or_else(|| open_err("no address".into()))?;
         let stream = TcpStream::connect_timeout(&addr, Duration::from_secs(5)).map_err(|e| open_err(e.to_string()))?;
         stream.set_nodelay(true).map_err(|e| open_err(e.to_string()))?;
-        Ok(TcpLine { stream, address: address.to_string(), epoch: Instant::now(), settings, last_rx_us: 0 })
+        Ok(TcpLine {
+            stream,
+            address: address.to_string(),
+            epoch: Instant::now(),
+            settings,
+            last_rx_us: 0,
+            tolerance_us: DEFAULT_TOLERANCE_US,
+        })
+    }
+
+    /// Allow this much timing jitter (µs) before a reply's start is graded.
+    pub fn with_tolerance(mut self, tolerance_us: u64) -> TcpLine {
+        self.tolerance_us = tolerance_us;
+        self
     }
 
     fn sleep_until(&self, t_us: u64) {
@@ -99,8 +116,7 @@ impl Line for TcpLine {
     }
 
     fn tolerance_us(&self) -> u64 {
-        // Loopback TCP and the server's polling add jitter.
-        4_000
+        self.tolerance_us
     }
 
     fn describe(&self) -> String {
