@@ -5,7 +5,6 @@
 //! character would be complete.
 
 use crate::certify::World;
-use hiperface_model::datalink::RxChar;
 use hiperface_model::{Hex, Profile, Slave};
 use serialport::SerialPort;
 use std::io::{ErrorKind, Read, Write};
@@ -30,7 +29,7 @@ pub fn serve(
     let mut slave = Slave::operational(profile);
     world.apply(&mut slave);
     let mut buf = [0u8; 64];
-    let mut last_rx = 0u64;
+    let mut rx_clock = crate::line::RxClock::default();
     port.set_timeout(Duration::from_micros(500)).map_err(std::io::Error::from)?;
     let mut port_settings = None;
     while !stop.load(Ordering::Relaxed) {
@@ -50,10 +49,7 @@ pub fn serve(
                 let t = now(epoch);
                 for b in &buf[..n] {
                     let ct = slave.listening_settings(t).unwrap_or_default().char_time_us();
-                    let (at, overrun) = crate::line::clock_pty_char(t, last_rx, ct);
-                    last_rx = at;
-                    let fault = overrun.then_some(hiperface_model::UartFault::Overrun);
-                    steps.extend(slave.receive(RxChar { byte: *b, at_us: at, fault }));
+                    steps.extend(slave.receive(rx_clock.stamp(*b, t, Some(ct))));
                 }
             }
             Err(e) if matches!(e.kind(), ErrorKind::TimedOut | ErrorKind::WouldBlock | ErrorKind::Interrupted) => {}

@@ -145,7 +145,17 @@ fn cli_certifies_the_simulator_and_writes_every_report() {
     let dir = std::env::temp_dir().join(format!("hf-cli-sim-{}", std::process::id()));
     let exe = env!("CARGO_BIN_EXE_hiperface");
     let out = Command::new(exe)
-        .args(["certify", "slave", "--port", "sim", "--tolerance-ms", "25", "--cases", "identity.*,protocol.*,position.read", "--report"])
+        .args([
+            "certify",
+            "slave",
+            "--port",
+            "sim",
+            "--tolerance-ms",
+            "25",
+            "--cases",
+            "identity.*,protocol.*,position.read",
+            "--report",
+        ])
         .arg(&dir)
         .output()
         .unwrap();

@@ -10,17 +10,51 @@ pub mod virtual_line;
 use hiperface_model::datalink::RxChar;
 use hiperface_model::UartSettings;
 
-/// Receive time of a character on a pseudo-terminal, where bytes arrive without a
-/// baud rate: a UART delivers them at least one character time apart, so
-/// `max(arrival, previous + char time)`. A backlog of more than one frame is more
-/// than any UART could have received: such a character is an overrun at its arrival.
-pub fn clock_pty_char(arrival_us: u64, previous_us: u64, char_time_us: u64) -> (u64, bool) {
-    let clocked = arrival_us.max(previous_us + char_time_us);
-    let backlog_limit = hiperface_model::frame::MAX_FRAME as u64 * char_time_us;
-    if clocked - arrival_us > backlog_limit {
-        (arrival_us, true)
-    } else {
-        (clocked, false)
+/// Receive times on a line. A UART stamps a character when it arrives. A
+/// pseudo-terminal or TCP has no baud rate: a UART would deliver the bytes at least
+/// one character time apart, so `max(arrival, previous + char time)`; a backlog of
+/// more than one frame is more than any UART could have received, and such a
+/// character is an overrun at its arrival.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct RxClock {
+    last_us: u64,
+}
+
+impl RxClock {
+    /// Stamp a byte. `clocked_char_time_us`: `Some` on lines without a baud rate.
+    pub fn stamp(&mut self, byte: u8, arrival_us: u64, clocked_char_time_us: Option<u64>) -> RxChar {
+        let (at_us, overrun) = match clocked_char_time_us {
+            Some(ct) => {
+                let clocked = arrival_us.max(self.last_us + ct);
+                if clocked - arrival_us > hiperface_model::frame::MAX_FRAME as u64 * ct {
+                    (arrival_us, true)
+                } else {
+                    (clocked, false)
+                }
+            }
+            None => (arrival_us, false),
+        };
+        self.last_us = at_us;
+        RxChar { byte, at_us, fault: overrun.then_some(hiperface_model::UartFault::Overrun) }
+    }
+}
+
+/// Wait for one byte until `until_us` (on the clock `now`), in slices of at most
+/// 20 ms: `read_within` waits up to the given time and answers `None` on a timeout.
+pub fn read_until(
+    now: impl Fn() -> u64,
+    until_us: u64,
+    mut read_within: impl FnMut(std::time::Duration) -> Result<Option<u8>, LineError>,
+) -> Result<Option<(u8, u64)>, LineError> {
+    loop {
+        let t = now();
+        if t > until_us {
+            return Ok(None);
+        }
+        let wait = std::time::Duration::from_micros((until_us - t).clamp(100, 20_000));
+        if let Some(b) = read_within(wait)? {
+            return Ok(Some((b, now())));
+        }
     }
 }
 

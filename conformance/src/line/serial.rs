@@ -23,7 +23,7 @@ pub struct SerialLine {
     settings: UartSettings,
     /// Pseudo-terminals ignore UART settings; real ports apply them.
     pseudo_terminal: bool,
-    last_rx_us: u64,
+    rx_clock: super::RxClock,
     tolerance_us: u64,
 }
 
@@ -63,7 +63,7 @@ impl SerialLine {
             epoch: Instant::now(),
             settings,
             pseudo_terminal,
-            last_rx_us: 0,
+            rx_clock: super::RxClock::default(),
             tolerance_us: DEFAULT_TOLERANCE_US,
         }
     }
@@ -112,31 +112,28 @@ impl Line for SerialLine {
     }
 
     fn recv(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError> {
-        let mut b = [0u8; 1];
-        loop {
-            let now = self.now_us();
-            if now > until_us {
-                return Ok(None);
-            }
-            let wait = Duration::from_micros((until_us - now).clamp(100, 20_000));
-            self.port.set_timeout(wait).map_err(|e| LineError::Io(e.into()))?;
-            match self.port.read(&mut b) {
-                Ok(1) => {
-                    let arrival = self.now_us();
-                    let (at, overrun) = if self.pseudo_terminal {
-                        super::clock_pty_char(arrival, self.last_rx_us, self.settings.char_time_us())
-                    } else {
-                        (arrival, false)
-                    };
-                    self.last_rx_us = at;
-                    let fault = overrun.then_some(hiperface_model::UartFault::Overrun);
-                    return Ok(Some(RxChar { byte: b[0], at_us: at, fault }));
+        let epoch = self.epoch;
+        let port = &mut self.port;
+        let got = super::read_until(
+            || epoch.elapsed().as_micros() as u64,
+            until_us,
+            |wait| {
+                port.set_timeout(wait).map_err(|e| LineError::Io(e.into()))?;
+                let mut b = [0u8; 1];
+                match port.read(&mut b) {
+                    Ok(1) => Ok(Some(b[0])),
+                    Ok(_) => Err(LineError::Gone("end of file".into())),
+                    Err(e)
+                        if matches!(e.kind(), ErrorKind::TimedOut | ErrorKind::WouldBlock | ErrorKind::Interrupted) =>
+                    {
+                        Ok(None)
+                    }
+                    Err(e) => Err(Self::gone(e)),
                 }
-                Ok(_) => return Err(LineError::Gone("end of file".into())),
-                Err(e) if e.kind() == ErrorKind::TimedOut || e.kind() == ErrorKind::WouldBlock => continue,
-                Err(e) => return Err(Self::gone(e)),
-            }
-        }
+            },
+        )?;
+        let clocked = self.pseudo_terminal.then(|| self.settings.char_time_us());
+        Ok(got.map(|(byte, arrival)| self.rx_clock.stamp(byte, arrival, clocked)))
     }
 
     fn wait_until(&mut self, t_us: u64) -> Result<(), LineError> {

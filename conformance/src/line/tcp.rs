@@ -1,8 +1,8 @@
 //! Raw TCP to a serial device server (`tcp://host:port`, e.g. ser2net). The server
 //! owns the UART; TCP has no baud rate, so received bytes are clocked like on a
-//! pseudo-terminal (see `clock_pty_char`), and the settings are the server's.
+//! pseudo-terminal (see `RxClock`), and the settings are the server's.
 
-use super::{clock_pty_char, Line, LineError};
+use super::{Line, LineError};
 use hiperface_model::datalink::RxChar;
 use hiperface_model::UartSettings;
 use std::io::{ErrorKind, Read, Write};
@@ -17,7 +17,7 @@ pub struct TcpLine {
     address: String,
     epoch: Instant,
     settings: UartSettings,
-    last_rx_us: u64,
+    rx_clock: super::RxClock,
     tolerance_us: u64,
 }
 
@@ -37,7 +37,7 @@ impl TcpLine {
             address: address.to_string(),
             epoch: Instant::now(),
             settings,
-            last_rx_us: 0,
+            rx_clock: super::RxClock::default(),
             tolerance_us: DEFAULT_TOLERANCE_US,
         })
     }
@@ -72,26 +72,29 @@ impl Line for TcpLine {
     }
 
     fn recv(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError> {
-        let mut b = [0u8; 1];
-        loop {
-            let now = self.now_us();
-            if now > until_us {
-                return Ok(None);
-            }
-            let wait = Duration::from_micros((until_us - now).clamp(100, 20_000));
-            self.stream.set_read_timeout(Some(wait))?;
-            match self.stream.read(&mut b) {
-                Ok(1) => {
-                    let (at, overrun) = clock_pty_char(self.now_us(), self.last_rx_us, self.settings.char_time_us());
-                    self.last_rx_us = at;
-                    let fault = overrun.then_some(hiperface_model::UartFault::Overrun);
-                    return Ok(Some(RxChar { byte: b[0], at_us: at, fault }));
+        let epoch = self.epoch;
+        let (stream, address) = (&mut self.stream, &self.address);
+        let got = super::read_until(
+            || epoch.elapsed().as_micros() as u64,
+            until_us,
+            |wait| {
+                stream.set_read_timeout(Some(wait))?;
+                let mut b = [0u8; 1];
+                match stream.read(&mut b) {
+                    Ok(1) => Ok(Some(b[0])),
+                    Ok(_) => Err(LineError::Gone(format!("tcp://{address} closed the connection"))),
+                    Err(e)
+                        if matches!(e.kind(), ErrorKind::TimedOut | ErrorKind::WouldBlock | ErrorKind::Interrupted) =>
+                    {
+                        Ok(None)
+                    }
+                    Err(e) => Err(LineError::Gone(e.to_string())),
                 }
-                Ok(_) => return Err(LineError::Gone(format!("tcp://{} closed the connection", self.address))),
-                Err(e) if matches!(e.kind(), ErrorKind::TimedOut | ErrorKind::WouldBlock | ErrorKind::Interrupted) => {}
-                Err(e) => return Err(LineError::Gone(e.to_string())),
-            }
-        }
+            },
+        )?;
+        // TCP has no baud rate: the server's UART delivered the bytes a character apart.
+        let clocked = Some(self.settings.char_time_us());
+        Ok(got.map(|(byte, arrival)| self.rx_clock.stamp(byte, arrival, clocked)))
     }
 
     fn wait_until(&mut self, t_us: u64) -> Result<(), LineError> {
