@@ -264,3 +264,27 @@ fn stack_not_deduplicated() {
     let f = &r.cases.iter().find(|c| c.id == "identity.status").unwrap().findings[0];
     assert!(f.message.contains("replied [40 D0 06 96], expected [40 50 03 13]"), "{}", f.message);
 }
+
+#[test]
+fn a_real_device_with_data_fields_is_adopted_not_failed() {
+    use hiperface_model::Knowledge;
+    // An encoder in the field: a motor nameplate in two data fields, a used counter.
+    let used = || {
+        let mut d = Defective::new(keep);
+        for body in [[0x40u8, 0x4D, 0, 0xC3, 0x55], [0x40, 0x4D, 1, 0x88, 0x55]] {
+            let mut f = body.to_vec();
+            f.push(checksum::xor(&body));
+            d.model.handle_frame(&f, 0);
+        }
+        d.model.set_counter(1234);
+        d
+    };
+    let black_box = Options { allow_writes: true, knowledge: Knowledge::PhysicalUnknown, ..Options::default() };
+    let r = certify::run(Box::new(VirtualLine::new(used())), profiles::srs50(), &black_box, |_, _, _| {});
+    assert!(r.passed(), "{:#?}", r.cases.iter().filter(|c| c.verdict == CaseVerdict::Fail).collect::<Vec<_>>());
+    assert!(r.notes[0].contains("2 data fields, 107 free blocks, counter 1234"), "{}", r.notes[0]);
+    // Without adopting (a model in factory state), the same device would be failed.
+    let exact = Options { allow_writes: true, ..Options::default() };
+    let r = certify::run(Box::new(VirtualLine::new(used())), profiles::srs50(), &exact, |_, _, _| {});
+    assert_eq!(verdict(&r, "fields.status"), CaseVerdict::Fail);
+}

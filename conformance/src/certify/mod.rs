@@ -480,6 +480,11 @@ pub fn run(
     options.world.apply(&mut model);
     let mut response_times = BTreeMap::new();
     let mut physical_min_us = 0u64;
+    // A real device is not in its factory state: adopt what it reports.
+    let mut adopted = None;
+    if options.knowledge == Knowledge::PhysicalUnknown {
+        adopted = discover(&mut master, &mut model);
+    }
     let catalogue = cases::catalogue();
     let selected: Vec<&Case> =
         catalogue.iter().filter(|c| options.cases.as_deref().is_none_or(|g| glob_match(g, c.id))).collect();
@@ -614,12 +619,42 @@ pub fn run(
         eeprom_writes: model.eeprom_writes(),
         wall_time_ms: started.elapsed().as_secs_f64() * 1000.0,
         physical_minimum_ms: physical_min_us as f64 / 1000.0,
-        notes: vec![
-            format!("Restores run by the harness after a case did not restore by itself: {restored}."),
+        notes: adopted
+            .into_iter()
+            .chain([format!("Restores run by the harness after a case did not restore by itself: {restored}.")])
+            .chain([
             "Power cycling is out of reach on a serial line: the power-up cases start from an Encoder Reset (53h), which 000:T29 says leads to the same initialization as power-on.".into(),
-        ],
+            ])
+            .collect(),
         aborted,
     }
+}
+
+/// Read a real device's data field table and counter (ungraded) and let the lockstep
+/// model adopt them; a note for the report, or `None` if the device did not tell.
+fn discover(master: &mut Master<Box<dyn Line>>, model: &mut Slave) -> Option<String> {
+    let a = model.nonvolatile().address.byte();
+    let mut ask = |body: &[u8]| -> Option<Vec<u8>> {
+        let mut f = body.to_vec();
+        f.push(checksum::xor(body));
+        let x = master.exchange(&f, 30).ok()?;
+        let r = x.reply_bytes()?;
+        (r.len() >= 3 && checksum::is_valid(&r) && r[1] & 0x7F == body[1]).then_some(r)
+    };
+    let memory = ask(&[a, 0x4E])?;
+    let (free, count) = (*memory.get(2)?, *memory.get(3)?);
+    let mut statuses = Vec::new();
+    for n in 0..count {
+        statuses.push(*ask(&[a, 0x4C, n])?.get(3)?);
+    }
+    let counter = ask(&[a, 0x46]).and_then(|r| Some(u32::from_be_bytes([0, *r.get(2)?, *r.get(3)?, *r.get(4)?])));
+    let counter_value = counter.unwrap_or(0);
+    model.adopt(&statuses, free, counter_value).then(|| {
+        format!(
+            "Adopted from the device before the catalogue: {count} data fields, {free} free blocks, counter {}.",
+            counter.map_or("unknown".into(), |c| c.to_string())
+        )
+    })
 }
 
 fn identity_from(result: &CaseResult, identity: &mut Identity) {

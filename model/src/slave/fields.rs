@@ -70,6 +70,18 @@ impl DataFields {
         DataFields { statuses: [0; MAX_FIELDS], count: 0, capacity_blocks, memory: [ERASED; MAX_MEMORY] }
     }
 
+    /// A table as a device reports it: capacity and the statuses of its fields (the
+    /// contents are unknown and read FFh). `None` if the statuses do not fit.
+    pub fn from_statuses(capacity_blocks: u8, statuses: &[u8]) -> Option<DataFields> {
+        let mut f = DataFields::new(capacity_blocks);
+        for s in statuses {
+            if !f.create(FieldStatus(*s)) {
+                return None;
+            }
+        }
+        Some(f)
+    }
+
     pub const fn count(&self) -> u8 {
         self.count
     }

@@ -262,6 +262,22 @@ impl Slave {
         self.nv.counter = value.min(0xFF_FFFF);
     }
 
+    /// Adopt the non-volatile state a real device reports (black-box runs): its data
+    /// field statuses with its free memory (contents unknown, read FFh) and its
+    /// counter. Returns `false`, changing nothing, if the statuses do not fit.
+    pub fn adopt(&mut self, field_statuses: &[u8], free_blocks: u8, counter: u32) -> bool {
+        let used: u32 = field_statuses.iter().map(|s| fields::FieldStatus(*s).blocks() as u32).sum();
+        let Ok(capacity) = u8::try_from(used + free_blocks as u32) else { return false };
+        match DataFields::from_statuses(capacity, field_statuses) {
+            Some(f) => {
+                self.nv.fields = f;
+                self.set_counter(counter);
+                true
+            }
+            None => false,
+        }
+    }
+
     /// Take the internal I2C bus down or bring it back. // 000:T43
     pub fn inject_i2c_fault(&mut self, on: bool) {
         self.injected.set_i2c(on);
