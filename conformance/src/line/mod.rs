@@ -39,6 +39,32 @@ impl RxClock {
     }
 }
 
+/// The clock of a real-time line: µs since the line opened, sleeping until a time,
+/// receive times, and the timing jitter graded with.
+#[derive(Debug, Clone, Copy)]
+pub struct RealTime {
+    epoch: std::time::Instant,
+    pub rx: RxClock,
+    pub tolerance_us: u64,
+}
+
+impl RealTime {
+    pub fn new(tolerance_us: u64) -> RealTime {
+        RealTime { epoch: std::time::Instant::now(), rx: RxClock::default(), tolerance_us }
+    }
+
+    pub fn now_us(&self) -> u64 {
+        self.epoch.elapsed().as_micros() as u64
+    }
+
+    pub fn sleep_until(&self, t_us: u64) {
+        let target = self.epoch + std::time::Duration::from_micros(t_us);
+        if let Some(d) = target.checked_duration_since(std::time::Instant::now()) {
+            std::thread::sleep(d);
+        }
+    }
+}
+
 /// Wait for one byte until `until_us` (on the clock `now`), in slices of at most
 /// 20 ms: `read_within` waits up to the given time and answers `None` on a timeout.
 pub fn read_until(

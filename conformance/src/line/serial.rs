@@ -11,7 +11,7 @@ use hiperface_model::settings::Parity as HfParity;
 use hiperface_model::UartSettings;
 use serialport::{DataBits, FlowControl, Parity, SerialPort, StopBits};
 use std::io::{ErrorKind, Read, Write};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// Scheduler and pseudo-terminal jitter on a loaded 2-core machine.
 pub const DEFAULT_TOLERANCE_US: u64 = 2_000;
@@ -19,12 +19,10 @@ pub const DEFAULT_TOLERANCE_US: u64 = 2_000;
 pub struct SerialLine {
     port: Box<dyn SerialPort>,
     name: String,
-    epoch: Instant,
+    time: super::RealTime,
     settings: UartSettings,
     /// Pseudo-terminals ignore UART settings; real ports apply them.
     pseudo_terminal: bool,
-    rx_clock: super::RxClock,
-    tolerance_us: u64,
 }
 
 fn parity(s: UartSettings) -> Parity {
@@ -57,29 +55,13 @@ impl SerialLine {
         settings: UartSettings,
         pseudo_terminal: bool,
     ) -> SerialLine {
-        SerialLine {
-            port,
-            name,
-            epoch: Instant::now(),
-            settings,
-            pseudo_terminal,
-            rx_clock: super::RxClock::default(),
-            tolerance_us: DEFAULT_TOLERANCE_US,
-        }
+        SerialLine { port, name, time: super::RealTime::new(DEFAULT_TOLERANCE_US), settings, pseudo_terminal }
     }
 
     /// Allow this much timing jitter (µs) before a reply's start is graded.
     pub fn with_tolerance(mut self, tolerance_us: u64) -> SerialLine {
-        self.tolerance_us = tolerance_us;
+        self.time.tolerance_us = tolerance_us;
         self
-    }
-
-    fn sleep_until(&self, t_us: u64) {
-        let target = self.epoch + Duration::from_micros(t_us);
-        let now = Instant::now();
-        if target > now {
-            std::thread::sleep(target - now);
-        }
     }
 
     fn gone(e: std::io::Error) -> LineError {
@@ -95,7 +77,7 @@ impl SerialLine {
 
 impl Line for SerialLine {
     fn now_us(&mut self) -> u64 {
-        self.epoch.elapsed().as_micros() as u64
+        self.time.now_us()
     }
 
     fn send(&mut self, bytes: &[u8]) -> Result<u64, LineError> {
@@ -107,15 +89,15 @@ impl Line for SerialLine {
         // On a pseudo-terminal the write is the first character's receive time.
         let end = if self.pseudo_terminal { start + n.saturating_sub(1) * ct } else { start + n * ct };
         // Half duplex: the line is busy until the last character is out.
-        self.sleep_until(end);
+        self.time.sleep_until(end);
         Ok(end)
     }
 
     fn recv(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError> {
-        let epoch = self.epoch;
+        let time = self.time;
         let port = &mut self.port;
         let got = super::read_until(
-            || epoch.elapsed().as_micros() as u64,
+            || time.now_us(),
             until_us,
             |wait| {
                 port.set_timeout(wait).map_err(|e| LineError::Io(e.into()))?;
@@ -133,11 +115,11 @@ impl Line for SerialLine {
             },
         )?;
         let clocked = self.pseudo_terminal.then(|| self.settings.char_time_us());
-        Ok(got.map(|(byte, arrival)| self.rx_clock.stamp(byte, arrival, clocked)))
+        Ok(got.map(|(byte, arrival)| self.time.rx.stamp(byte, arrival, clocked)))
     }
 
     fn wait_until(&mut self, t_us: u64) -> Result<(), LineError> {
-        self.sleep_until(t_us);
+        self.time.sleep_until(t_us);
         Ok(())
     }
 
@@ -156,7 +138,7 @@ impl Line for SerialLine {
     }
 
     fn tolerance_us(&self) -> u64 {
-        self.tolerance_us
+        self.time.tolerance_us
     }
 
     fn describe(&self) -> String {

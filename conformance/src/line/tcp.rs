@@ -7,7 +7,7 @@ use hiperface_model::datalink::RxChar;
 use hiperface_model::UartSettings;
 use std::io::{ErrorKind, Read, Write};
 use std::net::{TcpStream, ToSocketAddrs};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// Loopback TCP and the server's polling add jitter.
 pub const DEFAULT_TOLERANCE_US: u64 = 4_000;
@@ -15,10 +15,8 @@ pub const DEFAULT_TOLERANCE_US: u64 = 4_000;
 pub struct TcpLine {
     stream: TcpStream,
     address: String,
-    epoch: Instant,
+    time: super::RealTime,
     settings: UartSettings,
-    rx_clock: super::RxClock,
-    tolerance_us: u64,
 }
 
 impl TcpLine {
@@ -32,33 +30,19 @@ impl TcpLine {
             .ok_or_else(|| open_err("no address".into()))?;
         let stream = TcpStream::connect_timeout(&addr, Duration::from_secs(5)).map_err(|e| open_err(e.to_string()))?;
         stream.set_nodelay(true).map_err(|e| open_err(e.to_string()))?;
-        Ok(TcpLine {
-            stream,
-            address: address.to_string(),
-            epoch: Instant::now(),
-            settings,
-            rx_clock: super::RxClock::default(),
-            tolerance_us: DEFAULT_TOLERANCE_US,
-        })
+        Ok(TcpLine { stream, address: address.to_string(), time: super::RealTime::new(DEFAULT_TOLERANCE_US), settings })
     }
 
     /// Allow this much timing jitter (µs) before a reply's start is graded.
     pub fn with_tolerance(mut self, tolerance_us: u64) -> TcpLine {
-        self.tolerance_us = tolerance_us;
+        self.time.tolerance_us = tolerance_us;
         self
-    }
-
-    fn sleep_until(&self, t_us: u64) {
-        let target = self.epoch + Duration::from_micros(t_us);
-        if let Some(d) = target.checked_duration_since(Instant::now()) {
-            std::thread::sleep(d);
-        }
     }
 }
 
 impl Line for TcpLine {
     fn now_us(&mut self) -> u64 {
-        self.epoch.elapsed().as_micros() as u64
+        self.time.now_us()
     }
 
     fn send(&mut self, bytes: &[u8]) -> Result<u64, LineError> {
@@ -67,15 +51,15 @@ impl Line for TcpLine {
         self.stream.write_all(bytes).map_err(|e| LineError::Gone(e.to_string()))?;
         // The server's UART clocks the frame out from now on.
         let end = start + bytes.len() as u64 * ct;
-        self.sleep_until(end);
+        self.time.sleep_until(end);
         Ok(end)
     }
 
     fn recv(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError> {
-        let epoch = self.epoch;
+        let time = self.time;
         let (stream, address) = (&mut self.stream, &self.address);
         let got = super::read_until(
-            || epoch.elapsed().as_micros() as u64,
+            || time.now_us(),
             until_us,
             |wait| {
                 stream.set_read_timeout(Some(wait))?;
@@ -94,11 +78,11 @@ impl Line for TcpLine {
         )?;
         // TCP has no baud rate: the server's UART delivered the bytes a character apart.
         let clocked = Some(self.settings.char_time_us());
-        Ok(got.map(|(byte, arrival)| self.rx_clock.stamp(byte, arrival, clocked)))
+        Ok(got.map(|(byte, arrival)| self.time.rx.stamp(byte, arrival, clocked)))
     }
 
     fn wait_until(&mut self, t_us: u64) -> Result<(), LineError> {
-        self.sleep_until(t_us);
+        self.time.sleep_until(t_us);
         Ok(())
     }
 
@@ -119,7 +103,7 @@ impl Line for TcpLine {
     }
 
     fn tolerance_us(&self) -> u64 {
-        self.tolerance_us
+        self.time.tolerance_us
     }
 
     fn describe(&self) -> String {
