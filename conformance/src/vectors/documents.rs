@@ -2,7 +2,7 @@
 //! silently: 000 Table 7, the 19 request/response pairs of 001 §5.1.4, and the
 //! data-field definition example of 002.
 
-use super::{ChecksumExample, Erratum, Flag, Inputs, Outcome, Setup, Step, Vector, VectorFile, SCHEMA_VERSION};
+use super::{ChecksumExample, Erratum, Flag, Inputs, Outcome, Step, Vector, VectorFile, SCHEMA_VERSION};
 
 const S36: &str = "001_9b88135b33541945.txt";
 const LEGACY: &str = "002_e12c1515b772d61c.txt";
@@ -20,24 +20,17 @@ fn step(request: &str, response: Option<&str>) -> Step {
 
 /// The S36 of 001 in the state its examples show: position 0, 37 °C, no fields.
 fn s36(section: &str, id: &str, command: &str, clauses: &[&str], meaning: &str) -> Vector {
-    Vector {
-        id: format!("001-{section}-{id}"),
-        source: format!("{S36} §{section}"),
-        clauses: clauses.iter().map(|c| c.to_string()).chain(["001:5.1.4".to_string()]).collect(),
-        profile: "Kuebler-S36-ST".into(),
-        command: command.into(),
-        setup: Setup {
-            inputs: Some(Inputs { position: Some(0), temperature_c: Some(37), ..Inputs::default() }),
-            ..Setup::default()
-        },
-        steps: Vec::new(),
-        checksum_example: None,
-        table_case: None,
-        result: Outcome::Valid,
-        flags: Vec::new(),
-        erratum: None,
-        meaning: meaning.into(),
-    }
+    let clauses: Vec<&str> = clauses.iter().copied().chain(["001:5.1.4"]).collect();
+    let mut v = Vector::new(
+        format!("001-{section}-{id}"),
+        format!("{S36} §{section}"),
+        &clauses,
+        "Kuebler-S36-ST",
+        command.into(),
+        meaning.into(),
+    );
+    v.setup.inputs = Some(Inputs { position: Some(0), temperature_c: Some(37), ..Inputs::default() });
+    v
 }
 
 fn with(mut v: Vector, steps: Vec<Step>) -> Vector {
@@ -60,19 +53,15 @@ pub fn file() -> VectorFile {
     let mut v = Vec::new();
     for (n, frame, sum) in [(1, "40 42", "02"), (2, "40 4E 70 00", "7E")] {
         v.push(Vector {
-            id: format!("000-t7-{n}"),
-            source: "000_a065519ffa299c0b.txt Table 7".into(),
-            clauses: vec!["000:2.3.3".into(), "000:T7".into()],
-            profile: "SRS50".into(),
-            command: "checksum".into(),
-            setup: Setup::default(),
-            steps: Vec::new(),
             checksum_example: Some(ChecksumExample { frame: frame.into(), checksum: sum.into() }),
-            table_case: None,
-            result: Outcome::Valid,
-            flags: Vec::new(),
-            erratum: None,
-            meaning: "XOR of all frame bytes including the address".into(),
+            ..Vector::new(
+                format!("000-t7-{n}"),
+                "000_a065519ffa299c0b.txt Table 7".into(),
+                &["000:2.3.3", "000:T7"],
+                "SRS50",
+                "checksum".into(),
+                "XOR of all frame bytes including the address".into(),
+            )
         });
     }
     let create_c8 = "40 4D 00 C8 55 90";
@@ -174,16 +163,7 @@ pub fn file() -> VectorFile {
     seq[4].note = Some("Code2 55h -> 66h".into());
     seq[5].note = Some("store 08h 15h at offset 5 of field 1 with code 66h".into());
     v.push(Vector {
-        id: "002-data-field-example".into(),
-        source: format!("{LEGACY} Example: Data Field Definition"),
-        clauses: ["000:T25", "000:T24", "000:T26", "000:T22", "000:T48", "002:example"].map(String::from).to_vec(),
-        profile: "Legacy-SRS".into(),
-        command: "4Dh".into(),
-        setup: Setup::default(),
         steps: seq,
-        checksum_example: None,
-        table_case: None,
-        result: Outcome::Valid,
         flags: vec![Flag::Erratum, Flag::Legacy, Flag::BadChecksum],
         erratum: Some(Erratum {
             printed: "40 4D 01 E0 55 69".into(),
@@ -192,7 +172,14 @@ pub fn file() -> VectorFile {
                      \"code must be given\" (that would be E8h)"
                 .into(),
         }),
-        meaning: "Starting from address 40h, codes 55h and 128 bytes free: two fields, a code change, a store".into(),
+        ..Vector::new(
+            "002-data-field-example".into(),
+            format!("{LEGACY} Example: Data Field Definition"),
+            &["000:T25", "000:T24", "000:T26", "000:T22", "000:T48", "002:example"],
+            "Legacy-SRS",
+            "4Dh".into(),
+            "Starting from address 40h, codes 55h and 128 bytes free: two fields, a code change, a store".into(),
+        )
     });
     VectorFile {
         schema_version: SCHEMA_VERSION,

@@ -43,19 +43,8 @@ fn vector(
     meaning: &str,
 ) -> Vector {
     let mut v = Vector {
-        id: id.into(),
-        source: "generated".into(),
-        clauses: clauses.iter().map(|c| c.to_string()).collect(),
-        profile: profile.name.to_string(),
-        command: command.into(),
         setup,
-        steps: Vec::new(),
-        checksum_example: None,
-        table_case: None,
-        result: Outcome::Valid,
-        flags: Vec::new(),
-        erratum: None,
-        meaning: meaning.into(),
+        ..Vector::new(id.into(), "generated".into(), clauses, profile.name.as_str(), command.into(), meaning.into())
     };
     let mut slave = match prepare(&v) {
         Ok(s) => s,

@@ -1,7 +1,7 @@
 //! Master-side table vectors (000 chapter 3): generated from the spec's tables and
 //! evaluated against the model's master references.
 
-use super::{Outcome, TableCase, Vector, VectorFile, SCHEMA_VERSION};
+use super::{TableCase, Vector, VectorFile, SCHEMA_VERSION};
 use hiperface_model::fault::{FaultCode, FaultGroup, Severity, FAULT_TABLE};
 use hiperface_model::master::fault_reaction;
 use hiperface_model::master::interpolation;
@@ -91,19 +91,15 @@ pub fn evaluate(table: &str, input: &str) -> Result<String, String> {
 fn case(id: String, table: &str, clause: &str, input: String, meaning: String) -> Vector {
     let output = evaluate(table, &input).unwrap_or_else(|e| format!("GENERATOR ERROR: {e}"));
     Vector {
-        id,
-        source: "000_a065519ffa299c0b.txt chapter 3".into(),
-        clauses: vec![clause.into()],
-        profile: "Reference".into(),
-        command: format!("master: {table}"),
-        setup: Default::default(),
-        steps: Vec::new(),
-        checksum_example: None,
         table_case: Some(TableCase { table: table.into(), input, output }),
-        result: Outcome::Valid,
-        flags: Vec::new(),
-        erratum: None,
-        meaning,
+        ..Vector::new(
+            id,
+            "000_a065519ffa299c0b.txt chapter 3".into(),
+            &[clause],
+            "Reference",
+            format!("master: {table}"),
+            meaning,
+        )
     }
 }
 

@@ -183,6 +183,34 @@ pub struct Vector {
     pub meaning: String,
 }
 
+impl Vector {
+    /// A valid vector with no setup, steps, flags or erratum yet.
+    pub fn new(
+        id: String,
+        source: String,
+        clauses: &[&str],
+        profile: &str,
+        command: String,
+        meaning: String,
+    ) -> Vector {
+        Vector {
+            id,
+            source,
+            clauses: clauses.iter().map(|c| c.to_string()).collect(),
+            profile: profile.into(),
+            command,
+            setup: Setup::default(),
+            steps: Vec::new(),
+            checksum_example: None,
+            table_case: None,
+            result: Outcome::Valid,
+            flags: Vec::new(),
+            erratum: None,
+            meaning,
+        }
+    }
+}
+
 fn is_default_setup(s: &Setup) -> bool {
     *s == Setup::default()
 }
