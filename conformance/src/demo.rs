@@ -49,7 +49,7 @@ fn exchange(slave: &mut Slave, title: &'static str, request: Vec<u8>, at_us: u64
             if let Reply::Silent(_) = s.outcome.reply {
                 idle = s.received.complete_us;
             }
-            (reply, window, s.outcome.clause)
+            (reply, window, s.outcome.clause.id())
         }
         None => (None, None, "000:T9"),
     };

@@ -6,6 +6,7 @@ pub mod certify;
 pub mod demo;
 pub mod line;
 pub mod master;
+pub mod port;
 pub mod profile_file;
 pub mod report;
 pub mod simulate;

@@ -1,12 +1,9 @@
 //! The `hiperface` command.
 
 use clap::{Parser, Subcommand, ValueEnum};
-use hiperface_conformance::certify::{self, CaseVerdict, Options};
-use hiperface_conformance::line::serial::SerialLine;
-use hiperface_conformance::line::tcp::TcpLine;
-use hiperface_conformance::line::virtual_line::VirtualLine;
-use hiperface_conformance::line::Line;
-use hiperface_conformance::simulate::{self, PtySimulator};
+use hiperface_conformance::certify::{self, CaseVerdict, Options, TimingMode};
+use hiperface_conformance::port::{self, PortSpec};
+use hiperface_conformance::simulate;
 use hiperface_conformance::{demo, profile_file, report};
 use hiperface_model::command::COMMAND_TABLE;
 use hiperface_model::slave::inputs::{InitFault, PhysicalInputs};
@@ -73,7 +70,7 @@ enum CertifyWhat {
         /// `virtual` (the reference model in-process, virtual time), a serial port path,
         /// or `tcp://host:port` (a serial device server such as ser2net).
         #[arg(long)]
-        port: String,
+        port: PortSpec,
         /// The device's profile: a built-in name or a TOML file.
         #[arg(long, default_value = "SRS50")]
         profile: String,
@@ -99,6 +96,11 @@ enum CertifyWhat {
         /// serial port or pseudo-terminal, 4 over TCP).
         #[arg(long)]
         tolerance_ms: Option<u64>,
+        /// How reply timing is graded: strict (FAIL outside the window), lenient
+        /// (NON-STRICT, with the figure), off (reported only). Default: strict, lenient
+        /// through a USB adapter whose latency timer could not be lowered.
+        #[arg(long, value_enum)]
+        timing: Option<TimingMode>,
         /// The simulated encoder's world (with `--port sim` or `virtual`).
         #[command(flatten)]
         world: WorldArgs,
@@ -175,45 +177,48 @@ enum Grading {
     Range,
 }
 
+/// Why a command could not do its job: exit code 2 (bad input, a port that cannot be
+/// opened, a report that cannot be written). A device that FAILs is exit code 1.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+struct CliError(String);
+
+impl CliError {
+    fn from(e: impl std::fmt::Display) -> CliError {
+        CliError(e.to_string())
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    match cli.command {
+    let result = match cli.command {
         Command::Certify { what } => certify_slave(what),
         Command::Simulate { port, profile, log, world } => run_simulator(&port, &profile, log, &world.world()),
-        Command::Demo { profile } => match profile_file::resolve(&profile) {
-            Ok(p) => {
-                print!("{}", demo::run(p));
-                ExitCode::SUCCESS
-            }
-            Err(e) => fail(e),
-        },
+        Command::Demo { profile } => profile_file::resolve(&profile).map_err(CliError::from).map(|p| {
+            print!("{}", demo::run(p));
+            ExitCode::SUCCESS
+        }),
         Command::Profiles => {
             for (name, make) in hiperface_model::profiles::BUILTIN {
                 let p = make();
                 println!("{name:<16} {:?} edition, type {:02X}h, range {} steps", p.edition, p.type_code, p.range());
             }
-            ExitCode::SUCCESS
+            Ok(ExitCode::SUCCESS)
         }
-        Command::CheckProfile { profile } => match profile_file::resolve(&profile) {
-            Ok(p) => {
-                println!(
-                    "{}: valid ({:?} edition, {} commands, range {} steps)",
-                    p.name,
-                    p.edition,
-                    p.commands.iter().count(),
-                    p.range()
-                );
-                ExitCode::SUCCESS
-            }
-            Err(e) => fail(e),
-        },
-        Command::ExportProfile { profile } => match profile_file::resolve(&profile) {
-            Ok(p) => {
-                print!("{}", profile_file::to_toml(&p));
-                ExitCode::SUCCESS
-            }
-            Err(e) => fail(e),
-        },
+        Command::CheckProfile { profile } => profile_file::resolve(&profile).map_err(CliError::from).map(|p| {
+            println!(
+                "{}: valid ({:?} edition, {} commands, range {} steps)",
+                p.name,
+                p.edition,
+                p.commands.iter().count(),
+                p.range()
+            );
+            ExitCode::SUCCESS
+        }),
+        Command::ExportProfile { profile } => profile_file::resolve(&profile).map_err(CliError::from).map(|p| {
+            print!("{}", profile_file::to_toml(&p));
+            ExitCode::SUCCESS
+        }),
         Command::Vectors { what } => vectors_command(what),
         Command::Commands => {
             println!("{:<6} {:<50} {:>8}  master  slave", "cmd", "name", "max ms");
@@ -221,17 +226,16 @@ fn main() -> ExitCode {
                 let ms = s.max_response_ms.map_or("-".to_string(), |m| m.to_string());
                 println!("{:02X}h    {:<50} {:>8}  {:?}  {:?}", s.id.byte(), s.name, ms, s.master_data, s.slave_data);
             }
-            ExitCode::SUCCESS
+            Ok(ExitCode::SUCCESS)
         }
-    }
+    };
+    result.unwrap_or_else(|e| {
+        eprintln!("error: {e}");
+        ExitCode::from(2)
+    })
 }
 
-fn fail(e: impl std::fmt::Display) -> ExitCode {
-    eprintln!("error: {e}");
-    ExitCode::from(2)
-}
-
-fn certify_slave(what: CertifyWhat) -> ExitCode {
+fn certify_slave(what: CertifyWhat) -> Result<ExitCode, CliError> {
     let CertifyWhat::Slave {
         port,
         profile,
@@ -242,19 +246,33 @@ fn certify_slave(what: CertifyWhat) -> ExitCode {
         report: dir,
         grading,
         tolerance_ms,
+        timing,
         world,
     } = what;
-    let profile = match profile_file::resolve(&profile) {
-        Ok(p) => p,
-        Err(e) => return fail(e),
-    };
-    let sim = port == "sim" || port == "virtual";
+    let profile = profile_file::resolve(&profile).map_err(CliError::from)?;
+    let sim = port.is_model();
     let knowledge = match grading {
         Some(Grading::Exact) => Knowledge::Exact,
         Some(Grading::Range) => Knowledge::PhysicalUnknown,
         None if sim => Knowledge::Exact,
         None => Knowledge::PhysicalUnknown,
     };
+    let world = if sim { world.world() } else { certify::World::default() };
+    let opened = match port::open_for_slave(&port, profile, &world, tolerance_ms.map(|ms| ms * 1000)) {
+        Ok(o) => o,
+        Err(e) => {
+            if let Some(dir) = &dir {
+                let options = Options { knowledge, timing: timing.unwrap_or(TimingMode::Strict), ..Options::default() };
+                let partial =
+                    certify::Report::aborted_before_start(&profile, &port.to_string(), &options, &e.to_string());
+                if report::write_all(&partial, dir).is_ok() {
+                    eprintln!("partial report written to {}", dir.display());
+                }
+            }
+            return Err(CliError::from(e));
+        }
+    };
+    let (default_timing, timing_reason) = opened.default_timing;
     let options = Options {
         allow_writes: allow_writes || sim,
         allow_counter_change: allow_counter_change || sim,
@@ -262,47 +280,15 @@ fn certify_slave(what: CertifyWhat) -> ExitCode {
         cases,
         knowledge,
         interrupt: Some(interrupt_flag()),
-        world: if sim { world.world() } else { certify::World::default() },
+        world,
+        timing: timing.unwrap_or(default_timing),
     };
+    if let (None, Some(reason)) = (timing, &timing_reason) {
+        eprintln!("note: {reason}");
+    }
     // Keep the simulator alive for the whole run.
-    let mut simulator = None;
-    let line: Box<dyn Line> = if port == "virtual" {
-        let mut device = hiperface_model::Slave::operational(profile);
-        options.world.apply(&mut device);
-        Box::new(VirtualLine::new(device))
-    } else if sim {
-        match PtySimulator::start_in(profile, options.world.clone()) {
-            Ok((s, port)) => {
-                let name = format!("{} (simulator)", s.path);
-                simulator = Some(s);
-                let mut line = SerialLine::from_port(port, name, profile.settings, true);
-                if let Some(ms) = tolerance_ms {
-                    line = line.with_tolerance(ms * 1000);
-                }
-                Box::new(line)
-            }
-            Err(e) => return fail(e),
-        }
-    } else {
-        let opened: Result<Box<dyn Line>, _> = match port.strip_prefix("tcp://") {
-            Some(address) => {
-                TcpLine::connect(address, hiperface_model::UartSettings::DEFAULT).map(|l| Box::new(l) as _)
-            }
-            None => SerialLine::open(&port, hiperface_model::UartSettings::DEFAULT).map(|l| Box::new(l) as _),
-        };
-        match opened {
-            Ok(l) => l,
-            Err(e) => {
-                if let Some(dir) = &dir {
-                    let partial = certify::Report::aborted_before_start(&profile, &port, &e.to_string());
-                    if report::write_all(&partial, dir).is_ok() {
-                        eprintln!("partial report written to {}", dir.display());
-                    }
-                }
-                return fail(e);
-            }
-        }
-    };
+    let simulator = opened.simulator;
+    let line = opened.line;
     eprintln!("certifying {} on {}", profile.name, line.describe());
     // A progress bar on a terminal; plain lines in logs.
     let bar = std::io::IsTerminal::is_terminal(&std::io::stderr()).then(|| {
@@ -314,8 +300,11 @@ fn certify_slave(what: CertifyWhat) -> ExitCode {
     });
     let report = certify::run(line, profile, &options, |i, n, r| {
         let mut text = format!("[{i:>2}/{n}] {:<16} {}", r.verdict.label(), r.id);
-        for f in r.findings.iter().filter(|f| f.verdict == CaseVerdict::Fail || f.verdict == CaseVerdict::Error) {
-            text.push_str(&format!("\n          {} ({})", f.message, f.clause));
+        for f in r.findings.iter().filter(|f| matches!(f.verdict(), CaseVerdict::Fail | CaseVerdict::Error)) {
+            text.push_str(&format!("\n          {}", f.message()));
+            if !f.clause_id().is_empty() {
+                text.push_str(&format!(" ({})", f.clause_id()));
+            }
         }
         match &bar {
             Some(b) => {
@@ -333,17 +322,11 @@ fn certify_slave(what: CertifyWhat) -> ExitCode {
     drop(simulator);
     summarize(&report, &profile);
     if let Some(dir) = dir {
-        if let Err(e) = report::write_all(&report, &dir) {
-            eprintln!("error: cannot write the report to {}: {e}", dir.display());
-            return ExitCode::from(2);
-        }
+        report::write_all(&report, &dir)
+            .map_err(|e| CliError(format!("cannot write the report to {}: {e}", dir.display())))?;
         eprintln!("reports written to {}", dir.display());
     }
-    if report.passed() {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::from(1)
-    }
+    Ok(if report.passed() { ExitCode::SUCCESS } else { ExitCode::from(1) })
 }
 
 fn summarize(report: &certify::Report, profile: &Profile) {
@@ -352,51 +335,50 @@ fn summarize(report: &certify::Report, profile: &Profile) {
     if report.line.starts_with("in-process virtual") {
         println!(
             "virtual time: {:.0} ms of line time run in {:.1} ms; EEPROM writes {}",
-            report.physical_minimum_ms, report.wall_time_ms, report.eeprom_writes
+            report.physical_minimum_ms, report.wall_time_ms, report.safety.eeprom_writes
         );
-    } else {
+    } else if report.physical_minimum_ms > 0.0 {
         println!(
             "wall time {:.0} ms; physical minimum from the wire log {:.0} ms (ratio {:.2}); EEPROM writes {}",
             report.wall_time_ms,
             report.physical_minimum_ms,
-            report.wall_time_ms / report.physical_minimum_ms.max(1.0),
-            report.eeprom_writes
+            report.wall_time_ms / report.physical_minimum_ms,
+            report.safety.eeprom_writes
         );
+    } else {
+        println!("wall time {:.0} ms; nothing was exchanged", report.wall_time_ms);
     }
     if let Some(a) = &report.aborted {
         println!("ABORTED: {a}");
     }
+    if !report.safety.restored() {
+        println!("CHECK THE DEVICE: the run may have left it changed (not a verdict on the device):");
+        for c in report.safety.changed.iter().chain(&report.safety.bookkeeping) {
+            println!("  {c}");
+        }
+    }
     println!("{}", if report.passed() { "PASSED" } else { "NOT PASSED" });
 }
 
-fn run_simulator(port: &str, profile: &str, log: bool, world: &certify::World) -> ExitCode {
-    let profile = match profile_file::resolve(profile) {
-        Ok(p) => p,
-        Err(e) => return fail(e),
-    };
+fn run_simulator(port: &str, profile: &str, log: bool, world: &certify::World) -> Result<ExitCode, CliError> {
+    let profile = profile_file::resolve(profile).map_err(CliError::from)?;
     let port: Box<dyn serialport::SerialPort> = if port == "pty" {
-        match serialport::TTYPort::pair() {
-            Ok((sim_end, other)) => {
-                println!("{}", other.name().unwrap_or_default());
-                // Keep the other end open so the pseudo-terminal lives until we stop.
-                std::mem::forget(other);
-                Box::new(sim_end)
-            }
-            Err(e) => return fail(format!("cannot create a pseudo-terminal pair: {e}")),
-        }
+        let (sim_end, other) =
+            serialport::TTYPort::pair().map_err(|e| CliError(format!("cannot create a pseudo-terminal pair: {e}")))?;
+        println!("{}", other.name().unwrap_or_default());
+        // Keep the other end open so the pseudo-terminal lives until we stop.
+        std::mem::forget(other);
+        Box::new(sim_end)
     } else {
-        match serialport::new(port, profile.settings.baud.bits_per_second()).open() {
-            Ok(p) => p,
-            Err(e) => return fail(format!("cannot open {port}: {e}")),
-        }
+        serialport::new(port, profile.settings.baud.bits_per_second())
+            .open()
+            .map_err(|e| CliError(format!("cannot open {port}: {e}")))?
     };
     let stop = Arc::new(AtomicBool::new(false));
     let mut stderr = std::io::stderr();
     let log: Option<&mut dyn std::io::Write> = if log { Some(&mut stderr) } else { None };
-    match simulate::serve(port, profile, world, stop, log) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => fail(e),
-    }
+    simulate::serve(port, profile, world, stop, log).map_err(CliError::from)?;
+    Ok(ExitCode::SUCCESS)
 }
 
 /// A flag set by Ctrl-C: the run stops after the current exchange, restores what the
@@ -413,67 +395,55 @@ fn interrupt_flag() -> Arc<AtomicBool> {
     flag
 }
 
-fn vectors_command(what: VectorsCommand) -> ExitCode {
+fn vectors_command(what: VectorsCommand) -> Result<ExitCode, CliError> {
     use hiperface_conformance::vectors;
     match what {
         VectorsCommand::Generate { dir } => {
             let mut files = vec![("documents.json", vectors::documents::file())];
             files.extend(vectors::generate::files());
             for (name, file) in files {
-                let json = match serde_json::to_string_pretty(&file) {
-                    Ok(j) => j + "\n",
-                    Err(e) => return fail(e),
-                };
-                if let Err(e) = std::fs::write(dir.join(name), json) {
-                    return fail(format!("{}: {e}", dir.join(name).display()));
-                }
-                println!("{}: {} vectors", dir.join(name).display(), file.vectors.len());
+                let json = serde_json::to_string_pretty(&file).map_err(CliError::from)? + "\n";
+                let path = dir.join(name);
+                std::fs::write(&path, json).map_err(|e| CliError(format!("{}: {e}", path.display())))?;
+                println!("{}: {} vectors", path.display(), file.vectors.len());
             }
-            ExitCode::SUCCESS
+            Ok(ExitCode::SUCCESS)
         }
-        VectorsCommand::Verify { dir } => match vectors::verify_dir(&dir) {
-            Ok((count, failures)) if failures.is_empty() => {
+        VectorsCommand::Verify { dir } => {
+            let (count, failures) = vectors::verify_dir(&dir).map_err(CliError::from)?;
+            if failures.is_empty() {
                 println!("{count} vectors verified: schema, checksums, agreement with the model");
-                ExitCode::SUCCESS
+                return Ok(ExitCode::SUCCESS);
             }
-            Ok((count, failures)) => {
-                for f in &failures {
-                    println!("FAIL {f}");
-                }
-                println!("{} of {count} vectors failed", failures.len());
-                ExitCode::from(1)
+            for f in &failures {
+                println!("FAIL {f}");
             }
-            Err(e) => fail(e),
-        },
+            println!("{} of {count} vectors failed", failures.len());
+            Ok(ExitCode::from(1))
+        }
         VectorsCommand::Export { format, out, dir } => {
             let mut files = Vec::new();
-            let paths = match vectors::files(&dir) {
-                Ok(p) => p,
-                Err(e) => return fail(e),
-            };
-            for path in paths {
-                match vectors::load(&path) {
-                    Ok(f) => files.push(f),
-                    Err(e) => return fail(e),
-                }
+            for path in vectors::files(&dir).map_err(CliError::from)? {
+                files.push(vectors::load(&path).map_err(CliError::from)?);
             }
             let (name, text) = match format {
                 ExportFormat::Markdown => ("vectors.md", vectors::export::markdown(&files)),
-                ExportFormat::Json => match serde_json::to_string_pretty(&vectors::export::tables(&files)) {
-                    Ok(j) => ("vectors-tables.json", j + "\n"),
-                    Err(e) => return fail(e),
-                },
+                ExportFormat::Json => {
+                    let json =
+                        serde_json::to_string_pretty(&vectors::export::tables(&files)).map_err(CliError::from)?;
+                    ("vectors-tables.json", json + "\n")
+                }
             };
             match out {
                 Some(dir) => {
-                    if let Err(e) = std::fs::create_dir_all(&dir).and_then(|()| std::fs::write(dir.join(name), text)) {
-                        return fail(format!("{}: {e}", dir.display()));
-                    }
+                    std::fs::create_dir_all(&dir)
+                        .and_then(|()| std::fs::write(dir.join(name), text))
+                        .map_err(|e| CliError(format!("{}: {e}", dir.display())))?;
                     println!("{}", dir.join(name).display());
                 }
                 None => print!("{text}"),
             }
-            ExitCode::SUCCESS
+            Ok(ExitCode::SUCCESS)
         }
     }
 }

@@ -2,10 +2,10 @@
 //! protocol mandates, and the reply framed by the inter-character timeout exactly as
 //! the model's data link frames it. Every read is bounded in time.
 
-use crate::line::{Line, LineError};
+use crate::line::{Line, LineError, Window};
 use hiperface_model::datalink::{DataLink, RxChar};
 use hiperface_model::frame::MAX_FRAME;
-use hiperface_model::{Edition, UartSettings};
+use hiperface_model::{checksum, Edition, UartSettings};
 
 /// One request and what came back.
 #[derive(Debug, Clone)]
@@ -15,14 +15,21 @@ pub struct Exchange {
     pub stray: Vec<RxChar>,
     /// When the master began writing the request.
     pub sent_start_us: u64,
-    /// Receive time of the request's last character at the slave.
-    pub sent_end_us: u64,
-    /// When the slave's frame timeout after the request elapsed (000:2.2.2).
-    pub complete_us: u64,
+    /// When the slave received the request's last character.
+    pub request_end: Window,
     /// The reply's characters; empty for silence.
     pub reply: Vec<RxChar>,
+    /// When the reply's first start bit began.
+    pub reply_start: Option<Window>,
+    /// Characters that came after the reply had ended (a pause of at least the
+    /// timeout, 000:2.2.2) and before the next request could start: the rest of a
+    /// reply with a gap, a late reply, or noise. Empty on a conformant line.
+    pub trailing: Vec<RxChar>,
     pub settings: UartSettings,
     pub timeout_us: u64,
+    /// The longest the harness woke late from a timed wait during the exchange: its
+    /// own scheduling delay, which bounds how late it may have noticed a character.
+    pub harness_late_us: u64,
 }
 
 impl Exchange {
@@ -30,20 +37,22 @@ impl Exchange {
         (!self.reply.is_empty()).then(|| self.reply.iter().map(|c| c.byte).collect())
     }
 
-    /// When the reply's first start bit began.
-    pub fn reply_start_us(&self) -> Option<u64> {
-        self.reply.first().map(|c| c.at_us.saturating_sub(self.settings.char_time_us()))
+    /// When the slave's frame timeout after the request elapsed (000:2.2.2).
+    pub fn complete(&self) -> Window {
+        self.request_end.shifted(self.timeout_us)
     }
 
-    /// The longest idle time between two characters of the reply.
-    pub fn max_gap_us(&self) -> u64 {
-        let ct = self.settings.char_time_us();
-        self.reply.windows(2).map(|w| w[1].at_us.saturating_sub(w[0].at_us).saturating_sub(ct)).max().unwrap_or(0)
+    /// The harness's point estimate of when the request was complete: the earliest
+    /// reading (exact where the line knows).
+    pub fn complete_us(&self) -> u64 {
+        self.complete().earliest_us
     }
 
-    /// Reply start relative to the end of the request's timeout, µs (negative: early).
-    pub fn response_time_us(&self) -> Option<i64> {
-        self.reply_start_us().map(|s| s as i64 - self.complete_us as i64)
+    /// Reply start relative to the end of the request's timeout, µs (negative:
+    /// early): the least and the most the line's uncertainty allows.
+    pub fn response_time_us(&self) -> Option<(i64, i64)> {
+        let (s, c) = (self.reply_start?, self.complete());
+        Some((s.earliest_us as i64 - c.latest_us as i64, s.latest_us as i64 - c.earliest_us as i64))
     }
 }
 
@@ -64,9 +73,9 @@ impl<L: Line> Master<L> {
         self.line.settings().timeout_us(self.edition)
     }
 
-    /// Send `request` and collect the reply. `max_response_ms` bounds the wait for
-    /// the first character (after the request's timeout), with the line's tolerance.
-    pub fn exchange(&mut self, request: &[u8], max_response_ms: u16) -> Result<Exchange, LineError> {
+    /// Send `request` and collect the reply. `listen_ms` bounds the wait for the
+    /// first character (after the request's timeout), with the line's tolerance.
+    pub fn exchange(&mut self, request: &[u8], listen_ms: u16) -> Result<Exchange, LineError> {
         let settings = self.line.settings();
         let timeout = self.timeout_us();
         let ct = settings.char_time_us();
@@ -80,9 +89,10 @@ impl<L: Line> Master<L> {
         }
         self.line.wait_until(ready)?;
         let sent_start_us = self.line.now_us();
-        let sent_end_us = self.line.send(request)?;
-        let complete_us = sent_end_us + timeout;
-        let deadline = complete_us + max_response_ms as u64 * 1000 + ct + self.line.tolerance_us() + timeout;
+        self.line.take_lateness_us();
+        let sent = self.line.send(request)?;
+        let complete = sent.end.shifted(timeout);
+        let deadline = complete.latest_us + listen_ms as u64 * 1000 + ct + self.line.tolerance_us() + timeout;
         let mut reply = Vec::new();
         let mut link = DataLink::new(timeout);
         if let Some(first) = self.line.recv(deadline)? {
@@ -100,17 +110,39 @@ impl<L: Line> Master<L> {
                 }
             }
         }
-        let end = reply.last().map_or(complete_us.max(self.line.now_us()), |c| c.at_us);
+        let mut end = reply.last().map_or(complete.latest_us.max(self.line.now_us()), |c| c.at_us);
+        // The pause before the next request belongs to this exchange: whatever arrives
+        // in it is this exchange's (000:2.2.2: a transmission ends with a pause of at
+        // least the timeout), not unsolicited traffic before the next one.
+        // A reply that does not check (cut short, or with a bad checksum) may go on
+        // after a gap: listen as long as for a reply, so that its rest is this
+        // exchange's finding and not a collision with the next request.
+        let bytes: Vec<u8> = reply.iter().map(|c| c.byte).collect();
+        let cut = !bytes.is_empty() && (bytes.len() < 3 || !checksum::is_valid(&bytes));
+        let pause = if cut { timeout.max(listen_ms as u64 * 1000) } else { timeout };
+        let mut trailing = Vec::new();
+        while trailing.len() < 2 * MAX_FRAME {
+            match self.line.recv(end + pause)? {
+                Some(c) => {
+                    end = c.at_us;
+                    trailing.push(c);
+                }
+                None => break,
+            }
+        }
         self.idle_since_us = end;
+        let reply_start = reply.first().map(|c| self.line.start_of(c));
         Ok(Exchange {
             request: request.to_vec(),
             stray,
             sent_start_us,
-            sent_end_us,
-            complete_us,
+            request_end: sent.end,
             reply,
+            reply_start,
+            trailing,
             settings,
             timeout_us: timeout,
+            harness_late_us: self.line.take_lateness_us(),
         })
     }
 

@@ -6,6 +6,7 @@
 use hiperface_model::command::{CommandId, CommandSet};
 use hiperface_model::profile::{
     AdjustmentOption, AnalogChannel, AnalogEncoding, AnalogSource, ExtendedTypeLabel, Resolution, StackOrder, Text,
+    VersionPins,
 };
 use hiperface_model::settings::{Baud, Edition, UartSettings};
 use hiperface_model::{profiles, Profile, SlaveAddress};
@@ -83,6 +84,10 @@ struct Identity {
     firmware: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     firmware_date: Option<String>,
+    /// Which of serial, firmware, firmware_date a device must report exactly; the
+    /// others are a sample unit's values, graded by their form. Default: none.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pinned: Option<Vec<String>>,
 }
 
 #[derive(Debug, Deserialize, Serialize)]
@@ -266,6 +271,23 @@ pub fn parse(text: &str, path: &Path) -> Result<Profile, ProfileLoadError> {
             p.firmware_date =
                 fixed(s).ok_or_else(|| invalid("identity.firmware_date", "must be at most 8 ASCII bytes".into()))?;
         }
+        if let Some(pinned) = &id.pinned {
+            let mut pins = VersionPins::default();
+            for key in pinned {
+                match key.as_str() {
+                    "serial" => pins.serial = true,
+                    "firmware" => pins.firmware = true,
+                    "firmware_date" => pins.date = true,
+                    other => {
+                        return Err(invalid(
+                            "identity.pinned",
+                            format!("`{other}` is none of serial, firmware, firmware_date"),
+                        ))
+                    }
+                }
+            }
+            p.version_pins = pins;
+        }
     }
     if let Some(i) = &file.interface {
         if let Some(a) = i.address {
@@ -440,6 +462,17 @@ pub fn to_toml(p: &Profile) -> String {
             serial: Some(text(&p.serial)),
             firmware: Some(text(&p.firmware)),
             firmware_date: Some(text(&p.firmware_date)),
+            pinned: Some(
+                [
+                    (p.version_pins.serial, "serial"),
+                    (p.version_pins.firmware, "firmware"),
+                    (p.version_pins.date, "firmware_date"),
+                ]
+                .into_iter()
+                .filter(|(on, _)| *on)
+                .map(|(_, k)| k.to_string())
+                .collect(),
+            ),
         }),
         interface: Some(Interface {
             address: Some(p.address.byte()),

@@ -1,7 +1,7 @@
 //! Reports of a certification run: JSON and JUnit XML for CI, a Markdown and an HTML
 //! certificate for people. The wire log is included for every failing case.
 
-use crate::certify::{CaseVerdict, Report};
+use crate::certify::{CaseVerdict, Finding, Report, TimingMode};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -22,7 +22,7 @@ pub fn junit(report: &Report) -> String {
     let mut suite = TestSuite::new(format!("hiperface certify slave ({})", report.profile));
     for c in &report.cases {
         let detail: String =
-            c.findings.iter().map(|f| format!("[{}] {} ({})\n", f.verdict.label(), f.message, f.clause)).collect();
+            c.findings.iter().map(|f| format!("[{}] {}\n", f.verdict().label(), finding_text(f))).collect();
         let status = match c.verdict {
             CaseVerdict::Pass | CaseVerdict::NonStrict => TestCaseStatus::success(),
             CaseVerdict::NotApplicable => {
@@ -64,48 +64,31 @@ pub fn markdown(r: &Report) -> String {
     let verdict = if r.passed() { "PASSED" } else { "NOT PASSED" };
     let _ = writeln!(s, "# HIPERFACE slave certificate: {verdict}\n");
     let _ = writeln!(s, "| | |\n|---|---|");
-    let _ = writeln!(s, "| tool | {} |", r.tool);
-    let _ = writeln!(s, "| profile | {} ({} edition) |", r.profile, r.edition);
-    let _ = writeln!(s, "| line | {} |", r.line);
-    let _ = writeln!(s, "| grading | {} |", r.knowledge);
-    if let Some(t) = &r.identity.type_label {
-        let _ = writeln!(s, "| type label reply | `{t}` |");
+    for (k, v) in header(r) {
+        let _ = writeln!(s, "| {k} | {} |", v.replace('|', "\\|"));
     }
-    for (k, v) in [
-        ("serial number", &r.identity.serial),
-        ("firmware", &r.identity.firmware),
-        ("firmware date", &r.identity.firmware_date),
-    ] {
-        if let Some(v) = v {
-            let _ = writeln!(s, "| {k} | {v} |");
-        }
-    }
-    let _ = writeln!(s, "| EEPROM writes | {} |", r.eeprom_writes);
-    let _ = writeln!(
-        s,
-        "| wall time | {:.0} ms (physical minimum from the wire log {:.0} ms) |",
-        r.wall_time_ms, r.physical_minimum_ms
-    );
-    let summary: Vec<String> = r.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
-    let _ = writeln!(s, "| verdicts | {} |", summary.join(", "));
     if let Some(a) = &r.aborted {
         let _ = writeln!(s, "| **aborted** | {a} (partial report) |");
     }
     let _ = writeln!(s, "\n## Cases\n\n| case | verdict | clauses | title |\n|---|---|---|---|");
     for c in &r.cases {
-        let _ = writeln!(s, "| `{}` | {} | {} | {} |", c.id, c.verdict.label(), c.clauses.join(", "), c.title);
+        let _ = writeln!(s, "| `{}` | {} | {} | {} |", c.id, c.verdict.label(), c.clause_list(), c.title);
     }
     let _ = writeln!(s, "\n## Findings\n");
     for c in r.cases.iter().filter(|c| !c.findings.is_empty() && c.verdict != CaseVerdict::NotApplicable) {
         let _ = writeln!(s, "### `{}`: {}\n", c.id, c.verdict.label());
         for f in &c.findings {
-            let _ = writeln!(s, "- {}: {} ({})", f.verdict.label(), f.message, f.clause);
+            let _ = writeln!(s, "- {}: {}", f.verdict().label(), finding_text(f));
         }
         if c.verdict == CaseVerdict::Fail {
             let _ = writeln!(s, "\nWire log:\n\n```\n{}```\n", wire_text(c));
         }
     }
-    let _ = writeln!(s, "\n## Response times (after the request's timeout)\n\n| command | n | min | median | max |\n|---|---|---|---|---|");
+    let _ = writeln!(s, "\n## Safety: the device as the run left it\n");
+    for line in safety_lines(r) {
+        let _ = writeln!(s, "- {line}");
+    }
+    let _ = writeln!(s, "\n## Response times (at most, after the request's timeout)\n\n| command | n | min | median | max |\n|---|---|---|---|---|");
     for t in &r.response_times {
         let ms = |us: i64| format!("{:.3} ms", us as f64 / 1000.0);
         let _ =
@@ -116,6 +99,65 @@ pub fn markdown(r: &Report) -> String {
         let _ = writeln!(s, "- {n}");
     }
     s
+}
+
+fn finding_text(f: &Finding) -> String {
+    match f.clause_id() {
+        "" => f.message().to_string(),
+        id => format!("{} ({id})", f.message()),
+    }
+}
+
+/// The certificate's header: what was certified, how, and what it said of itself.
+fn header(r: &Report) -> Vec<(&'static str, String)> {
+    let mut rows = vec![
+        ("tool", r.tool.clone()),
+        ("profile", format!("{} ({} edition)", r.profile, r.edition)),
+        ("line", r.line.clone()),
+        ("timing", timing_text(r)),
+        ("grading of physical values", r.knowledge.clone()),
+    ];
+    rows.extend(r.identity.lines());
+    rows.push((
+        "wall time",
+        format!("{:.0} ms (physical minimum from the wire log {:.0} ms)", r.wall_time_ms, r.physical_minimum_ms),
+    ));
+    let summary: Vec<String> = r.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
+    rows.push(("verdicts", summary.join(", ")));
+    rows
+}
+
+fn timing_text(r: &Report) -> String {
+    let mode = match r.timing {
+        TimingMode::Strict => "strict: a reply outside its window FAILs",
+        TimingMode::Lenient => "lenient: a reply outside its window is NON-STRICT",
+        TimingMode::Off => "off: measured, not graded",
+    };
+    let mut t = format!(
+        "{mode}; line tolerance {:.3} ms, plus the harness's own scheduling delay where measured (at most {:.3} ms)",
+        r.tolerance_us as f64 / 1000.0,
+        r.harness_late_us as f64 / 1000.0
+    );
+    for n in &r.line_notes {
+        t.push_str("; ");
+        t.push_str(n);
+    }
+    t
+}
+
+fn safety_lines(r: &Report) -> Vec<String> {
+    let s = &r.safety;
+    let mut out = vec![if s.restored() {
+        "Restored: everything the device reports of its stored state reads as before the run, and the harness's record of what it cannot read agrees.".to_string()
+    } else {
+        "**Check the device**: the run may have left it changed (not a verdict on the device; see below).".to_string()
+    }];
+    out.extend(s.changed.iter().map(|c| format!("changed (read back from the device): {c}")));
+    out.extend(s.bookkeeping.iter().map(|c| format!("changed by the harness's record (unreadable state): {c}")));
+    out.extend(s.verified.iter().map(|c| format!("read back unchanged: {c}")));
+    out.push(format!("EEPROM writes: {}; restores run by the harness: {}", s.eeprom_writes, s.restores_run));
+    out.extend(s.notes.iter().cloned());
+    out
 }
 
 fn escape(t: &str) -> String {
@@ -134,23 +176,13 @@ pub fn html(r: &Report) -> String {
     );
     let verdict = if r.passed() { "PASSED" } else { "NOT PASSED" };
     let _ = write!(s, "<h1>HIPERFACE slave certificate: {verdict}</h1><table>");
-    let rows = [
-        ("tool", r.tool.clone()),
-        ("profile", format!("{} ({} edition)", r.profile, r.edition)),
-        ("line", r.line.clone()),
-        ("type label reply", r.identity.type_label.clone().unwrap_or_default()),
-        ("serial number", r.identity.serial.clone().unwrap_or_default()),
-        ("firmware", r.identity.firmware.clone().unwrap_or_default()),
-        ("EEPROM writes", r.eeprom_writes.to_string()),
-        ("wall time", format!("{:.0} ms (physical minimum {:.0} ms)", r.wall_time_ms, r.physical_minimum_ms)),
-    ];
+    let rows = header(r);
     for (k, v) in rows {
         let _ = write!(s, "<tr><th>{k}</th><td>{}</td></tr>", escape(&v));
     }
     let _ = write!(s, "</table><h2>Cases</h2><table><tr><th>case</th><th>verdict</th><th>clauses</th><th>title</th><th>findings</th></tr>");
     for c in &r.cases {
-        let findings: String =
-            c.findings.iter().map(|f| format!("{} ({})<br>", escape(&f.message), escape(&f.clause))).collect();
+        let findings: String = c.findings.iter().map(|f| format!("{}<br>", escape(&finding_text(f)))).collect();
         let wire = if c.verdict == CaseVerdict::Fail {
             format!("<pre>{}</pre>", escape(&wire_text(c)))
         } else {
@@ -162,11 +194,15 @@ pub fn html(r: &Report) -> String {
             c.id,
             c.verdict.label(),
             c.verdict.label(),
-            c.clauses.join(", "),
+            c.clause_list(),
             escape(c.title)
         );
     }
-    let _ = write!(s, "</table><h2>Response times</h2><table><tr><th>command</th><th>n</th><th>min ms</th><th>median ms</th><th>max ms</th></tr>");
+    let _ = write!(s, "</table><h2>Safety: the device as the run left it</h2><ul>");
+    for line in safety_lines(r) {
+        let _ = write!(s, "<li>{}</li>", escape(&line));
+    }
+    let _ = write!(s, "</ul><h2>Response times (at most, after the request's timeout)</h2><table><tr><th>command</th><th>n</th><th>min ms</th><th>median ms</th><th>max ms</th></tr>");
     for t in &r.response_times {
         let _ = write!(
             s,

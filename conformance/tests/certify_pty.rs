@@ -83,10 +83,11 @@ fn the_port_gone_mid_run_leaves_a_partial_report() {
     assert!(started.elapsed() < Duration::from_secs(30), "must not hang");
     assert!(report.aborted.is_some(), "{:#?}", report.cases.iter().map(|c| (c.id, c.verdict)).collect::<Vec<_>>());
     let n = certify::cases::catalogue().len();
-    assert_eq!(report.cases.len(), n + 1, "every case is accounted for, and the final safety check");
+    assert_eq!(report.cases.len(), n, "every case is accounted for");
     assert!(report.cases[..4].iter().all(|c| c.verdict == CaseVerdict::Pass));
     assert!(report.cases[5..n].iter().all(|c| matches!(c.verdict, CaseVerdict::Error | CaseVerdict::NotApplicable)));
-    assert_eq!(report.cases[n].id, "safety.restored");
+    // The safety section says what the harness could not check, not a verdict.
+    assert!(report.safety.notes.iter().any(|n| n.contains("not read back")), "{:#?}", report.safety);
 }
 
 #[test]
@@ -112,8 +113,7 @@ fn garbage_on_the_line_fails_without_hanging() {
     babbler.join().unwrap();
     assert!(started.elapsed() < Duration::from_secs(20), "must not hang");
     assert!(!report.passed());
-    let graded = report.cases.iter().filter(|c| c.id != "safety.restored");
-    assert!(graded.clone().all(|c| c.verdict == CaseVerdict::Fail), "{:#?}", report.cases);
+    assert!(report.cases.iter().all(|c| c.verdict == CaseVerdict::Fail), "{:#?}", report.cases);
 }
 
 #[test]

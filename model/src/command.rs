@@ -1,6 +1,6 @@
 //! The command byte and the command table. // 000:T6, 000:T8, 000:T10, 002 command overview
 
-use crate::clause::{self, ClauseId};
+use crate::clause::{self, Normative};
 use crate::fault::FaultCode::{self, *};
 use core::fmt;
 
@@ -192,7 +192,7 @@ pub struct CommandSpec {
     pub errors: &'static [FaultCode],
     pub optional: bool,
     pub editions: Editions,
-    pub clause: ClauseId,
+    pub clause: Normative,
 }
 
 impl CommandSpec {

@@ -2,11 +2,12 @@
 //! leave latitude. PASS is the preferred answer, NON-STRICT an acceptable one (with
 //! the reason), FAIL one the specification does not allow.
 
-use crate::clause::{self, ClauseId};
+use crate::clause::{self, Clause, Normative};
 use crate::command::CommandId;
 use crate::fault::{FaultCode, FaultGroup};
-use crate::response::{Response, ResponseError, ResponseFrame};
+use crate::response::{Response, ResponseError, ResponseFrame, Version};
 use crate::settings::Edition;
+use crate::slave::fields::Contents;
 use crate::slave::{Outcome, Reply, Slave};
 use core::fmt;
 
@@ -93,6 +94,20 @@ pub enum Deviation {
     UnseenFault {
         code: FaultCode,
     },
+    /// Read Encoder Status says nothing is active but sets the warning bit.
+    WarningWithoutCode,
+    /// A Read Version value the profile pins differs.
+    VersionDiffers {
+        field: &'static str,
+    },
+    /// A Read Version value breaks the form the documents give it.
+    VersionForm {
+        field: &'static str,
+        problem: &'static str,
+    },
+    /// Bytes of a data field created in this run and never written differ from the
+    /// erased value the model assumes.
+    UnwrittenContents,
 }
 
 impl fmt::Display for Deviation {
@@ -138,27 +153,49 @@ impl fmt::Display for Deviation {
             Deviation::UnseenFault { code } => {
                 write!(f, "the device reports {code}, a fault of its world the model cannot see")
             }
+            Deviation::WarningWithoutCode => f.write_str(
+                "Read Encoder Status reports no active warning or error (00h) but the reply sets the warning bit",
+            ),
+            Deviation::VersionDiffers { field } => write!(f, "the {field} differs from the one the profile pins"),
+            Deviation::VersionForm { field, problem } => write!(f, "the {field} {problem}"),
+            Deviation::UnwrittenContents => {
+                f.write_str("a new data field's unwritten bytes are not FFh (erased EEPROM, the project's assumption)")
+            }
         }
     }
 }
 
-/// A verdict with its reason and the clause it rests on.
+/// A verdict with its reason and the clause it rests on. A FAIL always rests on a
+/// normative clause that binds the device's edition: the constructors see to it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Grade {
-    pub verdict: Verdict,
-    pub deviation: Option<Deviation>,
-    pub clause: ClauseId,
+    verdict: Verdict,
+    deviation: Option<Deviation>,
+    clause: Clause,
 }
 
 impl Grade {
-    const fn pass(clause: ClauseId) -> Grade {
-        Grade { verdict: Verdict::Pass, deviation: None, clause }
+    fn pass(clause: impl Into<Clause>) -> Grade {
+        Grade { verdict: Verdict::Pass, deviation: None, clause: clause.into() }
     }
-    const fn non_strict(d: Deviation, clause: ClauseId) -> Grade {
-        Grade { verdict: Verdict::NonStrict, deviation: Some(d), clause }
+    fn non_strict(d: Deviation, clause: impl Into<Clause>) -> Grade {
+        Grade { verdict: Verdict::NonStrict, deviation: Some(d), clause: clause.into() }
     }
-    const fn fail(d: Deviation, clause: ClauseId) -> Grade {
-        Grade { verdict: Verdict::Fail, deviation: Some(d), clause }
+    /// FAIL where `rule` binds a device of `edition`; NON-STRICT where it does not
+    /// (a rule of the other edition's document).
+    fn against(d: Deviation, rule: Normative, edition: Edition) -> Grade {
+        let verdict = if rule.binds(edition) { Verdict::Fail } else { Verdict::NonStrict };
+        Grade { verdict, deviation: Some(d), clause: rule.clause() }
+    }
+
+    pub fn verdict(&self) -> Verdict {
+        self.verdict
+    }
+    pub fn deviation(&self) -> Option<Deviation> {
+        self.deviation
+    }
+    pub fn clause(&self) -> Clause {
+        self.clause
     }
 }
 
@@ -194,26 +231,34 @@ impl Oracle {
         expected: &Outcome,
         observed: Option<&[u8]>,
     ) -> Grade {
+        let edition = before.profile().edition;
         let command = request.get(1).map(|b| CommandId::decode(b & 0x7F)).unwrap_or(CommandId::Unknown(0));
         let expected_frame = match (expected.reply, observed) {
             (Reply::Silent(_), None) => return Grade::pass(expected.clause),
-            (Reply::Silent(_), Some(_)) => return Grade::fail(Deviation::UnexpectedReply, expected.clause),
-            (Reply::Frame(_), None) => return Grade::fail(Deviation::NoReply, expected.clause),
+            (Reply::Silent(_), Some(_)) => {
+                return Grade::against(Deviation::UnexpectedReply, expected.clause, edition);
+            }
+            (Reply::Frame(_), None) => {
+                // A silent broadcast breaks 2.3.1 whatever the command. // 000:2.3.1
+                let c = if request.first() == Some(&0xFF) { clause::BROADCAST } else { expected.clause };
+                return Grade::against(Deviation::NoReply, c, edition);
+            }
             (Reply::Frame(e), Some(_)) => e,
         };
         let bytes = observed.unwrap_or(&[]);
         let found = match ResponseFrame::decode(bytes, command) {
             Ok(found) => found,
             Err(ResponseError::WrongLength { to: CommandId::ReadVersion, data_len })
-                if before.profile().edition == Edition::Legacy && data_len < 37 =>
+                if edition == Edition::Legacy && data_len < 37 =>
             {
                 return Grade::non_strict(Deviation::ShortVersion { data_len }, clause::LEGACY_VERSION);
             }
-            Err(e) => return Grade::fail(Deviation::Malformed(e), malformed_clause(e)),
+            Err(e) => return Grade::against(Deviation::Malformed(e), malformed_clause(e), edition),
         };
         if found.address != expected_frame.address {
             let c = if command == CommandId::SetEncoderAddress { clause::SET_ADDRESS } else { clause::BROADCAST };
-            return Grade::fail(Deviation::WrongAddress { expected: expected_frame.address, found: found.address }, c);
+            let d = Deviation::WrongAddress { expected: expected_frame.address, found: found.address };
+            return Grade::against(d, c, edition);
         }
         // An error response to 50h has the bytes of a status reply. // 000:2.3.4
         let found = match (expected_frame.response, found.response) {
@@ -222,15 +267,19 @@ impl Oracle {
             }
             _ => found,
         };
+        // "Nothing active" with the warning bit contradicts itself, whatever the world. // 000:T27
+        if found.response == Response::EncoderStatus(FaultCode::NoFault) && found.warning {
+            return Grade::against(Deviation::WarningWithoutCode, clause::WARNING_BIT, edition);
+        }
         let active = before.listening_settings(at_us).map(|s| s.byte());
         let content = self.content(before, active, expected, &expected_frame, &found);
         if content.verdict == Verdict::Fail {
             return content;
         }
         let warning = match (expected_frame.warning, found.warning) {
-            (true, false) => Some(Grade::fail(Deviation::WarningBitMissing, clause::WARNING_BIT)),
+            (true, false) => Some(Grade::against(Deviation::WarningBitMissing, clause::WARNING_BIT, edition)),
             (false, true) if self.knowledge == Knowledge::Exact => {
-                Some(Grade::fail(Deviation::WarningBitUnexpected, clause::WARNING_BIT))
+                Some(Grade::against(Deviation::WarningBitUnexpected, clause::WARNING_BIT, edition))
             }
             (false, true) => Some(Grade::non_strict(Deviation::WarningBitUnexpected, clause::WARNING_BIT)),
             _ => None,
@@ -250,6 +299,8 @@ impl Oracle {
         found: &ResponseFrame,
     ) -> Grade {
         let c = expected.clause;
+        let edition = before.profile().edition;
+        let wrong = |d| Grade::against(d, c, edition);
         match (e.response, found.response) {
             (Response::Error(pref), Response::Error(got)) if pref == got => Grade::pass(c),
             (Response::EncoderStatus(pref), Response::EncoderStatus(got)) if pref == got => Grade::pass(c),
@@ -257,13 +308,13 @@ impl Oracle {
                 Grade::non_strict(Deviation::OtherApplicableError { preferred: pref, found: got }, clause::CHECK_ORDER)
             }
             (Response::Error(pref), Response::Error(got)) => {
-                Grade::fail(Deviation::WrongError { expected: pref, found: got }, c)
+                wrong(Deviation::WrongError { expected: pref, found: got })
             }
             (_, Response::Error(got)) if expected.also.contains(got) => {
                 Grade::non_strict(Deviation::TolerableError { found: got }, c)
             }
-            (_, Response::Error(got)) => Grade::fail(Deviation::ErrorInsteadOfReply { found: got }, c),
-            (Response::Error(pref), _) => Grade::fail(Deviation::ReplyInsteadOfError { expected: pref }, c),
+            (_, Response::Error(got)) => wrong(Deviation::ErrorInsteadOfReply { found: got }),
+            (Response::Error(pref), _) => wrong(Deviation::ReplyInsteadOfError { expected: pref }),
             (a, b) if a == b => Grade::pass(c),
             (
                 Response::TypeLabel { settings: stored, type_code, memory_blocks, option },
@@ -272,8 +323,17 @@ impl Oracle {
                 Deviation::ActiveSettingsInTypeLabel { stored, active: got },
                 clause::TYPE_LABEL_SETTINGS,
             ),
+            (Response::Data { field, offset, data: want }, Response::Data { field: f, offset: o, data: got })
+                if (field, offset, want.len()) == (f, o, got.len()) =>
+            {
+                unwritten_contents(before, field, offset, want.as_bytes(), got.as_bytes())
+                    .unwrap_or_else(|| wrong(Deviation::WrongReply { expected: *e, found: *found }))
+            }
+            (Response::Version(want), Response::Version(got)) if self.knowledge == Knowledge::PhysicalUnknown => {
+                version(before, &want, &got)
+            }
             (a, b) if self.knowledge == Knowledge::PhysicalUnknown => self.physical(before, a, b, c, e, found),
-            _ => Grade::fail(Deviation::WrongReply { expected: *e, found: *found }, c),
+            _ => wrong(Deviation::WrongReply { expected: *e, found: *found }),
         }
     }
 
@@ -283,10 +343,11 @@ impl Oracle {
         before: &Slave,
         a: Response,
         b: Response,
-        c: ClauseId,
+        c: Normative,
         e: &ResponseFrame,
         found: &ResponseFrame,
     ) -> Grade {
+        let edition = before.profile().edition;
         let range = before.profile().range();
         let ok = match (a, b) {
             (Response::Position(_), Response::Position(v)) => (v as u64) < range,
@@ -300,7 +361,7 @@ impl Oracle {
                 return if plausible {
                     Grade::non_strict(Deviation::UnseenFault { code }, clause::READ_ENCODER_STATUS)
                 } else {
-                    Grade::fail(Deviation::WrongReply { expected: *e, found: *found }, clause::FAULT_GROUPS)
+                    Grade::against(Deviation::WrongReply { expected: *e, found: *found }, clause::FAULT_GROUPS, edition)
                 };
             }
             (Response::PositionWithSyncSet(x), Response::PositionWithSyncSet(v)) => {
@@ -309,17 +370,78 @@ impl Oracle {
                 let d = (v + range - x) % range;
                 v < range && (d <= 16 || range - d <= 16)
             }
-            _ => return Grade::fail(Deviation::WrongReply { expected: *e, found: *found }, c),
+            _ => return Grade::against(Deviation::WrongReply { expected: *e, found: *found }, c, edition),
         };
         if ok {
             Grade::pass(c)
         } else {
-            Grade::fail(Deviation::ImpossibleValue { response: b }, c)
+            Grade::against(Deviation::ImpossibleValue { response: b }, c, edition)
         }
     }
 }
 
-fn malformed_clause(e: ResponseError) -> ClauseId {
+/// A Read Data reply that differs from the model only in bytes the model does not
+/// know: PASS in a field the device had before the run (its contents are its own),
+/// NON-STRICT in a field created in the run and never written (the model assumes
+/// erased EEPROM, FFh: a decision, not a rule of 000). `None` if a known byte differs.
+fn unwritten_contents(before: &Slave, field: u8, offset: u8, want: &[u8], got: &[u8]) -> Option<Grade> {
+    let fields = &before.nonvolatile().fields;
+    let mut erased_differs = false;
+    for (i, (w, g)) in want.iter().zip(got).enumerate() {
+        match fields.contents(field, offset as usize + i) {
+            _ if w == g => {}
+            Some(Contents::Unknown) => {}
+            Some(Contents::Erased) => erased_differs = true,
+            Some(Contents::Known) | None => return None,
+        }
+    }
+    Some(if erased_differs {
+        Grade::non_strict(Deviation::UnwrittenContents, clause::FIELD_POLICY)
+    } else {
+        Grade::pass(clause::READ_DATA)
+    })
+}
+
+/// Read Version of a real device: exact where the profile pins a value, otherwise by
+/// the form of 000:T31 (ASCII; the firmware padded with 00h; the date as DD.MM.YY)
+/// or 002 (the same, with up to 20 firmware characters).
+fn version(before: &Slave, want: &Version, got: &Version) -> Grade {
+    let profile = before.profile();
+    let rule = match profile.edition {
+        Edition::Current => clause::READ_VERSION,
+        Edition::Legacy => clause::LEGACY_VERSION,
+    };
+    let pins = profile.version_pins;
+    for (pinned, field, equal) in [
+        (pins.serial, "serial number", want.serial == got.serial),
+        (pins.firmware, "firmware version", want.firmware == got.firmware),
+        (pins.date, "firmware date", want.date == got.date),
+    ] {
+        if pinned && !equal {
+            return Grade::against(Deviation::VersionDiffers { field }, rule, profile.edition);
+        }
+    }
+    let form = |field, problem| Grade::non_strict(Deviation::VersionForm { field, problem }, rule);
+    let ascii = |b: &[u8]| b.iter().all(|c| c.is_ascii() && (*c == 0 || !c.is_ascii_control()));
+    if !ascii(&got.serial) {
+        return form("serial number", "is not ASCII text");
+    }
+    if !ascii(&got.firmware) {
+        return form("firmware version", "is not ASCII text");
+    }
+    let text_end = got.firmware.iter().position(|c| *c == 0).unwrap_or(got.firmware.len());
+    if got.firmware.get(text_end..).is_some_and(|pad| pad.iter().any(|c| *c != 0)) {
+        return form("firmware version", "has text after its trailing 00h characters");
+    }
+    let d = &got.date;
+    let date_form = d.iter().enumerate().all(|(i, c)| if i == 2 || i == 5 { *c == b'.' } else { c.is_ascii_digit() });
+    if !date_form {
+        return form("firmware date", "is not in the DD.MM.YY format");
+    }
+    Grade::pass(rule)
+}
+
+fn malformed_clause(e: ResponseError) -> Normative {
     match e {
         ResponseError::BadChecksum { .. } => clause::CHECKSUM,
         ResponseError::BadCommandByte { .. } => clause::COMMAND_BYTE,

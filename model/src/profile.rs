@@ -137,6 +137,16 @@ pub struct AdjustmentOption {
     pub status: u8,
 }
 
+/// Which Read Version values the data sheet pins. Units of one family differ in serial
+/// number and may differ in firmware, so on a real device only pinned values are
+/// compared exactly; the others are graded by their form. // 000:T31
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct VersionPins {
+    pub serial: bool,
+    pub firmware: bool,
+    pub date: bool,
+}
+
 pub const MAX_ANALOG_CHANNELS: usize = 4;
 pub const MAX_ADJUSTMENT_OPTIONS: usize = 4;
 
@@ -170,9 +180,12 @@ pub struct Profile {
     pub led_current_max_ma: u16,
     /// Largest speed (rpm, or mm/s for linear devices) at which Read Position answers.
     pub max_read_speed: u32,
+    /// What the model answers to Read Version (a sample unit of the family)...
     pub serial: [u8; 9],
     pub firmware: [u8; 20],
     pub firmware_date: [u8; 8],
+    /// ...and which of them a real device must report exactly.
+    pub version_pins: VersionPins,
     pub adjustment: [Option<AdjustmentOption>; MAX_ADJUSTMENT_OPTIONS],
     /// Sensor Adjustment response time (000:T35: "to be specified in data sheet").
     pub adjustment_response_ms: u16,

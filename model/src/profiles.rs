@@ -9,7 +9,7 @@ use crate::address::SlaveAddress;
 use crate::command::{CommandId, CommandSet};
 use crate::profile::{
     AdjustmentOption, AnalogChannel, AnalogEncoding, AnalogSource, ExtendedTypeLabel, Profile, Resolution, StackOrder,
-    Text,
+    Text, VersionPins,
 };
 use crate::settings::{Edition, UartSettings};
 
@@ -63,6 +63,7 @@ fn current(name: &str, resolution: Resolution, type_code: u8) -> Profile {
         serial: padded("000000001"),
         firmware: padded("hiperface-model"),
         firmware_date: *b"22.11.26",
+        version_pins: VersionPins { serial: false, firmware: false, date: false },
         adjustment: [None; 4],
         adjustment_response_ms: 40,
         init_ms: 100,

@@ -1,85 +1,72 @@
-//! The master's view of a serial line: send bytes, receive timestamped characters,
+//! The master's view of a serial line: send bytes, receive stamped characters,
 //! always within a bounded time. Implementations: [`virtual_line::VirtualLine`]
-//! (in-process, virtual time) and [`serial::SerialLine`] (a real port or a
-//! pseudo-terminal, real time).
+//! (in-process, virtual time), [`serial::SerialLine`] (a real port or a
+//! pseudo-terminal, real time) and [`tcp::TcpLine`] (a serial device server).
+//!
+//! Each line says how well it knows when characters were on the wire: a request's
+//! end and a reply's start are [`Window`]s, exact in virtual time and on a real UART,
+//! wider where the far end has no UART clock (see [`clock`]).
 
+pub mod adapter;
+pub mod clock;
 pub mod serial;
 pub mod tcp;
 pub mod virtual_line;
 
+pub use clock::{read_until, RealTime, RxClock};
+
 use hiperface_model::datalink::RxChar;
 use hiperface_model::UartSettings;
 
-/// Receive times on a line. A UART stamps a character when it arrives. A
-/// pseudo-terminal or TCP has no baud rate: a UART would deliver the bytes at least
-/// one character time apart, so `max(arrival, previous + char time)`; a backlog of
-/// more than one frame is more than any UART could have received, and such a
-/// character is an overrun at its arrival.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct RxClock {
-    last_us: u64,
+/// A time known to lie between two bounds, µs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Window {
+    pub earliest_us: u64,
+    pub latest_us: u64,
 }
 
-impl RxClock {
-    /// Stamp a byte. `clocked_char_time_us`: `Some` on lines without a baud rate.
-    pub fn stamp(&mut self, byte: u8, arrival_us: u64, clocked_char_time_us: Option<u64>) -> RxChar {
-        let (at_us, overrun) = match clocked_char_time_us {
-            Some(ct) => {
-                let clocked = arrival_us.max(self.last_us + ct);
-                if clocked - arrival_us > hiperface_model::frame::MAX_FRAME as u64 * ct {
-                    (arrival_us, true)
-                } else {
-                    (clocked, false)
-                }
-            }
-            None => (arrival_us, false),
-        };
-        self.last_us = at_us;
-        RxChar { byte, at_us, fault: overrun.then_some(hiperface_model::UartFault::Overrun) }
+impl Window {
+    pub const fn exact(t_us: u64) -> Window {
+        Window { earliest_us: t_us, latest_us: t_us }
+    }
+
+    pub const fn shifted(self, by_us: u64) -> Window {
+        Window { earliest_us: self.earliest_us + by_us, latest_us: self.latest_us + by_us }
+    }
+
+    pub const fn width_us(self) -> u64 {
+        self.latest_us - self.earliest_us
     }
 }
 
-/// The clock of a real-time line: µs since the line opened, sleeping until a time,
-/// receive times, and the timing jitter graded with.
-#[derive(Debug, Clone, Copy)]
-pub struct RealTime {
-    epoch: std::time::Instant,
-    pub rx: RxClock,
-    pub tolerance_us: u64,
+/// A request on the line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Sent {
+    /// When the slave received the request's last character (the end of its stop bit).
+    pub end: Window,
 }
 
-impl RealTime {
-    pub fn new(tolerance_us: u64) -> RealTime {
-        RealTime { epoch: std::time::Instant::now(), rx: RxClock::default(), tolerance_us }
-    }
-
-    pub fn now_us(&self) -> u64 {
-        self.epoch.elapsed().as_micros() as u64
-    }
-
-    pub fn sleep_until(&self, t_us: u64) {
-        let target = self.epoch + std::time::Duration::from_micros(t_us);
-        if let Some(d) = target.checked_duration_since(std::time::Instant::now()) {
-            std::thread::sleep(d);
-        }
-    }
+/// What kind of line it is, for reports and for what timing verdicts are worth.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum LineKind {
+    /// In-process, virtual time: exact.
+    Virtual,
+    /// A real serial port (a UART, or a USB adapter with one).
+    SerialPort,
+    /// A pseudo-terminal: no baud rate; the harness clocks its requests.
+    PseudoTerminal,
+    /// Raw TCP to a serial device server.
+    Tcp,
 }
 
-/// Wait for one byte until `until_us` (on the clock `now`), in slices of at most
-/// 20 ms: `read_within` waits up to the given time and answers `None` on a timeout.
-pub fn read_until(
-    now: impl Fn() -> u64,
-    until_us: u64,
-    mut read_within: impl FnMut(std::time::Duration) -> Result<Option<u8>, LineError>,
-) -> Result<Option<(u8, u64)>, LineError> {
-    loop {
-        let t = now();
-        if t > until_us {
-            return Ok(None);
-        }
-        let wait = std::time::Duration::from_micros((until_us - t).clamp(100, 20_000));
-        if let Some(b) = read_within(wait)? {
-            return Ok(Some((b, now())));
+impl LineKind {
+    pub fn label(self) -> &'static str {
+        match self {
+            LineKind::Virtual => "virtual line",
+            LineKind::SerialPort => "serial port",
+            LineKind::PseudoTerminal => "pseudo-terminal",
+            LineKind::Tcp => "serial device server (TCP)",
         }
     }
 }
@@ -102,31 +89,50 @@ pub enum LineError {
 pub trait Line {
     /// Now, in µs.
     fn now_us(&mut self) -> u64;
-    /// Transmit `bytes` back to back in the current settings; returns the receive
-    /// time of the last character at the far end (the end of its stop bit).
-    fn send(&mut self, bytes: &[u8]) -> Result<u64, LineError>;
+    /// Transmit `bytes` in the current settings, as one frame.
+    fn send(&mut self, bytes: &[u8]) -> Result<Sent, LineError>;
     /// The next received character, or `None` once `until_us` has passed.
     fn recv(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError>;
+    /// When the start bit of a received character may have begun.
+    fn start_of(&self, ch: &RxChar) -> Window;
     /// Idle until `t_us`, discarding nothing: characters arriving meanwhile stay queued.
     fn wait_until(&mut self, t_us: u64) -> Result<(), LineError>;
     /// Switch the line's UART settings.
     fn configure(&mut self, settings: UartSettings) -> Result<(), LineError>;
+    /// Whether [`Line::configure`] can change the data rate and parity (not on a raw
+    /// TCP serial server, whose port settings are its own configuration).
+    fn can_change_settings(&self) -> bool {
+        true
+    }
     fn settings(&self) -> UartSettings;
     /// Timing jitter the line adds, in µs (0 in virtual time).
     fn tolerance_us(&self) -> u64;
+    /// How late the harness woke from its timed waits since the last call, µs: its own
+    /// scheduling delay on a busy machine (0 in virtual time).
+    fn take_lateness_us(&mut self) -> u64 {
+        0
+    }
+    fn kind(&self) -> LineKind;
     /// A short description for reports ("virtual", "/dev/pts/3", ...).
     fn describe(&self) -> String;
+    /// Facts about the line that bear on timing verdicts (an adapter's latency timer).
+    fn notes(&self) -> Vec<String> {
+        Vec::new()
+    }
 }
 
 impl<L: Line + ?Sized> Line for Box<L> {
     fn now_us(&mut self) -> u64 {
         (**self).now_us()
     }
-    fn send(&mut self, bytes: &[u8]) -> Result<u64, LineError> {
+    fn send(&mut self, bytes: &[u8]) -> Result<Sent, LineError> {
         (**self).send(bytes)
     }
     fn recv(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError> {
         (**self).recv(until_us)
+    }
+    fn start_of(&self, ch: &RxChar) -> Window {
+        (**self).start_of(ch)
     }
     fn wait_until(&mut self, t_us: u64) -> Result<(), LineError> {
         (**self).wait_until(t_us)
@@ -134,13 +140,25 @@ impl<L: Line + ?Sized> Line for Box<L> {
     fn configure(&mut self, settings: UartSettings) -> Result<(), LineError> {
         (**self).configure(settings)
     }
+    fn can_change_settings(&self) -> bool {
+        (**self).can_change_settings()
+    }
     fn settings(&self) -> UartSettings {
         (**self).settings()
     }
     fn tolerance_us(&self) -> u64 {
         (**self).tolerance_us()
     }
+    fn take_lateness_us(&mut self) -> u64 {
+        (**self).take_lateness_us()
+    }
+    fn kind(&self) -> LineKind {
+        (**self).kind()
+    }
     fn describe(&self) -> String {
         (**self).describe()
+    }
+    fn notes(&self) -> Vec<String> {
+        (**self).notes()
     }
 }

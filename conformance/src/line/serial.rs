@@ -1,11 +1,13 @@
-//! A real serial port or a pseudo-terminal, in real time. Frames are written whole;
-//! a real port's UART clocks them out. A pseudo-terminal has no baud rate, so this
-//! line plays the UART on it: a frame is written when its first character would be
-//! complete, and received characters are clocked at least one character time apart
-//! (`receive time = max(arrival, previous + character time)`), as a UART delivers
-//! them. The simulator does the same on its end, so both ends agree on the wire time.
+//! A real serial port or a pseudo-terminal, in real time.
+//!
+//! On a real port the UART clocks a request out, so it is written whole; a USB
+//! adapter in between adds latency, which widens the timing windows (see
+//! [`super::adapter`]). A pseudo-terminal has no baud rate: the harness clocks the
+//! request out one character per character time (see [`super::clock`]) and stamps
+//! received characters at least a character time apart, as a UART delivers them.
 
-use super::{Line, LineError};
+use super::adapter::Adapter;
+use super::{clock, Line, LineError, LineKind, Sent, Window};
 use hiperface_model::datalink::RxChar;
 use hiperface_model::settings::Parity as HfParity;
 use hiperface_model::UartSettings;
@@ -19,10 +21,13 @@ pub const DEFAULT_TOLERANCE_US: u64 = 2_000;
 pub struct SerialLine {
     port: Box<dyn SerialPort>,
     name: String,
-    time: super::RealTime,
+    time: clock::RealTime,
     settings: UartSettings,
     /// Pseudo-terminals ignore UART settings; real ports apply them.
     pseudo_terminal: bool,
+    /// The USB adapter behind a real port, if any.
+    adapter: Option<Adapter>,
+    notes: Vec<String>,
 }
 
 fn parity(s: UartSettings) -> Parity {
@@ -33,8 +38,14 @@ fn parity(s: UartSettings) -> Parity {
     }
 }
 
+/// Whether a path names a pseudo-terminal (Linux `/dev/pts/N`, BSD-style `ptyXY`/`ttypN`).
+pub fn is_pseudo_terminal(path: &str) -> bool {
+    path.starts_with("/dev/pts/") || path.contains("pty")
+}
+
 impl SerialLine {
-    /// Open a port by path with the given settings.
+    /// Open a port by path with the given settings. On a USB adapter with a latency
+    /// timer, lower it to 1 ms for the run where permitted.
     pub fn open(path: &str, settings: UartSettings) -> Result<SerialLine, LineError> {
         let port = serialport::new(path, settings.baud.bits_per_second())
             .data_bits(DataBits::Eight)
@@ -44,8 +55,17 @@ impl SerialLine {
             .timeout(Duration::from_millis(1))
             .open()
             .map_err(|e| LineError::Open { port: path.to_string(), reason: e.to_string() })?;
-        let pseudo_terminal = path.starts_with("/dev/pts/") || path.contains("pty");
-        Ok(SerialLine::from_port(port, path.to_string(), settings, pseudo_terminal))
+        let pseudo_terminal = is_pseudo_terminal(path);
+        let mut line = SerialLine::from_port(port, path.to_string(), settings, pseudo_terminal);
+        if !pseudo_terminal {
+            line.adapter = Adapter::detect(path, std::path::Path::new("/sys"));
+            if let Some(a) = line.adapter.as_mut() {
+                if let Err(why) = a.lower_latency() {
+                    line.notes.push(format!("The adapter's latency timer could not be lowered: {why}."));
+                }
+            }
+        }
+        Ok(line)
     }
 
     /// Wrap an open port (e.g. one end of a pseudo-terminal pair).
@@ -55,13 +75,26 @@ impl SerialLine {
         settings: UartSettings,
         pseudo_terminal: bool,
     ) -> SerialLine {
-        SerialLine { port, name, time: super::RealTime::new(DEFAULT_TOLERANCE_US), settings, pseudo_terminal }
+        SerialLine {
+            port,
+            name,
+            time: clock::RealTime::new(DEFAULT_TOLERANCE_US),
+            settings,
+            pseudo_terminal,
+            adapter: None,
+            notes: Vec::new(),
+        }
     }
 
     /// Allow this much timing jitter (µs) before a reply's start is graded.
     pub fn with_tolerance(mut self, tolerance_us: u64) -> SerialLine {
         self.time.tolerance_us = tolerance_us;
         self
+    }
+
+    /// The USB adapter behind the port, if one was found.
+    pub fn adapter(&self) -> Option<&Adapter> {
+        self.adapter.as_ref()
     }
 
     fn gone(e: std::io::Error) -> LineError {
@@ -80,42 +113,56 @@ impl Line for SerialLine {
         self.time.now_us()
     }
 
-    fn send(&mut self, bytes: &[u8]) -> Result<u64, LineError> {
+    fn send(&mut self, bytes: &[u8]) -> Result<Sent, LineError> {
         let ct = self.settings.char_time_us();
-        let n = bytes.len() as u64;
+        if self.pseudo_terminal {
+            let port = &mut self.port;
+            let end = clock::write_whole(&self.time, ct, bytes, |b| {
+                port.write_all(b).map_err(Self::gone)?;
+                port.flush().map_err(Self::gone)
+            })?;
+            return Ok(Sent { end });
+        }
         let start = self.now_us();
         self.port.write_all(bytes).map_err(Self::gone)?;
         self.port.flush().map_err(Self::gone)?;
-        // On a pseudo-terminal the write is the first character's receive time.
-        let end = if self.pseudo_terminal { start + n.saturating_sub(1) * ct } else { start + n * ct };
+        // The UART clocks the frame out; an adapter may hold it up to a USB frame first.
+        let end = start + bytes.len() as u64 * ct;
+        let late = self.adapter.as_ref().map_or(0, Adapter::output_latency_us);
         // Half duplex: the line is busy until the last character is out.
         self.time.sleep_until(end);
-        Ok(end)
+        Ok(Sent { end: Window { earliest_us: end, latest_us: end + late } })
     }
 
     fn recv(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError> {
-        let time = self.time;
+        let time = &self.time;
         let port = &mut self.port;
-        let got = super::read_until(
-            || time.now_us(),
-            until_us,
-            |wait| {
-                port.set_timeout(wait).map_err(|e| LineError::Io(e.into()))?;
-                let mut b = [0u8; 1];
-                match port.read(&mut b) {
-                    Ok(1) => Ok(Some(b[0])),
-                    Ok(_) => Err(LineError::Gone("end of file".into())),
-                    Err(e)
-                        if matches!(e.kind(), ErrorKind::TimedOut | ErrorKind::WouldBlock | ErrorKind::Interrupted) =>
-                    {
-                        Ok(None)
-                    }
-                    Err(e) => Err(Self::gone(e)),
+        let got = clock::read_until(time, until_us, |wait| {
+            port.set_timeout(wait).map_err(|e| LineError::Io(e.into()))?;
+            let mut b = [0u8; 1];
+            match port.read(&mut b) {
+                Ok(1) => Ok(Some(b[0])),
+                Ok(_) => Err(LineError::Gone("end of file".into())),
+                Err(e) if matches!(e.kind(), ErrorKind::TimedOut | ErrorKind::WouldBlock | ErrorKind::Interrupted) => {
+                    Ok(None)
                 }
-            },
-        )?;
+                Err(e) => Err(Self::gone(e)),
+            }
+        })?;
         let clocked = self.pseudo_terminal.then(|| self.settings.char_time_us());
         Ok(got.map(|(byte, arrival)| self.time.rx.stamp(byte, arrival, clocked)))
+    }
+
+    fn start_of(&self, ch: &RxChar) -> Window {
+        let ct = self.settings.char_time_us();
+        if self.pseudo_terminal {
+            // A peer's write is the start of the character (a program) or its end (a
+            // program playing the UART).
+            return Window { earliest_us: ch.at_us.saturating_sub(ct), latest_us: ch.at_us };
+        }
+        // A UART stamps a character after its stop bit; an adapter may pass it on late.
+        let latency = self.adapter.as_ref().map_or(0, Adapter::input_latency_us);
+        Window { earliest_us: ch.at_us.saturating_sub(ct + latency), latest_us: ch.at_us.saturating_sub(ct) }
     }
 
     fn wait_until(&mut self, t_us: u64) -> Result<(), LineError> {
@@ -141,7 +188,25 @@ impl Line for SerialLine {
         self.time.tolerance_us
     }
 
+    fn take_lateness_us(&mut self) -> u64 {
+        self.time.take_lateness_us()
+    }
+
+    fn kind(&self) -> LineKind {
+        if self.pseudo_terminal {
+            LineKind::PseudoTerminal
+        } else {
+            LineKind::SerialPort
+        }
+    }
+
     fn describe(&self) -> String {
-        format!("{} ({})", self.name, if self.pseudo_terminal { "pseudo-terminal" } else { "serial port" })
+        format!("{} ({})", self.name, self.kind().label())
+    }
+
+    fn notes(&self) -> Vec<String> {
+        let mut notes: Vec<String> = self.adapter.iter().map(Adapter::describe).collect();
+        notes.extend(self.notes.iter().cloned());
+        notes
     }
 }

@@ -1,8 +1,9 @@
 //! Raw TCP to a serial device server (`tcp://host:port`, e.g. ser2net). The server
-//! owns the UART; TCP has no baud rate, so received bytes are clocked like on a
-//! pseudo-terminal (see `RxClock`), and the settings are the server's.
+//! owns the UART and its settings. TCP has no baud rate: the harness clocks its
+//! requests out one character time apart, so the server passes them on as a UART
+//! would, and stamps received bytes like on a pseudo-terminal (see [`super::clock`]).
 
-use super::{Line, LineError};
+use super::{clock, Line, LineError, LineKind, Sent, Window};
 use hiperface_model::datalink::RxChar;
 use hiperface_model::UartSettings;
 use std::io::{ErrorKind, Read, Write};
@@ -15,7 +16,7 @@ pub const DEFAULT_TOLERANCE_US: u64 = 4_000;
 pub struct TcpLine {
     stream: TcpStream,
     address: String,
-    time: super::RealTime,
+    time: clock::RealTime,
     settings: UartSettings,
 }
 
@@ -30,7 +31,7 @@ impl TcpLine {
             .ok_or_else(|| open_err("no address".into()))?;
         let stream = TcpStream::connect_timeout(&addr, Duration::from_secs(5)).map_err(|e| open_err(e.to_string()))?;
         stream.set_nodelay(true).map_err(|e| open_err(e.to_string()))?;
-        Ok(TcpLine { stream, address: address.to_string(), time: super::RealTime::new(DEFAULT_TOLERANCE_US), settings })
+        Ok(TcpLine { stream, address: address.to_string(), time: clock::RealTime::new(DEFAULT_TOLERANCE_US), settings })
     }
 
     /// Allow this much timing jitter (µs) before a reply's start is graded.
@@ -45,40 +46,40 @@ impl Line for TcpLine {
         self.time.now_us()
     }
 
-    fn send(&mut self, bytes: &[u8]) -> Result<u64, LineError> {
+    fn send(&mut self, bytes: &[u8]) -> Result<Sent, LineError> {
         let ct = self.settings.char_time_us();
-        let start = self.now_us();
-        self.stream.write_all(bytes).map_err(|e| LineError::Gone(e.to_string()))?;
-        // The server's UART clocks the frame out from now on.
-        let end = start + bytes.len() as u64 * ct;
-        self.time.sleep_until(end);
-        Ok(end)
+        let stream = &mut self.stream;
+        let end = clock::write_whole(&self.time, ct, bytes, |b| {
+            stream.write_all(b).map_err(|e| LineError::Gone(e.to_string()))
+        })?;
+        // Behind the server a UART adds one character time (a pseudo-terminal none).
+        Ok(Sent { end: Window { earliest_us: end.earliest_us, latest_us: end.latest_us + ct } })
     }
 
     fn recv(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError> {
-        let time = self.time;
+        let time = &self.time;
         let (stream, address) = (&mut self.stream, &self.address);
-        let got = super::read_until(
-            || time.now_us(),
-            until_us,
-            |wait| {
-                stream.set_read_timeout(Some(wait))?;
-                let mut b = [0u8; 1];
-                match stream.read(&mut b) {
-                    Ok(1) => Ok(Some(b[0])),
-                    Ok(_) => Err(LineError::Gone(format!("tcp://{address} closed the connection"))),
-                    Err(e)
-                        if matches!(e.kind(), ErrorKind::TimedOut | ErrorKind::WouldBlock | ErrorKind::Interrupted) =>
-                    {
-                        Ok(None)
-                    }
-                    Err(e) => Err(LineError::Gone(e.to_string())),
+        let got = clock::read_until(time, until_us, |wait| {
+            stream.set_read_timeout(Some(wait))?;
+            let mut b = [0u8; 1];
+            match stream.read(&mut b) {
+                Ok(1) => Ok(Some(b[0])),
+                Ok(_) => Err(LineError::Gone(format!("tcp://{address} closed the connection"))),
+                Err(e) if matches!(e.kind(), ErrorKind::TimedOut | ErrorKind::WouldBlock | ErrorKind::Interrupted) => {
+                    Ok(None)
                 }
-            },
-        )?;
+                Err(e) => Err(LineError::Gone(e.to_string())),
+            }
+        })?;
         // TCP has no baud rate: the server's UART delivered the bytes a character apart.
         let clocked = Some(self.settings.char_time_us());
         Ok(got.map(|(byte, arrival)| self.time.rx.stamp(byte, arrival, clocked)))
+    }
+
+    fn start_of(&self, ch: &RxChar) -> Window {
+        // Behind the server a UART (the character began a character time before the
+        // server had it) or a pseudo-terminal (a write may mark the start).
+        Window { earliest_us: ch.at_us.saturating_sub(self.settings.char_time_us()), latest_us: ch.at_us }
     }
 
     fn wait_until(&mut self, t_us: u64) -> Result<(), LineError> {
@@ -98,6 +99,10 @@ impl Line for TcpLine {
         Ok(())
     }
 
+    fn can_change_settings(&self) -> bool {
+        false
+    }
+
     fn settings(&self) -> UartSettings {
         self.settings
     }
@@ -106,7 +111,15 @@ impl Line for TcpLine {
         self.time.tolerance_us
     }
 
+    fn take_lateness_us(&mut self) -> u64 {
+        self.time.take_lateness_us()
+    }
+
+    fn kind(&self) -> LineKind {
+        LineKind::Tcp
+    }
+
     fn describe(&self) -> String {
-        format!("tcp://{} (serial device server)", self.address)
+        format!("tcp://{} ({})", self.address, self.kind().label())
     }
 }

@@ -2,7 +2,7 @@
 //! sans-IO slave with their receive times, and the slave's transmissions come back
 //! character by character. No sleeping: a whole catalogue runs in milliseconds.
 
-use super::{Line, LineError};
+use super::{Line, LineError, LineKind, Sent, Window};
 use hiperface_model::datalink::RxChar;
 use hiperface_model::{Edition, Slave, Step, UartSettings};
 use std::collections::VecDeque;
@@ -92,7 +92,7 @@ impl<D: SlaveDevice> Line for VirtualLine<D> {
         self.now
     }
 
-    fn send(&mut self, bytes: &[u8]) -> Result<u64, LineError> {
+    fn send(&mut self, bytes: &[u8]) -> Result<Sent, LineError> {
         // Half duplex: the master starts after anything still on the wire.
         let start = self.now.max(self.inbound.back().map_or(0, |c| c.at_us));
         let ct = self.settings.char_time_us();
@@ -105,7 +105,7 @@ impl<D: SlaveDevice> Line for VirtualLine<D> {
             }
         }
         self.now = last;
-        Ok(last)
+        Ok(Sent { end: Window::exact(last) })
     }
 
     fn recv(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError> {
@@ -131,6 +131,10 @@ impl<D: SlaveDevice> Line for VirtualLine<D> {
         }
     }
 
+    fn start_of(&self, ch: &RxChar) -> Window {
+        Window::exact(ch.at_us.saturating_sub(self.settings.char_time_us()))
+    }
+
     fn wait_until(&mut self, t_us: u64) -> Result<(), LineError> {
         self.advance(t_us);
         Ok(())
@@ -147,6 +151,10 @@ impl<D: SlaveDevice> Line for VirtualLine<D> {
 
     fn tolerance_us(&self) -> u64 {
         0
+    }
+
+    fn kind(&self) -> LineKind {
+        LineKind::Virtual
     }
 
     fn describe(&self) -> String {

@@ -220,7 +220,7 @@ fn commands(p: &Profile, edition: &str) -> Vec<Vector> {
             &format!("{edition}.{}.{name}.ok", cmd.to_lowercase()),
             p,
             &cmd,
-            &[spec.clause],
+            &[spec.clause.id()],
             with_field_0(),
             vec![ask(&valid_request(p, spec.id))],
             &format!("{}: success", spec.name),
@@ -230,12 +230,12 @@ fn commands(p: &Profile, edition: &str) -> Vec<Vector> {
             .chain(spec.errors.iter().copied());
         for code in codes {
             let Some((setup, a)) = provoke(p, spec.id, code) else { continue };
-            let clause = hiperface_model::fault::rows(code).next().map_or(spec.clause, |_| fault_clause(code));
+            let clause = hiperface_model::fault::rows(code).next().map_or(spec.clause, |_| fault_clause(code)).id();
             out.push(vector(
                 &format!("{edition}.{}.{name}.error-{:02x}", cmd.to_lowercase(), code.byte()),
                 p,
                 &cmd,
-                &[spec.clause, clause],
+                &[spec.clause.id(), clause],
                 setup,
                 vec![a],
                 &format!("{}: {}", spec.name, code),
@@ -246,7 +246,7 @@ fn commands(p: &Profile, edition: &str) -> Vec<Vector> {
 }
 
 /// The clause of a fault code's own table.
-fn fault_clause(code: FaultCode) -> &'static str {
+fn fault_clause(code: FaultCode) -> hiperface_model::clause::Normative {
     use hiperface_model::clause as c;
     match code {
         FaultCode::Parity => c::PARITY_ERROR,

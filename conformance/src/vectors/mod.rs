@@ -328,7 +328,7 @@ pub fn replay(v: &Vector) -> Result<(), Mismatch> {
         } else {
             Verdict::Pass
         };
-        if grade.verdict != want || (want == Verdict::Pass && got != expected) {
+        if grade.verdict() != want || (want == Verdict::Pass && got != expected) {
             let shown = |b: &Option<Vec<u8>>| b.as_ref().map_or("no response".to_string(), |b| hex(b));
             return Err(fail(format!(
                 "step {}: request {} -> the model answers {}; the vector says {} ({:?}), graded {}",

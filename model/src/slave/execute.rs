@@ -5,7 +5,7 @@ use super::fields::FieldStatus;
 use super::{CodeSet, Outcome, Reply, Silence, Slave};
 use crate::address::{AddressByte, SlaveAddress};
 use crate::checksum;
-use crate::clause::{self, ClauseId};
+use crate::clause::{self, Normative};
 use crate::command::{CommandByte, CommandId};
 use crate::fault::FaultCode::{self, *};
 use crate::profile::{AnalogSource, Profile};
@@ -23,12 +23,12 @@ pub const EXTENDED_TYPE_LABEL_FIELD: u8 = 0xFF;
 /// the others are acceptable alternatives.
 #[derive(Default)]
 struct Checks {
-    first: Option<(FaultCode, ClauseId)>,
+    first: Option<(FaultCode, Normative)>,
     also: CodeSet,
 }
 
 impl Checks {
-    fn check(&mut self, condition: bool, code: FaultCode, clause: ClauseId) {
+    fn check(&mut self, condition: bool, code: FaultCode, clause: Normative) {
         if condition {
             match self.first {
                 None => self.first = Some((code, clause)),
@@ -48,8 +48,8 @@ impl Checks {
 
 /// What a command produced before the reply is framed.
 enum Done {
-    Ok(Response, ClauseId),
-    Err(FaultCode, ClauseId),
+    Ok(Response, Normative),
+    Err(FaultCode, Normative),
     Reset,
 }
 
@@ -555,7 +555,7 @@ fn ok_if(c: &Checks, r: Response) -> Result<Response, ()> {
     }
 }
 
-fn silent(why: Silence, clause: ClauseId) -> Outcome {
+fn silent(why: Silence, clause: Normative) -> Outcome {
     Outcome { reply: Reply::Silent(why), clause, also: CodeSet::default(), then_settings: None }
 }
 

@@ -48,12 +48,31 @@ impl FieldStatus {
 }
 
 /// The data field table and user memory.
+///
+/// Besides the contents, the model records which bytes it *knows*: written by Store
+/// Data, or read from a real device and adopted. The rest is its assumption: a new
+/// field reads FFh (DESIGN:fields), a real device's existing field holds what it holds.
 #[derive(Clone, PartialEq, Eq, Hash)]
 pub struct DataFields {
     statuses: [u8; MAX_FIELDS],
     count: u8,
     capacity_blocks: u8,
     memory: [u8; MAX_MEMORY],
+    /// One bit per byte of `memory`: its contents are known.
+    known: [u8; MAX_MEMORY / 8 + 1],
+    /// Fields `0..adopted` were found on a real device: their contents are its own.
+    adopted: u8,
+}
+
+/// What the model knows of a byte of a data field.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Contents {
+    /// Written in lockstep or read back from the device.
+    Known,
+    /// Never written since the field was created: erased EEPROM by the model's decision.
+    Erased,
+    /// In a field the device had before the run: whatever it holds.
+    Unknown,
 }
 
 impl core::fmt::Debug for DataFields {
@@ -67,11 +86,18 @@ impl core::fmt::Debug for DataFields {
 
 impl DataFields {
     pub fn new(capacity_blocks: u8) -> DataFields {
-        DataFields { statuses: [0; MAX_FIELDS], count: 0, capacity_blocks, memory: [ERASED; MAX_MEMORY] }
+        DataFields {
+            statuses: [0; MAX_FIELDS],
+            count: 0,
+            capacity_blocks,
+            memory: [ERASED; MAX_MEMORY],
+            known: [0; MAX_MEMORY / 8 + 1],
+            adopted: 0,
+        }
     }
 
     /// A table as a device reports it: capacity and the statuses of its fields (the
-    /// contents are unknown and read FFh). `None` if the statuses do not fit.
+    /// contents are unknown). `None` if the statuses do not fit.
     pub fn from_statuses(capacity_blocks: u8, statuses: &[u8]) -> Option<DataFields> {
         let mut f = DataFields::new(capacity_blocks);
         for s in statuses {
@@ -79,7 +105,44 @@ impl DataFields {
                 return None;
             }
         }
+        f.adopted = f.count;
         Some(f)
+    }
+
+    /// The statuses of the fields, in number order.
+    pub fn statuses(&self) -> &[u8] {
+        self.statuses.get(..self.count as usize).unwrap_or(&[])
+    }
+
+    fn set_known(&mut self, range: core::ops::Range<usize>, known: bool) {
+        for i in range {
+            if let Some(byte) = self.known.get_mut(i / 8) {
+                let bit = 1u8 << (i % 8);
+                *byte = if known { *byte | bit } else { *byte & !bit };
+            }
+        }
+    }
+
+    /// What the model knows of byte `offset` of field `number` (`None` outside it).
+    pub fn contents(&self, number: u8, offset: usize) -> Option<Contents> {
+        let size = self.status(number)?.size_bytes();
+        if offset >= size {
+            return None;
+        }
+        let i = self.start(number) + offset;
+        let known = self.known.get(i / 8).is_some_and(|b| b & (1 << (i % 8)) != 0);
+        Some(match (known, number < self.adopted) {
+            (true, _) => Contents::Known,
+            (false, true) => Contents::Unknown,
+            (false, false) => Contents::Erased,
+        })
+    }
+
+    /// Take a device's answer for bytes the model did not know (a Read Data reply):
+    /// from now on they are known. Not an EEPROM write.
+    pub fn adopt(&mut self, number: u8, offset: u8, data: &[u8]) -> bool {
+        // The same bookkeeping as a store: the bytes are in memory and known.
+        self.write(number, offset, data)
     }
 
     pub const fn count(&self) -> u8 {
@@ -128,12 +191,11 @@ impl DataFields {
         }
         let start = self.start(number) + offset;
         match self.memory.get_mut(start..start + data.len()) {
-            Some(dst) => {
-                dst.copy_from_slice(data);
-                true
-            }
-            None => false,
+            Some(dst) => dst.copy_from_slice(data),
+            None => return false,
         }
+        self.set_known(start..start + data.len(), true);
+        true
     }
 
     /// Whether `blocks` more blocks fit.
@@ -152,6 +214,7 @@ impl DataFields {
         if let Some(mem) = self.memory.get_mut(start..start + size) {
             mem.fill(ERASED);
         }
+        self.set_known(start..start + size, false);
         self.statuses[self.count as usize] = status.0 | FieldStatus::EXISTS;
         self.count += 1;
         true
@@ -172,11 +235,11 @@ impl DataFields {
                 return false;
             }
             let start = self.start(number);
-            if let Some(mem) =
-                self.memory.get_mut(start + old.size_bytes().min(status.size_bytes())..start + status.size_bytes())
-            {
+            let grown = start + old.size_bytes().min(status.size_bytes())..start + status.size_bytes();
+            if let Some(mem) = self.memory.get_mut(grown.clone()) {
                 mem.fill(ERASED);
             }
+            self.set_known(grown, false);
         }
         self.statuses[number as usize] = status.0 | FieldStatus::EXISTS;
         true
@@ -192,8 +255,10 @@ impl DataFields {
         if let Some(mem) = self.memory.get_mut(start..start + size) {
             mem.fill(ERASED);
         }
+        self.set_known(start..start + size, false);
         self.statuses[last as usize] = 0;
         self.count = last;
+        self.adopted = self.adopted.min(last);
         true
     }
 }
@@ -221,5 +286,22 @@ mod tests {
         assert_eq!(f.read(0, 29, 3), Some(&[0xFF; 3][..]), "re-created field starts at FFh");
         assert_eq!(f.read(0, 0, 0), None);
         assert_eq!(f.read(1, 0, 1), None);
+    }
+
+    #[test]
+    fn the_model_knows_what_it_wrote_and_what_it_adopted() {
+        let mut f = DataFields::from_statuses(8, &[0xC0]).unwrap();
+        assert_eq!(f.contents(0, 0), Some(Contents::Unknown), "a real device's field");
+        assert!(f.create(FieldStatus(0xC0)));
+        assert_eq!(f.contents(1, 3), Some(Contents::Erased), "a field created in the run");
+        assert!(f.write(1, 3, &[7]));
+        assert_eq!((f.contents(1, 3), f.contents(1, 4)), (Some(Contents::Known), Some(Contents::Erased)));
+        assert!(f.adopt(0, 0, &[1, 2]));
+        assert_eq!((f.contents(0, 1), f.contents(0, 2)), (Some(Contents::Known), Some(Contents::Unknown)));
+        assert_eq!(f.read(0, 0, 2), Some(&[1, 2][..]));
+        assert!(f.delete_last());
+        assert!(f.create(FieldStatus(0xC0)));
+        assert_eq!(f.contents(1, 3), Some(Contents::Erased), "re-created: erased again");
+        assert_eq!(f.contents(1, 16), None);
     }
 }

@@ -13,7 +13,7 @@ pub mod powerup;
 pub mod stack;
 
 use crate::address::SlaveAddress;
-use crate::clause::ClauseId;
+use crate::clause::Normative;
 use crate::datalink::{DataLink, ReceivedFrame, RxChar};
 use crate::fault::FaultCode;
 use crate::frame::Frame;
@@ -87,7 +87,7 @@ impl CodeSet {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Outcome {
     pub reply: Reply,
-    pub clause: ClauseId,
+    pub clause: Normative,
     pub also: CodeSet,
     /// UART settings that take effect right after this reply (67h). // 000:T33
     pub then_settings: Option<UartSettings>,
@@ -276,6 +276,37 @@ impl Slave {
             }
             None => false,
         }
+    }
+
+    /// Adopt a position a real device reported: the shaft (the raw position input)
+    /// is where that position says, given the model's offset. The device's world,
+    /// not its EEPROM: nothing is written. `false` if the value is outside the range.
+    pub fn adopt_position(&mut self, reported: u64) -> bool {
+        let range = self.profile.range();
+        if reported >= range {
+            return false;
+        }
+        self.inputs.position = (reported + range - self.nv.offset % range) % range;
+        true
+    }
+
+    /// Adopt the preset a real device reports it used (Set Position with
+    /// Synchronization may round differently where the documents leave it open): the
+    /// model's offset becomes the one that gives that position. `false` if outside
+    /// the range.
+    pub fn adopt_preset(&mut self, used: u64) -> bool {
+        let range = self.profile.range();
+        if used >= range {
+            return false;
+        }
+        self.nv.offset = (used + range - self.inputs.position % range) % range;
+        true
+    }
+
+    /// Adopt data-field bytes a real device returned for bytes the model did not
+    /// know (see [`fields::Contents`]). Not an EEPROM write.
+    pub fn adopt_field_data(&mut self, number: u8, offset: u8, data: &[u8]) -> bool {
+        self.nv.fields.adopt(number, offset, data)
     }
 
     /// Take the internal I2C bus down or bring it back. // 000:T43

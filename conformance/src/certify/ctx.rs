@@ -1,0 +1,312 @@
+//! What a case sees: the master on the line, the model in lockstep, the oracle, and
+//! the case's findings. Every exchange goes through [`Ctx::send_frame`], which grades
+//! the answer, its timing and anything unsolicited.
+
+use super::timing::{self, Limits};
+use super::{CaseError, CaseResult, CaseVerdict, Finding, Identity, Options, WireEntry};
+use crate::line::Line;
+use crate::master::{Exchange, Master};
+use hiperface_model::clause::{self, Normative};
+use hiperface_model::response::{Response, ResponseFrame};
+use hiperface_model::{checksum, CommandId, Hex, Knowledge, Oracle, Profile, Reply, Slave};
+use std::collections::BTreeMap;
+use std::sync::atomic::Ordering;
+
+/// What the run accumulates across cases.
+#[derive(Debug, Default)]
+pub(crate) struct Tally {
+    /// Response times per command byte (the most the line's uncertainty allows), µs.
+    pub response_times: BTreeMap<u8, Vec<i64>>,
+    /// The physical minimum of the wire log: what a perfect master would need, µs.
+    pub physical_min_us: u64,
+    /// The device has answered at least once in this run.
+    pub answered_any: bool,
+    /// What the device said of itself.
+    pub identity: Identity,
+    /// What the harness could not vouch for (its own bookkeeping), for the report.
+    pub notes: Vec<String>,
+    /// The longest the harness woke late in any exchange, µs.
+    pub harness_late_us: u64,
+}
+
+/// What a request costs on a real line at best (an ideal master, the device's own
+/// response time): the request, the slave's timeout, the reply (or, for silence,
+/// the whole response time and one character) and the pause after it. The sum over a run is the physical minimum a report compares its
+/// wall time with.
+pub(crate) fn physical_time_us(x: &Exchange, max_ms: u16) -> u64 {
+    let ct = x.settings.char_time_us();
+    // On a real line the request takes its characters' time, whatever the harness's
+    // line does (a pseudo-terminal delivers a write at once).
+    let request_and_timeout = x.request.len() as u64 * ct + x.timeout_us;
+    match x.response_time_us() {
+        Some((lo, _)) => request_and_timeout + lo.max(0) as u64 + x.reply.len() as u64 * ct + x.timeout_us,
+        None => request_and_timeout + max_ms as u64 * 1000 + ct,
+    }
+}
+
+/// A pending restore, released by the case once it has restored by itself.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[must_use = "release the guard once the case has restored"]
+pub struct Guard(u64);
+
+/// A graded exchange.
+pub struct Graded {
+    pub exchange: Exchange,
+    pub verdict: CaseVerdict,
+    pub reply: Option<Vec<u8>>,
+}
+
+pub struct Ctx<'a> {
+    master: &'a mut Master<Box<dyn Line>>,
+    pub model: &'a mut Slave,
+    oracle: Oracle,
+    result: &'a mut CaseResult,
+    tally: &'a mut Tally,
+    options: &'a Options,
+    /// Requests that undo this case's changes, last first, run by the runner if the
+    /// case does not release them itself.
+    guards: Vec<(u64, Vec<u8>)>,
+    next_guard: u64,
+    restoring: bool,
+}
+
+impl<'a> Ctx<'a> {
+    pub(crate) fn new(
+        master: &'a mut Master<Box<dyn Line>>,
+        model: &'a mut Slave,
+        result: &'a mut CaseResult,
+        tally: &'a mut Tally,
+        options: &'a Options,
+    ) -> Ctx<'a> {
+        Ctx {
+            master,
+            model,
+            oracle: Oracle::new(options.knowledge),
+            result,
+            tally,
+            options,
+            guards: Vec::new(),
+            next_guard: 0,
+            restoring: false,
+        }
+    }
+}
+
+impl Ctx<'_> {
+    pub fn profile(&self) -> Profile {
+        *self.model.profile()
+    }
+
+    pub fn address(&self) -> u8 {
+        self.model.nonvolatile().address.byte()
+    }
+
+    /// Record a finding; the case verdict is the worst of its findings.
+    pub fn push(&mut self, finding: Finding) {
+        self.result.push(finding);
+    }
+
+    /// The device broke `rule` (FAIL where the rule binds the profile's edition).
+    pub fn fail(&mut self, message: impl Into<String>, rule: Normative) {
+        let edition = self.model.profile().edition;
+        self.push(Finding::fail(message, rule, edition));
+    }
+
+    /// A check across exchanges (e.g. data read back equals data stored).
+    pub fn check(&mut self, ok: bool, message: impl Into<String>, rule: Normative) {
+        if !ok {
+            self.fail(message, rule);
+        }
+    }
+
+    /// Something the harness cannot vouch for (its bookkeeping of the device's state):
+    /// a line of the report's safety section, never a verdict.
+    pub fn note(&mut self, message: impl Into<String>) {
+        self.tally.notes.push(format!("{}: {}", self.result.id, message.into()));
+    }
+
+    /// Register a request (body without checksum) that undoes a change just made.
+    pub fn guard(&mut self, undo: Vec<u8>) -> Guard {
+        self.next_guard += 1;
+        self.guards.push((self.next_guard, undo));
+        Guard(self.next_guard)
+    }
+
+    /// The case restored by itself: drop the guard.
+    pub fn release(&mut self, guard: Guard) {
+        self.guards.retain(|(id, _)| *id != guard.0);
+    }
+
+    pub(crate) fn has_guards(&self) -> bool {
+        !self.guards.is_empty()
+    }
+
+    /// Run the pending guards, last first.
+    pub(crate) fn restore(&mut self) -> Result<usize, CaseError> {
+        self.restoring = true;
+        let mut n = 0;
+        while let Some((_, undo)) = self.guards.pop() {
+            self.ask(&undo)?;
+            n += 1;
+        }
+        Ok(n)
+    }
+
+    /// Send a body with its checksum appended; grade the answer.
+    pub fn ask(&mut self, body: &[u8]) -> Result<Graded, CaseError> {
+        let mut frame = body.to_vec();
+        frame.push(checksum::xor(body));
+        self.send_frame(&frame)
+    }
+
+    /// Send a frame as it is (for malformed frames); grade the answer.
+    pub fn send_frame(&mut self, frame: &[u8]) -> Result<Graded, CaseError> {
+        if !self.restoring && self.options.interrupt.as_ref().is_some_and(|f| f.load(Ordering::Relaxed)) {
+            return Err(CaseError::Interrupted);
+        }
+        // Talk in the settings the slave listens with now (67h, reset, power-up windows).
+        let now = self.master.now_us();
+        if let Some(s) = self.model.listening_settings(now).filter(|s| *s != self.master.line.settings()) {
+            self.master.line.configure(s)?;
+        }
+        let command = frame.get(1).map(|b| CommandId::decode(b & 0x7F));
+        let spec = command.and_then(|c| c.spec());
+        let limits = Limits {
+            max_ms: match spec {
+                Some(s) if s.id == CommandId::SensorAdjustment => self.model.profile().adjustment_response_ms,
+                Some(s) => s.max_response_ms.unwrap_or(5),
+                None => 5,
+            },
+            strict_ms: spec.and_then(|s| s.strict_response_ms),
+        };
+        let before = self.model.clone();
+        // Where the model expects a reply, listen well past the limit so that a late
+        // reply is measured and graded; where it expects silence, only to the limit.
+        let estimate = self.master.now_us()
+            + frame.len() as u64 * self.master.line.settings().char_time_us()
+            + self.master.timeout_us();
+        let expects_reply = matches!(before.clone().handle_frame(frame, estimate).reply, Reply::Frame(_));
+        let listen_ms = if expects_reply { (3 * limits.max_ms).max(limits.max_ms + 100) } else { limits.max_ms };
+        let x = self.master.exchange(frame, listen_ms)?;
+        let expected = self.model.handle_frame(frame, x.complete_us());
+        if self.model.eeprom_writes() > self.options.write_budget {
+            return Err(CaseError::Budget(self.options.write_budget));
+        }
+        let observed = x.reply_bytes();
+        self.tally.answered_any |= observed.is_some();
+        if !self.tally.answered_any && matches!(expected.reply, Reply::Frame(_)) {
+            // Never a word from the device: it is not there, not powered, or at another
+            // address or data rate. The harness cannot run the case.
+            return Err(CaseError::Silent);
+        }
+        self.log(frame, &x, observed.as_deref());
+        self.tally.harness_late_us = self.tally.harness_late_us.max(x.harness_late_us);
+        self.tally.physical_min_us += physical_time_us(&x, limits.max_ms);
+        if let (Some(cmd), Some(t)) = (command, timing::at_most_us(&x)) {
+            self.tally.response_times.entry(cmd.byte()).or_default().push(t);
+        }
+        let grade = self.oracle.grade(&before, frame, x.complete_us(), &expected, observed.as_deref());
+        let mut verdict = CaseVerdict::from(grade.verdict());
+        let reason = grade.deviation().map_or(String::new(), |d| d.to_string());
+        if let Some(f) = Finding::graded(&grade, format!("request [{}]: {reason}", Hex(frame))) {
+            self.push(f);
+        }
+        if let (Some(bytes), Some(cmd)) = (&observed, command) {
+            self.learn(cmd, bytes, verdict);
+        }
+        let edition = self.model.profile().edition;
+        if !x.stray.is_empty() {
+            let bytes: Vec<u8> = x.stray.iter().map(|c| c.byte).collect();
+            let msg = format!("{} characters [{}] arrived outside any reply", bytes.len(), Hex(&bytes));
+            let f = Finding::fail(msg, clause::NO_UNSOLICITED, edition);
+            verdict = verdict.max_with(f.verdict());
+            self.push(f);
+        }
+        if !x.trailing.is_empty() {
+            let bytes: Vec<u8> = x.trailing.iter().map(|c| c.byte).collect();
+            let f = if x.reply.is_empty() {
+                let msg = format!("{} characters [{}] arrived after the reply window", bytes.len(), Hex(&bytes));
+                Finding::fail(msg, clause::NO_UNSOLICITED, edition)
+            } else {
+                let msg = format!(
+                    "the reply went on after a pause of at least the timeout: {} more characters [{}]",
+                    bytes.len(),
+                    Hex(&bytes)
+                );
+                Finding::fail(msg, clause::REPLY_END, edition)
+            };
+            verdict = verdict.max_with(f.verdict());
+            self.push(f);
+        }
+        if matches!(expected.reply, Reply::Frame(_)) {
+            let tol = self.master.line.tolerance_us();
+            for f in timing::grade(&x, limits, tol, self.options.timing, edition) {
+                verdict = verdict.max_with(f.verdict());
+                self.push(f);
+            }
+        }
+        if let Some(s) = expected.then_settings {
+            self.master.line.configure(s)?;
+        }
+        Ok(Graded { exchange: x, verdict, reply: observed })
+    }
+
+    fn log(&mut self, frame: &[u8], x: &Exchange, observed: Option<&[u8]>) {
+        self.result.exchanges += 1;
+        let t_us = x.request_end.earliest_us;
+        self.result.wire.push(WireEntry { t_us, direction: "M>", bytes: Hex(frame).to_string() });
+        if let (Some(bytes), Some(start)) = (observed, x.reply_start) {
+            let t_us = start.earliest_us;
+            self.result.wire.push(WireEntry { t_us, direction: "S<", bytes: Hex(bytes).to_string() });
+        }
+    }
+
+    /// Learn from a well-formed reply: the identity for the certificate, and on a real
+    /// device what the documents let it choose and the model cannot know (the shaft's
+    /// position, the preset 6Ah rounded to, bytes of fields it did not write).
+    fn learn(&mut self, command: CommandId, bytes: &[u8], verdict: CaseVerdict) {
+        let Ok(frame) = ResponseFrame::decode(bytes, command) else { return };
+        self.tally.identity.record(&frame.response);
+        if verdict == CaseVerdict::Fail || self.options.knowledge != Knowledge::PhysicalUnknown {
+            return;
+        }
+        match frame.response {
+            Response::Position(p) => {
+                self.model.adopt_position(p as u64);
+            }
+            Response::PositionWithSyncSet(used) => {
+                self.model.adopt_preset(used as u64);
+            }
+            Response::Data { field, offset, data } => {
+                self.model.adopt_field_data(field, offset, data.as_bytes());
+            }
+            _ => {}
+        }
+    }
+
+    /// Wait, with nothing on the line; anything that arrives is a FAIL.
+    pub fn wait_ms(&mut self, ms: u64) -> Result<(), CaseError> {
+        let until = self.master.now_us() + ms * 1000;
+        let got = self.master.listen_until(until)?;
+        self.tally.physical_min_us += ms * 1000;
+        if !got.is_empty() {
+            let bytes: Vec<u8> = got.iter().map(|c| c.byte).collect();
+            self.fail(format!("unsolicited characters [{}]", Hex(&bytes)), clause::NO_UNSOLICITED);
+        }
+        Ok(())
+    }
+
+    /// Now on the line's clock, µs.
+    pub fn now_us(&mut self) -> u64 {
+        self.master.now_us()
+    }
+
+    /// Whether the line can follow the device to another data rate (67h).
+    pub fn line_can_change_settings(&self) -> bool {
+        self.master.line.can_change_settings()
+    }
+
+    pub fn allow_counter_change(&self) -> bool {
+        self.options.allow_counter_change
+    }
+}

@@ -1,0 +1,191 @@
+//! Verdicts and findings. A finding is FAIL only when built from a normative clause
+//! that binds the device's edition ([`Finding::fail`]) or from an oracle grade (which
+//! holds the same guarantee); decisions of this project and third-party readings
+//! give NON-STRICT at most, and what the harness itself does not know is an ERROR
+//! or a note, never charged to the device.
+
+use super::{CaseVerdict, Ctx, Needs};
+use crate::line::LineError;
+use hiperface_model::clause::{Clause, Normative};
+use hiperface_model::oracle::Grade;
+use hiperface_model::{Edition, Profile};
+use serde::{Serialize, Serializer};
+
+fn clause_id<S: Serializer>(c: &Option<Clause>, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(c.map_or("", |c| c.id()))
+}
+
+fn clause_ids<S: Serializer>(c: &[Clause], s: S) -> Result<S::Ok, S::Error> {
+    s.collect_seq(c.iter().map(|c| c.id()))
+}
+
+/// One statement of a case's result.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct Finding {
+    verdict: CaseVerdict,
+    message: String,
+    #[serde(serialize_with = "clause_id")]
+    clause: Option<Clause>,
+}
+
+impl Finding {
+    /// The device broke `rule`: FAIL if the rule binds its edition, NON-STRICT (with
+    /// the reason) if it is a rule of the other edition's document.
+    pub fn fail(message: impl Into<String>, rule: Normative, edition: Edition) -> Finding {
+        let mut message = message.into();
+        let verdict = if rule.binds(edition) {
+            CaseVerdict::Fail
+        } else {
+            message.push_str(&format!(" ({rule} does not bind a {edition:?}-edition device)"));
+            CaseVerdict::NonStrict
+        };
+        Finding { verdict, message, clause: Some(rule.clause()) }
+    }
+
+    /// Acceptable where the documents leave latitude, or a departure from a decision.
+    pub fn non_strict(message: impl Into<String>, clause: impl Into<Clause>) -> Finding {
+        Finding { verdict: CaseVerdict::NonStrict, message: message.into(), clause: Some(clause.into()) }
+    }
+
+    /// The harness could not run (part of) the case.
+    pub fn error(message: impl Into<String>) -> Finding {
+        Finding { verdict: CaseVerdict::Error, message: message.into(), clause: None }
+    }
+
+    /// The profile or the options exclude the case.
+    pub fn not_applicable(message: impl Into<String>) -> Finding {
+        Finding { verdict: CaseVerdict::NotApplicable, message: message.into(), clause: None }
+    }
+
+    /// The oracle's grade of an exchange (PASS grades make no finding).
+    pub fn graded(grade: &Grade, message: impl Into<String>) -> Option<Finding> {
+        let verdict = CaseVerdict::from(grade.verdict());
+        (verdict != CaseVerdict::Pass).then(|| Finding {
+            verdict,
+            message: message.into(),
+            clause: Some(grade.clause()),
+        })
+    }
+
+    /// A FAIL becomes NON-STRICT, with the reason (e.g. timing graded leniently on
+    /// a line whose latency the harness cannot bound). Only ever lowers a verdict.
+    pub fn softened(mut self, reason: &str) -> Finding {
+        if self.verdict == CaseVerdict::Fail {
+            self.verdict = CaseVerdict::NonStrict;
+            self.message.push_str(&format!(" ({reason})"));
+        }
+        self
+    }
+
+    pub fn verdict(&self) -> CaseVerdict {
+        self.verdict
+    }
+
+    pub fn message(&self) -> &str {
+        &self.message
+    }
+
+    pub fn clause(&self) -> Option<Clause> {
+        self.clause
+    }
+
+    /// The clause id, or "" for the harness's own statements.
+    pub fn clause_id(&self) -> &'static str {
+        self.clause.map_or("", |c| c.id())
+    }
+}
+
+/// One line of the wire log.
+#[derive(Debug, Clone, Serialize)]
+pub struct WireEntry {
+    /// µs since the run started (receive time of the last character for requests,
+    /// start of the first character for replies).
+    pub t_us: u64,
+    pub direction: &'static str,
+    pub bytes: String,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct CaseResult {
+    pub id: &'static str,
+    pub title: &'static str,
+    #[serde(serialize_with = "clause_ids")]
+    pub clauses: Vec<Clause>,
+    pub verdict: CaseVerdict,
+    pub findings: Vec<Finding>,
+    pub exchanges: usize,
+    pub wire: Vec<WireEntry>,
+    pub duration_ms: f64,
+}
+
+impl CaseResult {
+    pub fn new(case: &Case) -> CaseResult {
+        CaseResult {
+            id: case.id,
+            title: case.title,
+            clauses: case.clauses.to_vec(),
+            verdict: CaseVerdict::Pass,
+            findings: Vec::new(),
+            exchanges: 0,
+            wire: Vec::new(),
+            duration_ms: 0.0,
+        }
+    }
+
+    /// Record a finding; the case verdict is the worst of its findings.
+    pub fn push(&mut self, f: Finding) {
+        if f.verdict.rank() > self.verdict.rank() || f.verdict == CaseVerdict::NotApplicable {
+            self.verdict = f.verdict;
+        }
+        self.findings.push(f);
+    }
+
+    /// The clause ids, comma-separated, for reports.
+    pub fn clause_list(&self) -> String {
+        self.clauses.iter().map(|c| c.id()).collect::<Vec<_>>().join(", ")
+    }
+}
+
+/// A case of the catalogue.
+pub struct Case {
+    pub id: &'static str,
+    pub title: &'static str,
+    pub clauses: &'static [Clause],
+    pub needs: Needs,
+    /// `Some(reason)` when the profile excludes the case.
+    pub applies: fn(&Profile) -> Option<&'static str>,
+    pub run: fn(&mut Ctx<'_>) -> Result<(), CaseError>,
+}
+
+/// Why a case stopped early.
+#[derive(Debug, thiserror::Error)]
+pub enum CaseError {
+    #[error("{0}")]
+    Line(#[from] LineError),
+    /// The case cannot go on (e.g. a precondition failed); already recorded.
+    #[error("{0}")]
+    Abort(String),
+    #[error("EEPROM write budget of {0} exhausted")]
+    Budget(u32),
+    #[error("the device has not answered any request: check the port, power, address and data rate")]
+    Silent,
+    #[error("interrupted")]
+    Interrupted,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hiperface_model::clause;
+
+    #[test]
+    fn a_fail_binds_the_devices_edition_only() {
+        let f = Finding::fail("37 bytes", clause::READ_VERSION, Edition::Current);
+        assert_eq!((f.verdict(), f.clause_id()), (CaseVerdict::Fail, "000:T31"));
+        let f = Finding::fail("37 bytes", clause::READ_VERSION, Edition::Legacy);
+        assert_eq!(f.verdict(), CaseVerdict::NonStrict, "000:T31 is not a rule of 002");
+        assert!(f.message().contains("does not bind a Legacy-edition device"), "{}", f.message());
+        assert_eq!(Finding::non_strict("x", clause::CHECK_ORDER).verdict(), CaseVerdict::NonStrict);
+        assert_eq!(Finding::error("port gone").clause_id(), "");
+    }
+}

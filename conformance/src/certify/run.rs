@@ -1,0 +1,200 @@
+//! The runner: the catalogue case by case, restores after each, the safety read-back
+//! around the whole run, and the report.
+
+use super::ctx::Tally;
+use super::safety::Snapshot;
+use super::{cases, glob_match, Case, CaseError, CaseResult, CaseVerdict, Ctx, Finding, Identity, Needs, Options};
+use super::{Safety, TimingMode};
+use crate::line::{Line, LineError, LineKind};
+use crate::master::Master;
+use hiperface_model::{CommandId, Knowledge, Profile, Slave};
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+/// Response-time statistics of one command (the most the line's uncertainty allows).
+#[derive(Debug, Clone, Serialize)]
+pub struct TimingStats {
+    pub command: String,
+    pub count: usize,
+    pub min_us: i64,
+    pub median_us: i64,
+    pub max_us: i64,
+}
+
+/// The result of a whole run.
+#[derive(Debug, Clone, Serialize)]
+pub struct Report {
+    pub tool: String,
+    pub profile: String,
+    pub edition: String,
+    pub line: String,
+    pub line_kind: Option<LineKind>,
+    /// Facts about the line that bear on timing verdicts (an adapter's latency timer).
+    pub line_notes: Vec<String>,
+    pub timing: TimingMode,
+    /// Jitter allowed for the line on every timing verdict, µs.
+    pub tolerance_us: u64,
+    /// The harness's own scheduling delay, at most, in any exchange, µs: added to the
+    /// tolerance of that exchange's timing verdicts.
+    pub harness_late_us: u64,
+    pub knowledge: String,
+    pub identity: Identity,
+    pub cases: Vec<CaseResult>,
+    pub summary: BTreeMap<&'static str, usize>,
+    pub response_times: Vec<TimingStats>,
+    pub safety: Safety,
+    pub wall_time_ms: f64,
+    pub physical_minimum_ms: f64,
+    pub notes: Vec<String>,
+    /// Set when the run stopped early (port gone, Ctrl-C): the report is partial.
+    pub aborted: Option<String>,
+}
+
+impl Report {
+    fn empty(profile: &Profile, line: &str, options: &Options) -> Report {
+        Report {
+            tool: format!("hiperface {}", env!("CARGO_PKG_VERSION")),
+            profile: profile.name.to_string(),
+            edition: format!("{:?}", profile.edition),
+            line: line.to_string(),
+            line_kind: None,
+            line_notes: Vec::new(),
+            timing: options.timing,
+            tolerance_us: 0,
+            harness_late_us: 0,
+            knowledge: format!("{:?}", options.knowledge),
+            identity: Identity::default(),
+            cases: Vec::new(),
+            summary: BTreeMap::new(),
+            response_times: Vec::new(),
+            safety: Safety::default(),
+            wall_time_ms: 0.0,
+            physical_minimum_ms: 0.0,
+            notes: Vec::new(),
+            aborted: None,
+        }
+    }
+
+    /// The report of a run that could not start (e.g. the port cannot be opened).
+    pub fn aborted_before_start(profile: &Profile, line: &str, options: &Options, reason: &str) -> Report {
+        Report { aborted: Some(reason.to_string()), ..Report::empty(profile, line, options) }
+    }
+
+    /// No case FAILed and the run was complete. (Safety is reported apart: it is the
+    /// operator's information, not a verdict on the device.)
+    pub fn passed(&self) -> bool {
+        self.cases.iter().all(|c| c.verdict != CaseVerdict::Fail) && self.aborted.is_none()
+    }
+}
+
+/// Run the catalogue. `progress` is called after each case.
+pub fn run(
+    line: Box<dyn Line>,
+    profile: Profile,
+    options: &Options,
+    mut progress: impl FnMut(usize, usize, &CaseResult),
+) -> Report {
+    let started = Instant::now();
+    let mut report = Report::empty(&profile, &line.describe(), options);
+    report.line_kind = Some(line.kind());
+    report.line_notes = line.notes();
+    report.tolerance_us = line.tolerance_us();
+    let mut master = Master::new(line, profile.edition);
+    let mut model = Slave::operational(profile);
+    options.world.apply(&mut model);
+    let mut tally = Tally::default();
+    // What the device reports of its stored state, before anything is changed.
+    let before = Snapshot::read(&mut master, &model, &mut tally);
+    // A real device is not in its factory state: adopt what it reports.
+    if options.knowledge == Knowledge::PhysicalUnknown {
+        report.notes.extend(adopt(&mut model, &before));
+    }
+    let initial = model.nonvolatile().clone();
+    let catalogue = cases::catalogue();
+    let selected: Vec<&Case> =
+        catalogue.iter().filter(|c| options.cases.as_deref().is_none_or(|g| glob_match(g, c.id))).collect();
+    let mut restores_run = 0usize;
+    let mut line_gone = false;
+    for (i, case) in selected.iter().enumerate() {
+        let mut result = CaseResult::new(case);
+        let case_start = Instant::now();
+        let excluded = (case.applies)(&profile).map(str::to_string).or_else(|| match case.needs {
+            Needs::Writes if !options.allow_writes => Some("writes EEPROM; run with --allow-writes".into()),
+            Needs::CounterChange if !options.allow_counter_change => {
+                Some("changes the counter, which cannot be restored; run with --allow-counter-change".into())
+            }
+            _ => None,
+        });
+        if let Some(reason) = excluded {
+            result.push(Finding::not_applicable(reason));
+        } else if let Some(why) = &report.aborted {
+            result.push(Finding::error(format!("not run: {why}")));
+        } else {
+            let mut ctx = Ctx::new(&mut master, &mut model, &mut result, &mut tally, options);
+            let outcome = (case.run)(&mut ctx);
+            let gone = matches!(outcome, Err(CaseError::Line(LineError::Gone(_))) | Err(CaseError::Silent));
+            if let Err(e) = &outcome {
+                ctx.push(Finding::error(e.to_string()));
+                if !matches!(e, CaseError::Abort(_)) {
+                    report.aborted = Some(e.to_string());
+                }
+            }
+            // Restore what the case changed, also after a failure or Ctrl-C.
+            if !gone && ctx.has_guards() {
+                match ctx.restore() {
+                    Ok(n) => restores_run += n,
+                    Err(e) => ctx.note(format!("restoring failed: {e}")),
+                }
+            }
+            line_gone |= gone;
+        }
+        result.duration_ms = case_start.elapsed().as_secs_f64() * 1000.0;
+        progress(i + 1, selected.len(), &result);
+        report.cases.push(result);
+    }
+    let after = (!line_gone).then(|| Snapshot::read(&mut master, &model, &mut tally));
+    report.safety =
+        Safety::compare(&before, after.as_ref(), &initial, model.nonvolatile(), options.allow_counter_change);
+    report.safety.restores_run = restores_run;
+    report.safety.eeprom_writes = model.eeprom_writes();
+    report.safety.notes.append(&mut tally.notes);
+    report.harness_late_us = tally.harness_late_us;
+    for r in &report.cases {
+        *report.summary.entry(r.verdict.label()).or_insert(0) += 1;
+    }
+    report.response_times = tally
+        .response_times
+        .into_iter()
+        .filter_map(|(cmd, mut v)| {
+            v.sort_unstable();
+            Some(TimingStats {
+                command: CommandId::decode(cmd).to_string(),
+                count: v.len(),
+                min_us: *v.first()?,
+                median_us: *v.get(v.len() / 2)?,
+                max_us: *v.last()?,
+            })
+        })
+        .collect();
+    report.identity = tally.identity;
+    report.wall_time_ms = started.elapsed().as_secs_f64() * 1000.0;
+    report.physical_minimum_ms = tally.physical_min_us as f64 / 1000.0;
+    report.notes.push(
+        "Power cycling is out of reach on a serial line: the power-up cases start from an Encoder Reset (53h), which 000:T29 says leads to the same initialization as power-on.".into(),
+    );
+    report
+}
+
+/// Let the lockstep model adopt a real device's data field table and counter; a note
+/// for the report.
+fn adopt(model: &mut Slave, s: &Snapshot) -> Option<String> {
+    let ((free, count), statuses) = (s.memory?, s.statuses.as_ref()?);
+    let counter = s.counter.unwrap_or(0);
+    model.adopt(statuses, free, counter).then(|| {
+        format!(
+            "Adopted from the device before the catalogue: {count} data fields, {free} free blocks, counter {}.",
+            s.counter.map_or("unknown".into(), |c| c.to_string())
+        )
+    })
+}

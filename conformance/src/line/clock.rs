@@ -1,0 +1,158 @@
+//! Real time on a line: the clock, sleeping, bounded reads, receive stamps, and the
+//! window in which a request written at once ended for the peer.
+//!
+//! Timing convention (see docs/design.md, "Timing on lines without a UART clock"):
+//! a character's *stamp* is when the far end's UART would have completed it (the end
+//! of its stop bit). On a real port the UART clocks the characters; a
+//! pseudo-terminal or a TCP connection has no baud rate, so the harness writes a
+//! request at once and knows its end only as a window (see [`write_whole`]), and
+//! reads a peer's reply knowing that the peer may have meant a write as the start of
+//! a character (a program writing its whole reply at once) or as its end (a program
+//! playing the UART).
+
+use super::{LineError, Window};
+use hiperface_model::datalink::RxChar;
+
+/// Receive stamps. A UART stamps a character when it arrives. A pseudo-terminal or
+/// TCP has no baud rate: a UART would deliver the bytes at least one character time
+/// apart, so `max(arrival, previous + char time)`; a backlog of more than one frame
+/// is more than any UART could have received, and such a character is an overrun at
+/// its arrival.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct RxClock {
+    last_us: u64,
+}
+
+impl RxClock {
+    /// Stamp a byte. `clocked_char_time_us`: `Some` on lines without a baud rate.
+    pub fn stamp(&mut self, byte: u8, arrival_us: u64, clocked_char_time_us: Option<u64>) -> RxChar {
+        let (at_us, overrun) = match clocked_char_time_us {
+            Some(ct) => {
+                let clocked = arrival_us.max(self.last_us + ct);
+                if clocked - arrival_us > hiperface_model::frame::MAX_FRAME as u64 * ct {
+                    (arrival_us, true)
+                } else {
+                    (clocked, false)
+                }
+            }
+            None => (arrival_us, false),
+        };
+        self.last_us = at_us;
+        RxChar { byte, at_us, fault: overrun.then_some(hiperface_model::UartFault::Overrun) }
+    }
+}
+
+/// The clock of a real-time line: µs since the line opened, sleeping until a time,
+/// receive stamps, the timing jitter graded with, and how late the harness itself
+/// woke up (its scheduling delay on a busy machine, measured on every timed wait).
+#[derive(Debug, Clone)]
+pub struct RealTime {
+    epoch: std::time::Instant,
+    pub rx: RxClock,
+    pub tolerance_us: u64,
+    lateness_us: std::sync::Arc<std::sync::atomic::AtomicU64>,
+}
+
+impl RealTime {
+    pub fn new(tolerance_us: u64) -> RealTime {
+        RealTime {
+            epoch: std::time::Instant::now(),
+            rx: RxClock::default(),
+            tolerance_us,
+            lateness_us: Default::default(),
+        }
+    }
+
+    pub fn now_us(&self) -> u64 {
+        self.epoch.elapsed().as_micros() as u64
+    }
+
+    pub fn sleep_until(&self, t_us: u64) {
+        let target = self.epoch + std::time::Duration::from_micros(t_us);
+        if let Some(d) = target.checked_duration_since(std::time::Instant::now()) {
+            std::thread::sleep(d);
+            self.woke(t_us);
+        }
+    }
+
+    /// A timed wait meant to end at `t_us` has ended: record how late.
+    pub fn woke(&self, t_us: u64) {
+        let late = self.now_us().saturating_sub(t_us);
+        self.lateness_us.fetch_max(late, std::sync::atomic::Ordering::Relaxed);
+    }
+
+    /// The longest scheduling delay seen since the last call.
+    pub fn take_lateness_us(&self) -> u64 {
+        self.lateness_us.swap(0, std::sync::atomic::Ordering::Relaxed)
+    }
+}
+
+/// Wait for one byte until `until_us` on the line's clock, in slices of at most
+/// 20 ms: `read_within` waits up to the given time and answers `None` on a timeout
+/// (whose lateness is recorded, see [`RealTime::take_lateness_us`]).
+pub fn read_until(
+    time: &RealTime,
+    until_us: u64,
+    mut read_within: impl FnMut(std::time::Duration) -> Result<Option<u8>, LineError>,
+) -> Result<Option<(u8, u64)>, LineError> {
+    loop {
+        let t = time.now_us();
+        if t > until_us {
+            return Ok(None);
+        }
+        let slice = (until_us - t).clamp(100, 20_000);
+        match read_within(std::time::Duration::from_micros(slice))? {
+            Some(b) => return Ok(Some((b, time.now_us()))),
+            None => time.woke(t + slice),
+        }
+    }
+}
+
+/// Write a request in one write and say when the peer received its last character.
+///
+/// A line without a UART clock delivers one write at once. A peer that stamps what
+/// it reads (a program) sees the request end when the write arrived; a peer that
+/// plays the UART stamps the characters one character time `ct` apart, so the end is
+/// up to (n-1)·ct later. The window holds both. (Writing the characters one at a
+/// time instead would narrow it, but on a busy machine the kernel may deliver two of
+/// them a timeout apart, and the peer would see two frames: the harness's jitter
+/// turned into the device's errors.)
+pub fn write_whole(
+    time: &RealTime,
+    ct: u64,
+    bytes: &[u8],
+    write: impl FnOnce(&[u8]) -> Result<(), LineError>,
+) -> Result<Window, LineError> {
+    // Taken before the write: the harness may be descheduled between the write and
+    // reading the clock.
+    let began = time.now_us();
+    write(bytes)?;
+    let done = time.now_us();
+    Ok(Window { earliest_us: began, latest_us: done + bytes.len().saturating_sub(1) as u64 * ct })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_whole_write_ends_between_its_arrival_and_a_clocked_end() {
+        let time = RealTime::new(0);
+        let mut at = 0;
+        let end = write_whole(&time, 2_000, &[1, 2, 3, 4], |_| {
+            at = time.now_us();
+            Ok(())
+        })
+        .unwrap();
+        // A program stamps the write's arrival; a UART player three characters later.
+        assert!(end.earliest_us <= at && end.latest_us >= at + 3 * 2_000, "{end:?} {at}");
+    }
+
+    #[test]
+    fn a_clocking_peer_stamps_a_burst_a_character_apart() {
+        // A write read at once: a peer playing the UART stamps one character time apart.
+        let mut clock = RxClock::default();
+        let stamps: Vec<u64> = (0..4).map(|i| clock.stamp(i, 1_000, Some(500)).at_us).collect();
+        assert_eq!(stamps, vec![1_000, 1_500, 2_000, 2_500]);
+    }
+}

@@ -1,0 +1,191 @@
+//! What `--port` names, and opening it as a line: the reference model in virtual
+//! time or on a pseudo-terminal, a serial port, or a serial device server over TCP.
+
+use crate::certify::{TimingMode, World};
+use crate::line::adapter::STRICT_LIMIT_US;
+use crate::line::serial::SerialLine;
+use crate::line::tcp::TcpLine;
+use crate::line::virtual_line::VirtualLine;
+use crate::line::{Line, LineError};
+use crate::simulate::PtySimulator;
+use hiperface_model::{Profile, UartSettings};
+use std::fmt;
+use std::str::FromStr;
+
+/// A `--port` argument.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum PortSpec {
+    /// The reference model served on an in-process pseudo-terminal, real time.
+    Sim,
+    /// The reference model in-process, virtual time.
+    Virtual,
+    /// A new pseudo-terminal pair; the path of the other end is printed.
+    Pty,
+    /// Raw TCP to a serial device server, `host:port`.
+    Tcp(String),
+    /// A serial port or pseudo-terminal by path.
+    Path(String),
+}
+
+/// A `--port` argument that names nothing.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("`{given}` is not a port: {why} (expected sim, virtual, pty, tcp://HOST:PORT or a device path)")]
+pub struct BadPort {
+    pub given: String,
+    pub why: &'static str,
+}
+
+impl FromStr for PortSpec {
+    type Err = BadPort;
+
+    fn from_str(s: &str) -> Result<PortSpec, BadPort> {
+        let bad = |why| BadPort { given: s.to_string(), why };
+        match s {
+            "sim" => Ok(PortSpec::Sim),
+            "virtual" => Ok(PortSpec::Virtual),
+            "pty" => Ok(PortSpec::Pty),
+            "" => Err(bad("it is empty")),
+            _ => match s.strip_prefix("tcp://") {
+                Some(address) => {
+                    let (host, port) = address.rsplit_once(':').ok_or_else(|| bad("no :PORT after the host"))?;
+                    if host.is_empty() {
+                        return Err(bad("no host"));
+                    }
+                    port.parse::<u16>().map_err(|_| bad("the TCP port is not a number from 0 to 65535"))?;
+                    Ok(PortSpec::Tcp(address.to_string()))
+                }
+                None if s.contains("://") => Err(bad("only tcp:// is spoken")),
+                None => Ok(PortSpec::Path(s.to_string())),
+            },
+        }
+    }
+}
+
+impl fmt::Display for PortSpec {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            PortSpec::Sim => f.write_str("sim"),
+            PortSpec::Virtual => f.write_str("virtual"),
+            PortSpec::Pty => f.write_str("pty"),
+            PortSpec::Tcp(a) => write!(f, "tcp://{a}"),
+            PortSpec::Path(p) => f.write_str(p),
+        }
+    }
+}
+
+impl PortSpec {
+    /// The reference model is the device: its world is known exactly.
+    pub fn is_model(&self) -> bool {
+        matches!(self, PortSpec::Sim | PortSpec::Virtual)
+    }
+}
+
+/// An open line, and the simulator serving it (kept alive as long as the line).
+pub struct Opened {
+    pub line: Box<dyn Line>,
+    pub simulator: Option<PtySimulator>,
+    /// The timing mode the line supports when the user did not choose one, and why.
+    pub default_timing: (TimingMode, Option<String>),
+}
+
+/// Open `spec` for certifying a slave of `profile`. `tolerance_us` overrides the
+/// line's default jitter tolerance on every real-time line.
+pub fn open_for_slave(
+    spec: &PortSpec,
+    profile: Profile,
+    world: &World,
+    tolerance_us: Option<u64>,
+) -> Result<Opened, LineError> {
+    let strict = (TimingMode::Strict, None);
+    let (line, simulator, default_timing): (Box<dyn Line>, _, _) = match spec {
+        PortSpec::Virtual => {
+            let mut device = hiperface_model::Slave::operational(profile);
+            world.apply(&mut device);
+            (Box::new(VirtualLine::new(device)), None, strict)
+        }
+        PortSpec::Sim => {
+            let (sim, port) = PtySimulator::start_in(profile, world.clone())
+                .map_err(|reason| LineError::Open { port: "sim".into(), reason })?;
+            let name = format!("{} (simulator)", sim.path);
+            let mut line = SerialLine::from_port(port, name, profile.settings, true);
+            if let Some(t) = tolerance_us {
+                line = line.with_tolerance(t);
+            }
+            (Box::new(line), Some(sim), strict)
+        }
+        PortSpec::Pty => {
+            return Err(LineError::Open {
+                port: "pty".into(),
+                reason: "a slave is certified on its own port: give its path (a pseudo-terminal path works)".into(),
+            })
+        }
+        PortSpec::Tcp(address) => {
+            let mut line = TcpLine::connect(address, UartSettings::DEFAULT)?;
+            if let Some(t) = tolerance_us {
+                line = line.with_tolerance(t);
+            }
+            (Box::new(line), None, strict)
+        }
+        PortSpec::Path(path) => {
+            let mut line = SerialLine::open(path, UartSettings::DEFAULT)?;
+            if let Some(t) = tolerance_us {
+                line = line.with_tolerance(t);
+            }
+            let timing = match line.adapter().map(|a| a.input_latency_us()) {
+                Some(latency) if latency > STRICT_LIMIT_US => (
+                    TimingMode::Lenient,
+                    Some(format!(
+                        "timing graded leniently: the USB adapter may hold replies back up to {:.1} ms \
+                         (lower its latency timer, or choose --timing strict)",
+                        latency as f64 / 1000.0
+                    )),
+                ),
+                _ => strict,
+            };
+            (Box::new(line), None, timing)
+        }
+    };
+    Ok(Opened { line, simulator, default_timing })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn port_specs() {
+        assert_eq!("sim".parse(), Ok(PortSpec::Sim));
+        assert_eq!("virtual".parse(), Ok(PortSpec::Virtual));
+        assert_eq!("pty".parse(), Ok(PortSpec::Pty));
+        assert_eq!("tcp://127.0.0.1:2000".parse(), Ok(PortSpec::Tcp("127.0.0.1:2000".into())));
+        assert_eq!("tcp://[::1]:2000".parse(), Ok(PortSpec::Tcp("[::1]:2000".into())));
+        assert_eq!("/dev/ttyUSB0".parse(), Ok(PortSpec::Path("/dev/ttyUSB0".into())));
+        assert_eq!("COM3".parse(), Ok(PortSpec::Path("COM3".into())));
+        for bad in ["", "tcp://host", "tcp://:2000", "tcp://h:99999", "rfc2217://h:1"] {
+            let e = bad.parse::<PortSpec>().unwrap_err();
+            assert!(e.to_string().contains("is not a port"), "{bad}: {e}");
+        }
+        for s in ["sim", "virtual", "pty", "tcp://h:1", "/dev/pts/3"] {
+            assert_eq!(s.parse::<PortSpec>().unwrap().to_string(), s);
+        }
+    }
+
+    #[test]
+    fn the_tolerance_reaches_every_real_time_line() {
+        let profile = hiperface_model::profiles::srs50();
+        let opened = open_for_slave(&PortSpec::Sim, profile, &World::default(), Some(7_000)).unwrap();
+        assert_eq!(opened.line.tolerance_us(), 7_000);
+        // A pseudo-terminal by path: the other end stays open, its own handle is closed.
+        use serialport::SerialPort as _;
+        let (_keep, other) = serialport::TTYPort::pair().unwrap();
+        let path = other.name().unwrap();
+        drop(other);
+        let opened = open_for_slave(&PortSpec::Path(path), profile, &World::default(), Some(9_000)).unwrap();
+        assert_eq!(opened.line.tolerance_us(), 9_000);
+        let server = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+        let spec = PortSpec::Tcp(server.local_addr().unwrap().to_string());
+        let opened = open_for_slave(&spec, profile, &World::default(), Some(11_000)).unwrap();
+        assert_eq!(opened.line.tolerance_us(), 11_000);
+        assert!(open_for_slave(&PortSpec::Pty, profile, &World::default(), None).is_err());
+    }
+}

@@ -1,0 +1,67 @@
+//! Test helpers shared by the integration tests that need a real ser2net.
+
+use hiperface_conformance::line::tcp::TcpLine;
+use hiperface_model::UartSettings;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// A child process, killed when dropped.
+pub struct KillOnDrop(pub Child);
+
+impl Drop for KillOnDrop {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// A ser2net (Debian's package) bridging a TCP port on loopback to a pseudo-terminal.
+pub struct Ser2net {
+    _server: KillOnDrop,
+    port: u16,
+}
+
+impl Ser2net {
+    /// Start one for `pty_path` at 9600 8E1; `None` (the test skips) where ser2net is
+    /// not installed, except in CI (`.ci/run` installs it).
+    pub fn bridge(pty_path: &str, name: &str) -> Option<Ser2net> {
+        let Some(exe) =
+            ["/usr/sbin/ser2net", "/usr/bin/ser2net"].into_iter().find(|p| std::path::Path::new(p).exists())
+        else {
+            assert!(std::env::var_os("CI").is_none(), "ser2net is required in CI (.ci/run installs it)");
+            eprintln!("SKIPPED: ser2net is not installed (apt-get install ser2net)");
+            return None;
+        };
+        let port = std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port();
+        let dir = std::env::temp_dir().join(format!("hf-{name}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let config = dir.join("ser2net.yaml");
+        std::fs::write(
+            &config,
+            format!(
+                "%YAML 1.1\n---\nconnection: &{name}\n    accepter: tcp,127.0.0.1,{port}\n    enable: on\n    connector: serialdev,{pty_path},9600e81,local\n"
+            ),
+        )
+        .unwrap();
+        let server = Command::new(exe)
+            .args(["-n", "-d", "-c"])
+            .arg(&config)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        Some(Ser2net { _server: KillOnDrop(server), port })
+    }
+
+    /// Connect, waiting up to 10 s for the server to accept.
+    pub fn connect(&self) -> TcpLine {
+        let started = Instant::now();
+        loop {
+            match TcpLine::connect(&format!("127.0.0.1:{}", self.port), UartSettings::DEFAULT) {
+                Ok(l) => return l,
+                Err(_) if started.elapsed() < Duration::from_secs(10) => std::thread::sleep(Duration::from_millis(100)),
+                Err(e) => panic!("ser2net did not accept connections: {e}"),
+            }
+        }
+    }
+}

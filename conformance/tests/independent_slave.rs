@@ -1,0 +1,270 @@
+//! The harness against a slave it did not write: HX-1 (`tests/independent/hx1_slave.py`),
+//! a stdlib-only Python process written from 000's tables, that behaves like typical
+//! third-party firmware and simulators on a pseudo-terminal (whole reply in one
+//! write, timeout measured from the last byte that arrived, its own memory, error
+//! stack and state machine). Real time, real pseudo-terminals, a real ser2net.
+//!
+//! - the conformant HX-1 gets no FAIL on the whole catalogue, over a pseudo-terminal
+//!   and through ser2net, also with a warning pending and with new fields cleared to 00h;
+//! - each defect switch FAILs the case that exercises it, citing the clause it breaks;
+//!   the FAILs it causes elsewhere (collateral) are printed and bounded by the list
+//!   of cases that exchange the same defective answer.
+
+mod common;
+
+use hiperface_conformance::certify::{self, CaseVerdict, Options, Report};
+use hiperface_conformance::port::{self, PortSpec};
+use hiperface_conformance::profile_file;
+use hiperface_model::{Knowledge, Profile};
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::Duration;
+
+fn dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests").join("independent")
+}
+
+fn profile() -> Profile {
+    profile_file::load(&dir().join("hx1.toml")).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// A running HX-1; stopped (stdin closed, killed) on drop.
+struct Hx1 {
+    child: Child,
+    path: String,
+}
+
+impl Hx1 {
+    /// `None` (test skipped) where python3 is missing, except in CI.
+    fn start(args: &[&str]) -> Option<Hx1> {
+        let spawned = Command::new("python3")
+            .arg(dir().join("hx1_slave.py"))
+            .arg("--pty")
+            .args(args)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn();
+        let mut child = match spawned {
+            Ok(c) => c,
+            Err(e) => {
+                assert!(std::env::var_os("CI").is_none(), "python3 is required in CI: {e}");
+                eprintln!("SKIPPED: python3 is not available: {e}");
+                return None;
+            }
+        };
+        let mut path = String::new();
+        BufReader::new(child.stdout.take().expect("piped")).read_line(&mut path).expect("the pty path");
+        let path = path.trim().to_string();
+        assert!(path.starts_with("/dev/"), "HX-1 did not print its pseudo-terminal: {path:?}");
+        // It has just been powered on: past its initialization (000:T9, at most 200 ms)
+        // it is operational, as the harness expects a device under test to be.
+        std::thread::sleep(Duration::from_millis(250));
+        Some(Hx1 { child, path })
+    }
+}
+
+impl Drop for Hx1 {
+    fn drop(&mut self) {
+        drop(self.child.stdin.take());
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// What a user runs: every case, writes and counter allowed, a black box.
+fn options() -> Options {
+    Options {
+        allow_writes: true,
+        allow_counter_change: true,
+        knowledge: Knowledge::PhysicalUnknown,
+        ..Options::default()
+    }
+}
+
+/// Certify over the pseudo-terminal, opened as `certify slave --port <path>` opens it
+/// (default tolerance, default timing mode).
+fn certify_pty(hx1: &Hx1) -> Report {
+    let opened = port::open_for_slave(&PortSpec::Path(hx1.path.clone()), profile(), &Default::default(), None)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let options = Options { timing: opened.default_timing.0, ..options() };
+    certify::run(opened.line, profile(), &options, |_, _, _| {})
+}
+
+fn with_verdict(r: &Report, v: CaseVerdict) -> Vec<&'static str> {
+    r.cases.iter().filter(|c| c.verdict == v).map(|c| c.id).collect()
+}
+
+fn assert_no_fail(r: &Report) {
+    let bad: Vec<_> = r.cases.iter().filter(|c| matches!(c.verdict, CaseVerdict::Fail | CaseVerdict::Error)).collect();
+    assert!(bad.is_empty(), "{bad:#?}");
+    assert!(r.passed() && r.aborted.is_none());
+    assert!(r.safety.restored(), "{:#?}", r.safety);
+    // The catalogue ran.
+    assert!(with_verdict(r, CaseVerdict::NotApplicable).len() < 4, "{:?}", r.summary);
+}
+
+#[test]
+fn the_conformant_hx1_passes_over_a_pseudo_terminal() {
+    let Some(hx1) = Hx1::start(&[]) else { return };
+    let r = certify_pty(&hx1);
+    assert_no_fail(&r);
+    assert!(with_verdict(&r, CaseVerdict::Pass).len() > 25, "{:?}", r.summary);
+    // The certificate shows what the device said of itself, not the profile's sample.
+    assert_eq!(r.identity.serial.as_deref(), Some("HX1000042"));
+    assert_eq!(r.identity.firmware_date.as_deref(), Some("03.10.26"));
+    assert_eq!(r.identity.type_label.map(|t| t.type_code), Some(0xFF));
+    assert_eq!(r.safety.verified.len(), 4, "{:#?}", r.safety);
+    // Its one latitude the check order prefers otherwise: 55h checks the code first.
+    assert_eq!(with_verdict(&r, CaseVerdict::NonStrict), vec!["address.change-restore"]);
+    eprintln!(
+        "HX-1 over a pseudo-terminal: {:?}; wall {:.0} ms, physical minimum {:.0} ms",
+        r.summary, r.wall_time_ms, r.physical_minimum_ms
+    );
+}
+
+#[test]
+fn a_pending_warning_is_the_devices_world() {
+    // 120 °C: 1Eh, a warning (000:T59) the model cannot see on a black box.
+    let Some(hx1) = Hx1::start(&["--temperature", "120"]) else { return };
+    let r = certify_pty(&hx1);
+    assert_no_fail(&r);
+    // NON-STRICT, with the code, where the device reports it.
+    let status = r.cases.iter().find(|c| c.id == "identity.status").unwrap();
+    assert_eq!(status.verdict, CaseVerdict::NonStrict);
+    assert!(status.findings.iter().any(|f| f.message().contains("1Eh")), "{:#?}", status.findings);
+}
+
+#[test]
+fn new_fields_cleared_to_00h_are_non_strict() {
+    // 000 does not say what a new field's unwritten bytes read; FFh is the project's
+    // decision (erased EEPROM), so another value is NON-STRICT at most.
+    let Some(hx1) = Hx1::start(&["--erased-byte", "0x00"]) else { return };
+    let r = certify_pty(&hx1);
+    assert_no_fail(&r);
+    let erased: Vec<_> = r
+        .cases
+        .iter()
+        .flat_map(|c| c.findings.iter().map(move |f| (c.id, f)))
+        .filter(|(_, f)| f.clause_id() == "DESIGN:fields")
+        .collect();
+    assert!(!erased.is_empty(), "the 00h bytes of a new field are noted: {:?}", r.summary);
+    assert!(erased.iter().all(|(_, f)| f.verdict() == CaseVerdict::NonStrict));
+}
+
+#[test]
+fn the_conformant_hx1_passes_through_ser2net() {
+    let Some(hx1) = Hx1::start(&[]) else { return };
+    let Some(server) = common::Ser2net::bridge(&hx1.path, "hx1") else { return };
+    // The default tolerance, as `certify slave --port tcp://...` uses it.
+    let line = server.connect();
+    let r = certify::run(Box::new(line), profile(), &options(), |_, _, _| {});
+    assert_no_fail(&r);
+    assert_eq!(r.identity.serial.as_deref(), Some("HX1000042"));
+    eprintln!(
+        "HX-1 through ser2net: {:?}; wall {:.0} ms, physical minimum {:.0} ms",
+        r.summary, r.wall_time_ms, r.physical_minimum_ms
+    );
+}
+
+/// A defect switch, the case that must catch it with the clause it breaks, and the
+/// other cases that exchange the same defective answer (the collateral it may cause).
+struct Defect {
+    name: &'static str,
+    case: &'static str,
+    clause: &'static str,
+    collateral: &'static [&'static str],
+}
+
+const DEFECTS: &[Defect] = &[
+    Defect { name: "reply-checksum", case: "identity.version", clause: "000:2.3.3", collateral: &[] },
+    Defect {
+        name: "no-timeout-wait",
+        case: "identity.status",
+        clause: "000:2.2.2",
+        // the power-up case reads the status too
+        collateral: &["powerup.reset"],
+    },
+    Defect {
+        name: "late-reply",
+        case: "counter.read",
+        clause: "000:T10",
+        // reads the counter too
+        collateral: &["counter.increment"],
+    },
+    Defect {
+        name: "gap-in-reply",
+        case: "identity.type-label",
+        clause: "000:2.2.2/reply-end",
+        // the other cases that read the type label
+        collateral: &["address.broadcast"],
+    },
+    Defect {
+        name: "answers-other-address",
+        case: "address.other",
+        clause: "000:T5",
+        // after Set Encoder Address the old address is a neighbour, and answers
+        collateral: &["address.change-restore"],
+    },
+    Defect { name: "ignores-broadcast", case: "address.broadcast", clause: "000:2.3.1", collateral: &[] },
+    Defect {
+        name: "no-field-bounds",
+        case: "fields.lifecycle",
+        clause: "000:T55",
+        // reads at the end of the Extended Type Label
+        collateral: &["fields.extended-type-label"],
+    },
+    Defect { name: "wrong-error-code", case: "protocol.unknown-command", clause: "000:T49", collateral: &[] },
+    Defect {
+        name: "warning-stuck",
+        case: "identity.status",
+        clause: "000:2.3.4",
+        // a warning bit the model did not expect may be a real fault (NON-STRICT on a
+        // black box) until Read Encoder Status says nothing is stored; the power-up
+        // case reads the status again
+        collateral: &["powerup.reset"],
+    },
+    Defect { name: "store-read-only", case: "fields.access-code", clause: "000:T52", collateral: &[] },
+    // both power-up cases start with an Encoder Reset
+    Defect { name: "reset-answers", case: "powerup.reset", clause: "000:T29", collateral: &["powerup.window"] },
+    Defect { name: "no-init-silence", case: "powerup.reset", clause: "000:T9", collateral: &[] },
+    Defect { name: "no-code-check", case: "position.set", clause: "000:T53", collateral: &[] },
+    Defect { name: "old-address-reply", case: "address.change-restore", clause: "000:T30", collateral: &[] },
+];
+
+#[test]
+fn every_defect_switch_fails_its_own_case() {
+    let mut table = vec!["| defect | its case | clause | collateral FAILs |".to_string(), "|---|---|---|---|".into()];
+    let mut problems = Vec::new();
+    // One at a time: real time on a shared machine.
+    for d in DEFECTS {
+        let Some(hx1) = Hx1::start(&["--defect", d.name]) else { return };
+        let r = certify_pty(&hx1);
+        drop(hx1);
+        let own = r.cases.iter().find(|c| c.id == d.case).expect("a case of the catalogue");
+        let cited = own.findings.iter().any(|f| f.verdict() == CaseVerdict::Fail && f.clause_id() == d.clause);
+        if own.verdict != CaseVerdict::Fail || !cited {
+            problems.push(format!("{}: {} is {:?}, findings {:#?}", d.name, d.case, own.verdict, own.findings));
+        }
+        let collateral: Vec<&str> =
+            with_verdict(&r, CaseVerdict::Fail).into_iter().filter(|id| *id != d.case).collect();
+        let unexplained: Vec<&&str> = collateral.iter().filter(|id| !d.collateral.contains(id)).collect();
+        if !unexplained.is_empty() {
+            problems.push(format!("{}: unexplained collateral FAILs {unexplained:?}", d.name));
+        }
+        let errors = with_verdict(&r, CaseVerdict::Error);
+        if !errors.is_empty() {
+            problems.push(format!("{}: harness ERRORs {errors:?}", d.name));
+        }
+        table.push(format!("| {} | {} | {} | {} {:?} |", d.name, d.case, d.clause, collateral.len(), collateral));
+        for id in &collateral {
+            let c = r.cases.iter().find(|c| c.id == *id).expect("a case");
+            if let Some(f) = c.findings.iter().find(|f| f.verdict() == CaseVerdict::Fail) {
+                eprintln!("  {}: {id}: {} ({})", d.name, f.message(), f.clause_id());
+            }
+        }
+    }
+    eprintln!("{}", table.join("\n"));
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
