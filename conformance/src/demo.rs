@@ -1,9 +1,10 @@
 //! A demonstration of the model: a master session against the reference slave in
 //! virtual time, through the sans-IO data link, with every frame timestamped.
 
+use crate::master::sealed;
 use hiperface_model::datalink::RxChar;
 use hiperface_model::slave::inputs::PhysicalInputs;
-use hiperface_model::{checksum, Hex, Profile, Reply, Slave, UartSettings};
+use hiperface_model::{Hex, Profile, Reply, Slave, UartSettings};
 use std::fmt::Write as _;
 
 /// The master's side of one exchange as the demo prints it.
@@ -14,12 +15,6 @@ pub struct Exchange {
     pub reply: Option<(u64, Vec<u8>)>,
     pub window_us: Option<(u64, u64)>,
     pub clause: &'static str,
-}
-
-fn sealed(body: &[u8]) -> Vec<u8> {
-    let mut v = body.to_vec();
-    v.push(checksum::xor(body));
-    v
 }
 
 /// Drive one request through the slave's data link: characters back to back, the

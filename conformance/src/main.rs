@@ -2,6 +2,7 @@
 
 use clap::{Parser, Subcommand, ValueEnum};
 use hiperface_conformance::certify::{self, CaseVerdict, Options, TimingMode};
+use hiperface_conformance::line::LineKind;
 use hiperface_conformance::port::{self, PortSpec};
 use hiperface_conformance::simulate;
 use hiperface_conformance::{demo, profile_file, report};
@@ -301,10 +302,7 @@ fn certify_slave(what: CertifyWhat) -> Result<ExitCode, CliError> {
     let report = certify::run(line, profile, &options, |i, n, r| {
         let mut text = format!("[{i:>2}/{n}] {:<16} {}", r.verdict.label(), r.id);
         for f in r.findings.iter().filter(|f| matches!(f.verdict(), CaseVerdict::Fail | CaseVerdict::Error)) {
-            text.push_str(&format!("\n          {}", f.message()));
-            if !f.clause_id().is_empty() {
-                text.push_str(&format!(" ({})", f.clause_id()));
-            }
+            text.push_str(&format!("\n          {f}"));
         }
         match &bar {
             Some(b) => {
@@ -332,7 +330,7 @@ fn certify_slave(what: CertifyWhat) -> Result<ExitCode, CliError> {
 fn summarize(report: &certify::Report, profile: &Profile) {
     let summary: Vec<String> = report.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
     println!("{}: {}", profile.name, summary.join(", "));
-    if report.line.starts_with("in-process virtual") {
+    if report.line_kind == Some(LineKind::Virtual) {
         println!(
             "virtual time: {:.0} ms of line time run in {:.1} ms; EEPROM writes {}",
             report.physical_minimum_ms, report.wall_time_ms, report.safety.eeprom_writes

@@ -1,7 +1,7 @@
 //! Reports of a certification run: JSON and JUnit XML for CI, a Markdown and an HTML
 //! certificate for people. The wire log is included for every failing case.
 
-use crate::certify::{CaseVerdict, Finding, Report, TimingMode};
+use crate::certify::{CaseVerdict, Report, TimingMode};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -21,8 +21,7 @@ pub fn junit(report: &Report) -> String {
     use quick_junit::{NonSuccessKind, Report as JReport, TestCase, TestCaseStatus, TestSuite};
     let mut suite = TestSuite::new(format!("hiperface certify slave ({})", report.profile));
     for c in &report.cases {
-        let detail: String =
-            c.findings.iter().map(|f| format!("[{}] {}\n", f.verdict().label(), finding_text(f))).collect();
+        let detail: String = c.findings.iter().map(|f| format!("[{}] {f}\n", f.verdict().label())).collect();
         let status = match c.verdict {
             CaseVerdict::Pass | CaseVerdict::NonStrict => TestCaseStatus::success(),
             CaseVerdict::NotApplicable => {
@@ -78,7 +77,7 @@ pub fn markdown(r: &Report) -> String {
     for c in r.cases.iter().filter(|c| !c.findings.is_empty() && c.verdict != CaseVerdict::NotApplicable) {
         let _ = writeln!(s, "### `{}`: {}\n", c.id, c.verdict.label());
         for f in &c.findings {
-            let _ = writeln!(s, "- {}: {}", f.verdict().label(), finding_text(f));
+            let _ = writeln!(s, "- {}: {f}", f.verdict().label());
         }
         if c.verdict == CaseVerdict::Fail {
             let _ = writeln!(s, "\nWire log:\n\n```\n{}```\n", wire_text(c));
@@ -99,13 +98,6 @@ pub fn markdown(r: &Report) -> String {
         let _ = writeln!(s, "- {n}");
     }
     s
-}
-
-fn finding_text(f: &Finding) -> String {
-    match f.clause_id() {
-        "" => f.message().to_string(),
-        id => format!("{} ({id})", f.message()),
-    }
 }
 
 /// The certificate's header: what was certified, how, and what it said of itself.
@@ -182,7 +174,7 @@ pub fn html(r: &Report) -> String {
     }
     let _ = write!(s, "</table><h2>Cases</h2><table><tr><th>case</th><th>verdict</th><th>clauses</th><th>title</th><th>findings</th></tr>");
     for c in &r.cases {
-        let findings: String = c.findings.iter().map(|f| format!("{}<br>", escape(&finding_text(f)))).collect();
+        let findings: String = c.findings.iter().map(|f| format!("{}<br>", escape(&f.to_string()))).collect();
         let wire = if c.verdict == CaseVerdict::Fail {
             format!("<pre>{}</pre>", escape(&wire_text(c)))
         } else {

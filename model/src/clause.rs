@@ -61,11 +61,6 @@ impl Clause {
         self.force
     }
 
-    /// The document: the part of the id before the colon (`000`, `002`, `DESIGN`, ...).
-    pub fn document(self) -> &'static str {
-        self.id.split(':').next().unwrap_or(self.id)
-    }
-
     /// The clause as a rule that can carry a FAIL, if it is one.
     pub const fn normative(self) -> Option<Normative> {
         match self.force {
@@ -101,7 +96,7 @@ impl PartialEq<&str> for Clause {
 
 impl PartialEq<&str> for Normative {
     fn eq(&self, other: &&str) -> bool {
-        self.0.id == *other
+        self.0 == *other
     }
 }
 

@@ -63,7 +63,7 @@ fn current(name: &str, resolution: Resolution, type_code: u8) -> Profile {
         serial: padded("000000001"),
         firmware: padded("hiperface-model"),
         firmware_date: *b"22.11.26",
-        version_pins: VersionPins { serial: false, firmware: false, date: false },
+        version_pins: VersionPins::default(),
         adjustment: [None; 4],
         adjustment_response_ms: 40,
         init_ms: 100,

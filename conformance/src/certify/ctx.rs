@@ -5,10 +5,10 @@
 use super::timing::{self, Limits};
 use super::{CaseError, CaseResult, CaseVerdict, Finding, Identity, Options, WireEntry};
 use crate::line::Line;
-use crate::master::{Exchange, Master};
+use crate::master::{sealed, Exchange, Master};
 use hiperface_model::clause::{self, Normative};
 use hiperface_model::response::{Response, ResponseFrame};
-use hiperface_model::{checksum, CommandId, Hex, Knowledge, Oracle, Profile, Reply, Slave};
+use hiperface_model::{CommandId, Hex, Knowledge, Oracle, Profile, Reply, Slave};
 use std::collections::BTreeMap;
 use std::sync::atomic::Ordering;
 
@@ -154,9 +154,7 @@ impl Ctx<'_> {
 
     /// Send a body with its checksum appended; grade the answer.
     pub fn ask(&mut self, body: &[u8]) -> Result<Graded, CaseError> {
-        let mut frame = body.to_vec();
-        frame.push(checksum::xor(body));
-        self.send_frame(&frame)
+        self.send_frame(&sealed(body))
     }
 
     /// Send a frame as it is (for malformed frames); grade the answer.
@@ -206,25 +204,22 @@ impl Ctx<'_> {
             self.tally.response_times.entry(cmd.byte()).or_default().push(t);
         }
         let grade = self.oracle.grade(&before, frame, x.complete_us(), &expected, observed.as_deref());
-        let mut verdict = CaseVerdict::from(grade.verdict());
-        let reason = grade.deviation().map_or(String::new(), |d| d.to_string());
-        if let Some(f) = Finding::graded(&grade, format!("request [{}]: {reason}", Hex(frame))) {
-            self.push(f);
-        }
+        let graded = CaseVerdict::from(grade.verdict());
         if let (Some(bytes), Some(cmd)) = (&observed, command) {
-            self.learn(cmd, bytes, verdict);
+            self.learn(cmd, bytes, graded);
         }
+        let reason = grade.deviation().map_or(String::new(), |d| d.to_string());
+        let mut found: Vec<Finding> =
+            Finding::graded(&grade, format!("request [{}]: {reason}", Hex(frame))).into_iter().collect();
         let edition = self.model.profile().edition;
         if !x.stray.is_empty() {
             let bytes: Vec<u8> = x.stray.iter().map(|c| c.byte).collect();
             let msg = format!("{} characters [{}] arrived outside any reply", bytes.len(), Hex(&bytes));
-            let f = Finding::fail(msg, clause::NO_UNSOLICITED, edition);
-            verdict = verdict.max_with(f.verdict());
-            self.push(f);
+            found.push(Finding::fail(msg, clause::NO_UNSOLICITED, edition));
         }
         if !x.trailing.is_empty() {
             let bytes: Vec<u8> = x.trailing.iter().map(|c| c.byte).collect();
-            let f = if x.reply.is_empty() {
+            found.push(if x.reply.is_empty() {
                 let msg = format!("{} characters [{}] arrived after the reply window", bytes.len(), Hex(&bytes));
                 Finding::fail(msg, clause::NO_UNSOLICITED, edition)
             } else {
@@ -234,16 +229,16 @@ impl Ctx<'_> {
                     Hex(&bytes)
                 );
                 Finding::fail(msg, clause::REPLY_END, edition)
-            };
-            verdict = verdict.max_with(f.verdict());
-            self.push(f);
+            });
         }
         if matches!(expected.reply, Reply::Frame(_)) {
             let tol = self.master.line.tolerance_us();
-            for f in timing::grade(&x, limits, tol, self.options.timing, edition) {
-                verdict = verdict.max_with(f.verdict());
-                self.push(f);
-            }
+            found.extend(timing::grade(&x, limits, tol, self.options.timing, edition));
+        }
+        // The exchange's verdict is the worst of its findings, as the case's is.
+        let verdict = found.iter().fold(graded, |v, f| v.max_with(f.verdict()));
+        for f in found {
+            self.push(f);
         }
         if let Some(s) = expected.then_settings {
             self.master.line.configure(s)?;

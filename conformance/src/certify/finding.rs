@@ -95,6 +95,16 @@ impl Finding {
     }
 }
 
+/// The message, and the clause in parentheses where there is one.
+impl std::fmt::Display for Finding {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.clause {
+            Some(c) => write!(f, "{} ({c})", self.message),
+            None => f.write_str(&self.message),
+        }
+    }
+}
+
 /// One line of the wire log.
 #[derive(Debug, Clone, Serialize)]
 pub struct WireEntry {

@@ -13,10 +13,10 @@
 
 use super::ctx::{physical_time_us, Tally};
 use crate::line::Line;
-use crate::master::Master;
+use crate::master::{sealed, Master};
 use hiperface_model::response::{Response, ResponseFrame};
 use hiperface_model::slave::NonVolatile;
-use hiperface_model::{checksum, CommandId, Slave};
+use hiperface_model::{CommandId, Slave};
 use serde::Serialize;
 
 /// What the device reports of its stored state; `None` where it did not answer.
@@ -40,8 +40,7 @@ impl Snapshot {
             }
         }
         let mut ask = |body: &[u8]| -> Option<Response> {
-            let mut frame = body.to_vec();
-            frame.push(checksum::xor(body));
+            let frame = sealed(body);
             let command = CommandId::decode(body.get(1)? & 0x7F);
             let x = master.exchange(&frame, 30).ok()?;
             tally.physical_min_us += physical_time_us(&x, 30);

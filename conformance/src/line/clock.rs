@@ -50,7 +50,7 @@ pub struct RealTime {
     epoch: std::time::Instant,
     pub rx: RxClock,
     pub tolerance_us: u64,
-    lateness_us: std::sync::Arc<std::sync::atomic::AtomicU64>,
+    lateness_us: std::cell::Cell<u64>,
 }
 
 impl RealTime {
@@ -78,12 +78,12 @@ impl RealTime {
     /// A timed wait meant to end at `t_us` has ended: record how late.
     pub fn woke(&self, t_us: u64) {
         let late = self.now_us().saturating_sub(t_us);
-        self.lateness_us.fetch_max(late, std::sync::atomic::Ordering::Relaxed);
+        self.lateness_us.set(self.lateness_us.get().max(late));
     }
 
     /// The longest scheduling delay seen since the last call.
     pub fn take_lateness_us(&self) -> u64 {
-        self.lateness_us.swap(0, std::sync::atomic::Ordering::Relaxed)
+        self.lateness_us.replace(0)
     }
 }
 

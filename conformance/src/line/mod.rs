@@ -33,10 +33,6 @@ impl Window {
     pub const fn shifted(self, by_us: u64) -> Window {
         Window { earliest_us: self.earliest_us + by_us, latest_us: self.latest_us + by_us }
     }
-
-    pub const fn width_us(self) -> u64 {
-        self.latest_us - self.earliest_us
-    }
 }
 
 /// A request on the line.
@@ -54,7 +50,7 @@ pub enum LineKind {
     Virtual,
     /// A real serial port (a UART, or a USB adapter with one).
     SerialPort,
-    /// A pseudo-terminal: no baud rate; the harness clocks its requests.
+    /// A pseudo-terminal: no baud rate; request ends and reply starts are windows.
     PseudoTerminal,
     /// Raw TCP to a serial device server.
     Tcp,

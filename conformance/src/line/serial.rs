@@ -2,8 +2,8 @@
 //!
 //! On a real port the UART clocks a request out, so it is written whole; a USB
 //! adapter in between adds latency, which widens the timing windows (see
-//! [`super::adapter`]). A pseudo-terminal has no baud rate: the harness clocks the
-//! request out one character per character time (see [`super::clock`]) and stamps
+//! [`super::adapter`]). A pseudo-terminal has no baud rate: the harness writes the
+//! request at once and knows its end as a window (see [`super::clock`]), and stamps
 //! received characters at least a character time apart, as a UART delivers them.
 
 use super::adapter::Adapter;

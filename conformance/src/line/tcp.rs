@@ -1,7 +1,7 @@
 //! Raw TCP to a serial device server (`tcp://host:port`, e.g. ser2net). The server
-//! owns the UART and its settings. TCP has no baud rate: the harness clocks its
-//! requests out one character time apart, so the server passes them on as a UART
-//! would, and stamps received bytes like on a pseudo-terminal (see [`super::clock`]).
+//! owns the UART and its settings. TCP has no baud rate: the harness writes a request
+//! at once and knows its end as a window, and stamps received bytes like on a
+//! pseudo-terminal (see [`super::clock`]).
 
 use super::{clock, Line, LineError, LineKind, Sent, Window};
 use hiperface_model::datalink::RxChar;

@@ -4,16 +4,11 @@
 //! power-up windows as timed sequences.
 
 use super::{hex, prepare, Flag, Inputs, Outcome, Setup, Step, Vector, VectorFile, SCHEMA_VERSION};
+use crate::master::sealed;
 use hiperface_model::command::{AccessCodeRule, COMMAND_TABLE};
 use hiperface_model::{checksum, profiles, CommandId, FaultCode, Profile, Reply};
 
 const FIELD_0: &[u8] = &[0x40, 0x4D, 0, 0xC9, 0x55]; // 32 bytes, Code0 enabled, writable
-
-fn sealed(body: &[u8]) -> Vec<u8> {
-    let mut v = body.to_vec();
-    v.push(checksum::xor(body));
-    v
-}
 
 /// A request step to be completed with the model's response.
 struct Ask {

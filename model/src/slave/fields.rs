@@ -138,13 +138,6 @@ impl DataFields {
         })
     }
 
-    /// Take a device's answer for bytes the model did not know (a Read Data reply):
-    /// from now on they are known. Not an EEPROM write.
-    pub fn adopt(&mut self, number: u8, offset: u8, data: &[u8]) -> bool {
-        // The same bookkeeping as a store: the bytes are in memory and known.
-        self.write(number, offset, data)
-    }
-
     pub const fn count(&self) -> u8 {
         self.count
     }
@@ -296,7 +289,7 @@ mod tests {
         assert_eq!(f.contents(1, 3), Some(Contents::Erased), "a field created in the run");
         assert!(f.write(1, 3, &[7]));
         assert_eq!((f.contents(1, 3), f.contents(1, 4)), (Some(Contents::Known), Some(Contents::Erased)));
-        assert!(f.adopt(0, 0, &[1, 2]));
+        assert!(f.write(0, 0, &[1, 2]), "adopting a device's bytes is a store's bookkeeping");
         assert_eq!((f.contents(0, 1), f.contents(0, 2)), (Some(Contents::Known), Some(Contents::Unknown)));
         assert_eq!(f.read(0, 0, 2), Some(&[1, 2][..]));
         assert!(f.delete_last());

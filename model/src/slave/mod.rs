@@ -306,7 +306,8 @@ impl Slave {
     /// Adopt data-field bytes a real device returned for bytes the model did not
     /// know (see [`fields::Contents`]). Not an EEPROM write.
     pub fn adopt_field_data(&mut self, number: u8, offset: u8, data: &[u8]) -> bool {
-        self.nv.fields.adopt(number, offset, data)
+        // The same bookkeeping as a store: the bytes are in memory and known.
+        self.nv.fields.write(number, offset, data)
     }
 
     /// Take the internal I2C bus down or bring it back. // 000:T43
