@@ -4,96 +4,61 @@ use crate::clause::{self, Normative};
 use crate::fault::FaultCode::{self, *};
 use core::fmt;
 
-/// A command identifier (command byte without the error bit).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum CommandId {
-    ReadPosition,
-    SetPosition,
-    ReadAnalogValue,
-    ReadCounter,
-    IncrementCounter,
-    ResetCounter,
-    ReadData,
-    StoreData,
-    DataFieldStatus,
-    CreateDataField,
-    MemoryStatus,
-    SetAccessCode,
-    ReadEncoderStatus,
-    ReadTypeLabel,
-    EncoderReset,
-    SetEncoderAddress,
-    ReadVersion,
-    SetSerialInterface,
-    /// 63h, legacy edition only. // 002:63h
-    SetPositionInternalSync,
-    TemporarilySetSerialInterface,
-    SetPositionWithSync,
-    SensorAdjustment,
-    ReadSyncOffset,
-    Unknown(u8),
+/// Declares the command table once: the `CommandId` enum, its byte mapping and decoding,
+/// and `COMMAND_TABLE`, all from one row per command. Adding a command is one row.
+macro_rules! command_table {
+    ($(
+        $(#[$doc:meta])*
+        $byte:literal $id:ident $name:literal
+            access $access:ident, response $resp:expr, strict $strict:expr,
+            request $m:expr, reply $s:expr, errors $errors:expr,
+            $memory:ident, $need:ident, $ed:ident, $clause:ident;
+    )*) => {
+        /// A command identifier (command byte without the error bit).
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+        pub enum CommandId {
+            $( $(#[$doc])* $id, )*
+            Unknown(u8),
+        }
+
+        impl CommandId {
+            pub const fn byte(self) -> u8 {
+                match self {
+                    $( CommandId::$id => $byte, )*
+                    CommandId::Unknown(b) => b,
+                }
+            }
+
+            /// Decode a command identifier (a command byte with the error bit cleared).
+            pub const fn decode(byte: u8) -> CommandId {
+                match byte {
+                    $( $byte => CommandId::$id, )*
+                    b => CommandId::Unknown(b),
+                }
+            }
+        }
+
+        /// The command table: 000 Table 10 with Tables 12-36, and 002's 63h.
+        pub const COMMAND_TABLE: &[CommandSpec] = &[
+            $( CommandSpec {
+                id: CommandId::$id,
+                name: $name,
+                access: AccessCodeRule::$access,
+                max_response_ms: $resp,
+                strict_response_ms: $strict,
+                master_data: $m,
+                slave_data: $s,
+                errors: $errors,
+                memory: Memory::$memory,
+                optional: matches!(Need::$need, Need::Optional),
+                editions: Editions::$ed,
+                clause: clause::$clause,
+            }, )*
+        ];
+    };
 }
 
 impl CommandId {
-    pub const fn byte(self) -> u8 {
-        match self {
-            CommandId::ReadPosition => 0x42,
-            CommandId::SetPosition => 0x43,
-            CommandId::ReadAnalogValue => 0x44,
-            CommandId::ReadCounter => 0x46,
-            CommandId::IncrementCounter => 0x47,
-            CommandId::ResetCounter => 0x49,
-            CommandId::ReadData => 0x4A,
-            CommandId::StoreData => 0x4B,
-            CommandId::DataFieldStatus => 0x4C,
-            CommandId::CreateDataField => 0x4D,
-            CommandId::MemoryStatus => 0x4E,
-            CommandId::SetAccessCode => 0x4F,
-            CommandId::ReadEncoderStatus => 0x50,
-            CommandId::ReadTypeLabel => 0x52,
-            CommandId::EncoderReset => 0x53,
-            CommandId::SetEncoderAddress => 0x55,
-            CommandId::ReadVersion => 0x56,
-            CommandId::SetSerialInterface => 0x57,
-            CommandId::SetPositionInternalSync => 0x63,
-            CommandId::TemporarilySetSerialInterface => 0x67,
-            CommandId::SetPositionWithSync => 0x6A,
-            CommandId::SensorAdjustment => 0x6B,
-            CommandId::ReadSyncOffset => 0x6C,
-            CommandId::Unknown(b) => b,
-        }
-    }
-
-    /// Decode a command identifier (a command byte with the error bit cleared).
-    pub const fn decode(byte: u8) -> CommandId {
-        match byte {
-            0x42 => CommandId::ReadPosition,
-            0x43 => CommandId::SetPosition,
-            0x44 => CommandId::ReadAnalogValue,
-            0x46 => CommandId::ReadCounter,
-            0x47 => CommandId::IncrementCounter,
-            0x49 => CommandId::ResetCounter,
-            0x4A => CommandId::ReadData,
-            0x4B => CommandId::StoreData,
-            0x4C => CommandId::DataFieldStatus,
-            0x4D => CommandId::CreateDataField,
-            0x4E => CommandId::MemoryStatus,
-            0x4F => CommandId::SetAccessCode,
-            0x50 => CommandId::ReadEncoderStatus,
-            0x52 => CommandId::ReadTypeLabel,
-            0x53 => CommandId::EncoderReset,
-            0x55 => CommandId::SetEncoderAddress,
-            0x56 => CommandId::ReadVersion,
-            0x57 => CommandId::SetSerialInterface,
-            0x63 => CommandId::SetPositionInternalSync,
-            0x67 => CommandId::TemporarilySetSerialInterface,
-            0x6A => CommandId::SetPositionWithSync,
-            0x6B => CommandId::SensorAdjustment,
-            0x6C => CommandId::ReadSyncOffset,
-            b => CommandId::Unknown(b),
-        }
-    }
-
     /// This command's row of the command table; `None` for unknown commands.
     pub fn spec(self) -> Option<&'static CommandSpec> {
         COMMAND_TABLE.iter().find(|s| s.id == self)
@@ -165,6 +130,20 @@ pub enum Editions {
     LegacyOnly,
 }
 
+/// Whether a command writes non-volatile memory.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Memory {
+    Volatile,
+    WritesEeprom,
+}
+
+/// Whether a device must implement a command (000:T10 marks the optional ones).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+enum Need {
+    Required,
+    Optional,
+}
+
 /// Whether a command needs an access code byte.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum AccessCodeRule {
@@ -190,6 +169,8 @@ pub struct CommandSpec {
     pub slave_data: DataLength,
     /// Error codes the table lists for the command (without 09h-0Ch, common to all).
     pub errors: &'static [FaultCode],
+    /// Whether a successful execution writes the EEPROM.
+    pub memory: Memory,
     pub optional: bool,
     pub editions: Editions,
     pub clause: Normative,
@@ -204,20 +185,7 @@ impl CommandSpec {
 
     /// Whether the command writes non-volatile memory (DESIGN: safety on real devices).
     pub const fn writes_eeprom(&self) -> bool {
-        matches!(
-            self.id,
-            CommandId::SetPosition
-                | CommandId::IncrementCounter
-                | CommandId::ResetCounter
-                | CommandId::StoreData
-                | CommandId::CreateDataField
-                | CommandId::SetAccessCode
-                | CommandId::SetEncoderAddress
-                | CommandId::SetSerialInterface
-                | CommandId::SetPositionWithSync
-                | CommandId::SensorAdjustment
-                | CommandId::SetPositionInternalSync
-        )
+        matches!(self.memory, Memory::WritesEeprom)
     }
 }
 
@@ -245,318 +213,108 @@ const SET_POSITION_ERRORS: &[FaultCode] = &[
     MultiturnVectorLength,
 ];
 
-macro_rules! spec {
-    ($id:ident, $name:literal, $access:ident, $resp:expr, $strict:expr, $m:expr, $s:expr, $errors:expr, $opt:literal, $ed:ident, $clause:expr) => {
-        CommandSpec {
-            id: CommandId::$id,
-            name: $name,
-            access: AccessCodeRule::$access,
-            max_response_ms: $resp,
-            strict_response_ms: $strict,
-            master_data: $m,
-            slave_data: $s,
-            errors: $errors,
-            optional: $opt,
-            editions: Editions::$ed,
-            clause: $clause,
-        }
-    };
-}
-
 use DataLength::{Fixed, NoFrame, Range};
 
-/// The command table: 000 Table 10 with Tables 12-36, and 002's 63h.
-/// Set Position lists 1Fh (000:T60: shaft motion during Set Position) although
-/// Table 13 does not.
-pub const COMMAND_TABLE: &[CommandSpec] = &[
-    spec!(
-        ReadPosition,
-        "Read Position",
-        None,
-        Some(10),
-        None,
-        Fixed(0),
-        Fixed(4),
-        POSITION_ERRORS,
-        false,
-        Both,
-        clause::READ_POSITION
-    ),
-    spec!(
-        SetPosition,
-        "Set Position",
-        Code0,
-        Some(40),
-        None,
-        Fixed(5),
-        Fixed(0),
-        SET_POSITION_ERRORS,
-        false,
-        Both,
-        clause::SET_POSITION
-    ),
-    spec!(
-        ReadAnalogValue,
-        "Read Analog Value",
-        None,
-        Some(5),
-        None,
-        Fixed(1),
-        Fixed(3),
-        &[WrongArgument],
-        false,
-        Both,
-        clause::READ_ANALOG
-    ),
-    spec!(
-        ReadCounter,
-        "Read Counter",
-        None,
-        Some(5),
-        None,
-        Fixed(0),
-        Fixed(3),
-        &[InternalChecksum],
-        false,
-        Both,
-        clause::READ_COUNTER
-    ),
-    spec!(
-        IncrementCounter,
-        "Increment Counter",
-        None,
-        Some(30),
-        None,
-        Fixed(0),
-        Fixed(0),
-        &[I2cBus, InternalChecksum, CounterOverflow],
-        false,
-        Both,
-        clause::INCREMENT_COUNTER
-    ),
-    spec!(
-        ResetCounter,
-        "Reset Counter",
-        Code0,
-        Some(30),
-        None,
-        Fixed(1),
-        Fixed(0),
-        &[I2cBus, InternalChecksum, WrongAccessCode],
-        false,
-        Both,
-        clause::RESET_COUNTER
-    ),
-    spec!(
-        ReadData,
-        "Read Data",
-        FieldCode,
-        Some(30),
-        None,
-        Fixed(4),
-        Range { min: 4, max: 131 },
-        &[PartitionTable, I2cBus, WrongAccessCode, WrongOffset, WrongFieldNumber],
-        false,
-        Both,
-        clause::READ_DATA
-    ),
-    spec!(
-        StoreData,
-        "Store Data",
-        FieldCode,
-        Some(250),
-        None,
-        Range { min: 5, max: 132 },
-        Fixed(3),
-        &[PartitionTable, I2cBus, InternalChecksum, ReadOnlyField, WrongAccessCode, WrongOffset, WrongFieldNumber],
-        false,
-        Both,
-        clause::STORE_DATA
-    ),
-    spec!(
-        DataFieldStatus,
-        "Data Field Status",
-        None,
-        Some(5),
-        None,
-        Fixed(1),
-        Fixed(2),
-        &[PartitionTable, I2cBus, WrongFieldNumber],
-        false,
-        Both,
-        clause::FIELD_STATUS
-    ),
-    spec!(
-        CreateDataField,
-        "Create Data Field",
-        FieldCode,
-        Some(70),
-        None,
-        Fixed(3),
-        Fixed(2),
-        &[PartitionTable, I2cBus, InternalChecksum, WrongAccessCode, OutOfMemory, WrongFieldNumber],
-        false,
-        Both,
-        clause::CREATE_FIELD
-    ),
-    spec!(
-        MemoryStatus,
-        "Memory Status",
-        None,
-        Some(5),
-        None,
-        Fixed(0),
-        Fixed(2),
-        &[InternalChecksum],
-        false,
-        Both,
-        clause::MEMORY_STATUS
-    ),
-    spec!(
-        SetAccessCode,
-        "Set Access Code",
-        None,
-        Some(40),
-        None,
-        Fixed(3),
-        Fixed(1),
-        &[I2cBus, InternalChecksum, WrongArgument, WrongAccessCode],
-        false,
-        Both,
-        clause::SET_ACCESS_CODE
-    ),
-    spec!(
-        ReadEncoderStatus,
-        "Read Encoder Status",
-        None,
-        Some(5),
-        None,
-        Fixed(0),
-        Fixed(1),
-        &[],
-        false,
-        Both,
-        clause::READ_ENCODER_STATUS
-    ),
-    spec!(
-        ReadTypeLabel,
-        "Read Type Label",
-        None,
-        Some(5),
-        None,
-        Fixed(0),
-        Fixed(4),
-        &[I2cBus],
-        false,
-        Both,
-        clause::READ_TYPE_LABEL
-    ),
-    spec!(EncoderReset, "Encoder Reset", None, None, None, Fixed(0), NoFrame, &[], false, Both, clause::ENCODER_RESET),
-    spec!(
-        SetEncoderAddress,
-        "Set Encoder Address",
-        Code0,
-        Some(40),
-        None,
-        Fixed(2),
-        Fixed(0),
-        &[I2cBus, InternalChecksum, WrongArgument, WrongAccessCode],
-        false,
-        Both,
-        clause::SET_ADDRESS
-    ),
-    spec!(
-        ReadVersion,
-        "Read Version",
-        None,
-        Some(5),
-        None,
-        Fixed(0),
-        Fixed(37),
-        &[I2cBus],
-        false,
-        Both,
-        clause::READ_VERSION
-    ),
-    spec!(
-        SetSerialInterface,
-        "Set Serial Interface",
-        Code0,
-        Some(40),
-        None,
-        Fixed(2),
-        Fixed(1),
-        &[I2cBus, InternalChecksum, WrongArgument, WrongAccessCode],
-        false,
-        Both,
-        clause::SET_SERIAL
-    ),
-    spec!(
-        SetPositionInternalSync,
-        "Set Position with Internal Track Synchronisation",
-        Code0,
-        Some(40),
-        None,
-        Fixed(5),
-        Fixed(0),
-        SET_POSITION_ERRORS,
-        true,
-        LegacyOnly,
-        clause::LEGACY_SET_POSITION_SYNC
-    ),
-    spec!(
-        TemporarilySetSerialInterface,
-        "Temporarily Set Serial Interface",
-        None,
-        Some(5),
-        None,
-        Fixed(1),
-        Fixed(1),
-        &[WrongArgument, WrongAccessCode],
-        true,
-        CurrentOnly,
-        clause::TEMP_SERIAL
-    ),
-    spec!(
-        SetPositionWithSync,
-        "Set Position with Synchronization",
-        Code0,
-        Some(40),
-        None,
-        Fixed(5),
-        Fixed(4),
-        SET_POSITION_ERRORS,
-        true,
-        CurrentOnly,
-        clause::SET_POSITION_SYNC
-    ),
-    spec!(
-        SensorAdjustment,
-        "Sensor Adjustment",
-        Code0,
-        None,
-        None,
-        Fixed(2),
-        Fixed(2),
-        &[WrongArgument, WrongAccessCode],
-        true,
-        CurrentOnly,
-        clause::SENSOR_ADJUSTMENT
-    ),
-    spec!(
-        ReadSyncOffset,
-        "Read Synchronization Offset",
-        None,
-        Some(30),
-        Some(10),
-        Fixed(0),
-        Fixed(1),
-        &[WrongArgument],
-        true,
-        CurrentOnly,
-        clause::READ_SYNC_OFFSET
-    ),
-];
+// One row per command of 000 Table 10 (and 002's 63h). Columns: byte, name, access code
+// (000:T12-T36 per command), maximum response time in ms after the request's timeout
+// (000:T10; `None`: no reply or the data sheet's figure), a tighter printed figure graded
+// NON-STRICT, request and reply data lengths (000:T8), error codes the command's table
+// lists besides the common 09h-0Ch, whether it writes non-volatile memory (DESIGN:
+// safety), whether a device may leave it out, the editions, and the clause.
+// Set Position lists 1Fh (000:T60: shaft motion during Set Position) although Table 13
+// does not.
+command_table! {
+    0x42 ReadPosition "Read Position"
+        access None, response Some(10), strict None, request Fixed(0), reply Fixed(4), errors POSITION_ERRORS,
+        Volatile, Required, Both, READ_POSITION;
+    0x43 SetPosition "Set Position"
+        access Code0, response Some(40), strict None, request Fixed(5), reply Fixed(0), errors SET_POSITION_ERRORS,
+        WritesEeprom, Required, Both, SET_POSITION;
+    0x44 ReadAnalogValue "Read Analog Value"
+        access None, response Some(5), strict None, request Fixed(1), reply Fixed(3), errors &[WrongArgument],
+        Volatile, Required, Both, READ_ANALOG;
+    0x46 ReadCounter "Read Counter"
+        access None, response Some(5), strict None, request Fixed(0), reply Fixed(3), errors &[InternalChecksum],
+        Volatile, Required, Both, READ_COUNTER;
+    0x47 IncrementCounter "Increment Counter"
+        access None, response Some(30), strict None, request Fixed(0), reply Fixed(0),
+        errors &[I2cBus, InternalChecksum, CounterOverflow],
+        WritesEeprom, Required, Both, INCREMENT_COUNTER;
+    0x49 ResetCounter "Reset Counter"
+        access Code0, response Some(30), strict None, request Fixed(1), reply Fixed(0),
+        errors &[I2cBus, InternalChecksum, WrongAccessCode],
+        WritesEeprom, Required, Both, RESET_COUNTER;
+    0x4A ReadData "Read Data"
+        access FieldCode, response Some(30), strict None, request Fixed(4), reply Range { min: 4, max: 131 },
+        errors &[PartitionTable, I2cBus, WrongAccessCode, WrongOffset, WrongFieldNumber],
+        Volatile, Required, Both, READ_DATA;
+    0x4B StoreData "Store Data"
+        access FieldCode, response Some(250), strict None, request Range { min: 5, max: 132 }, reply Fixed(3),
+        errors &[PartitionTable, I2cBus, InternalChecksum, ReadOnlyField, WrongAccessCode, WrongOffset, WrongFieldNumber],
+        WritesEeprom, Required, Both, STORE_DATA;
+    0x4C DataFieldStatus "Data Field Status"
+        access None, response Some(5), strict None, request Fixed(1), reply Fixed(2),
+        errors &[PartitionTable, I2cBus, WrongFieldNumber],
+        Volatile, Required, Both, FIELD_STATUS;
+    0x4D CreateDataField "Create Data Field"
+        access FieldCode, response Some(70), strict None, request Fixed(3), reply Fixed(2),
+        errors &[PartitionTable, I2cBus, InternalChecksum, WrongAccessCode, OutOfMemory, WrongFieldNumber],
+        WritesEeprom, Required, Both, CREATE_FIELD;
+    0x4E MemoryStatus "Memory Status"
+        access None, response Some(5), strict None, request Fixed(0), reply Fixed(2), errors &[InternalChecksum],
+        Volatile, Required, Both, MEMORY_STATUS;
+    0x4F SetAccessCode "Set Access Code"
+        access None, response Some(40), strict None, request Fixed(3), reply Fixed(1),
+        errors &[I2cBus, InternalChecksum, WrongArgument, WrongAccessCode],
+        WritesEeprom, Required, Both, SET_ACCESS_CODE;
+    0x50 ReadEncoderStatus "Read Encoder Status"
+        access None, response Some(5), strict None, request Fixed(0), reply Fixed(1), errors &[],
+        Volatile, Required, Both, READ_ENCODER_STATUS;
+    0x52 ReadTypeLabel "Read Type Label"
+        access None, response Some(5), strict None, request Fixed(0), reply Fixed(4), errors &[I2cBus],
+        Volatile, Required, Both, READ_TYPE_LABEL;
+    0x53 EncoderReset "Encoder Reset"
+        access None, response None, strict None, request Fixed(0), reply NoFrame, errors &[],
+        Volatile, Required, Both, ENCODER_RESET;
+    0x55 SetEncoderAddress "Set Encoder Address"
+        access Code0, response Some(40), strict None, request Fixed(2), reply Fixed(0),
+        errors &[I2cBus, InternalChecksum, WrongArgument, WrongAccessCode],
+        WritesEeprom, Required, Both, SET_ADDRESS;
+    0x56 ReadVersion "Read Version"
+        access None, response Some(5), strict None, request Fixed(0), reply Fixed(37), errors &[I2cBus],
+        Volatile, Required, Both, READ_VERSION;
+    0x57 SetSerialInterface "Set Serial Interface"
+        access Code0, response Some(40), strict None, request Fixed(2), reply Fixed(1),
+        errors &[I2cBus, InternalChecksum, WrongArgument, WrongAccessCode],
+        WritesEeprom, Required, Both, SET_SERIAL;
+    /// 63h, legacy edition only. // 002:63h
+    0x63 SetPositionInternalSync "Set Position with Internal Track Synchronisation"
+        access Code0, response Some(40), strict None, request Fixed(5), reply Fixed(0), errors SET_POSITION_ERRORS,
+        WritesEeprom, Optional, LegacyOnly, LEGACY_SET_POSITION_SYNC;
+    0x67 TemporarilySetSerialInterface "Temporarily Set Serial Interface"
+        access None, response Some(5), strict None, request Fixed(1), reply Fixed(1),
+        errors &[WrongArgument, WrongAccessCode],
+        Volatile, Optional, CurrentOnly, TEMP_SERIAL;
+    0x6A SetPositionWithSync "Set Position with Synchronization"
+        access Code0, response Some(40), strict None, request Fixed(5), reply Fixed(4), errors SET_POSITION_ERRORS,
+        WritesEeprom, Optional, CurrentOnly, SET_POSITION_SYNC;
+    0x6B SensorAdjustment "Sensor Adjustment"
+        access Code0, response None, strict None, request Fixed(2), reply Fixed(2),
+        errors &[WrongArgument, WrongAccessCode],
+        WritesEeprom, Optional, CurrentOnly, SENSOR_ADJUSTMENT;
+    0x6C ReadSyncOffset "Read Synchronization Offset"
+        access None, response Some(30), strict Some(10), request Fixed(0), reply Fixed(1), errors &[WrongArgument],
+        Volatile, Optional, CurrentOnly, READ_SYNC_OFFSET;
+}
+
+/// When a reply must start, counted from the end of the request's timeout. // 000:T10
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ResponseLimit {
+    /// The maximum response time, ms.
+    pub max_ms: u16,
+    /// A tighter figure printed elsewhere (000:T36 for 6Ch), graded NON-STRICT.
+    pub strict_ms: Option<u16>,
+}
 
 /// A set of command identifiers (40h...7Fh), e.g. the commands a profile supports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]

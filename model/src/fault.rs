@@ -2,180 +2,77 @@
 
 use core::fmt;
 
-/// A warning or error code on the wire (Read Encoder Status byte, error response byte).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum FaultCode {
-    /// 00h: no fault (Read Encoder Status with an empty stack).
-    NoFault,
-    /// 01h: incorrect alignment data (initialization) / analog signals outside specification.
-    AlignmentData,
-    /// 02h: incorrect internal angular offset; also the answer of a locked position output.
-    AngularOffset,
-    /// 03h: data field partitioning table destroyed.
-    PartitionTable,
-    /// 04h: analog limit values not available.
-    AnalogLimits,
-    /// 05h: internal I2C bus not operational.
-    I2cBus,
-    /// 06h: internal checksum error.
-    InternalChecksum,
-    /// 07h: program watchdog fault.
-    Watchdog,
-    /// 08h: counter overflow.
-    CounterOverflow,
-    /// 09h: parity error (any UART fault).
-    Parity,
-    /// 0Ah: checksum error.
-    Checksum,
-    /// 0Bh: unknown command.
-    UnknownCommand,
-    /// 0Ch: wrong command length.
-    WrongLength,
-    /// 0Dh: wrong command argument.
-    WrongArgument,
-    /// 0Eh: read-only data field.
-    ReadOnlyField,
-    /// 0Fh: incorrect access code.
-    WrongAccessCode,
-    /// 10h: out of memory / fixed data field size.
-    OutOfMemory,
-    /// 11h: wrong data field offset.
-    WrongOffset,
-    /// 12h: wrong data field number.
-    WrongFieldNumber,
-    /// 1Ch: value monitoring analog signals.
-    AnalogMonitoring,
-    /// 1Dh: transmitter (LED) current critical.
-    LedCurrent,
-    /// 1Eh: encoder temperature critical.
-    Temperature,
-    /// 1Fh: speed too high.
-    Speed,
-    /// 20h: singleturn position unreliable / sensor not adjusted (linear).
-    Singleturn,
-    /// 21h: multiturn amplitude fault / distance measure to sensor too high (linear).
-    MultiturnAmplitude,
-    /// 22h: multiturn sync fault.
-    MultiturnSync,
-    /// 23h: multiturn vector length fault / linear position fault.
-    MultiturnVectorLength,
-    /// 24h: multiturn counter fault.
-    MultiturnCounter,
-    Unknown(u8),
+/// Declares the fault codes once: the `FaultCode` enum, `ALL`, the byte mapping,
+/// decoding and names, from one row per code of 000 chapter 2.4.3.
+macro_rules! fault_codes {
+    ($( $byte:literal $code:ident $name:literal $(, $doc:literal)?; )*) => {
+        /// A warning or error code on the wire (Read Encoder Status byte, error response byte).
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+        pub enum FaultCode {
+            $( #[doc = $name] $(#[doc = $doc])? $code, )*
+            Unknown(u8),
+        }
+
+        impl FaultCode {
+            /// Every named code, in code order.
+            pub const ALL: &'static [FaultCode] = &[ $( FaultCode::$code, )* ];
+
+            pub const fn byte(self) -> u8 {
+                match self {
+                    $( FaultCode::$code => $byte, )*
+                    FaultCode::Unknown(b) => b,
+                }
+            }
+
+            pub const fn decode(byte: u8) -> FaultCode {
+                match byte {
+                    $( $byte => FaultCode::$code, )*
+                    b => FaultCode::Unknown(b),
+                }
+            }
+
+            /// Name as 000 chapter 2.4.3 gives it (the rotary meaning where a code has two).
+            pub const fn name(self) -> &'static str {
+                match self {
+                    $( FaultCode::$code => $name, )*
+                    FaultCode::Unknown(_) => "Unknown fault code",
+                }
+            }
+        }
+    };
 }
 
-impl FaultCode {
-    /// Every named code, in code order.
-    pub const ALL: [FaultCode; 28] = [
-        FaultCode::NoFault,
-        FaultCode::AlignmentData,
-        FaultCode::AngularOffset,
-        FaultCode::PartitionTable,
-        FaultCode::AnalogLimits,
-        FaultCode::I2cBus,
-        FaultCode::InternalChecksum,
-        FaultCode::Watchdog,
-        FaultCode::CounterOverflow,
-        FaultCode::Parity,
-        FaultCode::Checksum,
-        FaultCode::UnknownCommand,
-        FaultCode::WrongLength,
-        FaultCode::WrongArgument,
-        FaultCode::ReadOnlyField,
-        FaultCode::WrongAccessCode,
-        FaultCode::OutOfMemory,
-        FaultCode::WrongOffset,
-        FaultCode::WrongFieldNumber,
-        FaultCode::AnalogMonitoring,
-        FaultCode::LedCurrent,
-        FaultCode::Temperature,
-        FaultCode::Speed,
-        FaultCode::Singleturn,
-        FaultCode::MultiturnAmplitude,
-        FaultCode::MultiturnSync,
-        FaultCode::MultiturnVectorLength,
-        FaultCode::MultiturnCounter,
-    ];
-
-    pub const fn byte(self) -> u8 {
-        match self {
-            FaultCode::NoFault => 0x00,
-            FaultCode::AlignmentData => 0x01,
-            FaultCode::AngularOffset => 0x02,
-            FaultCode::PartitionTable => 0x03,
-            FaultCode::AnalogLimits => 0x04,
-            FaultCode::I2cBus => 0x05,
-            FaultCode::InternalChecksum => 0x06,
-            FaultCode::Watchdog => 0x07,
-            FaultCode::CounterOverflow => 0x08,
-            FaultCode::Parity => 0x09,
-            FaultCode::Checksum => 0x0A,
-            FaultCode::UnknownCommand => 0x0B,
-            FaultCode::WrongLength => 0x0C,
-            FaultCode::WrongArgument => 0x0D,
-            FaultCode::ReadOnlyField => 0x0E,
-            FaultCode::WrongAccessCode => 0x0F,
-            FaultCode::OutOfMemory => 0x10,
-            FaultCode::WrongOffset => 0x11,
-            FaultCode::WrongFieldNumber => 0x12,
-            FaultCode::AnalogMonitoring => 0x1C,
-            FaultCode::LedCurrent => 0x1D,
-            FaultCode::Temperature => 0x1E,
-            FaultCode::Speed => 0x1F,
-            FaultCode::Singleturn => 0x20,
-            FaultCode::MultiturnAmplitude => 0x21,
-            FaultCode::MultiturnSync => 0x22,
-            FaultCode::MultiturnVectorLength => 0x23,
-            FaultCode::MultiturnCounter => 0x24,
-            FaultCode::Unknown(b) => b,
-        }
-    }
-
-    pub const fn decode(byte: u8) -> FaultCode {
-        let mut i = 0;
-        while i < Self::ALL.len() {
-            if Self::ALL[i].byte() == byte {
-                return Self::ALL[i];
-            }
-            i += 1;
-        }
-        FaultCode::Unknown(byte)
-    }
-
-    /// Name as 000 chapter 2.4.3 gives it (the rotary meaning where a code has two).
-    pub const fn name(self) -> &'static str {
-        match self {
-            FaultCode::NoFault => "No fault",
-            FaultCode::AlignmentData => "Incorrect alignment data",
-            FaultCode::AngularOffset => "Incorrect internal angular offset",
-            FaultCode::PartitionTable => "Data field partitioning table destroyed",
-            FaultCode::AnalogLimits => "Analog limit values not available",
-            FaultCode::I2cBus => "Internal I2C bus not operational",
-            FaultCode::InternalChecksum => "Internal checksum error",
-            FaultCode::Watchdog => "Program watchdog fault",
-            FaultCode::CounterOverflow => "Counter overflow",
-            FaultCode::Parity => "Parity error",
-            FaultCode::Checksum => "Checksum error",
-            FaultCode::UnknownCommand => "Unknown command",
-            FaultCode::WrongLength => "Wrong command length",
-            FaultCode::WrongArgument => "Wrong command argument",
-            FaultCode::ReadOnlyField => "Read-only data field",
-            FaultCode::WrongAccessCode => "Incorrect access code",
-            FaultCode::OutOfMemory => "Out of memory fault",
-            FaultCode::WrongOffset => "Wrong data field offset",
-            FaultCode::WrongFieldNumber => "Wrong data field number",
-            FaultCode::AnalogMonitoring => "Value monitoring analog signals",
-            FaultCode::LedCurrent => "Transmitter current critical",
-            FaultCode::Temperature => "Encoder temperature critical",
-            FaultCode::Speed => "Speed too high",
-            FaultCode::Singleturn => "Singleturn position unreliable",
-            FaultCode::MultiturnAmplitude => "Multiturn amplitude fault",
-            FaultCode::MultiturnSync => "Multiturn sync fault",
-            FaultCode::MultiturnVectorLength => "Multiturn vectorlength fault",
-            FaultCode::MultiturnCounter => "Multiturn counter fault",
-            FaultCode::Unknown(_) => "Unknown fault code",
-        }
-    }
+// One row per code: byte, name (000:2.4.3), and where 000 gives a code a second meaning
+// (linear encoders, operation instead of initialization), that meaning.
+fault_codes! {
+    0x00 NoFault "No fault", "Read Encoder Status with an empty stack.";
+    0x01 AlignmentData "Incorrect alignment data", "Also: analog signals outside specification (operation).";
+    0x02 AngularOffset "Incorrect internal angular offset", "Also the answer of a locked position output.";
+    0x03 PartitionTable "Data field partitioning table destroyed";
+    0x04 AnalogLimits "Analog limit values not available";
+    0x05 I2cBus "Internal I2C bus not operational";
+    0x06 InternalChecksum "Internal checksum error";
+    0x07 Watchdog "Program watchdog fault";
+    0x08 CounterOverflow "Counter overflow";
+    0x09 Parity "Parity error", "Any UART fault.";
+    0x0A Checksum "Checksum error";
+    0x0B UnknownCommand "Unknown command";
+    0x0C WrongLength "Wrong command length";
+    0x0D WrongArgument "Wrong command argument";
+    0x0E ReadOnlyField "Read-only data field";
+    0x0F WrongAccessCode "Incorrect access code";
+    0x10 OutOfMemory "Out of memory fault", "Also: fixed data field size.";
+    0x11 WrongOffset "Wrong data field offset";
+    0x12 WrongFieldNumber "Wrong data field number";
+    0x1C AnalogMonitoring "Value monitoring analog signals";
+    0x1D LedCurrent "Transmitter current critical", "The transmitter is the LED.";
+    0x1E Temperature "Encoder temperature critical";
+    0x1F Speed "Speed too high";
+    0x20 Singleturn "Singleturn position unreliable", "Linear: sensor not adjusted.";
+    0x21 MultiturnAmplitude "Multiturn amplitude fault", "Linear: distance measure to sensor too high.";
+    0x22 MultiturnSync "Multiturn sync fault";
+    0x23 MultiturnVectorLength "Multiturn vectorlength fault", "Linear: position fault.";
+    0x24 MultiturnCounter "Multiturn counter fault";
 }
 
 impl fmt::Display for FaultCode {
@@ -209,32 +106,65 @@ pub enum Severity {
     Critical,
 }
 
+/// Which encoders, or which companion code, a row of Table 74 is about: the printed
+/// table has two rows for one code and group where rotary and linear encoders react
+/// differently, and rows "06h + 01h" for an internal checksum error stacked together
+/// with the code that narrows it down (000:T44 note).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Variant {
+    /// Every encoder.
+    Any,
+    /// Rotary encoders, where the row has a linear counterpart.
+    Rotary,
+    /// Linear encoders.
+    Linear,
+    /// The code stacked together with another.
+    With(FaultCode),
+}
+
 /// One row of the fault table (000 chapter 2.4.3 merged with Table 74).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct FaultRow {
     pub code: FaultCode,
+    pub variant: Variant,
     pub group: FaultGroup,
     pub indication: Indication,
     pub severity: Severity,
     pub reference: &'static str,
-    pub controller_response: &'static str,
+    /// `None` where the table prints "-".
+    pub controller_response: Option<&'static str>,
+}
+
+impl FaultRow {
+    /// A row for the code alone on a rotary encoder (the rows a master without more
+    /// context reacts by).
+    pub const fn primary(&self) -> bool {
+        matches!(self.variant, Variant::Any | Variant::Rotary)
+    }
 }
 
 macro_rules! rows {
-    ($( $code:ident, $group:ident, $ind:ident, $sev:ident, $reference:literal, $resp:literal; )*) => {
+    (@variant) => { Variant::Any };
+    (@variant rotary) => { Variant::Rotary };
+    (@variant linear) => { Variant::Linear };
+    (@variant + $with:ident) => { Variant::With(FaultCode::$with) };
+    (@response -) => { None };
+    (@response $r:literal) => { Some($r) };
+    ($( $code:ident $([$($variant:tt)+])?, $group:ident, $ind:ident, $sev:ident, $reference:literal, $resp:tt; )*) => {
         &[ $( FaultRow {
             code: FaultCode::$code,
+            variant: rows!(@variant $($($variant)+)?),
             group: FaultGroup::$group,
             indication: Indication::$ind,
             severity: Severity::$sev,
             reference: $reference,
-            controller_response: $resp,
+            controller_response: rows!(@response $resp),
         } ),* ]
     };
 }
 
-/// The fault table: one row per (code, group) of 000 Table 74, with the fault
-/// indication of Tables 38-68.
+/// The fault table: 000 Table 74 row by row in printed order, with the fault indication
+/// of Tables 38-68.
 pub const FAULT_TABLE: &[FaultRow] = rows![
     AlignmentData, Initialization, ErrorResponse, Critical, "Incorrect alignment data", "SW reset of Slave.";
     AlignmentData, Others, ErrorResponse, Major, "Analog signals outside specification", "Retry command. If error persists, SW reset of Slave.";
@@ -246,6 +176,14 @@ pub const FAULT_TABLE: &[FaultRow] = rows![
     I2cBus, Initialization, ErrorResponse, Critical, "Internal I2C bus not operational", "SW reset of Slave.";
     I2cBus, Position, ErrorResponse, Critical, "Internal I2C bus not operational", "Retry command. If error persists, SW reset of Slave.";
     InternalChecksum, Initialization, ErrorResponse, Critical, "Internal checksum error", "SW reset of Slave.";
+    InternalChecksum [+ AlignmentData], Initialization, ErrorResponse, Critical, "CRC error; position invalid", "SW reset of Slave.";
+    InternalChecksum [+ AngularOffset], Initialization, ErrorResponse, Critical, "CRC error; position/multi-turn invalid", "SW reset of Slave.";
+    InternalChecksum [+ PartitionTable], Initialization, ErrorResponse, Critical, "CRC error; wrong HIPERFACE settings", "SW reset of Slave.";
+    InternalChecksum [+ AnalogLimits], Initialization, ErrorResponse, Critical, "CRC error; invalid limit values", "SW reset of Slave.";
+    InternalChecksum [+ I2cBus], Initialization, ErrorResponse, Critical, "CRC error; invalid Slave type label", "SW reset of Slave.";
+    InternalChecksum [+ CounterOverflow], Initialization, ErrorResponse, Minor, "CRC error; invalid user counter value", -;
+    InternalChecksum [+ WrongFieldNumber], Initialization, ErrorResponse, Critical, "CRC error; extended type label invalid", "SW reset of Slave.";
+    InternalChecksum [+ MultiturnAmplitude], Initialization, ErrorResponse, Critical, "CRC error; multiturn parameters invalid", "SW reset of Slave.";
     Watchdog, Initialization, ErrorResponse, Minor, "Program watchdog fault", "Read and delete message.";
     CounterOverflow, Others, ErrorResponse, Major, "Counter overflow", "Reset user counter.";
     Parity, Protocol, ErrorResponse, Major, "Parity error", "Retry command.";
@@ -266,11 +204,14 @@ pub const FAULT_TABLE: &[FaultRow] = rows![
     Temperature, Others, WarningBit, Major, "Encoder temperature critical", "Change motion profile to fit temperature range.";
     Speed, Position, ErrorResponse, Major, "Speed too high", "Check that maximum allowed speed for HIPERFACE position read-out is considered.";
     Singleturn, Initialization, ErrorResponse, Critical, "Singleturn position unreliable", "SW reset of Slave.";
-    Singleturn, Position, ErrorResponse, Critical, "Singleturn position unreliable / Sensor not adjusted or in adjustment mode", "Retry command. If error persists, SW reset of Slave.";
+    Singleturn [rotary], Position, ErrorResponse, Critical, "Singleturn position unreliable", "Retry command. If error persists, SW reset of Slave.";
+    Singleturn [linear], Position, ErrorResponse, Critical, "Sensor not adjusted or in adjustment mode", "Check sensor mode. Retry command. If error persists, SW reset of Slave.";
     MultiturnAmplitude, Initialization, ErrorResponse, Critical, "Multiturn amplitude fault", "SW reset of Slave.";
-    MultiturnAmplitude, Position, ErrorResponse, Critical, "Multiturn amplitude fault / Distance measure/sensor too high", "Retry command. If error persists, SW reset of Slave.";
+    MultiturnAmplitude [rotary], Position, ErrorResponse, Critical, "Multiturn amplitude fault", "Retry command. If error persists, SW reset of Slave.";
+    MultiturnAmplitude [linear], Position, ErrorResponse, Critical, "Distance measure/sensor too high", "Check assembly of sensor.";
     MultiturnSync, Position, ErrorResponse, Critical, "Multiturn sync fault", "Only use sine/cosine based position until shut-down. Replace Slave.";
-    MultiturnVectorLength, Position, ErrorResponse, Critical, "Multiturn vectorlength fault / Linear position fault", "Retry command. If error persists, SW reset of Slave.";
+    MultiturnVectorLength [rotary], Position, ErrorResponse, Critical, "Multiturn vectorlength fault", "Retry command. If error persists, SW reset of Slave.";
+    MultiturnVectorLength [linear], Position, ErrorResponse, Critical, "Linear position fault", "Retry command. If error persists, SW reset of Slave.";
     MultiturnCounter, Position, ErrorResponse, Critical, "Multiturn counter fault", "Retry command. If error persists, SW reset of Slave.";
 ];
 
@@ -301,6 +242,15 @@ mod tests {
             assert_eq!(FaultCode::decode(b).byte(), b);
         }
         assert_eq!(FaultCode::decode(0x13), FaultCode::Unknown(0x13));
+    }
+
+    #[test]
+    fn table_74_has_every_printed_row() {
+        // 000:T74 prints 47 rows: 36 for codes alone on any or a rotary encoder, 8 for
+        // 06h with a narrowing code, and 3 for linear encoders.
+        assert_eq!(FAULT_TABLE.len(), 47);
+        assert_eq!(FAULT_TABLE.iter().filter(|r| matches!(r.variant, Variant::With(_))).count(), 8);
+        assert_eq!(FAULT_TABLE.iter().filter(|r| r.variant == Variant::Linear).count(), 3);
     }
 
     #[test]

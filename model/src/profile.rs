@@ -2,7 +2,7 @@
 //! harness crate; the model takes this struct.
 
 use crate::address::SlaveAddress;
-use crate::command::{CommandId, CommandSet};
+use crate::command::{CommandId, CommandSet, ResponseLimit};
 use crate::settings::{Baud, Edition, UartSettings};
 use core::fmt;
 
@@ -268,6 +268,19 @@ impl fmt::Display for ProfileError {
 }
 
 impl Profile {
+    /// The limits a reply to `command` must start within, after the request's timeout:
+    /// 000:T10's figure, the data sheet's for Sensor Adjustment (000:T35), and for
+    /// errors to unknown commands the shortest time of Table 10.
+    pub fn response_limit(&self, command: CommandId) -> ResponseLimit {
+        match command.spec() {
+            Some(s) if s.id == CommandId::SensorAdjustment => {
+                ResponseLimit { max_ms: self.adjustment_response_ms, strict_ms: None }
+            }
+            Some(s) => ResponseLimit { max_ms: s.max_response_ms.unwrap_or(5), strict_ms: s.strict_response_ms },
+            None => ResponseLimit { max_ms: 5, strict_ms: None },
+        }
+    }
+
     /// The measuring range in position steps.
     pub fn range(&self) -> u64 {
         self.resolution.range_steps()

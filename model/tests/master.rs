@@ -1,7 +1,7 @@
 //! The master-side references against 000 chapter 3's tables, and together with the
 //! slave: synchronisation recovers the full position over a sweep of angles and speeds.
 
-use hiperface_model::fault::{FaultCode, FaultGroup, Severity};
+use hiperface_model::fault::{FaultCode, FaultGroup, Severity, Variant};
 use hiperface_model::master::fault_reaction::{self, AmplitudeWindow, MasterFault};
 use hiperface_model::master::interpolation::{self, Interpolator};
 use hiperface_model::master::quadrature::{self, Ab, Count, Counter};
@@ -260,9 +260,22 @@ fn a_phase_shift_breaks_synchronisation_unless_compensated() {
 fn fault_reaction_table_74() {
     let r = fault_reaction::reaction(FaultCode::MultiturnSync, Some(FaultGroup::Position));
     assert_eq!(r.severity, Severity::Critical);
-    assert!(r.response.contains("Replace Slave"));
+    assert!(r.response.is_some_and(|t| t.contains("Replace Slave")));
     assert_eq!(fault_reaction::reaction(FaultCode::Watchdog, None).severity, Severity::Minor);
-    assert_eq!(fault_reaction::reaction(FaultCode::Checksum, None).response, "Retry command.");
+    assert_eq!(fault_reaction::reaction(FaultCode::Checksum, None).response, Some("Retry command."));
+    // 06h stacked with 08h: only the user counter is lost, Minor and no action; 06h
+    // alone stays Critical. // 000:T74 "06h + 08h"
+    let init = Some(FaultGroup::Initialization);
+    let narrowed =
+        fault_reaction::reaction_to(FaultCode::InternalChecksum, init, Variant::With(FaultCode::CounterOverflow));
+    assert_eq!((narrowed.severity, narrowed.response), (Severity::Minor, None));
+    assert_eq!(fault_reaction::reaction(FaultCode::InternalChecksum, init).severity, Severity::Critical);
+    // A linear encoder's 21h asks to check the sensor's assembly, a rotary one's to retry.
+    let linear =
+        fault_reaction::reaction_to(FaultCode::MultiturnAmplitude, Some(FaultGroup::Position), Variant::Linear);
+    assert_eq!(linear.response, Some("Check assembly of sensor."));
+    let rotary = fault_reaction::reaction(FaultCode::MultiturnAmplitude, Some(FaultGroup::Position));
+    assert!(rotary.response.is_some_and(|t| t.starts_with("Retry command.")));
     // 1Ch: Major in the position group, Critical in the others group.
     assert_eq!(
         fault_reaction::reaction(FaultCode::AnalogMonitoring, Some(FaultGroup::Position)).severity,

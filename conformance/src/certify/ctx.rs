@@ -2,7 +2,7 @@
 //! the case's findings. Every exchange goes through [`Ctx::send_frame`], which grades
 //! the answer, its timing and anything unsolicited.
 
-use super::timing::{self, Limits};
+use super::timing;
 use super::{CaseError, CaseResult, CaseVerdict, Finding, Identity, Options, WireEntry};
 use crate::line::Line;
 use crate::master::{sealed, Exchange, Master};
@@ -168,15 +168,7 @@ impl Ctx<'_> {
             self.master.line.configure(s)?;
         }
         let command = frame.get(1).map(|b| CommandId::decode(b & 0x7F));
-        let spec = command.and_then(|c| c.spec());
-        let limits = Limits {
-            max_ms: match spec {
-                Some(s) if s.id == CommandId::SensorAdjustment => self.model.profile().adjustment_response_ms,
-                Some(s) => s.max_response_ms.unwrap_or(5),
-                None => 5,
-            },
-            strict_ms: spec.and_then(|s| s.strict_response_ms),
-        };
+        let limits = self.model.profile().response_limit(command.unwrap_or(CommandId::Unknown(0)));
         let before = self.model.clone();
         // Where the model expects a reply, listen well past the limit so that a late
         // reply is measured and graded; where it expects silence, only to the limit.

@@ -10,21 +10,19 @@
 use super::{Finding, TimingMode};
 use crate::master::Exchange;
 use hiperface_model::clause;
+use hiperface_model::command::ResponseLimit;
 use hiperface_model::Edition;
-
-/// The limits a reply's start is graded against.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Limits {
-    /// 000:T10 (or the profile's Sensor Adjustment time), ms.
-    pub max_ms: u16,
-    /// A tighter figure printed elsewhere (000:T36 for 6Ch), graded NON-STRICT.
-    pub strict_ms: Option<u16>,
-}
 
 /// Grade the start of a reply of a device of `edition`. `tolerance_us`: the line's
 /// jitter; the harness's own scheduling delay measured in the exchange is added (it
 /// may have noticed the reply that much late, or written the request that much late).
-pub fn grade(x: &Exchange, limits: Limits, tolerance_us: u64, mode: TimingMode, edition: Edition) -> Vec<Finding> {
+pub fn grade(
+    x: &Exchange,
+    limits: ResponseLimit,
+    tolerance_us: u64,
+    mode: TimingMode,
+    edition: Edition,
+) -> Vec<Finding> {
     let Some((lo, hi)) = x.response_time_us() else { return Vec::new() };
     if mode == TimingMode::Off {
         return Vec::new();
@@ -88,7 +86,7 @@ mod tests {
         }
     }
 
-    const LIMITS: Limits = Limits { max_ms: 10, strict_ms: None };
+    const LIMITS: ResponseLimit = ResponseLimit { max_ms: 10, strict_ms: None };
 
     fn verdicts(x: &Exchange, mode: TimingMode) -> Vec<CaseVerdict> {
         grade(x, LIMITS, 2_000, mode, Edition::Current).into_iter().map(|f| f.verdict()).collect()
@@ -139,7 +137,7 @@ mod tests {
         let end = Window::exact(100_000);
         let s = 100_000 + TIMEOUT + 20_000;
         let x = exchange(end, Window::exact(s));
-        let f = grade(&x, Limits { max_ms: 30, strict_ms: Some(10) }, 0, TimingMode::Strict, Edition::Current);
+        let f = grade(&x, ResponseLimit { max_ms: 30, strict_ms: Some(10) }, 0, TimingMode::Strict, Edition::Current);
         assert_eq!(f.iter().map(|f| f.verdict()).collect::<Vec<_>>(), vec![CaseVerdict::NonStrict]);
         assert_eq!(at_most_us(&x), Some(20_000));
     }

@@ -485,7 +485,7 @@ fn power_up(p: &Profile, edition: &str) -> Vec<Vector> {
 pub fn files() -> Vec<(&'static str, VectorFile)> {
     let current = profiles::reference();
     let legacy = profiles::legacy_srs();
-    let mut out = vec![("master-tables.json", super::master::file())];
+    let mut out = Vec::new();
     for (name, p, edition) in
         [("generated-current.json", current, "current"), ("generated-legacy.json", legacy, "legacy")]
     {

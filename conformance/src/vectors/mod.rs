@@ -137,7 +137,8 @@ pub struct Step {
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TableCase {
-    /// `quadrature` (000:T72), `sync` (000:3.2.5), `octant` (000:3.2.4), `fault-reaction` (000:T74).
+    /// `quadrature` (000:T72), `sync` (000:3.2.5), `octant`, `transformation`,
+    /// `retransformation` (000:3.2.4), `fault-reaction` (000:T74).
     pub table: String,
     /// quadrature: `A(n-1) B(n-1) A(n) B(n)` as 4 bits; sync: `f(i:i-1) a(4:3)`;
     /// octant: `sin>=0 cos>=0 |sin|<|cos|` as T/F; fault-reaction: `code group`.

@@ -1,13 +1,14 @@
 //! Fault reaction of a master: severity and controller response per fault code and
 //! group (000:T73, T74), with the master behaviour seen in 003 and 004.
 
-use crate::fault::{self, FaultCode, FaultGroup, Severity};
+use crate::fault::{self, FaultCode, FaultGroup, FaultRow, Severity, Variant};
 
 /// What a master should do.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Reaction {
     pub severity: Severity,
-    pub response: &'static str,
+    /// `None` where Table 74 prints "-": no action.
+    pub response: Option<&'static str>,
     /// False for codes the table does not know: the worst case applies.
     pub known: bool,
 }
@@ -16,20 +17,30 @@ pub struct Reaction {
 /// fault codes (i.e. motor stop)." // 000:T74
 pub const WORST_CASE: Reaction = Reaction {
     severity: Severity::Critical,
-    response: "Stop the motor (worst-case reaction to an unknown fault code).",
+    response: Some("Stop the motor (worst-case reaction to an unknown fault code)."),
     known: false,
 };
 
 /// The reaction to `code`, in `group` where the code has several (e.g. 1Dh at
-/// start-up, on a position command, or stacked). Without a group, the most severe
-/// row of the code applies.
+/// start-up, on a position command, or stacked), for a rotary encoder and the code
+/// alone. Without a group, the most severe row of the code applies.
 pub fn reaction(code: FaultCode, group: Option<FaultGroup>) -> Reaction {
-    let rows = fault::rows(code);
-    let chosen = match group {
-        Some(g) => fault::rows(code).find(|r| r.group == g),
-        None => rows.max_by_key(|r| r.severity),
+    reaction_to(code, group, Variant::Any)
+}
+
+/// As [`reaction`], for the row of `variant`: a linear encoder's row, or 06h stacked
+/// together with a narrowing code (000:T74 "06h + 08h"). Where the table has no row of
+/// that variant, the code's own row applies.
+pub fn reaction_to(code: FaultCode, group: Option<FaultGroup>, variant: Variant) -> Reaction {
+    let in_group = |r: &&FaultRow| group.is_none_or(|g| r.group == g);
+    let specific = fault::rows(code).filter(|r| variant != Variant::Any && r.variant == variant).find(in_group);
+    let primary = || match group {
+        Some(_) => fault::rows(code).filter(|r| r.primary()).find(in_group),
+        None => fault::rows(code).filter(|r| r.primary()).max_by_key(|r| r.severity),
     };
-    match chosen.or_else(|| fault::rows(code).max_by_key(|r| r.severity)) {
+    let chosen =
+        specific.or_else(primary).or_else(|| fault::rows(code).filter(|r| r.primary()).max_by_key(|r| r.severity));
+    match chosen {
         Some(r) => Reaction { severity: r.severity, response: r.controller_response, known: true },
         None => WORST_CASE,
     }
@@ -101,9 +112,10 @@ pub fn master_reaction(f: MasterFault) -> Reaction {
         MasterFault::Slave(code) => reaction(code, None),
         MasterFault::Amplitude { .. } => Reaction {
             severity: Severity::Critical,
-            response: "Sin/cos amplitude outside the window: stop using the incremental position; after it clears, re-reference (003 does not re-read until a power cycle).",
+            response: Some("Sin/cos amplitude outside the window: stop using the incremental position; after it clears, re-reference (003 does not re-read until a power cycle)."),
             known: true,
         },
-        MasterFault::Timeout => Reaction { severity: Severity::Major, response: "Retry the command; report a timeout (004: error id 255).", known: true },
+        MasterFault::Timeout => Reaction { severity: Severity::Major, response: Some("Retry the command; report a timeout (004: error id 255)."),
+            known: true, },
     }
 }

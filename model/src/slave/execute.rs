@@ -8,7 +8,7 @@ use crate::checksum;
 use crate::clause::{self, Normative};
 use crate::command::{CommandByte, CommandId};
 use crate::fault::FaultCode::{self, *};
-use crate::profile::{AnalogSource, Profile};
+use crate::profile::AnalogSource;
 use crate::request::{Request, RequestFrame};
 use crate::response::{Response, ResponseFrame, Version};
 use crate::settings::{Edition, UartSettings};
@@ -51,18 +51,6 @@ enum Done {
     Ok(Response, Normative),
     Err(FaultCode, Normative),
     Reset,
-}
-
-/// The response time the reply must start within. // 000:T10, 000:T35
-pub(super) fn max_response_ms(profile: &Profile, reply: &ResponseFrame, request: &[u8]) -> u16 {
-    let command = request.get(1).map(|b| CommandId::decode(*b & 0x7F));
-    let spec = command.and_then(|c| c.spec());
-    match (spec, reply.response) {
-        (Some(s), _) if s.id == CommandId::SensorAdjustment => profile.adjustment_response_ms,
-        (Some(s), _) => s.max_response_ms.unwrap_or(5),
-        // Errors to unknown or unreadable commands: the shortest time of Table 10.
-        (None, _) => 5,
-    }
 }
 
 impl Slave {

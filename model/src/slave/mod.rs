@@ -14,6 +14,7 @@ pub mod stack;
 
 use crate::address::SlaveAddress;
 use crate::clause::Normative;
+use crate::command::CommandId;
 use crate::datalink::{DataLink, ReceivedFrame, RxChar};
 use crate::fault::FaultCode;
 use crate::frame::Frame;
@@ -381,7 +382,9 @@ impl Slave {
         };
         let transmission = match (outcome.reply, settings) {
             (Reply::Frame(rf), Some(settings)) => {
-                let max_ms = execute::max_response_ms(&self.profile, &rf, frame.bytes.as_bytes());
+                let command =
+                    frame.bytes.as_bytes().get(1).map_or(CommandId::Unknown(0), |b| CommandId::decode(b & 0x7F));
+                let max_ms = self.profile.response_limit(command).max_ms;
                 Some(Transmission {
                     frame: rf.encode(),
                     earliest_start_us: at,
