@@ -18,6 +18,8 @@ use std::path::{Path, PathBuf};
 pub enum ProfileLoadError {
     #[error("{path}: {source}")]
     Io { path: PathBuf, source: std::io::Error },
+    #[error("{path}:{line}: not a profile: the file is not TOML ({message})")]
+    NotToml { path: PathBuf, line: usize, message: String },
     #[error("{path}:{line}: field `{field}`: {message}")]
     Invalid { path: PathBuf, line: usize, field: String, message: String },
     #[error("unknown built-in profile `{name}` (known: {known})")]
@@ -229,16 +231,23 @@ pub fn parse(text: &str, path: &Path) -> Result<Profile, ProfileLoadError> {
         field: field.to_string(),
         message,
     };
-    let file: ProfileFile = toml::from_str(text).map_err(|e| {
-        let line = e
-            .span()
-            .map_or(1, |s| 1 + text.as_bytes()[..s.start.min(text.len())].iter().filter(|b| **b == b'\n').count());
-        ProfileLoadError::Invalid {
+    let line_of = |e: &toml::de::Error| {
+        e.span().map_or(1, |s| 1 + text.as_bytes()[..s.start.min(text.len())].iter().filter(|b| **b == b'\n').count())
+    };
+    // Syntax first: a file that is not TOML at all (a wrong path) is not reported as a
+    // field error.
+    if let Err(e) = text.parse::<toml::Table>() {
+        return Err(ProfileLoadError::NotToml {
             path: path.into(),
-            line,
-            field: field_of(e.message()),
+            line: line_of(&e),
             message: e.message().to_string(),
-        }
+        });
+    }
+    let file: ProfileFile = toml::from_str(text).map_err(|e| ProfileLoadError::Invalid {
+        path: path.into(),
+        line: line_of(&e),
+        field: field_of(e.message()),
+        message: e.message().to_string(),
     })?;
     let mut p = match &file.base {
         Some(base) => profiles::builtin(base)

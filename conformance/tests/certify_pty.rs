@@ -118,8 +118,8 @@ fn garbage_on_the_line_fails_without_hanging() {
 
 #[test]
 fn cli_malformed_profile_and_unknown_port() {
-    let dir = std::env::temp_dir().join(format!("hf-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
     let bad = dir.join("bad.toml");
     std::fs::write(&bad, "name = \"x\"\n[timing]\ninit_ms = 300\n").unwrap();
     let exe = env!("CARGO_BIN_EXE_hiperface");
@@ -127,6 +127,14 @@ fn cli_malformed_profile_and_unknown_port() {
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("bad.toml:3: field `timing.init_ms`"), "{err}");
+
+    // A file that is not TOML at all (a wrong path) is said to be no profile.
+    let passwd = dir.join("passwd");
+    std::fs::write(&passwd, "root:x:0:0:root:/root:/bin/bash\n").unwrap();
+    let out = Command::new(exe).arg("check-profile").arg(&passwd).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("passwd:1: not a profile: the file is not TOML"), "{err}");
 
     let report_dir = dir.join("report");
     let out = Command::new(exe)
@@ -142,7 +150,8 @@ fn cli_malformed_profile_and_unknown_port() {
 
 #[test]
 fn cli_certifies_the_simulator_and_writes_every_report() {
-    let dir = std::env::temp_dir().join(format!("hf-cli-sim-{}", std::process::id()));
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("report");
     let exe = env!("CARGO_BIN_EXE_hiperface");
     let out = Command::new(exe)
         .args([

@@ -92,20 +92,20 @@ fn every_command_and_error_code_has_a_vector_per_edition() {
     }
 }
 
-fn temp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("hf-vectors-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+/// A directory removed when the test ends.
+fn temp() -> tempfile::TempDir {
+    tempfile::tempdir().unwrap()
 }
 
 #[test]
 fn verify_lists_failing_ids_and_exits_non_zero() {
-    let d = temp("tampered");
+    let tmp = temp();
+    let d = tmp.path();
     let mut file = vectors::documents::file();
     let v = file.vectors.iter_mut().find(|v| v.id == "001-5.1.4.1-read-position").unwrap();
     v.steps[0].response = Some("40 42 00 00 00 01 03".into());
     std::fs::write(d.join("x.json"), serde_json::to_string(&file).unwrap()).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_hiperface")).args(["vectors", "verify"]).arg(&d).output().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_hiperface")).args(["vectors", "verify"]).arg(d).output().unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(1), "{stdout}");
     assert!(stdout.contains("FAIL x.json: 001-5.1.4.1-read-position: step 1"), "{stdout}");
@@ -117,7 +117,8 @@ fn verify_lists_failing_ids_and_exits_non_zero() {
 
 #[test]
 fn a_malformed_file_names_the_file_and_the_vector() {
-    let d = temp("malformed");
+    let tmp = temp();
+    let d = tmp.path();
     let mut json: serde_json::Value = serde_json::to_value(vectors::documents::file()).unwrap();
     json["vectors"][3]["steps"][0]["request"] = "40 4G 02".into();
     let path = d.join("bad.json");

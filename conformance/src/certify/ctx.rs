@@ -6,7 +6,9 @@ use super::timing;
 use super::{CaseError, CaseResult, CaseVerdict, Finding, Identity, Options, WireEntry};
 use crate::line::Line;
 use crate::master::{sealed, Exchange, Master};
+use hiperface_model::address::AddressByte;
 use hiperface_model::clause::{self, Normative};
+use hiperface_model::request::{Request, RequestFrame};
 use hiperface_model::response::{Response, ResponseFrame};
 use hiperface_model::{CommandId, Hex, Knowledge, Oracle, Profile, Reply, Slave};
 use std::collections::BTreeMap;
@@ -44,6 +46,11 @@ pub(crate) fn physical_time_us(x: &Exchange, max_ms: u16) -> u64 {
     }
 }
 
+/// The frame of `request` to the address byte `address`.
+fn frame(address: u8, request: Request) -> Vec<u8> {
+    RequestFrame::new(AddressByte::decode(address), request).encode().as_bytes().to_vec()
+}
+
 /// A pending restore, released by the case once it has restored by itself.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[must_use = "release the guard once the case has restored"]
@@ -65,7 +72,7 @@ pub struct Ctx<'a> {
     options: &'a Options,
     /// Requests that undo this case's changes, last first, run by the runner if the
     /// case does not release them itself.
-    guards: Vec<(u64, Vec<u8>)>,
+    guards: Vec<(u64, Vec<u8>)>, // (id, whole frame)
     next_guard: u64,
     restoring: bool,
 }
@@ -125,10 +132,10 @@ impl Ctx<'_> {
         self.tally.notes.push(format!("{}: {}", self.result.id, message.into()));
     }
 
-    /// Register a request (body without checksum) that undoes a change just made.
-    pub fn guard(&mut self, undo: Vec<u8>) -> Guard {
+    /// Register a request to `address` that undoes a change just made.
+    pub fn guard(&mut self, address: u8, undo: Request) -> Guard {
         self.next_guard += 1;
-        self.guards.push((self.next_guard, undo));
+        self.guards.push((self.next_guard, frame(address, undo)));
         Guard(self.next_guard)
     }
 
@@ -146,13 +153,25 @@ impl Ctx<'_> {
         self.restoring = true;
         let mut n = 0;
         while let Some((_, undo)) = self.guards.pop() {
-            self.ask(&undo)?;
+            self.send_frame(&undo)?;
             n += 1;
         }
         Ok(n)
     }
 
-    /// Send a body with its checksum appended; grade the answer.
+    /// Send a request to the device's address; grade the answer.
+    pub fn request(&mut self, request: Request) -> Result<Graded, CaseError> {
+        let address = self.address();
+        self.request_at(address, request)
+    }
+
+    /// Send a request with any address byte (another slave's, FFh); grade the answer.
+    pub fn request_at(&mut self, address: u8, request: Request) -> Result<Graded, CaseError> {
+        self.send_frame(&frame(address, request))
+    }
+
+    /// Send a body that no [`Request`] expresses (an unknown command, a wrong length)
+    /// with its checksum appended; grade the answer.
     pub fn ask(&mut self, body: &[u8]) -> Result<Graded, CaseError> {
         self.send_frame(&sealed(body))
     }

@@ -19,6 +19,8 @@ impl Drop for KillOnDrop {
 pub struct Ser2net {
     _server: KillOnDrop,
     port: u16,
+    /// Its configuration, removed with it.
+    _config: tempfile::TempDir,
 }
 
 impl Ser2net {
@@ -33,9 +35,8 @@ impl Ser2net {
             return None;
         };
         let port = std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port();
-        let dir = std::env::temp_dir().join(format!("hf-{name}-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let config = dir.join("ser2net.yaml");
+        let dir = tempfile::tempdir().unwrap();
+        let config = dir.path().join("ser2net.yaml");
         std::fs::write(
             &config,
             format!(
@@ -50,7 +51,7 @@ impl Ser2net {
             .stderr(Stdio::null())
             .spawn()
             .unwrap();
-        Some(Ser2net { _server: KillOnDrop(server), port })
+        Some(Ser2net { _server: KillOnDrop(server), port, _config: dir })
     }
 
     /// Connect, waiting up to 10 s for the server to accept.

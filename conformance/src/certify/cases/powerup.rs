@@ -1,0 +1,41 @@
+//! Power-up and Encoder Reset: the state machine's windows. // 000:T9, 000:T30
+
+use super::{always, case, current_edition, wait_until};
+use crate::certify::Case;
+use hiperface_model::Request;
+
+pub const RESET: Case = case!(
+    "powerup.reset",
+    "Encoder Reset: no reply, silence during initialization, then default settings",
+    [ENCODER_RESET, STATE_MACHINE],
+    Nothing,
+    always,
+    |c| {
+        let x = c.request(Request::EncoderReset)?.exchange;
+        let reset_at = x.complete_us();
+        wait_until(c, reset_at + 30_000)?;
+        c.request(Request::ReadPosition)?; // initialization: silence
+        let init = c.profile().init_ms as u64 * 1000;
+        wait_until(c, reset_at + init + 50_000)?;
+        c.request(Request::ReadPosition)?;
+        c.request(Request::ReadEncoderStatus).map(drop)
+    }
+);
+
+pub const WINDOW: Case = case!(
+    "powerup.window",
+    "Without a request the default window closes: silence, then the stored settings",
+    [STATE_MACHINE, ENCODER_RESET],
+    Nothing,
+    current_edition,
+    |c| {
+        let x = c.request(Request::EncoderReset)?.exchange;
+        let reset_at = x.complete_us();
+        let p = c.profile();
+        let silent_at = (p.default_window_ms as u64 + p.user_settings_ms as u64) * 500;
+        wait_until(c, reset_at + silent_at)?;
+        c.request(Request::ReadPosition)?; // change of settings: silence
+        wait_until(c, reset_at + p.user_settings_ms as u64 * 1000 + 50_000)?;
+        c.request(Request::ReadPosition).map(drop)
+    }
+);

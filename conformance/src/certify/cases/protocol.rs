@@ -1,0 +1,55 @@
+//! Protocol errors: checksum, unknown command, length, argument. // 000:2.4.2, 000:T47-T50
+
+use super::{always, case};
+use crate::certify::Case;
+use hiperface_model::{CommandId, Request};
+
+pub const CHECKSUM: Case =
+    case!("protocol.checksum", "A bad checksum draws 0Ah", [CHECKSUM_ERROR, CHECKSUM], Nothing, always, |c| {
+        let a = c.address();
+        c.send_frame(&[a, 0x42, 0x00])?;
+        c.send_frame(&[a, 0x4E, 0x0F]).map(drop)
+    });
+
+pub const UNKNOWN_COMMAND: Case =
+    case!("protocol.unknown-command", "Unknown commands draw 0Bh", [UNKNOWN_COMMAND], Nothing, always, |c| {
+        let a = c.address();
+        c.ask(&[a, 0x45])?;
+        c.ask(&[a, 0x7F])?;
+        // Read-only commands of the table the profile lacks.
+        let profile = c.profile();
+        for id in [CommandId::ReadSyncOffset, CommandId::ReadAnalogValue] {
+            if !profile.commands.contains(id) && id.spec().is_some_and(|s| !s.writes_eeprom()) {
+                c.ask(&[a, id.byte()])?;
+            }
+        }
+        Ok(())
+    });
+
+pub const LENGTH: Case = case!(
+    "protocol.length",
+    "Frames of the wrong length draw 0Ch",
+    [WRONG_LENGTH, CHECK_ORDER],
+    Nothing,
+    always,
+    |c| {
+        let a = c.address();
+        c.send_frame(&[a, 0x42])?;
+        c.ask(&[a, 0x42, 0x00])?;
+        c.ask(&[a, 0x4E, 0x00, 0x00])?;
+        c.ask(&[a, 0x4C]).map(drop)
+    }
+);
+
+pub const ARGUMENT: Case = case!(
+    "protocol.argument",
+    "A channel the device lacks draws 0Dh",
+    [READ_ANALOG, WRONG_ARGUMENT],
+    Nothing,
+    always,
+    |c| {
+        let profile = c.profile();
+        let missing = (0u8..=0xFF).find(|s| profile.analog_channel(*s).is_none()).unwrap_or(0);
+        c.request(Request::ReadAnalogValue { channel: missing }).map(drop)
+    }
+);
