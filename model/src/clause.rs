@@ -222,6 +222,7 @@ clauses! {
     [normative Both] WRONG_OFFSET = "000:T55": "Read or write with an offset outside the data field size (64 bytes for the Extended Type Label).";
     [normative Both] WRONG_FIELD_NUMBER = "000:T56": "Invalid data field number; create with the delete bit set; resize of a field that is not the last one.";
     [normative Both] LED_CURRENT = "000:T58": "Transmitter current critical (1Dh), checked prior to every Slave response message.";
+    [normative Both] ANALOG_MONITORING = "000:T57": "Value monitoring analog signals (1Ch): significant signal faults in the analog sine/cosine signals; the position output will not be locked.";
     [normative Both] TEMPERATURE = "000:T59": "Encoder temperature critical (1Eh): indicated with the warning bit, checked prior to every response.";
     [normative Both] SPEED = "000:T60": "Speed too high (1Fh): invalid speed during Read Position, or shaft motion during Set Position (not processed).";
     [normative Both] POSITION_FAULTS = "000:T61-T68": "Position faults 20h...24h are answered on position commands; 22h, 24h and linear 20h lock position output (02h).";

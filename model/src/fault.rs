@@ -1,11 +1,12 @@
 //! Fault codes and the fault table. // 000:2.4.3, 000:T37-T68, 000:T73-T74
 
+use crate::clause::{self, Normative};
 use core::fmt;
 
 /// Declares the fault codes once: the `FaultCode` enum, `ALL`, the byte mapping,
 /// decoding and names, from one row per code of 000 chapter 2.4.3.
 macro_rules! fault_codes {
-    ($( $byte:literal $code:ident $name:literal $(, $doc:literal)?; )*) => {
+    ($( $byte:literal $code:ident $name:literal $clause:ident $(, $doc:literal)?; )*) => {
         /// A warning or error code on the wire (Read Encoder Status byte, error response byte).
         #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
         pub enum FaultCode {
@@ -31,6 +32,14 @@ macro_rules! fault_codes {
                 }
             }
 
+            /// The clause of the code's own table (000:T38-T68); `None` for unknown codes.
+            pub const fn clause(self) -> Option<Normative> {
+                match self {
+                    $( FaultCode::$code => Some(clause::$clause), )*
+                    FaultCode::Unknown(_) => None,
+                }
+            }
+
             /// Name as 000 chapter 2.4.3 gives it (the rotary meaning where a code has two).
             pub const fn name(self) -> &'static str {
                 match self {
@@ -42,37 +51,38 @@ macro_rules! fault_codes {
     };
 }
 
-// One row per code: byte, name (000:2.4.3), and where 000 gives a code a second meaning
-// (linear encoders, operation instead of initialization), that meaning.
+// One row per code: byte, name (000:2.4.3), the clause of its own table, and where 000
+// gives a code a second meaning (linear encoders, operation instead of
+// initialization), that meaning.
 fault_codes! {
-    0x00 NoFault "No fault", "Read Encoder Status with an empty stack.";
-    0x01 AlignmentData "Incorrect alignment data", "Also: analog signals outside specification (operation).";
-    0x02 AngularOffset "Incorrect internal angular offset", "Also the answer of a locked position output.";
-    0x03 PartitionTable "Data field partitioning table destroyed";
-    0x04 AnalogLimits "Analog limit values not available";
-    0x05 I2cBus "Internal I2C bus not operational";
-    0x06 InternalChecksum "Internal checksum error";
-    0x07 Watchdog "Program watchdog fault";
-    0x08 CounterOverflow "Counter overflow";
-    0x09 Parity "Parity error", "Any UART fault.";
-    0x0A Checksum "Checksum error";
-    0x0B UnknownCommand "Unknown command";
-    0x0C WrongLength "Wrong command length";
-    0x0D WrongArgument "Wrong command argument";
-    0x0E ReadOnlyField "Read-only data field";
-    0x0F WrongAccessCode "Incorrect access code";
-    0x10 OutOfMemory "Out of memory fault", "Also: fixed data field size.";
-    0x11 WrongOffset "Wrong data field offset";
-    0x12 WrongFieldNumber "Wrong data field number";
-    0x1C AnalogMonitoring "Value monitoring analog signals";
-    0x1D LedCurrent "Transmitter current critical", "The transmitter is the LED.";
-    0x1E Temperature "Encoder temperature critical";
-    0x1F Speed "Speed too high";
-    0x20 Singleturn "Singleturn position unreliable", "Linear: sensor not adjusted.";
-    0x21 MultiturnAmplitude "Multiturn amplitude fault", "Linear: distance measure to sensor too high.";
-    0x22 MultiturnSync "Multiturn sync fault";
-    0x23 MultiturnVectorLength "Multiturn vectorlength fault", "Linear: position fault.";
-    0x24 MultiturnCounter "Multiturn counter fault";
+    0x00 NoFault "No fault" READ_ENCODER_STATUS, "Read Encoder Status with an empty stack.";
+    0x01 AlignmentData "Incorrect alignment data" INIT_FAULTS, "Also: analog signals outside specification (operation).";
+    0x02 AngularOffset "Incorrect internal angular offset" INIT_FAULTS, "Also the answer of a locked position output.";
+    0x03 PartitionTable "Data field partitioning table destroyed" INIT_FAULTS;
+    0x04 AnalogLimits "Analog limit values not available" INIT_FAULTS;
+    0x05 I2cBus "Internal I2C bus not operational" I2C_BUS;
+    0x06 InternalChecksum "Internal checksum error" NV_LOCK;
+    0x07 Watchdog "Program watchdog fault" INIT_FAULTS;
+    0x08 CounterOverflow "Counter overflow" COUNTER_OVERFLOW;
+    0x09 Parity "Parity error" PARITY_ERROR, "Any UART fault.";
+    0x0A Checksum "Checksum error" CHECKSUM_ERROR;
+    0x0B UnknownCommand "Unknown command" UNKNOWN_COMMAND;
+    0x0C WrongLength "Wrong command length" WRONG_LENGTH;
+    0x0D WrongArgument "Wrong command argument" WRONG_ARGUMENT;
+    0x0E ReadOnlyField "Read-only data field" READ_ONLY_FIELD;
+    0x0F WrongAccessCode "Incorrect access code" WRONG_ACCESS_CODE;
+    0x10 OutOfMemory "Out of memory fault" OUT_OF_MEMORY, "Also: fixed data field size.";
+    0x11 WrongOffset "Wrong data field offset" WRONG_OFFSET;
+    0x12 WrongFieldNumber "Wrong data field number" WRONG_FIELD_NUMBER;
+    0x1C AnalogMonitoring "Value monitoring analog signals" ANALOG_MONITORING;
+    0x1D LedCurrent "Transmitter current critical" LED_CURRENT, "The transmitter is the LED.";
+    0x1E Temperature "Encoder temperature critical" TEMPERATURE;
+    0x1F Speed "Speed too high" SPEED;
+    0x20 Singleturn "Singleturn position unreliable" POSITION_FAULTS, "Linear: sensor not adjusted.";
+    0x21 MultiturnAmplitude "Multiturn amplitude fault" POSITION_FAULTS, "Linear: distance measure to sensor too high.";
+    0x22 MultiturnSync "Multiturn sync fault" POSITION_FAULTS;
+    0x23 MultiturnVectorLength "Multiturn vectorlength fault" POSITION_FAULTS, "Linear: position fault.";
+    0x24 MultiturnCounter "Multiturn counter fault" POSITION_FAULTS;
 }
 
 impl fmt::Display for FaultCode {

@@ -141,11 +141,7 @@ impl World {
             model.set_inputs(inputs);
         }
         if !self.init_faults.is_empty() {
-            for f in &self.init_faults {
-                model.inject_init_fault(*f, true);
-            }
-            model.power_cycle(0);
-            model.settle();
+            model.power_up_with(self.init_faults.iter().copied(), true);
         }
     }
 }

@@ -3,12 +3,11 @@
 //! alternatives; broadcast; the warning bit; the error stack; memory exhaustion; the
 //! power-up windows as timed sequences.
 
+use super::fixtures::{provoke, valid_request, with_field_0, Provocation};
 use super::{hex, prepare, Flag, Inputs, Outcome, Setup, Step, Vector, VectorFile, SCHEMA_VERSION};
 use crate::master::sealed;
-use hiperface_model::command::{AccessCodeRule, COMMAND_TABLE};
+use hiperface_model::command::COMMAND_TABLE;
 use hiperface_model::{checksum, profiles, CommandId, FaultCode, Profile, Reply};
-
-const FIELD_0: &[u8] = &[0x40, 0x4D, 0, 0xC9, 0x55]; // 32 bytes, Code0 enabled, writable
 
 /// A request step to be completed with the model's response.
 struct Ask {
@@ -20,7 +19,11 @@ struct Ask {
 }
 
 fn ask(body: &[u8]) -> Ask {
-    Ask { at_us: None, inputs: None, uart_fault: false, frame: sealed(body), note: None }
+    ask_frame(sealed(body))
+}
+
+fn ask_frame(frame: Vec<u8>) -> Ask {
+    Ask { at_us: None, inputs: None, uart_fault: false, frame, note: None }
 }
 
 fn ask_at(at_us: u64, body: &[u8], note: &str) -> Ask {
@@ -94,113 +97,6 @@ fn vector(
     v
 }
 
-/// A valid request body for a command, on a slave with field 0 (see `FIELD_0`).
-fn valid_request(p: &Profile, id: CommandId) -> Vec<u8> {
-    let channel = p.analog.iter().flatten().next().map_or(0, |c| c.selector);
-    let option = p.adjustment.iter().flatten().next().map_or(0, |o| o.option);
-    let data: Vec<u8> = match id {
-        CommandId::SetPosition | CommandId::SetPositionWithSync | CommandId::SetPositionInternalSync => {
-            vec![0, 0, 0, 5, 0x55]
-        }
-        CommandId::ReadAnalogValue => vec![channel],
-        CommandId::ResetCounter => vec![0x55],
-        CommandId::ReadData => vec![0, 0, 16, 0x55],
-        CommandId::StoreData => vec![0, 0, 2, 0x55, 1, 2],
-        CommandId::DataFieldStatus => vec![0],
-        CommandId::CreateDataField => vec![1, 0xC0, 0x55],
-        CommandId::SetAccessCode => vec![1, 0x55, 0x56],
-        CommandId::SetEncoderAddress => vec![0x41, 0x55],
-        CommandId::SetSerialInterface => vec![0xE5, 0x55],
-        CommandId::TemporarilySetSerialInterface => vec![0xE5],
-        CommandId::SensorAdjustment => vec![option, 0x55],
-        _ => vec![],
-    };
-    let mut v = vec![0x40, id.byte()];
-    v.extend(data);
-    v
-}
-
-fn with_field_0() -> Setup {
-    Setup { requests: vec![hex(&sealed(FIELD_0))], ..Setup::default() }
-}
-
-/// Setup and request that draw `code` for a command; `None` if the model cannot.
-fn provoke(p: &Profile, id: CommandId, code: FaultCode) -> Option<(Setup, Ask)> {
-    use FaultCode::*;
-    let mut setup = with_field_0();
-    let mut body = valid_request(p, id);
-    let mut uart_fault = false;
-    let mut raw: Option<Vec<u8>> = None;
-    match code {
-        Parity => uart_fault = true,
-        Checksum => {
-            let mut f = sealed(&body);
-            let n = f.len() - 1;
-            f[n] ^= 0x01;
-            raw = Some(f);
-        }
-        WrongLength => body.push(0x00),
-        WrongArgument => match id {
-            CommandId::SetPosition | CommandId::SetPositionWithSync | CommandId::SetPositionInternalSync => {
-                let r = u32::try_from(p.range()).ok()?;
-                body[2..6].copy_from_slice(&r.to_be_bytes());
-            }
-            CommandId::ReadAnalogValue => body[2] = 0x00,
-            CommandId::SetAccessCode => body[2] = 4,
-            CommandId::SetEncoderAddress => body[2] = 0x60,
-            CommandId::SetSerialInterface | CommandId::TemporarilySetSerialInterface => body[2] = 0xE7,
-            CommandId::SensorAdjustment => body[2] = 0x77,
-            _ => return None,
-        },
-        WrongAccessCode => match id {
-            CommandId::SetAccessCode => body[3] = 0x00,
-            CommandId::ReadData | CommandId::StoreData => body[5] = 0x00,
-            CommandId::CreateDataField => body[4] = 0x00,
-            _ if id.spec().is_some_and(|s| s.access == AccessCodeRule::Code0) => {
-                let n = body.len() - 1;
-                body[n] = 0x00;
-            }
-            _ => return None,
-        },
-        AngularOffset => setup.init_faults = vec!["angular-offset".into()],
-        PartitionTable => setup.init_faults = vec!["partition-table".into()],
-        InternalChecksum => setup.init_faults = vec!["type-code".into()],
-        I2cBus => setup.i2c_fault = true,
-        CounterOverflow => setup.counter = Some(0xFF_FFFF),
-        ReadOnlyField if id == CommandId::StoreData => {
-            setup.requests.push(hex(&sealed(&[0x40, 0x4D, 1, 0x80, 0x55])));
-            body[2] = 1;
-        }
-        OutOfMemory if id == CommandId::CreateDataField => body[3] = 0xC7 | 0x80, // a new field of 128 bytes
-        WrongOffset => match id {
-            CommandId::ReadData => body[3] = 17,
-            CommandId::StoreData => body[3] = 31,
-            _ => return None,
-        },
-        WrongFieldNumber => body[2] = 5,
-        LedCurrent => setup.inputs = Some(Inputs { led_current_ma: Some(1000), ..Inputs::default() }),
-        Speed => setup.inputs = Some(Inputs { speed: Some(20_000), ..Inputs::default() }),
-        Singleturn => setup.position_faults = vec!["singleturn".into()],
-        MultiturnAmplitude => setup.position_faults = vec!["multiturn-amplitude".into()],
-        MultiturnSync => setup.position_faults = vec!["multiturn-sync".into()],
-        MultiturnVectorLength => setup.position_faults = vec!["multiturn-vector-length".into()],
-        _ => return None,
-    }
-    if code == OutOfMemory {
-        // Fill the memory first: 128-byte fields while they fit.
-        let mut blocks = p.user_memory_blocks as u32 - 2;
-        let mut n = 1u8;
-        while blocks >= 8 {
-            setup.requests.push(hex(&sealed(&[0x40, 0x4D, n, 0xC7, 0x55])));
-            blocks -= 8;
-            n += 1;
-        }
-        body[2] = n;
-    }
-    let frame = raw.unwrap_or_else(|| sealed(&body));
-    Some((setup, Ask { at_us: None, inputs: None, uart_fault, frame, note: None }))
-}
-
 fn slug(s: &str) -> String {
     s.to_lowercase().replace(|c: char| !c.is_ascii_alphanumeric(), "-")
 }
@@ -224,8 +120,9 @@ fn commands(p: &Profile, edition: &str) -> Vec<Vector> {
             .into_iter()
             .chain(spec.errors.iter().copied());
         for code in codes {
-            let Some((setup, a)) = provoke(p, spec.id, code) else { continue };
-            let clause = hiperface_model::fault::rows(code).next().map_or(spec.clause, |_| fault_clause(code)).id();
+            let Some(Provocation { setup, frame, uart_fault }) = provoke(p, spec.id, code) else { continue };
+            let a = Ask { uart_fault, ..ask_frame(frame) };
+            let clause = code.clause().unwrap_or(spec.clause).id();
             out.push(vector(
                 &format!("{edition}.{}.{name}.error-{:02x}", cmd.to_lowercase(), code.byte()),
                 p,
@@ -238,30 +135,6 @@ fn commands(p: &Profile, edition: &str) -> Vec<Vector> {
         }
     }
     out
-}
-
-/// The clause of a fault code's own table.
-fn fault_clause(code: FaultCode) -> hiperface_model::clause::Normative {
-    use hiperface_model::clause as c;
-    match code {
-        FaultCode::Parity => c::PARITY_ERROR,
-        FaultCode::Checksum => c::CHECKSUM_ERROR,
-        FaultCode::UnknownCommand => c::UNKNOWN_COMMAND,
-        FaultCode::WrongLength => c::WRONG_LENGTH,
-        FaultCode::WrongArgument => c::WRONG_ARGUMENT,
-        FaultCode::ReadOnlyField => c::READ_ONLY_FIELD,
-        FaultCode::WrongAccessCode => c::WRONG_ACCESS_CODE,
-        FaultCode::OutOfMemory => c::OUT_OF_MEMORY,
-        FaultCode::WrongOffset => c::WRONG_OFFSET,
-        FaultCode::WrongFieldNumber => c::WRONG_FIELD_NUMBER,
-        FaultCode::I2cBus => c::I2C_BUS,
-        FaultCode::InternalChecksum => c::NV_LOCK,
-        FaultCode::AngularOffset | FaultCode::PartitionTable => c::INIT_FAULTS,
-        FaultCode::CounterOverflow => c::COUNTER_OVERFLOW,
-        FaultCode::LedCurrent => c::LED_CURRENT,
-        FaultCode::Speed => c::SPEED,
-        _ => c::POSITION_FAULTS,
-    }
 }
 
 /// Every step of the check order (DESIGN:order), with the acceptable alternatives.

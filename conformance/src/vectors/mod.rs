@@ -3,13 +3,13 @@
 //! source, clauses and profile, the setup that brings a slave into the needed state,
 //! and one or more timed steps of request and expected response.
 
-pub mod documents;
 pub mod export;
+pub mod fixtures;
 pub mod generate;
 pub mod master;
 
 use hiperface_model::slave::inputs::{InitFault, PhysicalInputs, PositionFault};
-use hiperface_model::{checksum, profiles, Hex, Knowledge, Oracle, Reply, Slave, Verdict};
+use hiperface_model::{checksum, profiles, Hex, Knowledge, Oracle, Profile, Reply, Slave, Verdict};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -249,29 +249,29 @@ impl std::fmt::Display for Mismatch {
 /// The slave of a vector's setup.
 pub fn prepare(v: &Vector) -> Result<Slave, String> {
     let profile = profiles::builtin(&v.profile).ok_or_else(|| format!("unknown profile `{}`", v.profile))?;
-    let mut slave = if v.setup.power_on { Slave::new(profile) } else { Slave::operational(profile) };
-    if let Some(i) = v.setup.inputs {
+    start(profile, &v.setup)
+}
+
+/// A slave of `profile` in the starting state `setup` describes.
+pub fn start(profile: Profile, setup: &Setup) -> Result<Slave, String> {
+    let mut slave = if setup.power_on { Slave::new(profile) } else { Slave::operational(profile) };
+    if let Some(i) = setup.inputs {
         let mut inputs = slave.inputs();
         i.apply(&mut inputs);
         slave.set_inputs(inputs);
     }
-    if !v.setup.init_faults.is_empty() {
-        for f in &v.setup.init_faults {
-            slave.inject_init_fault(init_fault(f)?, true);
-        }
-        slave.power_cycle(0);
-        if !v.setup.power_on {
-            slave.settle();
-        }
+    if !setup.init_faults.is_empty() {
+        let faults = setup.init_faults.iter().map(|f| init_fault(f)).collect::<Result<Vec<_>, _>>()?;
+        slave.power_up_with(faults, !setup.power_on);
     }
-    for f in &v.setup.position_faults {
+    for f in &setup.position_faults {
         slave.inject_position_fault(position_fault(f)?, true);
     }
-    slave.inject_i2c_fault(v.setup.i2c_fault);
-    if let Some(c) = v.setup.counter {
+    slave.inject_i2c_fault(setup.i2c_fault);
+    if let Some(c) = setup.counter {
         slave.set_counter(c);
     }
-    for r in &v.setup.requests {
+    for r in &setup.requests {
         slave.handle_frame(&parse_hex(r)?, 0);
     }
     Ok(slave)

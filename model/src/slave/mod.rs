@@ -252,6 +252,18 @@ impl Slave {
         self.injected.set_init(fault, on);
     }
 
+    /// Power up again at t = 0 with these start-up faults present, so that they are
+    /// found (000:T38-T46); `settled`: the power-up windows are over at once.
+    pub fn power_up_with(&mut self, faults: impl IntoIterator<Item = InitFault>, settled: bool) {
+        for f in faults {
+            self.inject_init_fault(f, true);
+        }
+        self.power_cycle(0);
+        if settled {
+            self.settle();
+        }
+    }
+
     /// Inject or clear a position fault; it shows on the next position command.
     pub fn inject_position_fault(&mut self, fault: PositionFault, on: bool) {
         self.injected.set_position(fault, on);
