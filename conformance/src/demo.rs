@@ -1,14 +1,14 @@
 //! A demonstration of the model: a master session against the reference slave in
 //! virtual time, through the sans-IO data link, with every frame timestamped.
 
-use crate::master::sealed;
+use crate::exchange::sealed;
 use hiperface_model::datalink::RxChar;
 use hiperface_model::slave::inputs::PhysicalInputs;
 use hiperface_model::{Hex, Profile, Reply, Slave, UartSettings};
 use std::fmt::Write as _;
 
 /// The master's side of one exchange as the demo prints it.
-pub struct Exchange {
+pub struct DemoExchange {
     pub title: &'static str,
     pub request: Vec<u8>,
     pub sent_at_us: u64,
@@ -20,7 +20,7 @@ pub struct Exchange {
 /// Drive one request through the slave's data link: characters back to back, the
 /// reply starting `reply_delay_us` into its window. Returns the exchange and the time
 /// the line is idle again.
-fn exchange(slave: &mut Slave, title: &'static str, request: Vec<u8>, at_us: u64) -> (Exchange, u64) {
+fn exchange(slave: &mut Slave, title: &'static str, request: Vec<u8>, at_us: u64) -> (DemoExchange, u64) {
     let settings = slave.listening_settings(at_us).unwrap_or(UartSettings::DEFAULT);
     let ct = settings.char_time_us();
     let mut step = None;
@@ -48,7 +48,7 @@ fn exchange(slave: &mut Slave, title: &'static str, request: Vec<u8>, at_us: u64
         }
         None => (None, None, "000:T9"),
     };
-    (Exchange { title, request, sent_at_us: at_us, reply, window_us: window, clause }, idle)
+    (DemoExchange { title, request, sent_at_us: at_us, reply, window_us: window, clause }, idle)
 }
 
 /// Run the demonstration session and return its transcript.

@@ -4,8 +4,8 @@
 
 pub mod certify;
 pub mod demo;
+pub mod exchange;
 pub mod line;
-pub mod master;
 pub mod port;
 pub mod profile_file;
 pub mod report;

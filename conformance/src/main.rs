@@ -8,7 +8,7 @@ use hiperface_conformance::simulate;
 use hiperface_conformance::{demo, profile_file, report};
 use hiperface_model::command::COMMAND_TABLE;
 use hiperface_model::slave::inputs::{InitFault, PhysicalInputs};
-use hiperface_model::{Knowledge, Profile};
+use hiperface_model::{Grading, Profile};
 use serialport::SerialPort as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -90,7 +90,8 @@ enum CertifyWhat {
         /// Write report.json, junit.xml, certificate.md and certificate.html here.
         #[arg(long)]
         report: Option<PathBuf>,
-        /// How values of the physical world are graded (default: exact for `sim`, by range otherwise).
+        /// How values of the physical world are graded: `exact` or `range` (default: exact
+        /// for `sim` and `virtual`, by range otherwise).
         #[arg(long)]
         grading: Option<Grading>,
         /// Timing jitter allowed before a reply's start is graded, ms (default: 2 on a
@@ -173,12 +174,6 @@ enum ExportFormat {
     Json,
 }
 
-#[derive(Clone, Copy, ValueEnum)]
-enum Grading {
-    Exact,
-    Range,
-}
-
 /// Why a command could not do its job: exit code 2 (bad input, a port that cannot be
 /// opened, a report that cannot be written). A device that FAILs is exit code 1.
 #[derive(Debug, thiserror::Error)]
@@ -253,18 +248,13 @@ fn certify_slave(what: CertifyWhat) -> Result<ExitCode, CliError> {
     } = what;
     let profile = profile_file::resolve(&profile).map_err(CliError::from)?;
     let sim = port.is_model();
-    let knowledge = match grading {
-        Some(Grading::Exact) => Knowledge::Exact,
-        Some(Grading::Range) => Knowledge::PhysicalUnknown,
-        None if sim => Knowledge::Exact,
-        None => Knowledge::PhysicalUnknown,
-    };
+    let grading = grading.unwrap_or(if sim { Grading::Exact } else { Grading::Range });
     let world = if sim { world.world() } else { certify::World::default() };
     let opened = match port::open_for_slave(&port, profile, &world, tolerance_ms.map(|ms| ms * 1000)) {
         Ok(o) => o,
         Err(e) => {
             if let Some(dir) = &dir {
-                let options = Options { knowledge, timing: timing.unwrap_or(TimingMode::Strict), ..Options::default() };
+                let options = Options { grading, timing: timing.unwrap_or(TimingMode::Strict), ..Options::default() };
                 let partial =
                     certify::Report::aborted_before_start(&profile, &port.to_string(), &options, &e.to_string());
                 if report::write_all(&partial, dir).is_ok() {
@@ -280,7 +270,7 @@ fn certify_slave(what: CertifyWhat) -> Result<ExitCode, CliError> {
         allow_counter_change: allow_counter_change || sim,
         write_budget,
         cases,
-        knowledge,
+        grading,
         interrupt: Some(interrupt_flag()),
         world,
         timing: timing.unwrap_or(default_timing),

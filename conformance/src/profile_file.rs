@@ -36,13 +36,13 @@ struct ProfileFile {
     #[serde(skip_serializing_if = "Option::is_none")]
     edition: Option<EditionName>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    identity: Option<Identity>,
+    identity: Option<IdentitySection>,
     #[serde(skip_serializing_if = "Option::is_none")]
     interface: Option<Interface>,
     #[serde(skip_serializing_if = "Option::is_none")]
     commands: Option<Commands>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    memory: Option<Memory>,
+    memory: Option<MemorySection>,
     #[serde(skip_serializing_if = "Option::is_none")]
     resolution: Option<ResolutionTable>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -75,7 +75,7 @@ enum StackOrderName {
 
 #[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-struct Identity {
+struct IdentitySection {
     #[serde(skip_serializing_if = "Option::is_none")]
     type_code: Option<u8>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -113,7 +113,7 @@ struct Commands {
 
 #[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-struct Memory {
+struct MemorySection {
     #[serde(skip_serializing_if = "Option::is_none")]
     total_blocks: Option<u8>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -465,7 +465,7 @@ pub fn to_toml(p: &Profile) -> String {
             Edition::Current => EditionName::Current,
             Edition::Legacy => EditionName::Legacy,
         }),
-        identity: Some(Identity {
+        identity: Some(IdentitySection {
             type_code: Some(p.type_code),
             option_code: Some(p.option_code),
             serial: Some(text(&p.serial)),
@@ -489,7 +489,7 @@ pub fn to_toml(p: &Profile) -> String {
             baud_rates: Some(bauds),
         }),
         commands: Some(Commands { supported: Some(p.commands.iter().map(|c| c.byte()).collect()) }),
-        memory: Some(Memory { total_blocks: Some(p.memory_blocks), user_blocks: Some(p.user_memory_blocks) }),
+        memory: Some(MemorySection { total_blocks: Some(p.memory_blocks), user_blocks: Some(p.user_memory_blocks) }),
         resolution: Some(match p.resolution {
             Resolution::Rotary { periods_per_turn, turns } => ResolutionTable::Rotary { periods_per_turn, turns },
             Resolution::Linear { period_nm, periods } => ResolutionTable::Linear { period_nm, periods },

@@ -107,7 +107,7 @@ fn header(r: &Report) -> Vec<(&'static str, String)> {
         ("profile", format!("{} ({} edition)", r.profile, r.edition)),
         ("line", r.line.clone()),
         ("timing", timing_text(r)),
-        ("grading of physical values", r.knowledge.clone()),
+        ("grading of physical values", r.grading.clone()),
     ];
     rows.extend(r.identity.lines());
     rows.push((

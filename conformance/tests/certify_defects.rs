@@ -269,7 +269,7 @@ fn stack_not_deduplicated() {
 
 #[test]
 fn a_real_device_with_data_fields_is_adopted_not_failed() {
-    use hiperface_model::Knowledge;
+    use hiperface_model::Grading;
     // An encoder in the field: a motor nameplate in two data fields, a used counter.
     let used = || {
         let mut d = Defective::new(keep);
@@ -281,7 +281,7 @@ fn a_real_device_with_data_fields_is_adopted_not_failed() {
         d.model.set_counter(1234);
         d
     };
-    let black_box = Options { allow_writes: true, knowledge: Knowledge::PhysicalUnknown, ..Options::default() };
+    let black_box = Options { allow_writes: true, grading: Grading::Range, ..Options::default() };
     let r = certify::run(Box::new(VirtualLine::new(used())), profiles::srs50(), &black_box, |_, _, _| {});
     assert!(r.passed(), "{:#?}", r.cases.iter().filter(|c| c.verdict == CaseVerdict::Fail).collect::<Vec<_>>());
     assert!(r.notes[0].contains("2 data fields, 107 free blocks, counter 1234"), "{}", r.notes[0]);

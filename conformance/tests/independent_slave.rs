@@ -15,7 +15,7 @@ mod common;
 use hiperface_conformance::certify::{self, CaseVerdict, Options, Report};
 use hiperface_conformance::port::{self, PortSpec};
 use hiperface_conformance::profile_file;
-use hiperface_model::{Knowledge, Profile};
+use hiperface_model::{Grading, Profile};
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -75,12 +75,7 @@ impl Drop for Hx1 {
 
 /// What a user runs: every case, writes and counter allowed, a black box.
 fn options() -> Options {
-    Options {
-        allow_writes: true,
-        allow_counter_change: true,
-        knowledge: Knowledge::PhysicalUnknown,
-        ..Options::default()
-    }
+    Options { allow_writes: true, allow_counter_change: true, grading: Grading::Range, ..Options::default() }
 }
 
 /// Certify over the pseudo-terminal, opened as `certify slave --port <path>` opens it

@@ -2,7 +2,7 @@
 //! snapshotted (insta), so any change of behaviour shows up as a reviewed diff; bad
 //! files are rejected with the file and the vector id.
 
-use hiperface_conformance::vectors::{self, export, Outcome};
+use hiperface_conformance::vectors::{self, export, Expected};
 use rstest::rstest;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -48,7 +48,7 @@ fn the_documents_vectors_cover_what_the_issue_names() {
         docs.vectors.iter().filter(|v| v.id.starts_with("001-")).map(|v| v.source.as_str()).collect();
     assert_eq!(sections.len(), 19, "{sections:#?}");
     let printed = docs.vectors.iter().find(|v| v.id == "001-5.1.4.9-data-field-status-as-printed").unwrap();
-    assert_eq!(printed.result, Outcome::Invalid);
+    assert_eq!(printed.result, Expected::Invalid);
     let legacy = docs.vectors.iter().find(|v| v.id == "002-data-field-example").unwrap();
     assert_eq!(legacy.steps.len(), 6);
     assert_eq!(legacy.erratum.as_ref().map(|e| e.corrected.as_str()), Some("40 4D 01 E0 55 B9"));

@@ -40,7 +40,7 @@ pub use command::{CommandId, CommandSpec, COMMAND_TABLE};
 pub use datalink::{DataLink, RxChar, UartFault};
 pub use fault::FaultCode;
 pub use frame::{Frame, Hex};
-pub use oracle::{Grade, Knowledge, Oracle, Verdict};
+pub use oracle::{Grade, Grading, Oracle, Verdict};
 pub use profile::Profile;
 pub use request::{Request, RequestFrame};
 pub use response::{Response, ResponseFrame};

@@ -28,16 +28,39 @@ impl fmt::Display for Verdict {
     }
 }
 
-/// What the model knows of the device's world.
+/// How values of the device's physical world are graded: what the model knows of it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Knowledge {
+pub enum Grading {
     /// The physical inputs are the model's own (simulator, virtual time): every value
     /// is graded exactly.
     Exact,
     /// A real device: shaft position, temperature and LED current are unknown, so
     /// values derived from them are graded by their range and invariants, and a
     /// warning bit the model did not expect may be a real operational fault.
-    PhysicalUnknown,
+    Range,
+}
+
+/// `exact` or `range`, as a command line spells them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct UnknownGrading;
+
+impl fmt::Display for UnknownGrading {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("expected `exact` or `range`")
+    }
+}
+
+impl core::error::Error for UnknownGrading {}
+
+impl core::str::FromStr for Grading {
+    type Err = UnknownGrading;
+    fn from_str(s: &str) -> Result<Grading, UnknownGrading> {
+        match s {
+            "exact" => Ok(Grading::Exact),
+            "range" => Ok(Grading::Range),
+            _ => Err(UnknownGrading),
+        }
+    }
 }
 
 /// How an answer differs from the preferred one.
@@ -212,12 +235,12 @@ impl fmt::Display for Grade {
 /// The oracle.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Oracle {
-    pub knowledge: Knowledge,
+    pub grading: Grading,
 }
 
 impl Oracle {
-    pub const fn new(knowledge: Knowledge) -> Oracle {
-        Oracle { knowledge }
+    pub const fn new(grading: Grading) -> Oracle {
+        Oracle { grading }
     }
 
     /// Grade `observed` (the device's reply bytes, `None` for silence) to `request`
@@ -278,7 +301,7 @@ impl Oracle {
         }
         let warning = match (expected_frame.warning, found.warning) {
             (true, false) => Some(Grade::against(Deviation::WarningBitMissing, clause::WARNING_BIT, edition)),
-            (false, true) if self.knowledge == Knowledge::Exact => {
+            (false, true) if self.grading == Grading::Exact => {
                 Some(Grade::against(Deviation::WarningBitUnexpected, clause::WARNING_BIT, edition))
             }
             (false, true) => Some(Grade::non_strict(Deviation::WarningBitUnexpected, clause::WARNING_BIT)),
@@ -329,10 +352,10 @@ impl Oracle {
                 unwritten_contents(before, field, offset, want.as_bytes(), got.as_bytes())
                     .unwrap_or_else(|| wrong(Deviation::WrongReply { expected: *e, found: *found }))
             }
-            (Response::Version(want), Response::Version(got)) if self.knowledge == Knowledge::PhysicalUnknown => {
+            (Response::Version(want), Response::Version(got)) if self.grading == Grading::Range => {
                 version(before, &want, &got)
             }
-            (a, b) if self.knowledge == Knowledge::PhysicalUnknown => self.physical(before, a, b, c, e, found),
+            (a, b) if self.grading == Grading::Range => self.physical(before, a, b, c, e, found),
             _ => wrong(Deviation::WrongReply { expected: *e, found: *found }),
         }
     }

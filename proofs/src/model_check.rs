@@ -61,7 +61,7 @@ pub fn alphabet() -> Vec<Action> {
     ]
 }
 
-pub struct Report {
+pub struct ModelCheckReport {
     pub states: usize,
     pub transitions: u64,
     pub depth: usize,
@@ -81,7 +81,7 @@ pub fn apply(s: &mut Slave, a: &Action) {
 }
 
 /// Breadth-first search to `max_depth` (SEK37: small memory, 512 steps).
-pub fn explore(max_depth: usize) -> Result<Report, String> {
+pub fn explore(max_depth: usize) -> Result<ModelCheckReport, String> {
     let mut start = Slave::operational(profiles::sek37());
     // Hot encoder: the temperature warning exercises the stack in every state.
     let mut inputs = start.inputs();
@@ -111,7 +111,7 @@ pub fn explore(max_depth: usize) -> Result<Report, String> {
             }
         }
     }
-    Ok(Report { states: seen.len(), transitions, depth, complete })
+    Ok(ModelCheckReport { states: seen.len(), transitions, depth, complete })
 }
 
 /// Invariants, and: an Encoder Reset then the power-up windows lead back to

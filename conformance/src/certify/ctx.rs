@@ -4,13 +4,13 @@
 
 use super::timing;
 use super::{CaseError, CaseResult, CaseVerdict, Finding, Identity, Options, WireEntry};
+use crate::exchange::{sealed, Exchange, Master};
 use crate::line::Line;
-use crate::master::{sealed, Exchange, Master};
 use hiperface_model::address::AddressByte;
 use hiperface_model::clause::{self, Normative};
 use hiperface_model::request::{Request, RequestFrame};
 use hiperface_model::response::{Response, ResponseFrame};
-use hiperface_model::{CommandId, Hex, Knowledge, Oracle, Profile, Reply, Slave};
+use hiperface_model::{CommandId, Grading, Hex, Oracle, Profile, Reply, Slave};
 use std::collections::BTreeMap;
 use std::sync::atomic::Ordering;
 
@@ -88,7 +88,7 @@ impl<'a> Ctx<'a> {
         Ctx {
             master,
             model,
-            oracle: Oracle::new(options.knowledge),
+            oracle: Oracle::new(options.grading),
             result,
             tally,
             options,
@@ -273,7 +273,7 @@ impl Ctx<'_> {
     fn learn(&mut self, command: CommandId, bytes: &[u8], verdict: CaseVerdict) {
         let Ok(frame) = ResponseFrame::decode(bytes, command) else { return };
         self.tally.identity.record(&frame.response);
-        if verdict == CaseVerdict::Fail || self.options.knowledge != Knowledge::PhysicalUnknown {
+        if verdict == CaseVerdict::Fail || self.options.grading != Grading::Range {
             return;
         }
         match frame.response {

@@ -24,7 +24,7 @@ pub use run::{run, Report, TimingStats};
 pub use safety::Safety;
 
 use hiperface_model::oracle::Verdict;
-use hiperface_model::{Knowledge, Slave};
+use hiperface_model::{Grading, Slave};
 use serde::Serialize;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
@@ -104,7 +104,7 @@ pub struct Options {
     pub write_budget: u32,
     /// Only cases whose id matches this glob (`*` and `?`).
     pub cases: Option<String>,
-    pub knowledge: Knowledge,
+    pub grading: Grading,
     /// Set (e.g. by Ctrl-C) to stop the run: pending restores still run.
     pub interrupt: Option<Arc<AtomicBool>>,
     /// What the lockstep model knows of the device's world (a simulator's inputs and
@@ -153,7 +153,7 @@ impl Default for Options {
             allow_counter_change: false,
             write_budget: 200,
             cases: None,
-            knowledge: Knowledge::Exact,
+            grading: Grading::Exact,
             interrupt: None,
             world: World::default(),
             timing: TimingMode::Strict,

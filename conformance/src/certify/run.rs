@@ -5,9 +5,9 @@ use super::ctx::Tally;
 use super::safety::Snapshot;
 use super::{cases, glob_match, Case, CaseError, CaseResult, CaseVerdict, Ctx, Finding, Identity, Needs, Options};
 use super::{Safety, TimingMode};
+use crate::exchange::Master;
 use crate::line::{Line, LineError, LineKind};
-use crate::master::Master;
-use hiperface_model::{CommandId, Knowledge, Profile, Slave};
+use hiperface_model::{CommandId, Grading, Profile, Slave};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -38,7 +38,7 @@ pub struct Report {
     /// The harness's own scheduling delay, at most, in any exchange, µs: added to the
     /// tolerance of that exchange's timing verdicts.
     pub harness_late_us: u64,
-    pub knowledge: String,
+    pub grading: String,
     pub identity: Identity,
     pub cases: Vec<CaseResult>,
     pub summary: BTreeMap<&'static str, usize>,
@@ -63,7 +63,7 @@ impl Report {
             timing: options.timing,
             tolerance_us: 0,
             harness_late_us: 0,
-            knowledge: format!("{:?}", options.knowledge),
+            grading: format!("{:?}", options.grading),
             identity: Identity::default(),
             cases: Vec::new(),
             summary: BTreeMap::new(),
@@ -107,7 +107,7 @@ pub fn run(
     // What the device reports of its stored state, before anything is changed.
     let before = Snapshot::read(&mut master, &model, &mut tally);
     // A real device is not in its factory state: adopt what it reports.
-    if options.knowledge == Knowledge::PhysicalUnknown {
+    if options.grading == Grading::Range {
         report.notes.extend(adopt(&mut model, &before));
     }
     let initial = model.nonvolatile().clone();

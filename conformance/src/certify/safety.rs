@@ -12,8 +12,8 @@
 //! operator's safety information, printed apart from the verdicts.
 
 use super::ctx::{physical_time_us, Tally};
+use crate::exchange::{sealed, Master};
 use crate::line::Line;
-use crate::master::{sealed, Master};
 use hiperface_model::response::{Response, ResponseFrame};
 use hiperface_model::slave::NonVolatile;
 use hiperface_model::{CommandId, Slave};

@@ -8,7 +8,7 @@
 //! is never charged to the device.
 
 use super::{Finding, TimingMode};
-use crate::master::Exchange;
+use crate::exchange::Exchange;
 use hiperface_model::clause;
 use hiperface_model::command::ResponseLimit;
 use hiperface_model::Edition;

@@ -1,7 +1,7 @@
 //! Documentation tables from vector files: one table per command with request,
 //! response and meaning. Errata are shown as errata.
 
-use super::{Outcome, Vector, VectorFile};
+use super::{Expected, Vector, VectorFile};
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -10,7 +10,7 @@ pub struct Row {
     pub id: String,
     pub request: String,
     pub response: String,
-    pub result: Outcome,
+    pub result: Expected,
     pub meaning: String,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub erratum: Option<String>,
@@ -62,7 +62,7 @@ fn rows(v: &Vector) -> Vec<Row> {
             id: if many { format!("{} #{}", v.id, i + 1) } else { v.id.clone() },
             request: s.request.clone(),
             response: s.response.clone().unwrap_or_else(|| "(no response)".into()),
-            result: if i + 1 == v.steps.len() { v.result } else { Outcome::Valid },
+            result: if i + 1 == v.steps.len() { v.result } else { Expected::Valid },
             meaning: s.note.clone().unwrap_or_else(|| v.meaning.clone()),
             erratum: erratum.clone(),
         })
@@ -78,9 +78,9 @@ pub fn markdown(files: &[VectorFile]) -> String {
         ));
         for r in t.rows {
             let result = match r.result {
-                Outcome::Valid => "valid",
-                Outcome::Acceptable => "acceptable",
-                Outcome::Invalid => "**invalid**",
+                Expected::Valid => "valid",
+                Expected::Acceptable => "acceptable",
+                Expected::Invalid => "**invalid**",
             };
             let meaning = match &r.erratum {
                 Some(e) => format!("{} (**erratum**: {e})", r.meaning),

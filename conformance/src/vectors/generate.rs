@@ -4,8 +4,8 @@
 //! power-up windows as timed sequences.
 
 use super::fixtures::{provoke, valid_request, with_field_0, Provocation};
-use super::{hex, prepare, Flag, Inputs, Outcome, Setup, Step, Vector, VectorFile, SCHEMA_VERSION};
-use crate::master::sealed;
+use super::{hex, prepare, Expected, Flag, Inputs, Setup, Vector, VectorFile, VectorStep, SCHEMA_VERSION};
+use crate::exchange::sealed;
 use hiperface_model::command::COMMAND_TABLE;
 use hiperface_model::{checksum, profiles, CommandId, FaultCode, Profile, Reply};
 
@@ -78,7 +78,7 @@ fn vector(
         if a.frame.first() == Some(&0xFF) && !v.flags.contains(&Flag::Broadcast) {
             v.flags.push(Flag::Broadcast);
         }
-        v.steps.push(Step {
+        v.steps.push(VectorStep {
             at_us: a.at_us,
             inputs: a.inputs,
             uart_fault: a.uart_fault,
@@ -176,7 +176,7 @@ fn check_order(p: &Profile, edition: &str) -> Vec<Vector> {
                 for alt in outcome.also.iter() {
                     let mut acc = v.clone();
                     acc.id = format!("{}.acceptable-{:02x}", v.id, alt.byte());
-                    acc.result = Outcome::Acceptable;
+                    acc.result = Expected::Acceptable;
                     let bytes = sealed(&[f.address, if f.warning { 0xD0 } else { 0x50 }, alt.byte()]);
                     if let Some(s) = acc.steps.last_mut() {
                         s.response = Some(hex(&bytes));

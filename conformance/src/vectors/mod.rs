@@ -6,10 +6,10 @@
 pub mod export;
 pub mod fixtures;
 pub mod generate;
-pub mod master;
+pub mod tables;
 
 use hiperface_model::slave::inputs::{InitFault, PhysicalInputs, PositionFault};
-use hiperface_model::{checksum, profiles, Hex, Knowledge, Oracle, Profile, Reply, Slave, Verdict};
+use hiperface_model::{checksum, profiles, Grading, Hex, Oracle, Profile, Reply, Slave, Verdict};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -27,7 +27,7 @@ pub struct VectorFile {
 /// What a vector's expected responses are.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
-pub enum Outcome {
+pub enum Expected {
     /// A conforming slave answers exactly this (the preferred answer).
     Valid,
     /// The last step's response is allowed, though not preferred (NON-STRICT).
@@ -115,7 +115,7 @@ pub struct Setup {
 /// One request and the expected response.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct Step {
+pub struct VectorStep {
     /// Time after power-on (timed vectors), µs; when the request's timeout elapsed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub at_us: Option<u64>,
@@ -170,12 +170,12 @@ pub struct Vector {
     #[serde(default, skip_serializing_if = "is_default_setup")]
     pub setup: Setup,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub steps: Vec<Step>,
+    pub steps: Vec<VectorStep>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub checksum_example: Option<ChecksumExample>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub table_case: Option<TableCase>,
-    pub result: Outcome,
+    pub result: Expected,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub flags: Vec<Flag>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -204,7 +204,7 @@ impl Vector {
             steps: Vec::new(),
             checksum_example: None,
             table_case: None,
-            result: Outcome::Valid,
+            result: Expected::Valid,
             flags: Vec::new(),
             erratum: None,
             meaning,
@@ -290,7 +290,7 @@ pub fn replay(v: &Vector) -> Result<(), Mismatch> {
         };
     }
     if let Some(t) = &v.table_case {
-        let got = master::evaluate(&t.table, &t.input).map_err(fail)?;
+        let got = tables::evaluate(&t.table, &t.input).map_err(fail)?;
         return if got == t.output {
             Ok(())
         } else {
@@ -301,7 +301,7 @@ pub fn replay(v: &Vector) -> Result<(), Mismatch> {
         return Err(fail("no steps, checksum example or table case".into()));
     }
     let mut slave = prepare(v).map_err(fail)?;
-    let oracle = Oracle::new(Knowledge::Exact);
+    let oracle = Oracle::new(Grading::Exact);
     for (i, step) in v.steps.iter().enumerate() {
         let last = i + 1 == v.steps.len();
         if let Some(inputs) = step.inputs {
@@ -322,9 +322,9 @@ pub fn replay(v: &Vector) -> Result<(), Mismatch> {
         let grade = oracle.grade(&before, &request, at, &outcome, expected.as_deref());
         let want = if last {
             match v.result {
-                Outcome::Valid => Verdict::Pass,
-                Outcome::Acceptable => Verdict::NonStrict,
-                Outcome::Invalid => Verdict::Fail,
+                Expected::Valid => Verdict::Pass,
+                Expected::Acceptable => Verdict::NonStrict,
+                Expected::Invalid => Verdict::Fail,
             }
         } else {
             Verdict::Pass
