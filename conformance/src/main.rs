@@ -191,10 +191,9 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Certify { what } => certify_slave(what),
         Command::Simulate { port, profile, log, world } => run_simulator(&port, &profile, log, &world.world()),
-        Command::Demo { profile } => profile_file::resolve(&profile).map_err(CliError::from).map(|p| {
-            print!("{}", demo::run(p));
-            ExitCode::SUCCESS
-        }),
+        Command::Demo { profile } => profile_file::resolve(&profile)
+            .map_err(CliError::from)
+            .and_then(|p| print_all(&demo::run(p)).map(|()| ExitCode::SUCCESS)),
         Command::Profiles => {
             for (name, make) in hiperface_model::profiles::BUILTIN {
                 let p = make();
@@ -370,6 +369,15 @@ fn run_simulator(port: &str, profile: &str, log: bool, world: &certify::World) -
     Ok(ExitCode::SUCCESS)
 }
 
+/// Print to standard output; a reader that stops early (`| head`) is not an error.
+fn print_all(text: &str) -> Result<(), CliError> {
+    use std::io::Write as _;
+    match std::io::stdout().lock().write_all(text.as_bytes()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(CliError::from(e)),
+        _ => Ok(()),
+    }
+}
+
 /// A flag set by Ctrl-C: the run stops after the current exchange, restores what the
 /// current case changed, and writes a partial report.
 fn interrupt_flag() -> Arc<AtomicBool> {
@@ -429,7 +437,7 @@ fn vectors_command(what: VectorsCommand) -> Result<ExitCode, CliError> {
                         .map_err(|e| CliError(format!("{}: {e}", dir.display())))?;
                     println!("{}", dir.join(name).display());
                 }
-                None => print!("{text}"),
+                None => print_all(&text)?,
             }
             Ok(ExitCode::SUCCESS)
         }

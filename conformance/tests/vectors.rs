@@ -125,22 +125,36 @@ fn a_malformed_file_names_the_file_and_the_vector() {
     let tmp = temp();
     let d = tmp.path();
     let mut json: serde_json::Value = serde_json::to_value(documents()).unwrap();
-    json["vectors"][3]["steps"][0]["request"] = "40 4G 02".into();
+    json["testGroups"][1]["tests"][1]["steps"][0]["request"] = "40 4G 02".into();
     let path = d.join("bad.json");
     std::fs::write(&path, json.to_string()).unwrap();
     let e = vectors::load(&path).unwrap_err().to_string();
     assert!(e.starts_with(&format!("{}: vector `", path.display())), "{e}");
-    assert!(e.contains("/vectors/3/steps/0/request"), "{e}");
+    assert!(e.contains("/testGroups/1/tests/1/steps/0/request"), "{e}");
+    assert!(e.contains("vector `001-5.1.4.2-set-position`"), "{e}");
     // Not JSON at all.
     std::fs::write(&path, "{").unwrap();
     let e = vectors::load(&path).unwrap_err().to_string();
     assert!(e.contains("bad.json: not JSON"), "{e}");
     // Unknown fields are refused (schema: additionalProperties false).
     json = serde_json::to_value(documents()).unwrap();
-    json["vectors"][0]["colour"] = "red".into();
+    json["testGroups"][0]["tests"][0]["colour"] = "red".into();
     std::fs::write(&path, json.to_string()).unwrap();
     let e = vectors::load(&path).unwrap_err().to_string();
     assert!(e.contains("vector `000-t7-1`"), "{e}");
+    // What the schema cannot see: the count, the tcIds, a note for every flag.
+    let layout = |edit: fn(&mut serde_json::Value)| {
+        let mut json = serde_json::to_value(documents()).unwrap();
+        edit(&mut json);
+        std::fs::write(&path, json.to_string()).unwrap();
+        vectors::load(&path).unwrap_err().to_string()
+    };
+    let e = layout(|j| j["numberOfTests"] = 99.into());
+    assert!(e.contains("numberOfTests says 99, the groups hold 24"), "{e}");
+    let e = layout(|j| j["testGroups"][0]["tests"][1]["tcId"] = 7.into());
+    assert!(e.contains("test `000-t7-2`: tcId 7, expected 2"), "{e}");
+    let e = layout(|j| drop(j["notes"].as_object_mut().unwrap().remove("erratum")));
+    assert!(e.contains("flag `erratum` has no entry in `notes`"), "{e}");
 }
 
 #[test]

@@ -11,11 +11,23 @@ use common::*;
 use hiperface_model::{checksum, profiles, Slave};
 use serde_json::Value;
 
+/// Every test of the file, with its group's profile and setup merged in (the file is
+/// in Wycheproof's shape: groups of tests that share a profile and a starting state).
 fn documents() -> Vec<Value> {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../vectors/documents.json");
     let text = std::fs::read_to_string(path).expect("vectors/documents.json");
     let file: Value = serde_json::from_str(&text).expect("JSON");
-    file["vectors"].as_array().expect("a vectors array").clone()
+    let mut tests = Vec::new();
+    for group in file["testGroups"].as_array().expect("testGroups") {
+        for test in group["tests"].as_array().expect("tests") {
+            let mut t = test.clone();
+            t["profile"] = group["profile"].clone();
+            t["setup"] = group.get("setup").cloned().unwrap_or(Value::Null);
+            tests.push(t);
+        }
+    }
+    assert_eq!(file["numberOfTests"].as_u64(), Some(tests.len() as u64));
+    tests
 }
 
 fn vector(id: &str) -> Value {

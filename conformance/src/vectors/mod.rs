@@ -3,6 +3,7 @@
 //! source, clauses and profile, the setup that brings a slave into the needed state,
 //! and one or more timed steps of request and expected response.
 
+mod disk;
 pub mod export;
 pub mod fixtures;
 pub mod generate;
@@ -13,13 +14,13 @@ use hiperface_model::{checksum, profiles, Grading, Hex, Oracle, Profile, Reply, 
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
-pub const SCHEMA_VERSION: u32 = 1;
+pub use disk::{LayoutError, SCHEMA_VERSION};
 
-/// A file of vectors.
+/// A file of vectors, flat in memory; on disk in Wycheproof's shape (see `disk`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(into = "disk::DiskFile", try_from = "disk::DiskFile")]
 pub struct VectorFile {
-    pub schema_version: u32,
+    /// The file's header, one line per line.
     pub description: String,
     pub vectors: Vec<Vector>,
 }
@@ -51,6 +52,8 @@ pub enum Flag {
     UartFault,
     /// Steps happen at given times after power-on.
     Timed,
+    /// The documents leave the device a choice; the answer is acceptable (NON-STRICT).
+    Latitude,
 }
 
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
@@ -217,43 +220,61 @@ fn is_default_setup(s: &Setup) -> bool {
 }
 
 /// Parse `40 42 02`.
-pub fn parse_hex(s: &str) -> Result<Vec<u8>, String> {
-    s.split_whitespace().map(|b| u8::from_str_radix(b, 16).map_err(|_| format!("`{b}` is not a hex byte"))).collect()
+pub fn parse_hex(s: &str) -> Result<Vec<u8>, VectorError> {
+    s.split_whitespace().map(|b| u8::from_str_radix(b, 16).map_err(|_| VectorError::Hex(b.to_string()))).collect()
 }
 
 pub fn hex(bytes: &[u8]) -> String {
     Hex(bytes).to_string()
 }
 
-fn init_fault(name: &str) -> Result<InitFault, String> {
-    InitFault::from_name(name).ok_or_else(|| format!("unknown start-up fault `{name}`"))
+fn init_fault(name: &str) -> Result<InitFault, VectorError> {
+    InitFault::from_name(name).ok_or_else(|| VectorError::InitFault(name.to_string()))
 }
 
-fn position_fault(name: &str) -> Result<PositionFault, String> {
-    PositionFault::from_name(name).ok_or_else(|| format!("unknown position fault `{name}`"))
+fn position_fault(name: &str) -> Result<PositionFault, VectorError> {
+    PositionFault::from_name(name).ok_or_else(|| VectorError::PositionFault(name.to_string()))
 }
 
-/// Why a vector does not replay.
-#[derive(Debug, Clone, PartialEq, Eq)]
+/// Why a vector cannot be replayed, or how it disagrees with the model.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum VectorError {
+    #[error("`{0}` is not a hex byte")]
+    Hex(String),
+    #[error("unknown profile `{0}`")]
+    Profile(String),
+    #[error("unknown start-up fault `{0}`")]
+    InitFault(String),
+    #[error("unknown position fault `{0}`")]
+    PositionFault(String),
+    #[error("table row `{table}` / `{input}`: {reason}")]
+    TableRow { table: String, input: String, reason: String },
+    #[error("no steps, checksum example or table case")]
+    Empty,
+    #[error("XOR of {frame} is {computed:02X}h, not {printed}")]
+    Checksum { frame: String, computed: u8, printed: String },
+    #[error("{table} {input}: the model gives `{got}`, the vector says `{printed}`")]
+    Table { table: String, input: String, got: String, printed: String },
+    #[error("step {step}: request {request} -> the model answers {got}; the vector says {expected} ({result:?}), graded {grade}")]
+    Step { step: usize, request: String, got: String, expected: String, result: Expected, grade: String },
+}
+
+/// A vector that does not replay, and why.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{id}: {error}")]
 pub struct Mismatch {
     pub id: String,
-    pub reason: String,
-}
-
-impl std::fmt::Display for Mismatch {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}: {}", self.id, self.reason)
-    }
+    pub error: Box<VectorError>,
 }
 
 /// The slave of a vector's setup.
-pub fn prepare(v: &Vector) -> Result<Slave, String> {
-    let profile = profiles::builtin(&v.profile).ok_or_else(|| format!("unknown profile `{}`", v.profile))?;
+pub fn prepare(v: &Vector) -> Result<Slave, VectorError> {
+    let profile = profiles::builtin(&v.profile).ok_or_else(|| VectorError::Profile(v.profile.clone()))?;
     start(profile, &v.setup)
 }
 
 /// A slave of `profile` in the starting state `setup` describes.
-pub fn start(profile: Profile, setup: &Setup) -> Result<Slave, String> {
+pub fn start(profile: Profile, setup: &Setup) -> Result<Slave, VectorError> {
     let mut slave = if setup.power_on { Slave::new(profile) } else { Slave::operational(profile) };
     if let Some(i) = setup.inputs {
         let mut inputs = slave.inputs();
@@ -279,26 +300,36 @@ pub fn start(profile: Profile, setup: &Setup) -> Result<Slave, String> {
 
 /// Replay a vector through the model.
 pub fn replay(v: &Vector) -> Result<(), Mismatch> {
-    let fail = |reason: String| Mismatch { id: v.id.clone(), reason };
+    let fail = |error: VectorError| Mismatch { id: v.id.clone(), error: Box::new(error) };
     if let Some(c) = &v.checksum_example {
         let frame = parse_hex(&c.frame).map_err(fail)?;
         let sum = parse_hex(&c.checksum).map_err(fail)?;
         return if sum == [checksum::xor(&frame)] {
             Ok(())
         } else {
-            Err(fail(format!("XOR of {} is {:02X}h, not {}", c.frame, checksum::xor(&frame), c.checksum)))
+            Err(fail(VectorError::Checksum {
+                frame: c.frame.clone(),
+                computed: checksum::xor(&frame),
+                printed: c.checksum.clone(),
+            }))
         };
     }
     if let Some(t) = &v.table_case {
-        let got = tables::evaluate(&t.table, &t.input).map_err(fail)?;
+        let row = |reason| VectorError::TableRow { table: t.table.clone(), input: t.input.clone(), reason };
+        let got = tables::evaluate(&t.table, &t.input).map_err(|reason| fail(row(reason)))?;
         return if got == t.output {
             Ok(())
         } else {
-            Err(fail(format!("{} {}: the model gives `{got}`, the vector says `{}`", t.table, t.input, t.output)))
+            Err(fail(VectorError::Table {
+                table: t.table.clone(),
+                input: t.input.clone(),
+                got,
+                printed: t.output.clone(),
+            }))
         };
     }
     if v.steps.is_empty() {
-        return Err(fail("no steps, checksum example or table case".into()));
+        return Err(fail(VectorError::Empty));
     }
     let mut slave = prepare(v).map_err(fail)?;
     let oracle = Oracle::new(Grading::Exact);
@@ -331,15 +362,14 @@ pub fn replay(v: &Vector) -> Result<(), Mismatch> {
         };
         if grade.verdict() != want || (want == Verdict::Pass && got != expected) {
             let shown = |b: &Option<Vec<u8>>| b.as_ref().map_or("no response".to_string(), |b| hex(b));
-            return Err(fail(format!(
-                "step {}: request {} -> the model answers {}; the vector says {} ({:?}), graded {}",
-                i + 1,
-                step.request,
-                shown(&got),
-                shown(&expected),
-                v.result,
-                grade
-            )));
+            return Err(fail(VectorError::Step {
+                step: i + 1,
+                request: step.request.clone(),
+                got: shown(&got),
+                expected: shown(&expected),
+                result: v.result,
+                grade: grade.to_string(),
+            }));
         }
     }
     Ok(())
@@ -395,10 +425,13 @@ pub fn load(path: &Path) -> Result<VectorFile, LoadError> {
     serde_json::from_value(json).map_err(|e| invalid(e.to_string()))
 }
 
-/// The id of the vector that a JSON pointer such as `/vectors/3/steps/0` points into.
+/// The id of the test that a JSON pointer such as `/testGroups/1/tests/3/steps/0`
+/// points into.
 fn vector_id_at(json: &serde_json::Value, pointer: &str) -> Option<String> {
-    let index: usize = pointer.strip_prefix("/vectors/")?.split('/').next()?.parse().ok()?;
-    json.get("vectors")?.get(index)?.get("id")?.as_str().map(str::to_string)
+    let mut parts = pointer.strip_prefix("/testGroups/")?.split('/');
+    let group: usize = parts.next()?.parse().ok()?;
+    let test: usize = parts.nth(1)?.parse().ok()?;
+    json.get("testGroups")?.get(group)?.get("tests")?.get(test)?.get("id")?.as_str().map(str::to_string)
 }
 
 /// The vector files of a directory, sorted.
