@@ -1,4 +1,7 @@
-//! The `hiperface` command.
+//! The `hiperface` command. One file for the whole command line (a little over 400
+//! lines): the argument definitions, about half of it, and one function per
+//! subcommand, so that `--help` and the code acting on it are read together. The work
+//! itself is in the library (`certify`, `port`, `vectors`, `simulate`).
 
 use clap::{Parser, Subcommand, ValueEnum};
 use hiperface_conformance::certify::{self, CaseVerdict, Options, TimingMode};

@@ -1,7 +1,6 @@
 //! Executing one addressed frame: the order of checks, every command, the fault
 //! model. // DESIGN:order, 000:2.4.2, 000:2.4.3
 
-use super::fields::FieldStatus;
 use super::{CodeSet, Outcome, Reply, Silence, Slave};
 use crate::address::{AddressByte, SlaveAddress};
 use crate::checksum;
@@ -13,6 +12,9 @@ use crate::request::{Request, RequestFrame};
 use crate::response::{Response, ResponseFrame, Version};
 use crate::settings::{Edition, UartSettings};
 use crate::slave::powerup::CommState;
+
+mod data_fields;
+mod position;
 
 /// Status of the Extended Type Label in Data Field Status: 64 bytes (size bits 011),
 /// code disabled, Code0, read-only, exists (DESIGN:fields).
@@ -347,60 +349,6 @@ impl Slave {
         UartSettings::decode(byte).ok().filter(|s| self.profile.supports_baud(s.baud))
     }
 
-    /// The state checks of position commands. // 000:2.3.4, 000:T12, 000:T37 position group
-    fn position_faults(&mut self, c: &mut Checks, reading: bool) -> Result<(), ()> {
-        // A request already rejected (argument, access code) measures nothing: its
-        // faults are only recorded as acceptable alternatives.
-        let measured = c.first.is_none();
-        c.check(self.locks.position, AngularOffset, clause::POSITION_LOCK);
-        let linear = self.profile.resolution.is_linear();
-        let mut newly_locked = false;
-        for fault in self.injected.position_faults() {
-            let answered = c.first.is_none();
-            c.check(true, fault.code(), clause::POSITION_FAULTS);
-            if measured && !answered {
-                // "the first one is sent and the other error messages are stored"
-                self.stack.push(fault.code());
-            }
-            newly_locked |= measured && fault.locks(linear);
-        }
-        c.check(self.inputs.led_current_ma > self.profile.led_current_max_ma, LedCurrent, clause::LED_CURRENT);
-        let moving = if reading {
-            self.inputs.speed.unsigned_abs() > self.profile.max_read_speed
-        } else {
-            // 000:T60: shaft motion during Set Position.
-            self.inputs.speed != 0
-        };
-        c.check(moving, Speed, clause::SPEED);
-        self.locks.position |= newly_locked;
-        if c.first.is_some() {
-            Err(())
-        } else {
-            Ok(())
-        }
-    }
-
-    /// Set Position (43h, 63h) and Set Position with Synchronization (6Ah). Returns
-    /// the preset actually used. // 000:T13, 000:T34, DESIGN:position
-    fn set_position(&mut self, c: &mut Checks, command: CommandId, preset: u32, code0: u8) -> Result<u64, ()> {
-        let synchronize = command == CommandId::SetPositionWithSync;
-        let range = self.profile.range();
-        c.check(preset as u64 >= range, WrongArgument, clause::SET_POSITION);
-        c.check(self.code0_wrong(code0), WrongAccessCode, clause::WRONG_ACCESS_CODE);
-        // 000:T40: a locked position output answers 02h to Set Position, before any
-        // memory fault.
-        let _ = self.position_faults(c, false);
-        self.memory_checks(c, command);
-        if c.first.is_some() {
-            return Err(());
-        }
-        let raw = self.inputs.position % range;
-        let used = if synchronize { synchronized_preset(preset as u64, raw, range) } else { preset as u64 };
-        self.nv.offset = (used + range - raw) % range;
-        self.count_write();
-        Ok(used)
-    }
-
     fn increment_counter(&mut self, c: &mut Checks) -> Result<Response, ()> {
         const MAX: u32 = 0xFF_FFFF;
         self.memory_checks(c, CommandId::IncrementCounter);
@@ -421,118 +369,6 @@ impl Slave {
         }
         Ok(Response::CounterIncremented)
     }
-
-    /// Field number, access code and bounds of a data field access; the Extended Type
-    /// Label is field FFh, 64 bytes, no code. Returns the field's size in bytes.
-    fn field_access(&self, c: &mut Checks, field: u8, code: u8) -> Option<usize> {
-        if field == EXTENDED_TYPE_LABEL_FIELD && self.profile.extended_type_label.is_some() {
-            return Some(64);
-        }
-        let status = self.nv.fields.status(field);
-        c.check(status.is_none(), WrongFieldNumber, clause::WRONG_FIELD_NUMBER);
-        let status = status?;
-        let expected = self.nv.codes.get(status.code_number()).copied();
-        c.check(status.code_enabled() && expected != Some(code), WrongAccessCode, clause::WRONG_ACCESS_CODE);
-        Some(status.size_bytes())
-    }
-
-    fn read_data(&mut self, c: &mut Checks, field: u8, offset: u8, count: u8, code: u8) -> Result<Response, ()> {
-        c.check(self.locks.data_fields, PartitionTable, clause::INIT_FAULTS);
-        self.memory_checks(c, CommandId::ReadData);
-        let size = self.field_access(c, field, code);
-        // DESIGN: 1..=128 and offset + count <= size, else 11h; 0Dh for count 0 is acceptable.
-        let bounds_bad = |size: usize| count == 0 || offset as usize + count as usize > size;
-        c.check(size.is_some_and(bounds_bad), WrongOffset, clause::WRONG_OFFSET);
-        c.tolerate(count == 0, WrongArgument);
-        if c.first.is_some() {
-            return Err(());
-        }
-        let bytes = if field == EXTENDED_TYPE_LABEL_FIELD && self.profile.extended_type_label.is_some() {
-            let label = self.profile.extended_type_label.as_ref();
-            label.and_then(|l| l.get(offset as usize..offset as usize + count as usize))
-        } else {
-            self.nv.fields.read(field, offset, count)
-        };
-        let data = bytes.and_then(|b| crate::frame::FieldBytes::from_bytes(b).ok()).ok_or(())?;
-        Ok(Response::Data { field, offset, data })
-    }
-
-    fn store_data(&mut self, c: &mut Checks, field: u8, offset: u8, code: u8, data: &[u8]) -> Result<Response, ()> {
-        c.check(self.locks.data_fields, PartitionTable, clause::INIT_FAULTS);
-        self.memory_checks(c, CommandId::StoreData);
-        let etl = field == EXTENDED_TYPE_LABEL_FIELD && self.profile.extended_type_label.is_some();
-        c.check(etl, ReadOnlyField, clause::READ_ONLY_FIELD);
-        if !etl {
-            let size = self.field_access(c, field, code);
-            let writable = self.nv.fields.status(field).is_some_and(|s| s.writable());
-            c.check(size.is_some() && !writable, ReadOnlyField, clause::READ_ONLY_FIELD);
-            c.check(size.is_some_and(|size| offset as usize + data.len() > size), WrongOffset, clause::WRONG_OFFSET);
-        }
-        if c.first.is_some() || !self.nv.fields.write(field, offset, data) {
-            return Err(());
-        }
-        self.count_write();
-        Ok(Response::DataStored { field, offset, count: data.len() as u8 })
-    }
-
-    /// Create, modify or delete a data field. // 000:T24, DESIGN:fields
-    fn create_data_field(&mut self, c: &mut Checks, field: u8, status: u8, code: u8) -> Result<Response, ()> {
-        let new = FieldStatus(status);
-        let fields = &self.nv.fields;
-        let count = fields.count();
-        c.check(self.locks.data_fields, PartitionTable, clause::INIT_FAULTS);
-        self.memory_checks(c, CommandId::CreateDataField);
-        // 000:T54: a Create Data Field request that targets the Extended Type Label.
-        if field == EXTENDED_TYPE_LABEL_FIELD {
-            c.check(true, OutOfMemory, clause::OUT_OF_MEMORY);
-            return Err(());
-        }
-        let code_of = |n: usize| self.nv.codes.get(n).copied();
-        if !new.exists() {
-            // Delete: only the last field, with all other status bits as stored.
-            let last = count.checked_sub(1);
-            c.check(last != Some(field), WrongFieldNumber, clause::WRONG_FIELD_NUMBER);
-            if let Some(old) = fields.status(field) {
-                c.check(code_of(old.code_number()) != Some(code), WrongAccessCode, clause::WRONG_ACCESS_CODE);
-                let mismatch = old.attributes() != new.attributes();
-                c.check(mismatch, WrongFieldNumber, clause::CREATE_FIELD);
-                c.tolerate(mismatch, WrongArgument);
-            }
-            if c.first.is_some() || !self.nv.fields.delete_last() {
-                return Err(());
-            }
-        } else if field == count {
-            // Create: the code byte must be the code the new status names, even if disabled.
-            c.check(code_of(new.code_number()) != Some(code), WrongAccessCode, clause::WRONG_ACCESS_CODE);
-            c.check(!fields.fits(new.blocks() as u32), OutOfMemory, clause::OUT_OF_MEMORY);
-            if c.first.is_some() || !self.nv.fields.create(new) {
-                return Err(());
-            }
-        } else if let Some(old) = fields.status(field) {
-            // Modify: the code byte must be the field's current code.
-            c.check(code_of(old.code_number()) != Some(code), WrongAccessCode, clause::WRONG_ACCESS_CODE);
-            let resize = old.blocks() != new.blocks();
-            c.check(resize && field + 1 != count, WrongFieldNumber, clause::WRONG_FIELD_NUMBER);
-            let grow = new.blocks().saturating_sub(old.blocks()) as u32;
-            c.check(resize && field + 1 == count && !fields.fits(grow), OutOfMemory, clause::OUT_OF_MEMORY);
-            if c.first.is_some() || !self.nv.fields.modify(field, new) {
-                return Err(());
-            }
-        } else {
-            c.check(true, WrongFieldNumber, clause::WRONG_FIELD_NUMBER);
-            return Err(());
-        }
-        self.count_write();
-        Ok(Response::FieldCreated { field, status })
-    }
-}
-
-/// 6Ah: the value nearest to `preset` with the same 5 LSBs as the raw position (zero
-/// phase shift), ties downward, modulo the range (a multiple of 32). // DESIGN:position
-pub fn synchronized_preset(preset: u64, raw: u64, range: u64) -> u64 {
-    let d = preset.wrapping_sub(raw) & 31;
-    let candidate = if d <= 16 { preset + range - d } else { preset + (32 - d) };
-    candidate % range
 }
 
 fn ok_if(c: &Checks, r: Response) -> Result<Response, ()> {
@@ -545,28 +381,4 @@ fn ok_if(c: &Checks, r: Response) -> Result<Response, ()> {
 
 fn silent(why: Silence, clause: Normative) -> Outcome {
     Outcome { reply: Reply::Silent(why), clause, also: CodeSet::default(), then_settings: None }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn synchronized_preset_keeps_the_raw_phase() {
-        // 001:5.1.4: preset 0005D2C7h answered with 0005D2C1h.
-        assert_eq!(synchronized_preset(0x0005_D2C7, 1, 1 << 20), 0x0005_D2C1);
-        assert_eq!(synchronized_preset(16, 0, 1 << 20), 0, "ties downward");
-        assert_eq!(synchronized_preset(17, 0, 1 << 20), 32);
-        assert_eq!(synchronized_preset((1 << 20) - 1, 0, 1 << 20), 0, "wraps");
-        assert_eq!(synchronized_preset(3, 5, 512), 5);
-        assert_eq!(synchronized_preset(2, 30, 512), 510);
-        for preset in 0..512 {
-            for raw in [0u64, 1, 17, 31, 100] {
-                let used = synchronized_preset(preset, raw, 512);
-                assert_eq!(used % 32, raw % 32);
-                let dist = (used + 512 - preset) % 512;
-                assert!(dist <= 15 || 512 - dist <= 16, "{preset} {raw} {used}");
-            }
-        }
-    }
 }
