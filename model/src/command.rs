@@ -58,10 +58,26 @@ macro_rules! command_table {
     };
 }
 
+/// The row of each command byte 40h...7Fh in `COMMAND_TABLE` (`u8::MAX`: none), built
+/// from the table at compile time so that a lookup costs one index.
+const ROW_OF: [u8; 64] = {
+    let mut rows = [u8::MAX; 64];
+    let mut i = 0;
+    while i < COMMAND_TABLE.len() {
+        rows[(COMMAND_TABLE[i].id.byte() & 0x3F) as usize] = i as u8;
+        i += 1;
+    }
+    rows
+};
+
 impl CommandId {
     /// This command's row of the command table; `None` for unknown commands.
     pub fn spec(self) -> Option<&'static CommandSpec> {
-        COMMAND_TABLE.iter().find(|s| s.id == self)
+        if matches!(self, CommandId::Unknown(_)) {
+            return None;
+        }
+        let row = ROW_OF.get((self.byte() & 0x3F) as usize).copied()?;
+        COMMAND_TABLE.get(row as usize)
     }
 }
 
@@ -402,6 +418,15 @@ mod tests {
             assert_eq!(spec.id.byte(), byte);
         }
         assert_eq!(COMMAND_TABLE.len(), 23, "22 of 000 Table 10 and legacy 63h");
+    }
+
+    #[test]
+    fn every_row_is_found_by_its_command_and_nothing_else() {
+        for b in 0..=255u8 {
+            let id = CommandId::decode(b);
+            assert_eq!(id.spec(), COMMAND_TABLE.iter().find(|s| s.id == id), "{b:02X}");
+        }
+        assert_eq!(CommandId::Unknown(0x42).spec(), None);
     }
 
     #[test]
