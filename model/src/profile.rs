@@ -281,6 +281,14 @@ impl Profile {
         }
     }
 
+    /// Switch to `edition` with its defaults: every command the edition defines and
+    /// its power-up windows.
+    pub fn set_edition(&mut self, edition: Edition) {
+        self.edition = edition;
+        self.commands = CommandSet::all_for(edition == Edition::Legacy);
+        (self.default_window_ms, self.user_settings_ms) = edition.power_up_windows_ms();
+    }
+
     /// The measuring range in position steps.
     pub fn range(&self) -> u64 {
         self.resolution.range_steps()

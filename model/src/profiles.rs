@@ -68,8 +68,8 @@ fn current(name: &str, resolution: Resolution, type_code: u8) -> Profile {
         adjustment: [None; 4],
         adjustment_response_ms: 40,
         init_ms: 100,
-        default_window_ms: 900,
-        user_settings_ms: 1100,
+        default_window_ms: Edition::Current.power_up_windows_ms().0,
+        user_settings_ms: Edition::Current.power_up_windows_ms().1,
         stack_order: StackOrder::OldestFirst,
     }
 }
@@ -161,15 +161,12 @@ pub fn kuebler_s36_mt() -> Profile {
 /// ~1 s default window, 128 bytes of memory (002's data-field example), type 22h.
 pub fn legacy_srs() -> Profile {
     let mut p = current("Legacy-SRS", Resolution::Rotary { periods_per_turn: 1024, turns: 1 }, 0x22);
-    p.edition = Edition::Legacy;
-    p.commands = CommandSet::all_for(true);
+    p.set_edition(Edition::Legacy);
     p.memory_blocks = 0x08;
     p.user_memory_blocks = 0x08;
     p.baud_rates = [true; 7];
     p.analog = [Some(LEGACY_TEMPERATURE), None, None, None];
     p.firmware = padded("legacy 1.0");
-    p.default_window_ms = 1000;
-    p.user_settings_ms = 1000;
     p
 }
 

@@ -264,19 +264,54 @@ impl RequestFrame {
     /// command byte, data length. The address byte is returned as it is; whether it
     /// addresses a slave is the slave's business.
     pub fn decode(bytes: &[u8]) -> Result<RequestFrame, RequestError> {
+        let checks = RequestChecks::of(bytes);
         let [address, command, data @ .., _checksum] = bytes else {
             return Err(RequestError::TooShort { len: bytes.len() });
         };
-        if !checksum::is_valid(bytes) {
-            let body = &bytes[..bytes.len() - 1];
-            return Err(RequestError::BadChecksum { expected: checksum::xor(body), found: bytes[bytes.len() - 1] });
+        if let Some((expected, found)) = checks.bad_checksum {
+            return Err(RequestError::BadChecksum { expected, found });
         }
-        let id = match CommandByte::decode(*command) {
-            Some(CommandByte { id, error_bit: false }) if id.spec().is_some() => id,
-            _ => return Err(RequestError::UnknownCommand { byte: *command }),
+        let Some(id) = checks.command else {
+            return Err(RequestError::UnknownCommand { byte: *command });
         };
         let request = Request::from_data(id, data)?;
         Ok(RequestFrame { address: AddressByte::decode(*address), request })
+    }
+}
+
+/// The request conditions of the check order (DESIGN:order), each evaluated on its
+/// own: the decoder reports the first, the slave every one that holds (the others are
+/// acceptable alternatives). One place for what "too short", "bad checksum", "unknown
+/// command" and "wrong length" mean.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct RequestChecks {
+    /// Fewer than 3 bytes: 0Ch.
+    pub too_short: bool,
+    /// (the XOR of the other bytes, the checksum found) where they differ: 0Ah.
+    pub bad_checksum: Option<(u8, u8)>,
+    /// The command of the table, if the command byte names one (bit 6 set, error bit
+    /// clear); `None` with two bytes or more: 0Bh.
+    pub command: Option<CommandId>,
+    /// The data length does not fit the command (or Store Data's count does not match
+    /// its data): 0Ch.
+    pub wrong_length: bool,
+}
+
+impl RequestChecks {
+    pub fn of(bytes: &[u8]) -> RequestChecks {
+        let bad_checksum = match bytes {
+            [body @ .., last] if bytes.len() >= 2 && !checksum::is_valid(bytes) => Some((checksum::xor(body), *last)),
+            _ => None,
+        };
+        let command = bytes.get(1).and_then(|b| match CommandByte::decode(*b) {
+            Some(CommandByte { id, error_bit: false }) if id.spec().is_some() => Some(id),
+            _ => None,
+        });
+        let wrong_length = match (command, bytes) {
+            (Some(id), [_, _, data @ .., _]) => Request::from_data(id, data).is_err(),
+            _ => false,
+        };
+        RequestChecks { too_short: bytes.len() < 3, bad_checksum, command, wrong_length }
     }
 }
 

@@ -11,6 +11,18 @@ pub enum Edition {
     Legacy,
 }
 
+impl Edition {
+    /// The power-up windows after power-on or reset, ms: until when the default
+    /// settings hold, and from when the stored ones do (000:T9: 900 and 1100 ms, with
+    /// silence between; 002: about 1 s, no silent window).
+    pub const fn power_up_windows_ms(self) -> (u16, u16) {
+        match self {
+            Edition::Current => (900, 1100),
+            Edition::Legacy => (1000, 1000),
+        }
+    }
+}
+
 /// Data rate, settings bits 0-2.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Baud {

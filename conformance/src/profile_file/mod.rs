@@ -91,15 +91,10 @@ pub fn parse(text: &str, path: &Path) -> Result<Profile, ProfileLoadError> {
     };
     p.name = Text::new(&file.name).ok_or_else(|| invalid("name", "longer than 32 bytes".into()))?;
     if let Some(e) = file.edition {
-        p.edition = match e {
+        p.set_edition(match e {
             EditionName::Current => Edition::Current,
             EditionName::Legacy => Edition::Legacy,
-        };
-        p.commands = CommandSet::all_for(p.edition == Edition::Legacy);
-        if p.edition == Edition::Legacy {
-            p.default_window_ms = 1000;
-            p.user_settings_ms = 1000;
-        }
+        });
     }
     if let Some(id) = &file.identity {
         p.type_code = id.type_code.unwrap_or(p.type_code);
