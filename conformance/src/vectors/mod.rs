@@ -161,8 +161,9 @@ pub struct ChecksumExample {
     pub checksum: String,
 }
 
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+/// One vector, flat: the group's profile and setup with the test (see `disk` for the
+/// layout on disk).
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Vector {
     pub id: String,
     /// Document file and section, or "generated".
@@ -172,18 +173,12 @@ pub struct Vector {
     pub profile: String,
     /// The command the vector is about (for the documentation tables).
     pub command: String,
-    #[serde(default, skip_serializing_if = "is_default_setup")]
     pub setup: Setup,
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub steps: Vec<VectorStep>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub checksum_example: Option<ChecksumExample>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub table_case: Option<TableCase>,
     pub result: Expected,
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub flags: Vec<Flag>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub erratum: Option<Erratum>,
     /// What the vector shows, in a sentence.
     pub meaning: String,
@@ -215,10 +210,6 @@ impl Vector {
             meaning,
         }
     }
-}
-
-fn is_default_setup(s: &Setup) -> bool {
-    *s == Setup::default()
 }
 
 /// Parse `40 42 02`.
