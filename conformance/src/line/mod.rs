@@ -91,8 +91,17 @@ pub trait Line {
     fn recv(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError>;
     /// When the start bit of a received character may have begun.
     fn start_of(&self, ch: &RxChar) -> Window;
+    /// The real-time clock of a line in real time; `None` in virtual time.
+    fn clock(&self) -> Option<&RealTime> {
+        None
+    }
     /// Idle until `t_us`, discarding nothing: characters arriving meanwhile stay queued.
-    fn wait_until(&mut self, t_us: u64) -> Result<(), LineError>;
+    fn wait_until(&mut self, t_us: u64) -> Result<(), LineError> {
+        if let Some(clock) = self.clock() {
+            clock.sleep_until(t_us);
+        }
+        Ok(())
+    }
     /// Switch the line's UART settings.
     fn configure(&mut self, settings: UartSettings) -> Result<(), LineError>;
     /// Whether [`Line::configure`] can change the data rate and parity (not on a raw
@@ -102,11 +111,13 @@ pub trait Line {
     }
     fn settings(&self) -> UartSettings;
     /// Timing jitter the line adds, in µs (0 in virtual time).
-    fn tolerance_us(&self) -> u64;
+    fn tolerance_us(&self) -> u64 {
+        self.clock().map_or(0, |c| c.tolerance_us)
+    }
     /// How late the harness woke from its timed waits since the last call, µs: its own
     /// scheduling delay on a busy machine (0 in virtual time).
     fn take_lateness_us(&mut self) -> u64 {
-        0
+        self.clock().map_or(0, RealTime::take_lateness_us)
     }
     fn kind(&self) -> LineKind;
     /// A short description for reports ("virtual", "/dev/pts/3", ...).
@@ -129,6 +140,9 @@ impl<L: Line + ?Sized> Line for Box<L> {
     }
     fn start_of(&self, ch: &RxChar) -> Window {
         (**self).start_of(ch)
+    }
+    fn clock(&self) -> Option<&RealTime> {
+        (**self).clock()
     }
     fn wait_until(&mut self, t_us: u64) -> Result<(), LineError> {
         (**self).wait_until(t_us)

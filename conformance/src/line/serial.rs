@@ -7,7 +7,7 @@
 //! received characters at least a character time apart, as a UART delivers them.
 
 use super::adapter::Adapter;
-use super::{clock, Line, LineError, LineKind, Sent, Window};
+use super::{clock, Line, LineError, LineKind, RealTime, Sent, Window};
 use hiperface_model::datalink::RxChar;
 use hiperface_model::settings::Parity as HfParity;
 use hiperface_model::UartSettings;
@@ -165,9 +165,8 @@ impl Line for SerialLine {
         Window { earliest_us: ch.at_us.saturating_sub(ct + latency), latest_us: ch.at_us.saturating_sub(ct) }
     }
 
-    fn wait_until(&mut self, t_us: u64) -> Result<(), LineError> {
-        self.time.sleep_until(t_us);
-        Ok(())
+    fn clock(&self) -> Option<&RealTime> {
+        Some(&self.time)
     }
 
     fn configure(&mut self, settings: UartSettings) -> Result<(), LineError> {
@@ -182,14 +181,6 @@ impl Line for SerialLine {
 
     fn settings(&self) -> UartSettings {
         self.settings
-    }
-
-    fn tolerance_us(&self) -> u64 {
-        self.time.tolerance_us
-    }
-
-    fn take_lateness_us(&mut self) -> u64 {
-        self.time.take_lateness_us()
     }
 
     fn kind(&self) -> LineKind {

@@ -3,7 +3,7 @@
 //! at once and knows its end as a window, and stamps received bytes like on a
 //! pseudo-terminal (see [`super::clock`]).
 
-use super::{clock, Line, LineError, LineKind, Sent, Window};
+use super::{clock, Line, LineError, LineKind, RealTime, Sent, Window};
 use hiperface_model::datalink::RxChar;
 use hiperface_model::UartSettings;
 use std::io::{ErrorKind, Read, Write};
@@ -82,9 +82,8 @@ impl Line for TcpLine {
         Window { earliest_us: ch.at_us.saturating_sub(self.settings.char_time_us()), latest_us: ch.at_us }
     }
 
-    fn wait_until(&mut self, t_us: u64) -> Result<(), LineError> {
-        self.time.sleep_until(t_us);
-        Ok(())
+    fn clock(&self) -> Option<&RealTime> {
+        Some(&self.time)
     }
 
     fn configure(&mut self, settings: UartSettings) -> Result<(), LineError> {
@@ -105,14 +104,6 @@ impl Line for TcpLine {
 
     fn settings(&self) -> UartSettings {
         self.settings
-    }
-
-    fn tolerance_us(&self) -> u64 {
-        self.time.tolerance_us
-    }
-
-    fn take_lateness_us(&mut self) -> u64 {
-        self.time.take_lateness_us()
     }
 
     fn kind(&self) -> LineKind {

@@ -149,10 +149,6 @@ impl<D: SlaveDevice> Line for VirtualLine<D> {
         self.settings
     }
 
-    fn tolerance_us(&self) -> u64 {
-        0
-    }
-
     fn kind(&self) -> LineKind {
         LineKind::Virtual
     }
