@@ -19,6 +19,8 @@ use core::fmt;
 pub enum Force {
     /// A rule of the specification (000) or the legacy description (002).
     Normative,
+    /// A "should" or "strongly recommended" of the specification: NON-STRICT at most.
+    Recommended,
     /// A decision of this project where the documents are silent.
     Decision,
     /// An example or a third party's reading (001, 003, 004).
@@ -230,6 +232,17 @@ clauses! {
     [normative Both] INTERPOLATION = "000:3.2.4": "Fine-angle interpolation: the angle within a period from the arc tangent of the sine and cosine values.";
     [normative Both] SYNCHRONIZATION = "000:3.2.5": "Position synchronization: the two LSBs of the counter and of the absolute position's period bits must agree within 50 % of a period; the table gives the correction.";
     [normative Both] FAULT_REACTION = "000:T74": "Fault code, group, severity and controller response; unknown codes get the worst-case reaction.";
+    [normative Both] MASTER_CYCLE = "000:2.2/cycle": "Each data transmission consists of a Master request frame followed by a Slave response frame. The Master transmission must be terminated through a timeout condition after the last byte is transmitted.";
+    [normative Both] MASTER_CHARACTER_GAP = "000:2.2.2/master-gap": "Each character of the Master transmission must be followed by a subsequent character within the timeout condition.";
+    [normative Both] MASTER_PAUSE = "000:2.2.2/master-pause": "Accordingly the end of a Master transmission must be followed by a pause of at least the length of the timeout condition.";
+    [normative Both] MASTER_FRAME = "000:2.3/master": "Each frame contains an address byte, command, and optionally data bytes of varying length and a trailing checksum to detect transmission errors. This specification applies both for Master and Slave transmissions.";
+    [normative Both] MASTER_NO_FAULTS = "000:2.3.4/master": "Faults are always only communicated from Slave to Master.";
+    [normative Both] MASTER_RESET_WAIT = "000:T30/master": "A HIPERFACE Master must wait for this time plus the initialization time of 100 ms before communication can resume.";
+    [normative Both] MASTER_START_UP = "000:3.3.1": "At power-up of the encoder the drive controller has to follow the state machine of the HIPERFACE Slave. Depending on required communication settings the drive controller must wait for the Default Communication Phase to pass.";
+    [Recommended] MASTER_READ_STATUS = "000:3.3.1/status": "It is strongly recommended to read the Slave status after a power-on and react according to potential fault indications.";
+    [Recommended] MASTER_WARNING = "000:2.3.4/warning": "The Slave will issue the warning bit with each following command response until the Master has read out the error code (with command 50h) or performed a Slave reset (command 53h).";
+    [Recommended] MASTER_FAULT_REACTION = "000:3.3.4": "In a second step it is recommended to refine drive controller actions based on individual fault codes as lined out in the following table.";
+    [Recommended] MASTER_UNKNOWN_CODE = "000:3.3.4/unknown": "It is expected that a HIPERFACE Master can only react with the worst-case fault reaction to unknown fault codes (i.e. motor stop).";
     [Informative] S36_EXAMPLES = "001:5.1.4": "Worked request/response examples of the Kuebler Sendix S36.";
     [normative Legacy] LEGACY_TIMEOUT = "002:timing": "TIMEOUT programmable, 11/baud rate or 44/baud rate = default.";
     [normative Legacy] LEGACY_DEFAULT_WINDOW = "002:57h": "After power-up each MFB is set to the default values for about 1 second; a plausible message keeps this setting.";
@@ -243,6 +256,7 @@ clauses! {
     [Decision] POWER_UP_POLICY = "DESIGN:power-up": "A request addressed to the slave in the default window keeps the default settings until the next reset.";
     [Decision] POSITION_POLICY = "DESIGN:position": "offset = preset - raw (mod range); 6Ah keeps the raw 5 LSBs, nearest value, ties downward; 6Ch returns (-offset) mod 32.";
     [Decision] TYPE_LABEL_SETTINGS = "DESIGN:52h": "Read Type Label reports the stored settings byte.";
+    [Decision] MASTER_REPLY_WINDOW = "DESIGN:reply-window": "A master leaves the reply window open (the request's timeout plus the command's maximum response time) before its next request, and a pause of the timeout after a reply's end; otherwise it may talk over a late reply.";
 }
 
 /// Look a clause up by id.
@@ -259,8 +273,15 @@ mod tests {
         for (i, a) in CLAUSES.iter().enumerate() {
             let (doc, place) = a.id.split_once(':').expect("DOC:PLACE");
             assert!(matches!(doc, "000" | "001" | "002" | "003" | "004" | "DESIGN"), "{}", a.id);
-            // Only the specification and the legacy description are normative.
-            assert_eq!(a.force == Force::Normative, matches!(doc, "000" | "002") && a.id != "002:example", "{}", a.id);
+            // Only the specification and the legacy description are normative (or
+            // recommend); only decisions are DESIGN's.
+            let spec = matches!(doc, "000" | "002") && a.id != "002:example";
+            let ok = match a.force {
+                Force::Normative | Force::Recommended => spec,
+                Force::Decision => doc == "DESIGN",
+                Force::Informative => !spec && doc != "DESIGN",
+            };
+            assert!(ok, "{}: {:?}", a.id, a.force);
             assert!(!place.is_empty() && !a.quote.is_empty(), "{}", a.id);
             for b in &CLAUSES[i + 1..] {
                 assert_ne!(a.id, b.id, "duplicate clause id");

@@ -1,0 +1,258 @@
+//! The master's obligations (`master::obligations`), checked in virtual time: a master
+//! that follows 000 gets no observation, and each way of breaking a rule gets exactly
+//! the observation of that rule.
+
+use hiperface_model::datalink::RxChar;
+use hiperface_model::master::obligations::{Observation, Observer, Rule, RETRY_BOUND};
+use hiperface_model::response::{Response, ResponseFrame};
+use hiperface_model::{checksum, profiles, FaultCode, Profile};
+
+const CT: u64 = 1146; // 9600 Bd, 11 bits
+const TIMEOUT: u64 = 5730;
+const MS: u64 = 1000;
+
+/// A master talking to an encoder, in virtual time.
+struct Bus {
+    observer: Observer,
+    now: u64,
+    seen: Vec<Observation>,
+}
+
+impl Bus {
+    fn new(profile: Profile) -> Bus {
+        let mut observer = Observer::new(profile);
+        observer.power_on(0);
+        Bus { observer, now: 0, seen: Vec::new() }
+    }
+
+    fn at(&mut self, t_us: u64) -> &mut Bus {
+        self.observer.poll(t_us, &mut |o| self.seen.push(o));
+        self.now = self.now.max(t_us);
+        self
+    }
+
+    /// The master sends `body` (checksum appended unless `raw`) from `now`, characters
+    /// back to back with `gaps` (index, extra µs) inserted.
+    fn send_raw(&mut self, bytes: &[u8], gaps: &[(usize, u64)]) -> &mut Bus {
+        let mut t = self.now;
+        for (i, b) in bytes.iter().enumerate() {
+            t += CT + gaps.iter().filter(|(at, _)| *at == i).map(|(_, g)| g).sum::<u64>();
+            self.observer.master_char(RxChar::ok(*b, t), &mut |o| self.seen.push(o));
+        }
+        self.now = t;
+        self
+    }
+
+    fn send(&mut self, body: &[u8]) -> &mut Bus {
+        let mut frame = body.to_vec();
+        frame.push(checksum::xor(body));
+        self.send_raw(&frame, &[])
+    }
+
+    /// The encoder answers after the timeout (+300 µs), and the master waits for the
+    /// reply's end and the timeout.
+    fn reply(&mut self, warning: bool, response: Response) -> &mut Bus {
+        let start = self.now + TIMEOUT + 300;
+        self.at(start);
+        let rf = ResponseFrame { address: 0x40, warning, response };
+        let end = start + rf.encode().len() as u64 * CT;
+        self.observer.encoder_reply(start, end, &rf);
+        self.at(end + TIMEOUT)
+    }
+
+    /// Request and reply: what a conformant master does each cycle.
+    fn ask(&mut self, body: &[u8], response: Response) -> &mut Bus {
+        self.send(body).reply(false, response)
+    }
+
+    fn wait_ms(&mut self, ms: u64) -> &mut Bus {
+        let t = self.now + ms * MS;
+        self.at(t)
+    }
+
+    fn rules(&mut self) -> Vec<Rule> {
+        let t = self.now + 100 * MS;
+        self.at(t);
+        self.seen.iter().map(|o| o.rule).collect()
+    }
+}
+
+const POSITION: Response = Response::Position(1234);
+
+/// The start-up flow of 000:3.3.1 and cyclic Read Position.
+fn conformant_start(bus: &mut Bus) {
+    bus.at(120 * MS)
+        .ask(&[0x40, 0x50], Response::EncoderStatus(FaultCode::NoFault))
+        .ask(&[0x40, 0x52], Response::TypeLabel { settings: 0xE4, type_code: 0x22, memory_blocks: 0x70, option: 0 });
+    for _ in 0..5 {
+        bus.ask(&[0x40, 0x42], POSITION).wait_ms(2);
+    }
+}
+
+#[test]
+fn a_conformant_master_gets_no_observation() {
+    let mut bus = Bus::new(profiles::srs50());
+    conformant_start(&mut bus);
+    // A warning: the codes are read out, then polling goes on.
+    bus.send(&[0x40, 0x42]).reply(true, POSITION);
+    bus.ask(&[0x40, 0x50], Response::EncoderStatus(FaultCode::Temperature));
+    bus.ask(&[0x40, 0x42], POSITION);
+    // A protocol error: the same request again.
+    bus.send(&[0x40, 0x42]).reply(false, Response::Error(FaultCode::Checksum));
+    bus.ask(&[0x40, 0x42], POSITION);
+    // Encoder Reset, then the timeout plus the initialization time.
+    bus.send(&[0x40, 0x53]).wait_ms(6 + 100);
+    bus.ask(&[0x40, 0x50], Response::EncoderStatus(FaultCode::NoFault)).ask(&[0x40, 0x42], POSITION);
+    assert_eq!(bus.rules(), vec![]);
+}
+
+#[test]
+fn each_broken_rule_is_observed() {
+    /// (what the master does wrong, the rule, the session)
+    type Case = (&'static str, Rule, fn(&mut Bus));
+    let cases: Vec<Case> = vec![
+        ("talks during initialization", Rule::DuringInitialization, |b| {
+            b.at(40 * MS).ask(&[0x40, 0x50], Response::EncoderStatus(FaultCode::NoFault));
+        }),
+        ("first request in the settings change", Rule::DuringSettingsChange, |b| {
+            b.at(950 * MS).ask(&[0x40, 0x50], Response::EncoderStatus(FaultCode::NoFault));
+        }),
+        ("no pause between requests", Rule::NoPause, |b| {
+            conformant_start(b);
+            b.send_raw(&[0x40, 0x42, 0x02, 0x40, 0x42, 0x02], &[]);
+        }),
+        ("gap inside a request", Rule::GapInRequest, |b| {
+            conformant_start(b);
+            b.send_raw(&[0x40, 0x42, 0x02], &[(2, 8 * MS)]);
+        }),
+        ("wrong checksum", Rule::Malformed, |b| {
+            conformant_start(b);
+            b.send_raw(&[0x40, 0x42, 0x03], &[]);
+        }),
+        ("error bit set", Rule::ErrorBit, |b| {
+            conformant_start(b);
+            b.send(&[0x40, 0xC2]);
+        }),
+        ("address byte with a fixed bit wrong", Rule::AddressFormat, |b| {
+            conformant_start(b);
+            b.send(&[0xC0, 0x42]);
+        }),
+        ("talks over the reply", Rule::TalksOverReply, |b| {
+            conformant_start(b);
+            b.send(&[0x40, 0x42]);
+            let start = b.now + TIMEOUT + 300;
+            let rf = ResponseFrame { address: 0x40, warning: false, response: POSITION };
+            b.at(start).observer.encoder_reply(start, start + 7 * CT, &rf);
+            b.now = start + CT;
+            b.send(&[0x40, 0x42]);
+        }),
+        ("does not wait for the reply window", Rule::ReplyWindow, |b| {
+            conformant_start(b);
+            b.send(&[0x40, 0x42]).wait_ms(8).send(&[0x40, 0x42]);
+        }),
+        ("no wait after Encoder Reset", Rule::TooSoonAfterReset, |b| {
+            conformant_start(b);
+            b.send(&[0x40, 0x53]).wait_ms(30).ask(&[0x40, 0x50], Response::EncoderStatus(FaultCode::NoFault));
+        }),
+        ("position before the status", Rule::StatusNotRead, |b| {
+            b.at(120 * MS).ask(&[0x40, 0x42], POSITION);
+        }),
+        ("never reads the warning codes", Rule::WarningIgnored, |b| {
+            conformant_start(b);
+            for _ in 0..6 {
+                b.send(&[0x40, 0x42]).reply(true, POSITION);
+            }
+        }),
+        ("no retry after a protocol error", Rule::NoRetry, |b| {
+            conformant_start(b);
+            b.send(&[0x40, 0x42]).reply(false, Response::Error(FaultCode::WrongLength));
+            b.ask(&[0x40, 0x46], Response::Counter(0));
+        }),
+        ("retries without bound", Rule::UnboundedRetry, |b| {
+            conformant_start(b);
+            for _ in 0..RETRY_BOUND + 4 {
+                b.send(&[0x40, 0x42]).reply(false, Response::Error(FaultCode::Checksum));
+            }
+        }),
+        ("keeps reading position after 22h", Rule::PositionAfterSyncFault, |b| {
+            conformant_start(b);
+            b.send(&[0x40, 0x42]).reply(false, Response::Error(FaultCode::MultiturnSync));
+            b.ask(&[0x40, 0x42], POSITION);
+        }),
+        ("no reset after a critical start-up fault", Rule::NoResetAfterCriticalFault, |b| {
+            b.at(120 * MS).ask(&[0x40, 0x50], Response::EncoderStatus(FaultCode::AnalogLimits));
+            for _ in 0..4 {
+                b.ask(&[0x40, 0x42], POSITION);
+            }
+        }),
+        ("ignores an unknown fault code", Rule::UnknownCodeIgnored, |b| {
+            conformant_start(b);
+            b.send(&[0x40, 0x42]).reply(false, Response::Error(FaultCode::Unknown(0x3A)));
+            b.ask(&[0x40, 0x42], POSITION);
+        }),
+    ];
+    let mut problems = Vec::new();
+    for (name, rule, run) in cases {
+        let mut bus = Bus::new(profiles::srs50());
+        run(&mut bus);
+        let rules = bus.rules();
+        if rules != vec![rule] {
+            problems.push(format!("{name}: expected [{rule:?}], observed {rules:?}"));
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+#[test]
+fn timing_observations_carry_the_measured_figure() {
+    let mut bus = Bus::new(profiles::srs50());
+    conformant_start(&mut bus);
+    bus.send_raw(&[0x40, 0x42, 0x02], &[(2, 8 * MS)]);
+    bus.rules();
+    let gap = bus.seen.iter().find(|o| o.rule == Rule::GapInRequest).and_then(|o| o.measured_us);
+    assert_eq!(gap, Some(8 * MS), "the gap between the second and third character");
+}
+
+#[test]
+fn must_rules_are_normative_and_should_rules_are_not() {
+    use hiperface_model::clause::Force;
+    for (rule, normative) in [
+        (Rule::Malformed, true),
+        (Rule::GapInRequest, true),
+        (Rule::NoPause, true),
+        (Rule::DuringInitialization, true),
+        (Rule::TooSoonAfterReset, true),
+        (Rule::ReplyWindow, false),
+        (Rule::StatusNotRead, false),
+        (Rule::WarningIgnored, false),
+        (Rule::NoRetry, false),
+        (Rule::UnknownCodeIgnored, false),
+    ] {
+        assert_eq!(rule.clause().force() == Force::Normative, normative, "{rule:?}");
+    }
+}
+
+proptest::proptest! {
+    /// Any stream of characters, gaps and replies: no panic, and never more
+    /// observations than events (each frame start or completion reports a bounded few).
+    #[test]
+    fn any_master_and_any_encoder(events in proptest::collection::vec((0u8..4, proptest::num::u8::ANY, 0u64..20_000), 0..300)) {
+        let mut observer = Observer::new(profiles::srs50());
+        let mut seen = 0usize;
+        let mut t = 0u64;
+        for (kind, byte, gap) in &events {
+            t += gap;
+            let mut sink = |_: Observation| seen += 1;
+            match kind {
+                0 => observer.power_on(t),
+                1 => {
+                    let rf = ResponseFrame { address: 0x40, warning: byte & 1 == 1, response: Response::Error(FaultCode::decode(*byte)) };
+                    observer.encoder_reply(t, t + 4 * CT, &rf);
+                }
+                2 => observer.poll(t, &mut sink),
+                _ => observer.master_char(RxChar::ok(*byte, t), &mut sink),
+            }
+        }
+        proptest::prop_assert!(seen <= 4 * events.len() + 4, "{seen} observations for {} events", events.len());
+    }
+}
