@@ -4,6 +4,7 @@
 
 pub mod certify;
 pub mod demo;
+pub mod drive;
 pub mod exchange;
 pub mod line;
 pub mod port;

@@ -8,7 +8,7 @@ use hiperface_conformance::certify::{self, CaseVerdict, Options, TimingMode};
 use hiperface_conformance::line::LineKind;
 use hiperface_conformance::port::{self, PortSpec};
 use hiperface_conformance::simulate;
-use hiperface_conformance::{demo, profile_file, report};
+use hiperface_conformance::{demo, drive, profile_file, report};
 use hiperface_model::command::COMMAND_TABLE;
 use hiperface_model::slave::inputs::{InitFault, PhysicalInputs};
 use hiperface_model::{Grading, Profile};
@@ -64,6 +64,8 @@ enum Command {
     },
     /// Print a profile as TOML, to start a data sheet of your own.
     ExportProfile { profile: String },
+    /// The reference master: start-up, cyclic Read Position, fault reaction (000:3.3).
+    Master(drive::cli::MasterArgs),
 }
 
 #[derive(Subcommand)]
@@ -110,6 +112,8 @@ enum CertifyWhat {
         #[command(flatten)]
         world: WorldArgs,
     },
+    /// Act as encoder against a master (a drive): scenarios with injected faults.
+    Master(drive::cli::CertifyMasterArgs),
 }
 
 /// The simulated encoder's physical inputs and start-up faults.
@@ -192,7 +196,9 @@ impl CliError {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
+        Command::Certify { what: CertifyWhat::Master(args) } => drive::cli::certify_master(&args).map_err(CliError),
         Command::Certify { what } => certify_slave(what),
+        Command::Master(args) => drive::cli::reference_master(&args).map_err(CliError),
         Command::Simulate { port, profile, log, world } => run_simulator(&port, &profile, log, &world.world()),
         Command::Demo { profile } => profile_file::resolve(&profile)
             .map_err(CliError::from)
@@ -247,7 +253,10 @@ fn certify_slave(what: CertifyWhat) -> Result<ExitCode, CliError> {
         tolerance_ms,
         timing,
         world,
-    } = what;
+    } = what
+    else {
+        return Err(CliError("not a slave certification".into()));
+    };
     let profile = profile_file::resolve(&profile).map_err(CliError::from)?;
     let sim = port.is_model();
     let grading = grading.unwrap_or(if sim { Grading::Exact } else { Grading::Range });

@@ -18,9 +18,14 @@ pub fn write_all(report: &Report, dir: &Path) -> std::io::Result<()> {
 }
 
 pub fn junit(report: &Report) -> String {
+    junit_suite(format!("hiperface certify slave ({})", report.profile), &report.cases)
+}
+
+/// One JUnit suite of cases (slave cases or master scenarios).
+pub fn junit_suite(name: String, cases: &[crate::certify::CaseResult]) -> String {
     use quick_junit::{NonSuccessKind, Report as JReport, TestCase, TestCaseStatus, TestSuite};
-    let mut suite = TestSuite::new(format!("hiperface certify slave ({})", report.profile));
-    for c in &report.cases {
+    let mut suite = TestSuite::new(name);
+    for c in cases {
         let detail: String = c.findings.iter().map(|f| format!("[{}] {f}\n", f.verdict().label())).collect();
         let status = match c.verdict {
             CaseVerdict::Pass | CaseVerdict::NonStrict => TestCaseStatus::success(),
@@ -54,7 +59,7 @@ pub fn junit(report: &Report) -> String {
     r.to_string().unwrap_or_else(|e| format!("<!-- cannot serialise: {e} -->"))
 }
 
-fn wire_text(c: &crate::certify::CaseResult) -> String {
+pub(crate) fn wire_text(c: &crate::certify::CaseResult) -> String {
     c.wire.iter().map(|w| format!("{:>12.3} ms  {}  {}\n", w.t_us as f64 / 1000.0, w.direction, w.bytes)).collect()
 }
 

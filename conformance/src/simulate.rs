@@ -5,7 +5,8 @@
 //! character would be complete.
 
 use crate::certify::World;
-use hiperface_model::{Hex, Profile, Slave};
+use hiperface_model::datalink::RxChar;
+use hiperface_model::{Hex, Profile, Slave, Step};
 use serialport::SerialPort;
 use std::io::{ErrorKind, Read, Write};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -15,19 +16,83 @@ use std::time::{Duration, Instant};
 /// How long after the earliest allowed start the simulator begins a reply.
 pub const REPLY_DELAY_US: u64 = 300;
 
+/// What an encoder served on a line does besides the model: see each character the
+/// master sends, change or withhold a reply (fault injection), learn what was sent.
+/// The default hooks serve the model as it is.
+pub trait Hooks {
+    /// A character from the master, stamped at the end of its stop bit.
+    fn received(&mut self, _ch: RxChar) {}
+    /// Time passes with nothing received.
+    fn idle(&mut self, _now_us: u64) {}
+    /// The model processed a frame (whether it replies or not).
+    fn frame(&mut self, _slave: &mut Slave, _step: &Step) {}
+    /// The model's reply to a frame: what to send instead, if anything.
+    fn reply(&mut self, _slave: &mut Slave, _step: &Step, planned: Planned) -> Option<Planned> {
+        Some(planned)
+    }
+    /// A reply went out as planned, its last character ending at `end_us`.
+    fn sent(&mut self, _planned: &Planned, _end_us: u64) {}
+}
+
+/// A reply as it will go on the wire.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Planned {
+    pub frame: Vec<u8>,
+    /// When its first start bit begins, µs since power-on.
+    pub start_us: u64,
+    pub settings: hiperface_model::UartSettings,
+    /// A pause inserted before the character of this index, µs.
+    pub gap: Option<(usize, u64)>,
+}
+
+/// The model as it is.
+pub struct Plain;
+impl Hooks for Plain {}
+
 /// Serve `profile` on `port` until `stop` is set or the port goes away. Frames are
 /// logged to `log` when given.
 pub fn serve(
-    mut port: Box<dyn SerialPort>,
+    port: Box<dyn SerialPort>,
     profile: Profile,
     world: &World,
     stop: Arc<AtomicBool>,
-    mut log: Option<&mut dyn Write>,
+    log: Option<&mut dyn Write>,
 ) -> std::io::Result<()> {
-    let epoch = Instant::now();
-    let now = |e: Instant| e.elapsed().as_micros() as u64;
     let mut slave = Slave::operational(profile);
     world.apply(&mut slave);
+    let mut logger = Logger { log };
+    serve_with(port, &mut slave, Instant::now(), &stop, &mut logger)
+}
+
+/// Logs frames for `hiperface simulate --log`.
+struct Logger<'a> {
+    log: Option<&'a mut (dyn Write + 'a)>,
+}
+
+impl Hooks for Logger<'_> {
+    fn frame(&mut self, _slave: &mut Slave, step: &Step) {
+        if let Some(l) = self.log.as_deref_mut() {
+            let t = step.received.last_us as f64 / 1000.0;
+            let _ = writeln!(l, "{t:>12.3} ms  M> {}", Hex(step.received.bytes.as_bytes()));
+        }
+    }
+    fn sent(&mut self, planned: &Planned, _end_us: u64) {
+        if let Some(l) = self.log.as_deref_mut() {
+            let _ = writeln!(l, "{:>12.3} ms  S< {}", planned.start_us as f64 / 1000.0, Hex(&planned.frame));
+        }
+    }
+}
+
+/// Serve `slave` on `port` in real time from `epoch` (its power-on) until `stop` is
+/// set or the port goes away, with `hooks` watching and injecting.
+pub fn serve_with(
+    mut port: Box<dyn SerialPort>,
+    slave: &mut Slave,
+    epoch: Instant,
+    stop: &AtomicBool,
+    hooks: &mut dyn Hooks,
+) -> std::io::Result<()> {
+    let now = |e: Instant| e.elapsed().as_micros() as u64;
     let mut buf = [0u8; 64];
     let mut rx_clock = crate::line::RxClock::default();
     port.set_timeout(Duration::from_micros(500)).map_err(std::io::Error::from)?;
@@ -49,7 +114,9 @@ pub fn serve(
                 let t = now(epoch);
                 for b in &buf[..n] {
                     let ct = slave.listening_settings(t).unwrap_or_default().char_time_us();
-                    steps.extend(slave.receive(rx_clock.stamp(*b, t, Some(ct))));
+                    let ch = rx_clock.stamp(*b, t, Some(ct));
+                    hooks.received(ch);
+                    steps.extend(slave.receive(ch));
                 }
             }
             Err(e) if matches!(e.kind(), ErrorKind::TimedOut | ErrorKind::WouldBlock | ErrorKind::Interrupted) => {}
@@ -57,32 +124,41 @@ pub fn serve(
             Err(e) => return Err(e),
         }
         steps.extend(slave.poll(now(epoch)));
+        hooks.idle(now(epoch));
         for step in steps {
-            if let Some(l) = log.as_deref_mut() {
-                let _ = writeln!(
-                    l,
-                    "{:>12.3} ms  M> {}",
-                    step.received.last_us as f64 / 1000.0,
-                    Hex(step.received.bytes.as_bytes())
-                );
-            }
+            hooks.frame(slave, &step);
             let Some(tx) = step.transmission else { continue };
-            let start = tx.earliest_start_us + REPLY_DELAY_US;
-            let ct = tx.settings.char_time_us();
-            let due = epoch + Duration::from_micros(start + ct);
-            if let Some(d) = due.checked_duration_since(Instant::now()) {
-                std::thread::sleep(d);
+            let planned = Planned {
+                frame: tx.frame.as_bytes().to_vec(),
+                start_us: tx.earliest_start_us + REPLY_DELAY_US,
+                settings: tx.settings,
+                gap: None,
+            };
+            let Some(p) = hooks.reply(slave, &step, planned) else { continue };
+            let ct = p.settings.char_time_us();
+            // Write each run of characters whole when its first character would be
+            // complete; the line is busy until the last is out.
+            let split = p.gap.map_or(p.frame.len(), |(i, _)| i.min(p.frame.len()));
+            let mut start = p.start_us;
+            for (part, pause) in [(&p.frame[..split], p.gap.map_or(0, |(_, g)| g)), (&p.frame[split..], 0)] {
+                if part.is_empty() {
+                    start += pause;
+                    continue;
+                }
+                let due = epoch + Duration::from_micros(start + ct);
+                if let Some(d) = due.checked_duration_since(Instant::now()) {
+                    std::thread::sleep(d);
+                }
+                port.write_all(part)?;
+                port.flush()?;
+                start += part.len() as u64 * ct;
+                let done = epoch + Duration::from_micros(start);
+                if let Some(d) = done.checked_duration_since(Instant::now()) {
+                    std::thread::sleep(d);
+                }
+                start += pause;
             }
-            port.write_all(tx.frame.as_bytes())?;
-            port.flush()?;
-            // The line is busy until the reply's last character is out.
-            let done = epoch + Duration::from_micros(start + tx.frame.len() as u64 * ct);
-            if let Some(d) = done.checked_duration_since(Instant::now()) {
-                std::thread::sleep(d);
-            }
-            if let Some(l) = log.as_deref_mut() {
-                let _ = writeln!(l, "{:>12.3} ms  S< {}", start as f64 / 1000.0, Hex(tx.frame.as_bytes()));
-            }
+            hooks.sent(&p, start);
         }
     }
     Ok(())

@@ -56,7 +56,7 @@ impl Bus {
         self.at(start);
         let rf = ResponseFrame { address: 0x40, warning, response };
         let end = start + rf.encode().len() as u64 * CT;
-        self.observer.encoder_reply(start, end, &rf);
+        self.observer.encoder_reply(start, end, Some(&rf));
         self.at(end + TIMEOUT)
     }
 
@@ -142,7 +142,7 @@ fn each_broken_rule_is_observed() {
             b.send(&[0x40, 0x42]);
             let start = b.now + TIMEOUT + 300;
             let rf = ResponseFrame { address: 0x40, warning: false, response: POSITION };
-            b.at(start).observer.encoder_reply(start, start + 7 * CT, &rf);
+            b.at(start).observer.encoder_reply(start, start + 7 * CT, Some(&rf));
             b.now = start + CT;
             b.send(&[0x40, 0x42]);
         }),
@@ -247,7 +247,7 @@ proptest::proptest! {
                 0 => observer.power_on(t),
                 1 => {
                     let rf = ResponseFrame { address: 0x40, warning: byte & 1 == 1, response: Response::Error(FaultCode::decode(*byte)) };
-                    observer.encoder_reply(t, t + 4 * CT, &rf);
+                    observer.encoder_reply(t, t + 4 * CT, (byte & 2 == 0).then_some(&rf));
                 }
                 2 => observer.poll(t, &mut sink),
                 _ => observer.master_char(RxChar::ok(*byte, t), &mut sink),

@@ -135,6 +135,16 @@ pub struct World {
 }
 
 impl World {
+    /// As [`World::apply`] for a model just powered on at t = 0 whose power-up is
+    /// timed (a master is certified from power-on): the start-up faults are found, the
+    /// windows still to come.
+    pub fn apply_at_power_on(&self, model: &mut Slave) {
+        if let Some(inputs) = self.inputs {
+            model.set_inputs(inputs);
+        }
+        model.power_up_with(self.init_faults.iter().copied(), false);
+    }
+
     /// Bring a model into this world: inputs set, start-up faults found.
     pub fn apply(&self, model: &mut Slave) {
         if let Some(inputs) = self.inputs {

@@ -267,11 +267,14 @@ impl Observer {
         self.window_until_us = None;
     }
 
-    /// The encoder sent `reply` from `start_us` to `end_us` (end of the last stop bit).
-    pub fn encoder_reply(&mut self, start_us: u64, end_us: u64, reply: &ResponseFrame) {
+    /// The encoder sent a reply from `start_us` to `end_us` (end of the last stop bit):
+    /// `reply` as it decodes, `None` for a reply the master cannot read (a corrupted
+    /// one injected on purpose).
+    pub fn encoder_reply(&mut self, start_us: u64, end_us: u64, reply: Option<&ResponseFrame>) {
         self.reply_start_us = Some(start_us);
         self.reply_end_us = Some(end_us);
         self.window_until_us = None;
+        let Some(reply) = reply else { return };
         let asked = self.answered;
         if reply.warning && self.warning_left.is_none() && !self.warning_reported {
             self.warning_left = Some(REACTION_REQUESTS);
@@ -296,7 +299,10 @@ impl Observer {
             _ => crate::fault::runtime_group(code),
         };
         let reaction = fault_reaction::reaction(code, group);
+        let retry = reaction.response.is_some_and(|r| r.starts_with("Retry command."));
         self.pending = match (code.byte(), group) {
+            // "Retry command." (protocol errors), "Retry command. If error persists, SW
+            // reset of Slave." (many position and other faults). // 000:T74
             (0x09..=0x0D, _) => asked.map_or(Pending::Nothing, Pending::Retry),
             (0x22, _) => {
                 self.sync_fault = true;
@@ -309,6 +315,7 @@ impl Observer {
             (_, Some(FaultGroup::Initialization)) if reaction.severity == Severity::Critical => {
                 Pending::Reset { left: REACTION_REQUESTS }
             }
+            _ if retry => asked.map_or(Pending::Nothing, Pending::Retry),
             _ => Pending::Nothing,
         };
     }

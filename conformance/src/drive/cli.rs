@@ -1,0 +1,118 @@
+//! The command line of master certification and of the reference master:
+//! `hiperface certify master` and `hiperface master`.
+
+use super::{reference, DriveReport, Options};
+use crate::certify::{CaseVerdict, World};
+use crate::exchange::Master;
+use crate::port::{self, PortSpec};
+use crate::profile_file;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// `hiperface certify master`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct CertifyMasterArgs {
+    /// The master under test as a command line; `{port}` is replaced by the path of the
+    /// encoder's pseudo-terminal. Its start is the encoder's power-on.
+    #[arg(long)]
+    pub exec: String,
+    /// The encoder's profile: a built-in name or a TOML file.
+    #[arg(long, default_value = "SRS50")]
+    pub profile: String,
+    /// Run only scenarios whose id matches (glob with `*` and `?`, comma-separated).
+    #[arg(long)]
+    pub scenarios: Option<String>,
+    /// Write report.json, junit.xml and certificate.md here.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
+}
+
+/// `hiperface master`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct MasterArgs {
+    /// A serial port path (a pseudo-terminal path works), `tcp://host:port`, or `sim`.
+    #[arg(long)]
+    pub port: PortSpec,
+    /// The encoder's profile: a built-in name or a TOML file.
+    #[arg(long, default_value = "SRS50")]
+    pub profile: String,
+    /// Period of Read Position, ms.
+    #[arg(long, default_value_t = 20)]
+    pub poll_ms: u64,
+    /// Stop after this many ms (default: run until the port fails or Ctrl-C).
+    #[arg(long)]
+    pub duration_ms: Option<u64>,
+}
+
+/// Certify the master; exit code 0 when it passed, 1 when not.
+pub fn certify_master(args: &CertifyMasterArgs) -> Result<ExitCode, String> {
+    let profile = profile_file::resolve(&args.profile).map_err(|e| e.to_string())?;
+    let options = Options { exec: args.exec.clone(), scenarios: args.scenarios.clone() };
+    eprintln!("certifying the master `{}` against an encoder of profile {}", args.exec, profile.name);
+    let report = super::run(profile, &options, |i, n, r| {
+        eprintln!("[{i:>2}/{n}] {:<16} {}", r.verdict.label(), r.id);
+        for f in r.findings.iter().filter(|f| f.verdict() != CaseVerdict::Pass) {
+            eprintln!("          {} {f}", f.verdict().label());
+        }
+    });
+    let summary: Vec<String> = report.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
+    println!("{}: {}", report.master, summary.join(", "));
+    println!(
+        "wall time {:.0} ms; the scenarios need {:.0} ms (ratio {:.2})",
+        report.wall_time_ms,
+        report.needed_ms,
+        report.wall_time_ms / report.needed_ms.max(1.0)
+    );
+    if let Some(dir) = &args.report {
+        write_all(&report, dir).map_err(|e| format!("cannot write the report to {}: {e}", dir.display()))?;
+        eprintln!("reports written to {}", dir.display());
+    }
+    println!("{}", if report.passed() { "PASSED" } else { "NOT PASSED" });
+    Ok(if report.passed() { ExitCode::SUCCESS } else { ExitCode::from(1) })
+}
+
+/// Run the reference master on a port, printing what it reads.
+pub fn reference_master(args: &MasterArgs) -> Result<ExitCode, String> {
+    let profile = profile_file::resolve(&args.profile).map_err(|e| e.to_string())?;
+    let opened = port::open_for_slave(&args.port, profile, &World::default(), None).map_err(|e| e.to_string())?;
+    let _simulator = opened.simulator;
+    let mut master = Master::new(opened.line, profile.edition);
+    let options = reference::Options { poll_ms: args.poll_ms, duration_ms: args.duration_ms };
+    let mut console = |line: &str| println!("{line}");
+    match reference::run(&mut master, profile, options, &mut console) {
+        Ok(()) => Ok(ExitCode::SUCCESS),
+        Err(e) => Err(format!("the line failed: {e}")),
+    }
+}
+
+/// report.json, junit.xml and certificate.md of a master certification.
+pub fn write_all(report: &DriveReport, dir: &Path) -> std::io::Result<()> {
+    std::fs::create_dir_all(dir)?;
+    let json = serde_json::to_string_pretty(report).map_err(std::io::Error::other)?;
+    std::fs::write(dir.join("report.json"), json + "\n")?;
+    let suite = format!("hiperface certify master ({})", report.master);
+    std::fs::write(dir.join("junit.xml"), crate::report::junit_suite(suite, &report.scenarios))?;
+    std::fs::write(dir.join("certificate.md"), markdown(report))
+}
+
+/// The certificate: verdicts, findings with their clauses, and each scenario's timeline
+/// (the master's requests `M>`, the encoder's replies `S<`, the injected faults `!`,
+/// and the broken rules `×` on one time axis).
+pub fn markdown(r: &DriveReport) -> String {
+    let mut s = format!("# HIPERFACE master certificate\n\n| | |\n|---|---|\n| master | `{}` |\n", r.master);
+    s += &format!("| encoder profile | {} ({} edition) |\n| tool | {} |\n", r.profile, r.edition, r.tool);
+    let summary: Vec<String> = r.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
+    s += &format!("| result | {} — {} |\n\n", if r.passed() { "PASSED" } else { "NOT PASSED" }, summary.join(", "));
+    s += "| scenario | verdict | clauses |\n|---|---|---|\n";
+    for c in &r.scenarios {
+        s += &format!("| `{}` {} | {} | {} |\n", c.id, c.title, c.verdict.label(), c.clause_list());
+    }
+    for c in &r.scenarios {
+        s += &format!("\n## {} — {}\n\n{}\n\n", c.id, c.title, c.verdict.label());
+        for f in &c.findings {
+            s += &format!("- {} {f}\n", f.verdict().label());
+        }
+        s += &format!("\n```\n{}```\n", crate::report::wire_text(c));
+    }
+    s
+}

@@ -1,0 +1,151 @@
+//! The encoder a master is certified against: the model served in real time
+//! (`simulate::serve_with`), with a scenario's fault injections, and the observer of
+//! the master's obligations watching every character the master sends.
+
+use super::scenarios::{Act, Injection};
+use crate::certify::WireEntry;
+use crate::simulate::{Hooks, Planned};
+use hiperface_model::datalink::RxChar;
+use hiperface_model::master::obligations::{Observation, Observer};
+use hiperface_model::response::ResponseFrame;
+use hiperface_model::{checksum, CommandId, Hex, Profile, RequestFrame, Slave, Step};
+use std::collections::BTreeMap;
+
+/// What happened on the line in one scenario, on one time axis (µs since power-on).
+#[derive(Debug, Default)]
+pub struct Timeline {
+    pub entries: Vec<WireEntry>,
+    pub observations: Vec<Observation>,
+    /// Requests seen per command.
+    pub requests: BTreeMap<u8, u32>,
+    /// Injections that took place (index into the plan).
+    pub injected: Vec<usize>,
+    pub characters: usize,
+}
+
+/// The hooks: observe, inject, record.
+pub struct DriveEncoder {
+    observer: Observer,
+    plan: &'static [Injection],
+    pub timeline: Timeline,
+    profile: Profile,
+    /// The command of the last frame, if it was a request: what a reply answers.
+    answered: Option<CommandId>,
+}
+
+/// More characters than any master needs in a scenario: a flood is cut here.
+pub const MAX_CHARACTERS: usize = 20_000;
+
+impl DriveEncoder {
+    pub fn new(profile: Profile, plan: &'static [Injection]) -> DriveEncoder {
+        let mut observer = Observer::new(profile);
+        observer.power_on(0);
+        DriveEncoder { observer, plan, timeline: Timeline::default(), profile, answered: None }
+    }
+
+    fn note(&mut self, t_us: u64, direction: &'static str, text: String) {
+        self.timeline.entries.push(WireEntry { t_us, direction, bytes: text });
+    }
+
+    /// Flush the observer at the end of the scenario.
+    pub fn finish(&mut self, now_us: u64) {
+        let seen = &mut self.timeline.observations;
+        self.observer.poll(now_us, &mut |o| seen.push(o));
+    }
+
+    pub fn profile(&self) -> &Profile {
+        &self.profile
+    }
+}
+
+impl Hooks for DriveEncoder {
+    fn received(&mut self, ch: RxChar) {
+        self.timeline.characters += 1;
+        let seen = &mut self.timeline.observations;
+        self.observer.master_char(ch, &mut |o| seen.push(o));
+    }
+
+    fn idle(&mut self, now_us: u64) {
+        let seen = &mut self.timeline.observations;
+        self.observer.poll(now_us, &mut |o| seen.push(o));
+    }
+
+    fn frame(&mut self, slave: &mut Slave, step: &Step) {
+        let bytes = step.received.bytes.as_bytes();
+        self.note(step.received.last_us, "M>", Hex(bytes).to_string());
+        self.answered = RequestFrame::decode(bytes).ok().map(|r| r.request.command());
+        let Some(command) = self.answered else { return };
+        let n = {
+            let count = self.timeline.requests.entry(command.byte()).or_default();
+            *count += 1;
+            *count
+        };
+        // Position faults of the plan switch on at their request, before the reply.
+        for (i, inj) in self.plan.iter().enumerate() {
+            if let (Act::PositionFault(f), true) = (inj.act, inj.on == command && inj.nth == n) {
+                slave.inject_position_fault(f, true);
+                self.timeline.injected.push(i);
+                self.note(step.received.last_us, "!", format!("injected: {f:?} from now on"));
+            }
+        }
+    }
+
+    fn reply(&mut self, _slave: &mut Slave, step: &Step, mut planned: Planned) -> Option<Planned> {
+        let bytes = step.received.bytes.as_bytes();
+        let command = RequestFrame::decode(bytes).ok().map(|r| r.request.command());
+        let n = command.and_then(|c| self.timeline.requests.get(&c.byte()).copied()).unwrap_or(0);
+        for (i, inj) in self.plan.iter().enumerate() {
+            if Some(inj.on) != command || inj.nth != n {
+                continue;
+            }
+            let what = match inj.act {
+                Act::PositionFault(_) => continue,
+                Act::Error(code) => {
+                    let address = bytes.first().copied().unwrap_or(0x40);
+                    let mut f = vec![address, 0x50, code.byte()];
+                    f.push(checksum::xor(&f));
+                    planned.frame = f;
+                    format!("injected: error reply {code}")
+                }
+                Act::Silence => {
+                    self.timeline.injected.push(i);
+                    self.note(planned.start_us, "!", "injected: no reply".into());
+                    return None;
+                }
+                Act::LateMs(ms) => {
+                    planned.start_us += ms as u64 * 1000;
+                    format!("injected: reply {ms} ms late")
+                }
+                Act::CorruptChecksum => {
+                    if let Some(last) = planned.frame.last_mut() {
+                        *last ^= 0x5A;
+                    }
+                    "injected: reply with a wrong checksum".into()
+                }
+                Act::Gap { before, us } => {
+                    planned.gap = Some((before, us));
+                    format!("injected: a gap of {us} µs inside the reply")
+                }
+            };
+            self.timeline.injected.push(i);
+            self.note(planned.start_us, "!", what);
+        }
+        Some(planned)
+    }
+
+    fn sent(&mut self, planned: &Planned, end_us: u64) {
+        let start_us = planned.start_us;
+        self.note(start_us, "S<", Hex(&planned.frame).to_string());
+        // A reply with a pause of the timeout inside is two transmissions to the master
+        // (000:2.2.2): the first ends at the pause, and what follows is unsolicited; a
+        // master that talks after the pause is not at fault.
+        if let Some((before, _)) = planned.gap {
+            let first_end = start_us + before as u64 * planned.settings.char_time_us();
+            self.observer.encoder_reply(start_us, first_end, None);
+            return;
+        }
+        // The observer grades the master against the reply it got.
+        let reply = ResponseFrame::decode(&planned.frame, self.answered.unwrap_or(CommandId::Unknown(0))).ok();
+        self.observer.encoder_reply(start_us, end_us, reply.as_ref());
+    }
+}

@@ -1,0 +1,198 @@
+//! Certifying a master (a drive): the harness plays the encoder, one scenario at a
+//! time, and grades what the master sends against its obligations
+//! (`hiperface_model::master::obligations`). A FAIL needs a normative "must" of 000 that
+//! binds the profile's edition; the recommendations of 000 (read the status after
+//! power-on, read out the warning's codes, react to faults as Table 74 says) are
+//! NON-STRICT at most.
+
+pub mod cli;
+pub mod encoder;
+pub mod process;
+pub mod reference;
+pub mod scenarios;
+
+use crate::certify::{glob_match, CaseResult, CaseVerdict, Finding};
+use crate::simulate::serve_with;
+use encoder::DriveEncoder;
+use hiperface_model::{Profile, Slave};
+use process::MasterProcess;
+use scenarios::Scenario;
+use serde::Serialize;
+use serialport::SerialPort as _;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// How a master is run.
+#[derive(Debug, Clone)]
+pub struct Options {
+    /// The master's command line, `{port}` standing for the encoder's port.
+    pub exec: String,
+    /// Only scenarios whose id matches (globs, comma-separated).
+    pub scenarios: Option<String>,
+}
+
+/// The result of certifying a master.
+#[derive(Debug, Clone, Serialize)]
+pub struct DriveReport {
+    pub tool: String,
+    pub profile: String,
+    pub edition: String,
+    pub master: String,
+    pub scenarios: Vec<CaseResult>,
+    pub summary: std::collections::BTreeMap<String, usize>,
+    /// What the master printed, per scenario id (capped).
+    pub output: std::collections::BTreeMap<String, String>,
+    pub wall_time_ms: f64,
+    /// The sum of the scenarios' durations: the time the catalogue needs at least.
+    pub needed_ms: f64,
+}
+
+impl DriveReport {
+    pub fn passed(&self) -> bool {
+        self.scenarios.iter().all(|s| !matches!(s.verdict, CaseVerdict::Fail | CaseVerdict::Error))
+    }
+}
+
+/// Run the catalogue against the master `options.exec`, for an encoder of `profile`.
+pub fn run(profile: Profile, options: &Options, mut progress: impl FnMut(usize, usize, &CaseResult)) -> DriveReport {
+    let started = Instant::now();
+    let chosen: Vec<Scenario> = scenarios::catalogue()
+        .into_iter()
+        .filter(|s| options.scenarios.as_deref().is_none_or(|p| p.split(',').any(|g| glob_match(g.trim(), s.id))))
+        .collect();
+    let mut report = DriveReport {
+        tool: format!("hiperface {}", env!("CARGO_PKG_VERSION")),
+        profile: profile.name.as_str().to_string(),
+        edition: format!("{:?}", profile.edition),
+        master: options.exec.clone(),
+        scenarios: Vec::new(),
+        summary: Default::default(),
+        output: Default::default(),
+        wall_time_ms: 0.0,
+        needed_ms: chosen.iter().map(|s| s.duration_ms as f64).sum(),
+    };
+    let n = chosen.len();
+    for (i, scenario) in chosen.iter().enumerate() {
+        let (result, output) = run_scenario(profile, scenario, &options.exec);
+        progress(i + 1, n, &result);
+        *report.summary.entry(result.verdict.label().to_string()).or_default() += 1;
+        report.output.insert(scenario.id.to_string(), output);
+        report.scenarios.push(result);
+    }
+    report.wall_time_ms = started.elapsed().as_secs_f64() * 1000.0;
+    report
+}
+
+/// One scenario: a fresh encoder on a fresh pseudo-terminal, the master started on it.
+fn run_scenario(profile: Profile, scenario: &Scenario, exec: &str) -> (CaseResult, String) {
+    let started = Instant::now();
+    let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
+    let (encoder_end, master_end) = match serialport::TTYPort::pair() {
+        Ok(pair) => pair,
+        Err(e) => {
+            result.push(Finding::error(format!("cannot create a pseudo-terminal pair: {e}")));
+            return (result, String::new());
+        }
+    };
+    let path = master_end.name().unwrap_or_default();
+    let mut slave = Slave::new(profile);
+    (scenario.world)(&profile).apply_at_power_on(&mut slave);
+    let hooks = DriveEncoder::new(profile, scenario.plan);
+    let stop = Arc::new(AtomicBool::new(false));
+    // Power-on is the master's start.
+    let epoch = Instant::now();
+    let mut master = match MasterProcess::start(exec, &path) {
+        Ok(m) => m,
+        Err(e) => {
+            result.push(Finding::error(format!("cannot start the master `{exec}`: {e}")));
+            return (result, String::new());
+        }
+    };
+    let flag = stop.clone();
+    let server = std::thread::spawn(move || {
+        let mut hooks = hooks;
+        let served = serve_with(Box::new(encoder_end), &mut slave, epoch, &flag, &mut hooks);
+        (hooks, served)
+    });
+    let deadline = epoch + Duration::from_millis(scenario.duration_ms);
+    let mut exited = None;
+    while Instant::now() < deadline {
+        if let Some(status) = master.exited() {
+            exited = Some(status);
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    stop.store(true, Ordering::Relaxed);
+    let (status, output) = master.stop();
+    // The encoder stops before its line closes: nothing it writes is lost in a pipe.
+    let joined = server.join();
+    drop(master_end);
+    let (mut hooks, served) = match joined {
+        Ok(r) => r,
+        Err(_) => {
+            result.push(Finding::error("the encoder thread panicked"));
+            return (result, output);
+        }
+    };
+    let end_us = epoch.elapsed().as_micros() as u64;
+    hooks.finish(end_us);
+    if let Err(e) = served {
+        result.push(Finding::error(format!("the encoder's port failed: {e}")));
+    }
+    if let Some(s) = exited.or(status) {
+        let at = end_us as f64 / 1000.0;
+        result.push(Finding::error(format!("the master exited after {at:.0} ms ({s}) before the scenario ended")));
+    }
+    grade(&mut result, &hooks, scenario);
+    result.wire = std::mem::take(&mut hooks.timeline.entries);
+    for o in &hooks.timeline.observations {
+        result.wire.push(crate::certify::WireEntry {
+            t_us: o.at_us,
+            direction: "×",
+            bytes: format!("{} ({})", o.rule.text(), o.rule.clause()),
+        });
+    }
+    result.wire.sort_by_key(|w| w.t_us);
+    result.duration_ms = started.elapsed().as_secs_f64() * 1000.0;
+    (result, output)
+}
+
+/// The scenario's verdict from what the observer saw.
+fn grade(result: &mut CaseResult, hooks: &DriveEncoder, scenario: &Scenario) {
+    let timeline = &hooks.timeline;
+    let edition = hooks.profile().edition;
+    if timeline.characters == 0 {
+        result.push(Finding::error("the master sent nothing: there is nothing to grade"));
+        return;
+    }
+    if timeline.characters >= encoder::MAX_CHARACTERS {
+        result.push(Finding::error(format!("the master flooded the line ({} characters)", timeline.characters)));
+    }
+    if scenario.needs.is_some() && timeline.injected.is_empty() && !scenario.plan.is_empty() {
+        let what = scenario.needs.map(|c| c.to_string()).unwrap_or_default();
+        result.push(Finding::not_applicable(format!(
+            "the master never sent the request the scenario answers with its fault ({what}, {}. time)",
+            scenario.plan.first().map_or(0, |p| p.nth)
+        )));
+    }
+    // One finding per rule, with the count and the first time.
+    let mut seen: Vec<(hiperface_model::master::obligations::Rule, u64, usize, Option<u64>)> = Vec::new();
+    for o in &timeline.observations {
+        match seen.iter_mut().find(|(r, ..)| *r == o.rule) {
+            Some(entry) => entry.2 += 1,
+            None => seen.push((o.rule, o.at_us, 1, o.measured_us)),
+        }
+    }
+    for (rule, at_us, count, measured) in seen {
+        let figure = measured.map_or(String::new(), |m| format!(", {:.3} ms", m as f64 / 1000.0));
+        let times = if count > 1 { format!(" ({count} times)") } else { String::new() };
+        let message = format!("{} at {:.3} ms{figure}{times}", rule.text(), at_us as f64 / 1000.0);
+        let clause = rule.clause();
+        result.push(match clause.normative() {
+            Some(n) => Finding::fail(message, n, edition),
+            None => Finding::non_strict(message, clause),
+        });
+    }
+}

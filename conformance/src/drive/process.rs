@@ -1,0 +1,86 @@
+//! The master under test as a process: `--exec 'CMD {port}'` with the encoder's
+//! pseudo-terminal in place of `{port}`. Its start is power-on for the encoder. It is
+//! always reaped, whatever it does; what it prints is kept (capped) for the report.
+
+use std::io::Read;
+use std::process::{Child, Command, Stdio};
+use std::sync::{Arc, Mutex};
+
+/// Output kept per stream.
+const OUTPUT_CAP: usize = 16 * 1024;
+
+/// A running master.
+pub struct MasterProcess {
+    child: Child,
+    output: Arc<Mutex<Vec<u8>>>,
+    readers: Vec<std::thread::JoinHandle<()>>,
+}
+
+impl MasterProcess {
+    /// Start `command` (a shell command line) with `{port}` replaced by `port`.
+    pub fn start(command: &str, port: &str) -> std::io::Result<MasterProcess> {
+        let line = command.replace("{port}", port);
+        // `exec`: the master replaces the shell, so that killing it kills the master.
+        let mut child = Command::new("sh")
+            .arg("-c")
+            .arg(format!("exec {line}"))
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()?;
+        let output = Arc::new(Mutex::new(Vec::new()));
+        let mut readers = Vec::new();
+        let streams: [Option<Box<dyn Read + Send>>; 2] = [
+            child.stdout.take().map(|s| Box::new(s) as Box<dyn Read + Send>),
+            child.stderr.take().map(|s| Box::new(s) as Box<dyn Read + Send>),
+        ];
+        for mut stream in streams.into_iter().flatten() {
+            let out = output.clone();
+            readers.push(std::thread::spawn(move || {
+                let mut buf = [0u8; 1024];
+                while let Ok(n) = stream.read(&mut buf) {
+                    if n == 0 {
+                        break;
+                    }
+                    if let Ok(mut o) = out.lock() {
+                        let room = OUTPUT_CAP.saturating_sub(o.len());
+                        o.extend_from_slice(&buf[..n.min(room)]);
+                    }
+                }
+            }));
+        }
+        Ok(MasterProcess { child, output, readers })
+    }
+
+    /// The exit status if the master has ended.
+    pub fn exited(&mut self) -> Option<std::process::ExitStatus> {
+        self.child.try_wait().ok().flatten()
+    }
+
+    /// Stop the master (if it still runs), reap it, and return what it printed.
+    pub fn stop(mut self) -> (Option<std::process::ExitStatus>, String) {
+        let status = match self.exited() {
+            Some(s) => Some(s),
+            None => {
+                // Still running at the end of the scenario: stopped by the harness.
+                let _ = self.child.kill();
+                let _ = self.child.wait();
+                None
+            }
+        };
+        for r in self.readers.drain(..) {
+            let _ = r.join();
+        }
+        let text = self.output.lock().map(|o| String::from_utf8_lossy(&o).into_owned()).unwrap_or_default();
+        (status, text)
+    }
+}
+
+impl Drop for MasterProcess {
+    fn drop(&mut self) {
+        if self.child.try_wait().ok().flatten().is_none() {
+            let _ = self.child.kill();
+            let _ = self.child.wait();
+        }
+    }
+}

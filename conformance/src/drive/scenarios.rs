@@ -1,0 +1,185 @@
+//! The scenario catalogue for certifying a master: what the encoder does and when.
+//! Every scenario is graded by the master's obligations (`model::master::obligations`);
+//! its plan makes one situation happen so that the master's reaction can be seen.
+
+use crate::certify::World;
+use hiperface_model::clause::{self, Clause};
+use hiperface_model::slave::inputs::{InitFault, PhysicalInputs, PositionFault};
+use hiperface_model::{CommandId, FaultCode, Profile};
+
+/// What the encoder does to one request.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Act {
+    /// Answer with this error code instead.
+    Error(FaultCode),
+    /// No reply at all.
+    Silence,
+    /// Start the reply this much after its earliest start (past the limit of 000:T10).
+    LateMs(u16),
+    /// A reply whose checksum is wrong.
+    CorruptChecksum,
+    /// A pause inside the reply before character `before`.
+    Gap { before: usize, us: u64 },
+    /// From this request on the encoder has this position fault.
+    PositionFault(PositionFault),
+}
+
+/// The `nth` request (1, 2, ...) of command `on` gets `act`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Injection {
+    pub on: CommandId,
+    pub nth: u32,
+    pub act: Act,
+}
+
+/// One scenario.
+#[derive(Debug, Clone, Copy)]
+pub struct Scenario {
+    pub id: &'static str,
+    pub title: &'static str,
+    pub clauses: &'static [Clause],
+    /// How long the master is watched from power-on, ms.
+    pub duration_ms: u64,
+    /// The encoder's world at power-on (inputs, start-up faults).
+    pub world: fn(&Profile) -> World,
+    pub plan: &'static [Injection],
+    /// The request the plan waits for (its injection is void if the master never sends
+    /// it: the scenario is then not applicable, with the reason).
+    pub needs: Option<CommandId>,
+}
+
+fn calm(_: &Profile) -> World {
+    World::default()
+}
+
+fn hot(p: &Profile) -> World {
+    // Above the profile's limit: the encoder stacks 1Eh and sets the warning bit.
+    let inputs = PhysicalInputs { temperature_c: p.temperature_max_c + 5, ..PhysicalInputs::default() };
+    World { inputs: Some(inputs), ..World::default() }
+}
+
+fn broken_at_start(_: &Profile) -> World {
+    // 04h at start-up: Critical, "SW reset of Slave." (000:T74).
+    World { init_faults: vec![InitFault::AnalogLimits], ..World::default() }
+}
+
+const POSITION: CommandId = CommandId::ReadPosition;
+
+macro_rules! scenario {
+    ($id:literal, $title:literal, [$($clause:ident),*], $ms:expr, $world:expr, $plan:expr, $needs:expr) => {
+        Scenario {
+            id: $id,
+            title: $title,
+            clauses: const { &[$(clause::$clause.clause()),*] },
+            duration_ms: $ms,
+            world: $world,
+            plan: $plan,
+            needs: $needs,
+        }
+    };
+}
+
+/// Every scenario, in run order.
+pub fn catalogue() -> Vec<Scenario> {
+    vec![
+        scenario!(
+            "startup.default",
+            "Start-up in default settings, then cyclic polling",
+            [MASTER_START_UP, MASTER_READ_STATUS, MASTER_FRAME, MASTER_PAUSE, MASTER_CHARACTER_GAP],
+            1500,
+            calm,
+            &[],
+            None
+        ),
+        scenario!(
+            "warning.one-code",
+            "Replies carry the warning bit (1Eh stacked): the codes are read out",
+            [MASTER_WARNING],
+            1500,
+            hot,
+            &[],
+            None
+        ),
+        scenario!(
+            "protocol.checksum-error",
+            "A Read Position is answered with 0Ah: the master retries",
+            [MASTER_FAULT_REACTION],
+            1500,
+            calm,
+            &[Injection { on: POSITION, nth: 2, act: Act::Error(FaultCode::Checksum) }],
+            Some(POSITION)
+        ),
+        scenario!(
+            "protocol.wrong-length",
+            "A Read Position is answered with 0Ch: the master retries",
+            [MASTER_FAULT_REACTION],
+            1500,
+            calm,
+            &[Injection { on: POSITION, nth: 2, act: Act::Error(FaultCode::WrongLength) }],
+            Some(POSITION)
+        ),
+        scenario!(
+            "fault.multiturn-sync",
+            "Read Position answers 22h: no further position reads",
+            [MASTER_FAULT_REACTION],
+            1500,
+            calm,
+            &[Injection { on: POSITION, nth: 2, act: Act::PositionFault(PositionFault::MultiturnSync) }],
+            Some(POSITION)
+        ),
+        scenario!(
+            "fault.unknown-code",
+            "Read Position answers an unknown code (3Ah): the worst-case reaction",
+            [MASTER_UNKNOWN_CODE],
+            1500,
+            calm,
+            &[Injection { on: POSITION, nth: 2, act: Act::Error(FaultCode::Unknown(0x3A)) }],
+            Some(POSITION)
+        ),
+        scenario!(
+            "fault.singleturn-persistent",
+            "Read Position answers 20h from now on: retries, then SW resets, bounded",
+            [MASTER_FAULT_REACTION],
+            2500,
+            calm,
+            &[Injection { on: POSITION, nth: 2, act: Act::PositionFault(PositionFault::Singleturn) }],
+            Some(POSITION)
+        ),
+        scenario!(
+            "fault.critical-at-start",
+            "A critical start-up fault (04h) on the stack: a SW reset follows",
+            [MASTER_FAULT_REACTION, MASTER_RESET_WAIT],
+            2000,
+            broken_at_start,
+            &[],
+            None
+        ),
+        scenario!(
+            "reply.silent",
+            "A Read Position gets no reply: the master waits out the window, then goes on",
+            [MASTER_PAUSE, MASTER_REPLY_WINDOW],
+            1500,
+            calm,
+            &[Injection { on: POSITION, nth: 2, act: Act::Silence }],
+            Some(POSITION)
+        ),
+        scenario!(
+            "reply.corrupt",
+            "A Read Position reply with a wrong checksum: the master does not use it",
+            [MASTER_FRAME],
+            1500,
+            calm,
+            &[Injection { on: POSITION, nth: 2, act: Act::CorruptChecksum }],
+            Some(POSITION)
+        ),
+        scenario!(
+            "reply.gap",
+            "A gap of the timeout inside a reply",
+            [MASTER_CHARACTER_GAP],
+            1500,
+            calm,
+            &[Injection { on: POSITION, nth: 2, act: Act::Gap { before: 3, us: 8_000 } }],
+            Some(POSITION)
+        ),
+    ]
+}
