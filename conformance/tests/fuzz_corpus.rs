@@ -3,7 +3,7 @@
 
 use arbitrary::{Arbitrary, Unstructured};
 use hiperface_conformance::vectors;
-use hiperface_proofs::targets::{self, SlaveInput, TimedChar};
+use hiperface_proofs::targets::{self, MasterEvent, SlaveInput, TimedChar};
 use std::path::Path;
 
 fn run_all(bytes: &[u8]) {
@@ -13,6 +13,9 @@ fn run_all(bytes: &[u8]) {
     }
     if let Ok(input) = SlaveInput::arbitrary_take_rest(Unstructured::new(bytes)) {
         targets::slave(&input);
+    }
+    if let Ok(events) = Vec::<MasterEvent>::arbitrary_take_rest(Unstructured::new(bytes)) {
+        targets::observer(&events);
     }
 }
 
@@ -36,7 +39,7 @@ fn local_corpus_and_regressions_replay() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fuzz");
     let mut n = 0;
     for dir in ["corpus", "regressions"] {
-        for target in ["request", "response", "datalink", "slave"] {
+        for target in ["request", "response", "datalink", "slave", "observer"] {
             let Ok(entries) = std::fs::read_dir(root.join(dir).join(target)) else { continue };
             for e in entries.flatten() {
                 if let Ok(bytes) = std::fs::read(e.path()) {

@@ -190,3 +190,57 @@ pub fn invariants(s: &Slave) {
     assert!(nv.offset < s.profile().range());
     assert!(nv.counter <= 0xFF_FFFF);
 }
+
+/// What the observer of a master is told: a master's character, a reply of the
+/// encoder (decodable or not), power-on, or time passing.
+#[derive(Debug, Arbitrary)]
+pub enum MasterEvent {
+    Char { byte: u8, gap_us: u16 },
+    Reply { code: u8, warning: bool, readable: bool, gap_us: u16, len: u8 },
+    PowerOn { gap_ms: u8 },
+    Idle { gap_ms: u8 },
+}
+
+/// The master's observer on any events: no panic, time never goes backwards in what it
+/// reports, and no more observations than a few per event.
+pub fn observer(events: &[MasterEvent]) {
+    use hiperface_model::master::obligations::Observer;
+    use hiperface_model::response::Response;
+    let mut o = Observer::new(profiles::srs50());
+    let mut t = 0u64;
+    let mut count = 0usize;
+    let mut last_at = 0u64;
+    let mut sink = |obs: hiperface_model::master::obligations::Observation| {
+        count += 1;
+        last_at = last_at.max(obs.at_us);
+    };
+    for e in events.iter().take(512) {
+        match *e {
+            MasterEvent::Char { byte, gap_us } => {
+                t += gap_us as u64;
+                o.master_char(RxChar::ok(byte, t), &mut sink);
+            }
+            MasterEvent::Reply { code, warning, readable, gap_us, len } => {
+                t += gap_us as u64;
+                let rf = ResponseFrame {
+                    address: 0x40,
+                    warning,
+                    response: Response::Error(hiperface_model::FaultCode::decode(code)),
+                };
+                let end = t + len as u64 * 1146;
+                o.encoder_reply(t, end, readable.then_some(&rf));
+                t = end;
+            }
+            MasterEvent::PowerOn { gap_ms } => {
+                t += gap_ms as u64 * 1000;
+                o.power_on(t);
+            }
+            MasterEvent::Idle { gap_ms } => {
+                t += gap_ms as u64 * 1000;
+                o.poll(t, &mut sink);
+            }
+        }
+    }
+    assert!(count <= 4 * events.len().min(512) + 4, "{count} observations");
+    assert!(last_at <= t + 1, "an observation in the future: {last_at} > {t}");
+}
