@@ -157,7 +157,7 @@ fn safety_lines(r: &Report) -> Vec<String> {
     out
 }
 
-fn escape(t: &str) -> String {
+pub(crate) fn escape(t: &str) -> String {
     t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
 }
 

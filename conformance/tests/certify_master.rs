@@ -194,3 +194,28 @@ fn a_master_that_exits_or_cannot_start_ends_in_an_error_not_a_hang() {
     let report = certify(profiles::srs50(), "/nonexistent/master {port}", Some("startup.default"));
     assert_eq!(report.scenarios[0].verdict, CaseVerdict::Error);
 }
+
+#[test]
+fn the_cli_writes_every_report_with_a_timeline() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("report");
+    let exe = env!("CARGO_BIN_EXE_hiperface");
+    let out = std::process::Command::new(exe)
+        .args(["certify", "master", "--scenarios", "startup.default", "--exec"])
+        .arg(format!("{exe} master --port {{port}}"))
+        .arg("--report")
+        .arg(&dir)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains("1 PASS") && stdout.contains("ratio"), "{stdout}");
+    for f in ["report.json", "junit.xml", "certificate.md", "certificate.html"] {
+        assert!(dir.join(f).exists(), "{f}");
+    }
+    let html = std::fs::read_to_string(dir.join("certificate.html")).unwrap();
+    assert_eq!(html.matches("<svg").count(), 1, "one timeline per scenario");
+    assert!(html.contains("initialization: no UART") && html.contains("M&gt; 40 50 10"), "the phases and the requests");
+    let md = std::fs::read_to_string(dir.join("certificate.md")).unwrap();
+    assert!(md.contains("S<  40 50 00 10"), "{md}");
+}

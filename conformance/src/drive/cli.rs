@@ -22,7 +22,7 @@ pub struct CertifyMasterArgs {
     /// Run only scenarios whose id matches (glob with `*` and `?`, comma-separated).
     #[arg(long)]
     pub scenarios: Option<String>,
-    /// Write report.json, junit.xml and certificate.md here.
+    /// Write report.json, junit.xml, certificate.md and certificate.html here.
     #[arg(long)]
     pub report: Option<PathBuf>,
 }
@@ -64,7 +64,7 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<ExitCode, String> {
         report.wall_time_ms / report.needed_ms.max(1.0)
     );
     if let Some(dir) = &args.report {
-        write_all(&report, dir).map_err(|e| format!("cannot write the report to {}: {e}", dir.display()))?;
+        write_all(&report, &profile, dir).map_err(|e| format!("cannot write the report to {}: {e}", dir.display()))?;
         eprintln!("reports written to {}", dir.display());
     }
     println!("{}", if report.passed() { "PASSED" } else { "NOT PASSED" });
@@ -85,13 +85,15 @@ pub fn reference_master(args: &MasterArgs) -> Result<ExitCode, String> {
     }
 }
 
-/// report.json, junit.xml and certificate.md of a master certification.
-pub fn write_all(report: &DriveReport, dir: &Path) -> std::io::Result<()> {
+/// report.json, junit.xml, certificate.md and certificate.html (with the SVG
+/// timelines) of a master certification.
+pub fn write_all(report: &DriveReport, profile: &hiperface_model::Profile, dir: &Path) -> std::io::Result<()> {
     std::fs::create_dir_all(dir)?;
     let json = serde_json::to_string_pretty(report).map_err(std::io::Error::other)?;
     std::fs::write(dir.join("report.json"), json + "\n")?;
     let suite = format!("hiperface certify master ({})", report.master);
     std::fs::write(dir.join("junit.xml"), crate::report::junit_suite(suite, &report.scenarios))?;
+    std::fs::write(dir.join("certificate.html"), super::timeline::html(report, profile))?;
     std::fs::write(dir.join("certificate.md"), markdown(report))
 }
 

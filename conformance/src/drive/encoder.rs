@@ -8,7 +8,7 @@ use crate::simulate::{Hooks, Planned};
 use hiperface_model::datalink::RxChar;
 use hiperface_model::master::obligations::{Observation, Observer};
 use hiperface_model::response::ResponseFrame;
-use hiperface_model::{checksum, CommandId, Hex, Profile, RequestFrame, Slave, Step};
+use hiperface_model::{checksum, CommandId, Hex, Profile, RequestFrame, Slave, Step, UartSettings};
 use std::collections::BTreeMap;
 
 /// What happened on the line in one scenario, on one time axis (µs since power-on).
@@ -31,6 +31,9 @@ pub struct DriveEncoder {
     profile: Profile,
     /// The command of the last frame, if it was a request: what a reply answers.
     answered: Option<CommandId>,
+    /// The master's characters since the last pause of the timeout, for the timeline
+    /// (the encoder may ignore them, e.g. while it initializes).
+    heard: Vec<RxChar>,
 }
 
 /// More characters than any master needs in a scenario: a flood is cut here.
@@ -40,17 +43,32 @@ impl DriveEncoder {
     pub fn new(profile: Profile, plan: &'static [Injection]) -> DriveEncoder {
         let mut observer = Observer::new(profile);
         observer.power_on(0);
-        DriveEncoder { observer, plan, timeline: Timeline::default(), profile, answered: None }
+        DriveEncoder { observer, plan, timeline: Timeline::default(), profile, answered: None, heard: Vec::new() }
     }
 
     fn note(&mut self, t_us: u64, direction: &'static str, text: String) {
         self.timeline.entries.push(WireEntry { t_us, direction, bytes: text });
     }
 
-    /// Flush the observer at the end of the scenario.
+    /// Flush the observer and the timeline at the end of the scenario.
     pub fn finish(&mut self, now_us: u64) {
         let seen = &mut self.timeline.observations;
         self.observer.poll(now_us, &mut |o| seen.push(o));
+        self.flush_heard(u64::MAX);
+    }
+
+    /// The master's characters heard so far make one frame once the timeout has
+    /// passed after the last of them (or `now_us` is `u64::MAX`).
+    fn flush_heard(&mut self, now_us: u64) {
+        let timeout = UartSettings::DEFAULT.timeout_us(self.profile.edition);
+        let Some(last) = self.heard.last() else { return };
+        if now_us != u64::MAX && now_us < last.at_us + timeout {
+            return;
+        }
+        let bytes: Vec<u8> = self.heard.iter().map(|c| c.byte).collect();
+        let t = last.at_us;
+        self.heard.clear();
+        self.note(t, "M>", Hex(&bytes).to_string());
     }
 
     pub fn profile(&self) -> &Profile {
@@ -60,6 +78,10 @@ impl DriveEncoder {
 
 impl Hooks for DriveEncoder {
     fn received(&mut self, ch: RxChar) {
+        self.flush_heard(ch.at_us.saturating_sub(UartSettings::DEFAULT.char_time_us()));
+        if self.timeline.characters < MAX_CHARACTERS {
+            self.heard.push(ch);
+        }
         self.timeline.characters += 1;
         let seen = &mut self.timeline.observations;
         self.observer.master_char(ch, &mut |o| seen.push(o));
@@ -68,11 +90,11 @@ impl Hooks for DriveEncoder {
     fn idle(&mut self, now_us: u64) {
         let seen = &mut self.timeline.observations;
         self.observer.poll(now_us, &mut |o| seen.push(o));
+        self.flush_heard(now_us);
     }
 
     fn frame(&mut self, slave: &mut Slave, step: &Step) {
         let bytes = step.received.bytes.as_bytes();
-        self.note(step.received.last_us, "M>", Hex(bytes).to_string());
         self.answered = RequestFrame::decode(bytes).ok().map(|r| r.request.command());
         let Some(command) = self.answered else { return };
         let n = {
@@ -90,7 +112,7 @@ impl Hooks for DriveEncoder {
         }
     }
 
-    fn reply(&mut self, _slave: &mut Slave, step: &Step, mut planned: Planned) -> Option<Planned> {
+    fn reply(&mut self, slave: &mut Slave, step: &Step, mut planned: Planned) -> Option<Planned> {
         let bytes = step.received.bytes.as_bytes();
         let command = RequestFrame::decode(bytes).ok().map(|r| r.request.command());
         let n = command.and_then(|c| self.timeline.requests.get(&c.byte()).copied()).unwrap_or(0);
@@ -110,6 +132,13 @@ impl Hooks for DriveEncoder {
                 Act::Silence => {
                     self.timeline.injected.push(i);
                     self.note(planned.start_us, "!", "injected: no reply".into());
+                    return None;
+                }
+                Act::Restart => {
+                    // The master cannot know: the observer is not told of this power-on.
+                    slave.power_cycle(step.received.complete_us);
+                    self.timeline.injected.push(i);
+                    self.note(step.received.complete_us, "!", "injected: the encoder restarts".into());
                     return None;
                 }
                 Act::LateMs(ms) => {

@@ -10,6 +10,7 @@ pub mod encoder;
 pub mod process;
 pub mod reference;
 pub mod scenarios;
+pub mod timeline;
 
 use crate::certify::{glob_match, CaseResult, CaseVerdict, Finding};
 use crate::simulate::serve_with;

@@ -22,6 +22,8 @@ pub enum Act {
     Gap { before: usize, us: u64 },
     /// From this request on the encoder has this position fault.
     PositionFault(PositionFault),
+    /// The encoder restarts (a brown-out): no reply, initialization, default settings.
+    Restart,
 }
 
 /// The `nth` request (1, 2, ...) of command `on` gets `act`.
@@ -119,6 +121,33 @@ pub fn catalogue() -> Vec<Scenario> {
             Some(POSITION)
         ),
         scenario!(
+            "protocol.parity",
+            "A Read Position is answered with 09h: the master retries",
+            [MASTER_FAULT_REACTION],
+            1500,
+            calm,
+            &[Injection { on: POSITION, nth: 2, act: Act::Error(FaultCode::Parity) }],
+            Some(POSITION)
+        ),
+        scenario!(
+            "protocol.unknown-command",
+            "A Read Position is answered with 0Bh: the master retries",
+            [MASTER_FAULT_REACTION],
+            1500,
+            calm,
+            &[Injection { on: POSITION, nth: 2, act: Act::Error(FaultCode::UnknownCommand) }],
+            Some(POSITION)
+        ),
+        scenario!(
+            "protocol.argument",
+            "A Read Position is answered with 0Dh: the master retries",
+            [MASTER_FAULT_REACTION],
+            1500,
+            calm,
+            &[Injection { on: POSITION, nth: 2, act: Act::Error(FaultCode::WrongArgument) }],
+            Some(POSITION)
+        ),
+        scenario!(
             "fault.multiturn-sync",
             "Read Position answers 22h: no further position reads",
             [MASTER_FAULT_REACTION],
@@ -164,6 +193,15 @@ pub fn catalogue() -> Vec<Scenario> {
             Some(POSITION)
         ),
         scenario!(
+            "reply.late",
+            "A Read Position reply starts 30 ms late (past 000:T10's 10 ms): the master copes",
+            [MASTER_CYCLE, MASTER_REPLY_WINDOW],
+            1500,
+            calm,
+            &[Injection { on: POSITION, nth: 2, act: Act::LateMs(30) }],
+            Some(POSITION)
+        ),
+        scenario!(
             "reply.corrupt",
             "A Read Position reply with a wrong checksum: the master does not use it",
             [MASTER_FRAME],
@@ -180,6 +218,24 @@ pub fn catalogue() -> Vec<Scenario> {
             calm,
             &[Injection { on: POSITION, nth: 2, act: Act::Gap { before: 3, us: 8_000 } }],
             Some(POSITION)
+        ),
+        scenario!(
+            "encoder.restart",
+            "The encoder restarts during polling (no reply, 100 ms of initialization): the master recovers",
+            [MASTER_FAULT_REACTION],
+            2000,
+            calm,
+            &[Injection { on: POSITION, nth: 10, act: Act::Restart }],
+            Some(POSITION)
+        ),
+        scenario!(
+            "polling.long",
+            "Five seconds of cyclic polling",
+            [MASTER_FRAME, MASTER_PAUSE, MASTER_CHARACTER_GAP, MASTER_REPLY_WINDOW],
+            5000,
+            calm,
+            &[],
+            None
         ),
     ]
 }

@@ -39,7 +39,8 @@ pub enum Rule {
     GapInRequest,
     /// Two requests without the timeout's pause between them. // 000:2.2.2
     NoPause,
-    /// A request while the encoder was still sending its reply. // 000:2.2
+    /// A request while the encoder was still sending a reply that came in time.
+    /// // 000:2.2
     TalksOverReply,
     /// A request before the reply window of the previous request closed, with no reply
     /// seen: a late reply would collide with it. // DESIGN:reply-window
@@ -198,6 +199,9 @@ pub struct Observer {
     /// The end of the last reply, µs.
     reply_end_us: Option<u64>,
     reply_start_us: Option<u64>,
+    /// The last reply started after its window closed: a master that talks over it
+    /// had given up waiting, as it may.
+    reply_late: bool,
     /// Until when the last request's reply window is open (no reply seen yet).
     window_until_us: Option<u64>,
     status_read: bool,
@@ -226,6 +230,7 @@ impl Observer {
             kept_default: false,
             reply_end_us: None,
             reply_start_us: None,
+            reply_late: false,
             window_until_us: None,
             status_read: false,
             status_reported: false,
@@ -271,6 +276,7 @@ impl Observer {
     /// `reply` as it decodes, `None` for a reply the master cannot read (a corrupted
     /// one injected on purpose).
     pub fn encoder_reply(&mut self, start_us: u64, end_us: u64, reply: Option<&ResponseFrame>) {
+        self.reply_late = self.window_until_us.is_some_and(|until| start_us > until);
         self.reply_start_us = Some(start_us);
         self.reply_end_us = Some(end_us);
         self.window_until_us = None;
@@ -369,7 +375,9 @@ impl Observer {
             }
         }
         match (self.reply_start_us, self.reply_end_us, self.window_until_us) {
-            (Some(s), Some(e), _) if start >= s && start < e => report(Rule::TalksOverReply, Some(start - s)),
+            (Some(s), Some(e), _) if start >= s && start < e && !self.reply_late => {
+                report(Rule::TalksOverReply, Some(start - s))
+            }
             (_, _, Some(until)) if start < until => report(Rule::ReplyWindow, Some(until - start)),
             _ => {}
         }

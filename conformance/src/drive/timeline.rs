@@ -1,0 +1,143 @@
+//! The certificate of a master as HTML, with one SVG timeline per scenario: the
+//! encoder's state-machine phases, the master's requests, the encoder's replies, the
+//! injected faults and the broken rules on one time axis (hover for the bytes and the
+//! clause).
+
+use super::DriveReport;
+use crate::certify::CaseResult;
+use crate::report::escape;
+use hiperface_model::Profile;
+use std::fmt::Write as _;
+
+const WIDTH: f64 = 1000.0;
+const LEFT: f64 = 80.0;
+const ROW: f64 = 22.0;
+/// A character at 9600 Bd, for the width of a frame, ms.
+const CHAR_MS: f64 = 11.0 / 9.6;
+
+/// The whole certificate.
+pub fn html(r: &DriveReport, profile: &Profile) -> String {
+    let mut s = String::new();
+    let verdict = if r.passed() { "PASSED" } else { "NOT PASSED" };
+    let _ = write!(
+        s,
+        "<!doctype html><html><head><meta charset=\"utf-8\"><title>HIPERFACE master certificate</title>\
+         <style>body{{font-family:sans-serif;max-width:75em;margin:2em auto}}table{{border-collapse:collapse}}\
+         td,th{{border:1px solid #ccc;padding:.2em .5em;text-align:left}}.PASS{{color:#070}}.FAIL{{color:#b00;font-weight:bold}}\
+         .NON-STRICT{{color:#a60}}.ERROR{{color:#b0b}}svg{{border:1px solid #ddd}}</style></head><body>\
+         <h1>HIPERFACE master certificate: {verdict}</h1><table><tr><th>master</th><td><code>{}</code></td></tr>\
+         <tr><th>encoder profile</th><td>{} ({} edition)</td></tr><tr><th>tool</th><td>{}</td></tr></table>",
+        escape(&r.master),
+        escape(&r.profile),
+        escape(&r.edition),
+        escape(&r.tool)
+    );
+    s += "<h2>Scenarios</h2><table><tr><th>scenario</th><th>verdict</th><th>clauses</th></tr>";
+    for c in &r.scenarios {
+        let v = c.verdict.label();
+        let _ = write!(
+            s,
+            "<tr><td><a href=\"#{id}\">{id}</a> {}</td><td class=\"{v}\">{v}</td><td>{}</td></tr>",
+            escape(c.title),
+            escape(&c.clause_list()),
+            id = c.id
+        );
+    }
+    s += "</table>";
+    for c in &r.scenarios {
+        let v = c.verdict.label();
+        let _ = write!(s, "<h2 id=\"{}\">{} — {}</h2><p class=\"{v}\">{v}</p><ul>", c.id, c.id, escape(c.title));
+        for f in &c.findings {
+            let fv = f.verdict().label();
+            let _ = write!(s, "<li class=\"{fv}\">{fv} {}</li>", escape(&f.to_string()));
+        }
+        s += "</ul>";
+        s += &svg(c, profile);
+    }
+    s += "</body></html>\n";
+    s
+}
+
+/// One scenario's timeline.
+pub fn svg(c: &CaseResult, profile: &Profile) -> String {
+    let end_ms = c.wire.iter().map(|w| w.t_us as f64 / 1000.0).fold(0.0, f64::max).max(1.0) + 20.0;
+    let x = |ms: f64| LEFT + ms / end_ms * WIDTH;
+    let rows = ["encoder state", "master", "encoder", "injected", "rules"];
+    let height = ROW * (rows.len() as f64 + 1.0);
+    let mut s = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{height}\" font-size=\"11\">",
+        LEFT + WIDTH + 10.0
+    );
+    for (i, name) in rows.iter().enumerate() {
+        let _ = write!(s, "<text x=\"2\" y=\"{}\">{name}</text>", ROW * (i as f64 + 1.0) - 6.0);
+    }
+    // The state machine after power-on (000:T9): initialization, default settings,
+    // change of settings, user-defined settings.
+    let phases = [
+        (0.0, profile.init_ms as f64, "#ccc", "initialization: no UART"),
+        (profile.init_ms as f64, profile.default_window_ms as f64, "#cde", "default communication"),
+        (
+            profile.default_window_ms as f64,
+            profile.user_settings_ms as f64,
+            "#edc",
+            "change of settings (unless a request came)",
+        ),
+        (profile.user_settings_ms as f64, end_ms, "#dec", "operational"),
+    ];
+    for (from, to, colour, what) in phases {
+        if from >= to {
+            continue;
+        }
+        let _ = write!(
+            s,
+            "<rect x=\"{:.1}\" y=\"2\" width=\"{:.1}\" height=\"{}\" fill=\"{colour}\"><title>{what}: {from:.0}-{to:.0} ms</title></rect>",
+            x(from),
+            x(to) - x(from),
+            ROW - 6.0
+        );
+    }
+    for w in &c.wire {
+        let ms = w.t_us as f64 / 1000.0;
+        let n = w.bytes.split_whitespace().count() as f64;
+        let title = escape(&format!("{ms:.3} ms {} {}", w.direction, w.bytes));
+        let (row, colour, start, len) = match w.direction {
+            // A request is stamped at its last character, a reply at its first.
+            "M>" => (1.0, "#36c", ms - n * CHAR_MS, n * CHAR_MS),
+            "S<" => (2.0, "#393", ms, n * CHAR_MS),
+            "!" => (3.0, "#c80", ms, 0.0),
+            _ => (4.0, "#c00", ms, 0.0),
+        };
+        let y = ROW * row + 2.0;
+        if len > 0.0 {
+            let _ = write!(
+                s,
+                "<rect x=\"{:.1}\" y=\"{y}\" width=\"{:.1}\" height=\"{}\" fill=\"{colour}\"><title>{title}</title></rect>",
+                x(start),
+                (x(start + len) - x(start)).max(1.0),
+                ROW - 6.0
+            );
+        } else {
+            let _ = write!(
+                s,
+                "<circle cx=\"{:.1}\" cy=\"{}\" r=\"5\" fill=\"{colour}\"><title>{title}</title></circle>",
+                x(start),
+                y + (ROW - 6.0) / 2.0
+            );
+        }
+    }
+    // The time axis.
+    let step = [10.0, 50.0, 100.0, 250.0, 500.0, 1000.0].into_iter().find(|s| end_ms / s <= 12.0).unwrap_or(1000.0);
+    let mut t = 0.0;
+    while t <= end_ms {
+        let _ = write!(
+            s,
+            "<line x1=\"{0:.1}\" x2=\"{0:.1}\" y1=\"0\" y2=\"{1}\" stroke=\"#eee\"/><text x=\"{0:.1}\" y=\"{2}\">{t:.0} ms</text>",
+            x(t),
+            height - ROW,
+            height - 6.0
+        );
+        t += step;
+    }
+    s += "</svg>";
+    s
+}
