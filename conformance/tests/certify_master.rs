@@ -45,6 +45,35 @@ fn the_reference_master_passes_every_scenario() {
 }
 
 #[test]
+fn the_reference_master_passes_every_scenario_through_ser2net() {
+    // The master talks TCP to a real serial device server (Debian's ser2net), which
+    // relays to the encoder's pseudo-terminal: a drive behind a device server.
+    let Some(ser2net) = ["/usr/sbin/ser2net", "/usr/bin/ser2net"].into_iter().find(|p| Path::new(p).exists()) else {
+        assert!(std::env::var_os("CI").is_none(), "ser2net is required in CI (.ci/run installs it)");
+        eprintln!("SKIPPED: ser2net is not installed");
+        return;
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    let port = std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port();
+    let config = tmp.path().join("ser2net.yaml");
+    let script = tmp.path().join("run.sh");
+    std::fs::write(
+        &script,
+        format!(
+            "printf '%%YAML 1.1\\n---\\nconnection: &m\\n    accepter: tcp,127.0.0.1,{port}\\n    enable: on\\n    connector: serialdev,%s,9600e81,local\\n' \"$1\" > {config}\n\
+             {ser2net} -n -d -c {config} >/dev/null 2>&1 &\n\
+             sleep 0.4\n\
+             exec {exe} master --port tcp://127.0.0.1:{port}\n",
+            config = config.display(),
+            exe = env!("CARGO_BIN_EXE_hiperface"),
+        ),
+    )
+    .unwrap();
+    let exec = format!("sh {} {{port}}", script.display());
+    assert_clean(&certify(profiles::srs50(), &exec, None));
+}
+
+#[test]
 fn the_independent_master_passes_every_scenario() {
     let Some(exec) = hx_master(None) else { return };
     assert_clean(&certify(profiles::srs50(), &exec, None));

@@ -3,6 +3,7 @@
 //! always reaped, whatever it does; what it prints is kept (capped) for the report.
 
 use std::io::Read;
+use std::os::unix::process::CommandExt as _;
 use std::process::{Child, Command, Stdio};
 use std::sync::{Arc, Mutex};
 
@@ -20,10 +21,12 @@ impl MasterProcess {
     /// Start `command` (a shell command line) with `{port}` replaced by `port`.
     pub fn start(command: &str, port: &str) -> std::io::Result<MasterProcess> {
         let line = command.replace("{port}", port);
-        // `exec`: the master replaces the shell, so that killing it kills the master.
+        // A process group of its own: the master and whatever it starts (a serial
+        // device server, a simulator) are stopped together.
         let mut child = Command::new("sh")
             .arg("-c")
             .arg(format!("exec {line}"))
+            .process_group(0)
             .stdin(Stdio::null())
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
@@ -57,17 +60,16 @@ impl MasterProcess {
         self.child.try_wait().ok().flatten()
     }
 
-    /// Stop the master (if it still runs), reap it, and return what it printed.
+    /// Stop the master (if it still runs) and everything it started, reap it, and
+    /// return what it printed.
     pub fn stop(mut self) -> (Option<std::process::ExitStatus>, String) {
-        let status = match self.exited() {
-            Some(s) => Some(s),
-            None => {
-                // Still running at the end of the scenario: stopped by the harness.
-                let _ = self.child.kill();
-                let _ = self.child.wait();
-                None
-            }
-        };
+        let status = self.exited();
+        self.kill_group();
+        if status.is_none() {
+            // Still running at the end of the scenario: stopped by the harness.
+            let _ = self.child.kill();
+            let _ = self.child.wait();
+        }
         for r in self.readers.drain(..) {
             let _ = r.join();
         }
@@ -76,9 +78,22 @@ impl MasterProcess {
     }
 }
 
+impl MasterProcess {
+    /// Kill the master's process group (its id is the master's pid): children it left
+    /// behind go too. With the `kill` utility: no `unsafe` signal call here.
+    fn kill_group(&self) {
+        let _ = Command::new("kill")
+            .args(["-KILL", "--", &format!("-{}", self.child.id())])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .status();
+    }
+}
+
 impl Drop for MasterProcess {
     fn drop(&mut self) {
         if self.child.try_wait().ok().flatten().is_none() {
+            self.kill_group();
             let _ = self.child.kill();
             let _ = self.child.wait();
         }
