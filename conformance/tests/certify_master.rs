@@ -5,7 +5,7 @@
 //! touch clean. Real time: each scenario runs its full duration.
 
 use hiperface_conformance::certify::{CaseResult, CaseVerdict};
-use hiperface_conformance::drive::{self, DriveReport, Options};
+use hiperface_conformance::drive::{self, Attach, DriveReport, Options, PowerOn};
 use hiperface_model::{profiles, Profile};
 use std::path::Path;
 
@@ -25,7 +25,7 @@ fn hx_master(defect: Option<&str>) -> Option<String> {
 }
 
 fn certify(profile: Profile, exec: &str, scenarios: Option<&str>) -> DriveReport {
-    let options = Options { exec: exec.into(), scenarios: scenarios.map(str::to_string) };
+    let options = Options { attach: Attach::Exec(exec.into()), scenarios: scenarios.map(str::to_string) };
     drive::run(profile, &options, |_, _, _| {})
 }
 
@@ -247,4 +247,41 @@ fn the_cli_writes_every_report_with_a_timeline() {
     assert!(html.contains("initialization: no UART") && html.contains("M&gt; 40 50 10"), "the phases and the requests");
     let md = std::fs::read_to_string(dir.join("certificate.md")).unwrap();
     assert!(md.contains("S<  40 50 00 10"), "{md}");
+}
+
+#[test]
+fn a_drive_on_a_port_is_certified_without_seeing_its_power_on() {
+    use hiperface_conformance::exchange::Master;
+    use hiperface_conformance::line::serial::SerialLine;
+    use serialport::SerialPort as _;
+    // A "drive" on the other end of a serial line: the reference master, running on
+    // its own, started before the harness (the harness cannot see its power-on).
+    let (drive_end, encoder_end) = serialport::TTYPort::pair().unwrap();
+    let path = encoder_end.name().unwrap();
+    let profile = profiles::srs50();
+    let drive = std::thread::spawn(move || {
+        let line = SerialLine::from_port(Box::new(drive_end), "drive".into(), profile.settings, true);
+        let mut master = Master::new(line, profile.edition);
+        let options = drive::reference::Options { poll_ms: 20, duration_ms: Some(5_500) };
+        drive::reference::run(&mut master, profile, options, &mut |_: &str| {})
+    });
+    let options = Options {
+        attach: Attach::Port { path, power_on: PowerOn::Unseen },
+        // Not 22h: the drive stops reading the position for good after it, as it should.
+        scenarios: Some("startup.default,protocol.checksum-error,protocol.parity,reply.corrupt".into()),
+    };
+    let report = drive::run(profile, &options, |_, _, _| {});
+    // The drive ends when its line goes (the port closes under it).
+    drop(encoder_end);
+    let _ = drive.join();
+    let verdict = |id: &str| report.scenarios.iter().find(|s| s.id == id).map(|s| s.verdict);
+    // Start-up needs the power-on: not applicable, with the reason.
+    assert_eq!(verdict("startup.default"), Some(CaseVerdict::NotApplicable));
+    let why = &report.scenarios[0].findings[0];
+    assert!(why.message().contains("--power-on prompt"), "{why}");
+    for id in ["protocol.checksum-error", "protocol.parity", "reply.corrupt"] {
+        let s = report.scenarios.iter().find(|s| s.id == id).unwrap();
+        assert_eq!(s.verdict, CaseVerdict::Pass, "{id}: {:#?}", s.findings);
+    }
+    assert!(report.notes.iter().any(|n| n.contains("power-on was not seen")), "{:?}", report.notes);
 }

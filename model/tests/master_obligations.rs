@@ -256,3 +256,17 @@ proptest::proptest! {
         proptest::prop_assert!(seen <= 4 * events.len() + 4, "{seen} observations for {} events", events.len());
     }
 }
+
+#[test]
+fn without_a_seen_power_on_the_start_up_rules_are_not_graded() {
+    // A drive on a real port: the harness did not see the power-on.
+    let mut observer = Observer::new(profiles::srs50());
+    let mut seen = Vec::new();
+    let mut t = 5 * MS;
+    for b in [0x40, 0x42, 0x02] {
+        t += CT;
+        observer.master_char(RxChar::ok(b, t), &mut |o| seen.push(o));
+    }
+    observer.poll(t + 100 * MS, &mut |o| seen.push(o));
+    assert_eq!(seen, vec![], "no initialization, no status-after-power-on rule");
+}

@@ -1,7 +1,7 @@
 //! The command line of master certification and of the reference master:
 //! `hiperface certify master` and `hiperface master`.
 
-use super::{reference, DriveReport, Options};
+use super::{reference, Attach, DriveReport, Options, PowerOn};
 use crate::certify::{CaseVerdict, World};
 use crate::exchange::Master;
 use crate::port::{self, PortSpec};
@@ -11,11 +11,19 @@ use std::process::ExitCode;
 
 /// `hiperface certify master`.
 #[derive(clap::Args, Debug, Clone)]
+#[group(id = "master", required = true, multiple = false, args = ["exec", "port"])]
 pub struct CertifyMasterArgs {
     /// The master under test as a command line; `{port}` is replaced by the path of the
     /// encoder's pseudo-terminal. Its start is the encoder's power-on.
     #[arg(long)]
-    pub exec: String,
+    pub exec: Option<String>,
+    /// A drive on a serial port (e.g. a USB-RS-485 adapter wired to the drive's encoder
+    /// connector): the harness serves the port as the encoder.
+    #[arg(long)]
+    pub port: Option<String>,
+    /// With `--port`: how the harness learns the drive's power-on.
+    #[arg(long, value_enum, default_value = "unseen")]
+    pub power_on: PowerOn,
     /// The encoder's profile: a built-in name or a TOML file.
     #[arg(long, default_value = "SRS50")]
     pub profile: String,
@@ -47,8 +55,13 @@ pub struct MasterArgs {
 /// Certify the master; exit code 0 when it passed, 1 when not.
 pub fn certify_master(args: &CertifyMasterArgs) -> Result<ExitCode, String> {
     let profile = profile_file::resolve(&args.profile).map_err(|e| e.to_string())?;
-    let options = Options { exec: args.exec.clone(), scenarios: args.scenarios.clone() };
-    eprintln!("certifying the master `{}` against an encoder of profile {}", args.exec, profile.name);
+    let attach = match (&args.exec, &args.port) {
+        (Some(exec), _) => Attach::Exec(exec.clone()),
+        (None, Some(path)) => Attach::Port { path: path.clone(), power_on: args.power_on },
+        (None, None) => return Err("give the master with --exec or --port".into()),
+    };
+    let options = Options { attach, scenarios: args.scenarios.clone() };
+    eprintln!("certifying {} against an encoder of profile {}", options.attach, profile.name);
     let report = super::run(profile, &options, |i, n, r| {
         eprintln!("[{i:>2}/{n}] {:<16} {}", r.verdict.label(), r.id);
         for f in r.findings.iter().filter(|f| f.verdict() != CaseVerdict::Pass) {
@@ -57,6 +70,9 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<ExitCode, String> {
     });
     let summary: Vec<String> = report.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
     println!("{}: {}", report.master, summary.join(", "));
+    for n in &report.notes {
+        println!("note: {n}");
+    }
     println!(
         "wall time {:.0} ms; the scenarios need {:.0} ms (ratio {:.2})",
         report.wall_time_ms,
@@ -105,6 +121,9 @@ pub fn markdown(r: &DriveReport) -> String {
     s += &format!("| encoder profile | {} ({} edition) |\n| tool | {} |\n", r.profile, r.edition, r.tool);
     let summary: Vec<String> = r.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
     s += &format!("| result | {} — {} |\n\n", if r.passed() { "PASSED" } else { "NOT PASSED" }, summary.join(", "));
+    for n in &r.notes {
+        s += &format!("Note: {n}\n\n");
+    }
     s += "| scenario | verdict | clauses |\n|---|---|---|\n";
     for c in &r.scenarios {
         s += &format!("| `{}` {} | {} | {} |\n", c.id, c.title, c.verdict.label(), c.clause_list());

@@ -40,9 +40,13 @@ pub struct DriveEncoder {
 pub const MAX_CHARACTERS: usize = 20_000;
 
 impl DriveEncoder {
-    pub fn new(profile: Profile, plan: &'static [Injection]) -> DriveEncoder {
+    /// `power_on_seen`: the scenario starts at the master's power-on of the encoder
+    /// (t = 0); otherwise the rules about power-on are not graded.
+    pub fn new(profile: Profile, plan: &'static [Injection], power_on_seen: bool) -> DriveEncoder {
         let mut observer = Observer::new(profile);
-        observer.power_on(0);
+        if power_on_seen {
+            observer.power_on(0);
+        }
         DriveEncoder { observer, plan, timeline: Timeline::default(), profile, answered: None, heard: Vec::new() }
     }
 

@@ -19,16 +19,44 @@ use hiperface_model::{Profile, Slave};
 use process::MasterProcess;
 use scenarios::Scenario;
 use serde::Serialize;
-use serialport::SerialPort as _;
+use serialport::SerialPort;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+/// Where the master under test is.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Attach {
+    /// A process started for each scenario on a fresh pseudo-terminal: its command
+    /// line, `{port}` standing for the pseudo-terminal's path. Its start is power-on.
+    Exec(String),
+    /// A drive on a serial port the harness serves as the encoder.
+    Port { path: String, power_on: PowerOn },
+}
+
+impl std::fmt::Display for Attach {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Attach::Exec(cmd) => f.write_str(cmd),
+            Attach::Port { path, .. } => write!(f, "the drive on {path}"),
+        }
+    }
+}
+
+/// How the harness learns when a drive on a real port powers the encoder on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum PowerOn {
+    /// The operator switches the drive off and on when asked, then presses Enter.
+    Prompt,
+    /// Not at all: the encoder is operational from the start, the scenarios about
+    /// start-up are not applicable, and the rules about power-on are not graded.
+    Unseen,
+}
+
 /// How a master is run.
 #[derive(Debug, Clone)]
 pub struct Options {
-    /// The master's command line, `{port}` standing for the encoder's port.
-    pub exec: String,
+    pub attach: Attach,
     /// Only scenarios whose id matches (globs, comma-separated).
     pub scenarios: Option<String>,
 }
@@ -47,6 +75,8 @@ pub struct DriveReport {
     pub wall_time_ms: f64,
     /// The sum of the scenarios' durations: the time the catalogue needs at least.
     pub needed_ms: f64,
+    /// What the harness could not see, for the reader of the certificate.
+    pub notes: Vec<String>,
 }
 
 impl DriveReport {
@@ -66,16 +96,38 @@ pub fn run(profile: Profile, options: &Options, mut progress: impl FnMut(usize, 
         tool: format!("hiperface {}", env!("CARGO_PKG_VERSION")),
         profile: profile.name.as_str().to_string(),
         edition: format!("{:?}", profile.edition),
-        master: options.exec.clone(),
+        master: options.attach.to_string(),
         scenarios: Vec::new(),
         summary: Default::default(),
         output: Default::default(),
         wall_time_ms: 0.0,
         needed_ms: chosen.iter().map(|s| s.duration_ms as f64).sum(),
+        notes: Vec::new(),
     };
+    if let Attach::Port { power_on: PowerOn::Unseen, .. } = options.attach {
+        report.notes.push(
+            "The drive's power-on was not seen: the encoder was operational from the start of each scenario; \
+             the rules about initialization, the start-up windows and the status after power-on were not graded."
+                .into(),
+        );
+    }
     let n = chosen.len();
+    // A drive on a port: the port stays open for the whole run.
+    let port = match &options.attach {
+        Attach::Port { path, .. } => Some(open_port(path)),
+        Attach::Exec(_) => None,
+    };
     for (i, scenario) in chosen.iter().enumerate() {
-        let (result, output) = run_scenario(profile, scenario, &options.exec);
+        let (result, output) = match (&options.attach, &port) {
+            (Attach::Exec(exec), _) => run_scenario(profile, scenario, exec),
+            (Attach::Port { power_on, .. }, Some(Ok(port))) => on_port(profile, scenario, port.as_ref(), *power_on),
+            (Attach::Port { path, .. }, _) => {
+                let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
+                let why = port.as_ref().and_then(|p| p.as_ref().err().cloned()).unwrap_or_default();
+                result.push(Finding::error(format!("cannot open {path}: {why}")));
+                (result, String::new())
+            }
+        };
         progress(i + 1, n, &result);
         *report.summary.entry(result.verdict.label().to_string()).or_default() += 1;
         report.output.insert(scenario.id.to_string(), output);
@@ -83,6 +135,71 @@ pub fn run(profile: Profile, options: &Options, mut progress: impl FnMut(usize, 
     }
     report.wall_time_ms = started.elapsed().as_secs_f64() * 1000.0;
     report
+}
+
+fn open_port(path: &str) -> Result<Box<dyn SerialPort>, String> {
+    serialport::new(path, 9600)
+        .data_bits(serialport::DataBits::Eight)
+        .parity(serialport::Parity::Even)
+        .stop_bits(serialport::StopBits::One)
+        .timeout(Duration::from_millis(1))
+        .open()
+        .map_err(|e| e.to_string())
+}
+
+/// One scenario with a drive on a real port: a fresh encoder served on the port.
+fn on_port(profile: Profile, scenario: &Scenario, port: &dyn SerialPort, power_on: PowerOn) -> (CaseResult, String) {
+    let started = Instant::now();
+    let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
+    if scenario.from_power_on && power_on == PowerOn::Unseen {
+        result.push(Finding::not_applicable(
+            "the scenario starts at the drive's power-on, which the harness cannot see on this port (use --power-on prompt)",
+        ));
+        return (result, String::new());
+    }
+    let port = match port.try_clone() {
+        Ok(p) => p,
+        Err(e) => {
+            result.push(Finding::error(format!("cannot use the port: {e}")));
+            return (result, String::new());
+        }
+    };
+    let world = (scenario.world)(&profile);
+    let mut slave = match power_on {
+        PowerOn::Prompt => {
+            eprintln!("scenario {}: switch the drive off and on, then press Enter", scenario.id);
+            let mut line = String::new();
+            let _ = std::io::stdin().read_line(&mut line);
+            let mut slave = Slave::new(profile);
+            world.apply_at_power_on(&mut slave);
+            slave
+        }
+        PowerOn::Unseen => {
+            let mut slave = Slave::operational(profile);
+            world.apply(&mut slave);
+            slave
+        }
+    };
+    let mut hooks = DriveEncoder::new(profile, scenario.plan, power_on == PowerOn::Prompt);
+    let stop = AtomicBool::new(false);
+    let epoch = Instant::now();
+    let deadline = epoch + Duration::from_millis(scenario.duration_ms);
+    let served = std::thread::scope(|scope| {
+        let server = scope.spawn(|| serve_with(port, &mut slave, epoch, &stop, &mut hooks));
+        while Instant::now() < deadline && !server.is_finished() {
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        stop.store(true, Ordering::Relaxed);
+        server.join()
+    });
+    match served {
+        Ok(Ok(())) => {}
+        Ok(Err(e)) => result.push(Finding::error(format!("the port failed: {e}"))),
+        Err(_) => result.push(Finding::error("the encoder thread panicked")),
+    }
+    hooks.finish(epoch.elapsed().as_micros() as u64);
+    finish(&mut result, &mut hooks, scenario, started);
+    (result, String::new())
 }
 
 /// One scenario: a fresh encoder on a fresh pseudo-terminal, the master started on it.
@@ -99,7 +216,7 @@ fn run_scenario(profile: Profile, scenario: &Scenario, exec: &str) -> (CaseResul
     let path = master_end.name().unwrap_or_default();
     let mut slave = Slave::new(profile);
     (scenario.world)(&profile).apply_at_power_on(&mut slave);
-    let hooks = DriveEncoder::new(profile, scenario.plan);
+    let hooks = DriveEncoder::new(profile, scenario.plan, true);
     let stop = Arc::new(AtomicBool::new(false));
     // Power-on is the master's start.
     let epoch = Instant::now();
@@ -146,8 +263,14 @@ fn run_scenario(profile: Profile, scenario: &Scenario, exec: &str) -> (CaseResul
         let at = end_us as f64 / 1000.0;
         result.push(Finding::error(format!("the master exited after {at:.0} ms ({s}) before the scenario ended")));
     }
-    grade(&mut result, &hooks, scenario);
-    result.wire = std::mem::take(&mut hooks.timeline.entries);
+    finish(&mut result, &mut hooks, scenario, started);
+    (result, output)
+}
+
+/// The verdict, and the timeline with the broken rules on it.
+fn finish(result: &mut CaseResult, hooks: &mut DriveEncoder, scenario: &Scenario, started: Instant) {
+    grade(result, hooks, scenario);
+    result.wire.append(&mut hooks.timeline.entries);
     for o in &hooks.timeline.observations {
         result.wire.push(crate::certify::WireEntry {
             t_us: o.at_us,
@@ -157,7 +280,6 @@ fn run_scenario(profile: Profile, scenario: &Scenario, exec: &str) -> (CaseResul
     }
     result.wire.sort_by_key(|w| w.t_us);
     result.duration_ms = started.elapsed().as_secs_f64() * 1000.0;
-    (result, output)
 }
 
 /// The scenario's verdict from what the observer saw.

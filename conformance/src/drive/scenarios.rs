@@ -48,6 +48,8 @@ pub struct Scenario {
     /// The request the plan waits for (its injection is void if the master never sends
     /// it: the scenario is then not applicable, with the reason).
     pub needs: Option<CommandId>,
+    /// The scenario is about what happens from power-on.
+    pub from_power_on: bool,
 }
 
 fn calm(_: &Profile) -> World {
@@ -77,13 +79,14 @@ macro_rules! scenario {
             world: $world,
             plan: $plan,
             needs: $needs,
+            from_power_on: false,
         }
     };
 }
 
 /// Every scenario, in run order.
 pub fn catalogue() -> Vec<Scenario> {
-    vec![
+    let mut all = vec![
         scenario!(
             "startup.default",
             "Start-up in default settings, then cyclic polling",
@@ -237,5 +240,9 @@ pub fn catalogue() -> Vec<Scenario> {
             &[],
             None
         ),
-    ]
+    ];
+    for s in &mut all {
+        s.from_power_on = matches!(s.id, "startup.default" | "fault.critical-at-start");
+    }
+    all
 }

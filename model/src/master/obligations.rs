@@ -479,7 +479,8 @@ impl Observer {
                 self.warning_reported = false;
             }
             CommandId::ReadPosition => {
-                if !self.status_read && !self.status_reported {
+                // Only where the power-on was seen: "after a power-on" (000:3.3.1).
+                if !self.status_read && !self.status_reported && self.started_us.is_some() {
                     self.status_reported = true;
                     report(Rule::StatusNotRead);
                 }
