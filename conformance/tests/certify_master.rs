@@ -247,6 +247,15 @@ fn the_cli_writes_every_report_with_a_timeline() {
     assert!(html.contains("initialization: no UART") && html.contains("M&gt; 40 50 10"), "the phases and the requests");
     let md = std::fs::read_to_string(dir.join("certificate.md")).unwrap();
     assert!(md.contains("S<  40 50 00 10"), "{md}");
+    // Bad input: a clear error and exit code 2.
+    let run = |args: &[&str]| std::process::Command::new(exe).args(args).output().unwrap();
+    let out = run(&["certify", "master", "--scenarios", "startup.default"]);
+    assert_eq!(out.status.code(), Some(2), "neither --exec nor --port");
+    let out = run(&["certify", "master", "--exec", "true", "--port", "/dev/null"]);
+    assert_eq!(out.status.code(), Some(2), "both --exec and --port");
+    let out = run(&["certify", "master", "--exec", "true", "--scenarios", "nothing.*"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no scenario matches `nothing.*`"));
 }
 
 #[test]

@@ -11,11 +11,10 @@ use std::process::ExitCode;
 
 /// `hiperface certify master`.
 #[derive(clap::Args, Debug, Clone)]
-#[group(id = "master", required = true, multiple = false, args = ["exec", "port"])]
 pub struct CertifyMasterArgs {
     /// The master under test as a command line; `{port}` is replaced by the path of the
     /// encoder's pseudo-terminal. Its start is the encoder's power-on.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "port", required_unless_present = "port")]
     pub exec: Option<String>,
     /// A drive on a serial port (e.g. a USB-RS-485 adapter wired to the drive's encoder
     /// connector): the harness serves the port as the encoder.
@@ -61,6 +60,14 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<ExitCode, String> {
         (None, None) => return Err("give the master with --exec or --port".into()),
     };
     let options = Options { attach, scenarios: args.scenarios.clone() };
+    if let Some(globs) = &args.scenarios {
+        let any = super::scenarios::catalogue()
+            .iter()
+            .any(|s| globs.split(',').any(|g| crate::certify::glob_match(g.trim(), s.id)));
+        if !any {
+            return Err(format!("no scenario matches `{globs}`"));
+        }
+    }
     eprintln!("certifying {} against an encoder of profile {}", options.attach, profile.name);
     let report = super::run(profile, &options, |i, n, r| {
         eprintln!("[{i:>2}/{n}] {:<16} {}", r.verdict.label(), r.id);
