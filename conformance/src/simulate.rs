@@ -43,6 +43,10 @@ pub struct Planned {
     pub settings: hiperface_model::UartSettings,
     /// A pause inserted before the character of this index, µs.
     pub gap: Option<(usize, u64)>,
+    /// Write each character when it is complete, as a UART delivers them, instead of
+    /// a run at once: a peer that reads a pseudo-terminal then sees the reply end
+    /// when it really ends.
+    pub paced: bool,
 }
 
 /// The model as it is.
@@ -133,6 +137,7 @@ pub fn serve_with(
                 start_us: tx.earliest_start_us + REPLY_DELAY_US,
                 settings: tx.settings,
                 gap: None,
+                paced: false,
             };
             let Some(p) = hooks.reply(slave, &step, planned) else { continue };
             let ct = p.settings.char_time_us();
@@ -145,13 +150,16 @@ pub fn serve_with(
                     start += pause;
                     continue;
                 }
-                let due = epoch + Duration::from_micros(start + ct);
-                if let Some(d) = due.checked_duration_since(Instant::now()) {
-                    std::thread::sleep(d);
+                let runs: Vec<&[u8]> = if p.paced { part.chunks(1).collect() } else { vec![part] };
+                for run in runs {
+                    let due = epoch + Duration::from_micros(start + ct);
+                    if let Some(d) = due.checked_duration_since(Instant::now()) {
+                        std::thread::sleep(d);
+                    }
+                    port.write_all(run)?;
+                    port.flush()?;
+                    start += run.len() as u64 * ct;
                 }
-                port.write_all(part)?;
-                port.flush()?;
-                start += part.len() as u64 * ct;
                 let done = epoch + Duration::from_micros(start);
                 if let Some(d) = done.checked_duration_since(Instant::now()) {
                     std::thread::sleep(d);

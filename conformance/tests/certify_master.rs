@@ -47,7 +47,11 @@ fn the_reference_master_passes_every_scenario() {
 #[test]
 fn the_reference_master_passes_every_scenario_through_ser2net() {
     // The master talks TCP to a real serial device server (Debian's ser2net), which
-    // relays to the encoder's pseudo-terminal: a drive behind a device server.
+    // relays to the encoder's pseudo-terminal: a drive behind a device server. The
+    // encoder delivers a reply a character at a time, as a UART does: with its default
+    // character delay and Nagle's algorithm the server would pass the characters on in
+    // bursts further apart than the timeout, and the master would take a reply for
+    // ended while it goes on (a device server for HIPERFACE is set up this way).
     let Some(ser2net) = ["/usr/sbin/ser2net", "/usr/bin/ser2net"].into_iter().find(|p| Path::new(p).exists()) else {
         assert!(std::env::var_os("CI").is_none(), "ser2net is required in CI (.ci/run installs it)");
         eprintln!("SKIPPED: ser2net is not installed");
@@ -60,7 +64,7 @@ fn the_reference_master_passes_every_scenario_through_ser2net() {
     std::fs::write(
         &script,
         format!(
-            "printf '%%YAML 1.1\\n---\\nconnection: &m\\n    accepter: tcp,127.0.0.1,{port}\\n    enable: on\\n    connector: serialdev,%s,9600e81,local\\n' \"$1\" > {config}\n\
+            "printf '%%YAML 1.1\\n---\\nconnection: &m\\n    accepter: tcp(nodelay),127.0.0.1,{port}\\n    enable: on\\n    options:\\n      chardelay: false\\n    connector: serialdev,%s,9600e81,local\\n' \"$1\" > {config}\n\
              {ser2net} -n -d -c {config} >/dev/null 2>&1 &\n\
              sleep 0.4\n\
              exec {exe} master --port tcp://127.0.0.1:{port}\n",
@@ -158,6 +162,13 @@ const DEFECTS: &[Defect] = &[
         name: "no-retry",
         scenario: "protocol.checksum-error",
         clause: "000:3.3.4",
+        verdict: CaseVerdict::NonStrict,
+        untouched: Some("startup.default"),
+    },
+    Defect {
+        name: "ignores-extended-type-label",
+        scenario: "startup.extended-type-label",
+        clause: "000:T19/master",
         verdict: CaseVerdict::NonStrict,
         untouched: Some("startup.default"),
     },

@@ -100,6 +100,10 @@ fn a_conformant_master_gets_no_observation() {
     // A protocol error: the same request again.
     bus.send(&[0x40, 0x42]).reply(false, Response::Error(FaultCode::Checksum));
     bus.ask(&[0x40, 0x42], POSITION);
+    // Type FFh: the Extended Type Label (field FFh) is read before the position.
+    bus.ask(&[0x40, 0x52], Response::TypeLabel { settings: 0xE4, type_code: 0xFF, memory_blocks: 0x70, option: 0 });
+    bus.ask(&[0x40, 0x4A, 0xFF, 0x00, 0x40, 0x00], Response::Error(FaultCode::WrongOffset));
+    bus.ask(&[0x40, 0x42], POSITION);
     // Encoder Reset, then the timeout plus the initialization time.
     bus.send(&[0x40, 0x53]).wait_ms(6 + 100);
     bus.ask(&[0x40, 0x50], Response::EncoderStatus(FaultCode::NoFault)).ask(&[0x40, 0x42], POSITION);
@@ -184,6 +188,15 @@ fn each_broken_rule_is_observed() {
             for _ in 0..4 {
                 b.ask(&[0x40, 0x42], POSITION);
             }
+        }),
+        ("type FFh and no Extended Type Label", Rule::ExtendedTypeLabelNotRead, |b| {
+            b.at(120 * MS)
+                .ask(&[0x40, 0x50], Response::EncoderStatus(FaultCode::NoFault))
+                .ask(
+                    &[0x40, 0x52],
+                    Response::TypeLabel { settings: 0xE4, type_code: 0xFF, memory_blocks: 0x70, option: 0 },
+                )
+                .ask(&[0x40, 0x42], POSITION);
         }),
         ("ignores an unknown fault code", Rule::UnknownCodeIgnored, |b| {
             conformant_start(b);

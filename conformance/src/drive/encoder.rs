@@ -117,6 +117,8 @@ impl Hooks for DriveEncoder {
     }
 
     fn reply(&mut self, slave: &mut Slave, step: &Step, mut planned: Planned) -> Option<Planned> {
+        // A master reads the reply as a UART would deliver it.
+        planned.paced = true;
         let bytes = step.received.bytes.as_bytes();
         let command = RequestFrame::decode(bytes).ok().map(|r| r.request.command());
         let n = command.and_then(|c| self.timeline.requests.get(&c.byte()).copied()).unwrap_or(0);

@@ -118,6 +118,7 @@ pub fn run(profile: Profile, options: &Options, mut progress: impl FnMut(usize, 
         Attach::Exec(_) => None,
     };
     for (i, scenario) in chosen.iter().enumerate() {
+        let profile = scenario.encoder.map_or(profile, |make| make());
         let (result, output) = match (&options.attach, &port) {
             (Attach::Exec(exec), _) => run_scenario(profile, scenario, exec),
             (Attach::Port { power_on, .. }, Some(Ok(port))) => on_port(profile, scenario, port.as_ref(), *power_on),

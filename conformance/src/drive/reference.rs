@@ -87,6 +87,20 @@ impl<L: Line> Run<'_, L> {
         if let Outcome::Reply(r) = self.ask(Request::ReadTypeLabel)? {
             if let Response::TypeLabel { type_code, .. } = r.response {
                 self.console.line(&format!("type label: type {type_code:02X}h"));
+                // FFh: the encoder's parameters are in the Extended Type Label. // 000:T19
+                if type_code == 0xFF {
+                    let label = Request::ReadData { field: 0xFF, offset: 0, count: 64, code: 0 };
+                    if let Outcome::Reply(r) = self.ask(label)? {
+                        if let Response::Data { data, .. } = r.response {
+                            let ok = hiperface_model::checksum::xor(data.as_bytes()) == 0;
+                            self.console.line(&format!(
+                                "extended type label: {} bytes, checksum {}",
+                                data.len(),
+                                if ok { "ok" } else { "wrong" }
+                            ));
+                        }
+                    }
+                }
             }
         }
         if let Outcome::Reply(r) = self.ask(Request::ReadVersion)? {

@@ -50,6 +50,8 @@ pub struct Scenario {
     pub needs: Option<CommandId>,
     /// The scenario is about what happens from power-on.
     pub from_power_on: bool,
+    /// An encoder of this profile instead of the run's (e.g. one with type code FFh).
+    pub encoder: Option<fn() -> Profile>,
 }
 
 fn calm(_: &Profile) -> World {
@@ -80,6 +82,7 @@ macro_rules! scenario {
             plan: $plan,
             needs: $needs,
             from_power_on: false,
+            encoder: None,
         }
     };
 }
@@ -96,6 +99,18 @@ pub fn catalogue() -> Vec<Scenario> {
             &[],
             None
         ),
+        Scenario {
+            encoder: Some(hiperface_model::profiles::sks36),
+            ..scenario!(
+                "startup.extended-type-label",
+                "An encoder of type FFh: the master reads the Extended Type Label",
+                [MASTER_EXTENDED_TYPE_LABEL, MASTER_START_UP],
+                1500,
+                calm,
+                &[],
+                None
+            )
+        },
         scenario!(
             "warning.one-code",
             "Replies carry the warning bit (1Eh stacked): the codes are read out",
@@ -242,7 +257,7 @@ pub fn catalogue() -> Vec<Scenario> {
         ),
     ];
     for s in &mut all {
-        s.from_power_on = matches!(s.id, "startup.default" | "fault.critical-at-start");
+        s.from_power_on = matches!(s.id, "startup.default" | "startup.extended-type-label" | "fault.critical-at-start");
     }
     all
 }

@@ -34,6 +34,7 @@ DEFECTS = {
     "no-reset-wait": "talks 20 ms after Encoder Reset",
     "no-retry": "answers a protocol error by moving on to another command",
     "naive-poll": "opens the port and polls 42h at once, in a loop, nothing else",
+    "ignores-extended-type-label": "never reads the Extended Type Label of a type FFh encoder",
 }
 
 CHAR_S = 11 / 9600          # one character at 9600 Bd, 8E1
@@ -187,7 +188,10 @@ class Master:
         else:
             self.line.sleep_until(0.120)   # 2.4.1: initialization is over after 100 ms
         self.read_stack()
-        self.ask(0x52, max_response_s=0.005)
+        label = self.ask(0x52, max_response_s=0.005)
+        # Type FFh: the parameters are in the Extended Type Label, field FFh (Table 19).
+        if label and len(label[1]) >= 2 and label[1][1] == 0xFF and self.defect != "ignores-extended-type-label":
+            self.ask(0x4A, bytes([0xFF, 0x00, 0x40, 0x00]), max_response_s=0.030)
         if self.defect == "no-pause":
             frame = bytes([ADDRESS, 0x42, xor([ADDRESS, 0x42])])
             self.line.write(frame + frame)

@@ -73,6 +73,9 @@ pub enum Rule {
     /// An unknown fault code, and the master kept reading position without a reset.
     /// // 000:3.3.4
     UnknownCodeIgnored,
+    /// The type label said FFh and the master read the position without reading the
+    /// Extended Type Label (field FFh), where the encoder's parameters are. // 000:T19
+    ExtendedTypeLabelNotRead,
 }
 
 impl Rule {
@@ -94,6 +97,7 @@ impl Rule {
                 clause::MASTER_FAULT_REACTION
             }
             Rule::UnknownCodeIgnored => clause::MASTER_UNKNOWN_CODE,
+            Rule::ExtendedTypeLabelNotRead => clause::MASTER_EXTENDED_TYPE_LABEL,
         }
     }
 
@@ -117,6 +121,7 @@ impl Rule {
             Rule::NoResetAfterCriticalFault => "no SW reset after a critical fault",
             Rule::PositionAfterSyncFault => "position read after a multiturn sync fault",
             Rule::UnknownCodeIgnored => "position read on after an unknown fault code",
+            Rule::ExtendedTypeLabelNotRead => "type FFh, and position read without the Extended Type Label",
         }
     }
 }
@@ -214,6 +219,8 @@ pub struct Observer {
     warning_reported: bool,
     sync_fault: bool,
     unknown_code: bool,
+    /// The type label said FFh and field FFh has not been read since.
+    label_pending: bool,
 }
 
 impl Observer {
@@ -241,6 +248,7 @@ impl Observer {
             warning_reported: false,
             sync_fault: false,
             unknown_code: false,
+            label_pending: false,
         }
     }
 
@@ -259,6 +267,7 @@ impl Observer {
         self.kept_default = false;
         self.status_read = false;
         self.status_reported = false;
+        self.label_pending = false;
         self.settings = UartSettings::DEFAULT;
         self.clear_reactions();
     }
@@ -281,6 +290,9 @@ impl Observer {
         self.reply_end_us = Some(end_us);
         self.window_until_us = None;
         let Some(reply) = reply else { return };
+        if let Response::TypeLabel { type_code: 0xFF, .. } = reply.response {
+            self.label_pending = true;
+        }
         let asked = self.answered;
         if reply.warning && self.warning_left.is_none() && !self.warning_reported {
             self.warning_left = Some(REACTION_REQUESTS);
@@ -490,6 +502,15 @@ impl Observer {
                 if self.unknown_code {
                     report(Rule::UnknownCodeIgnored);
                     self.unknown_code = false;
+                }
+                if self.label_pending {
+                    report(Rule::ExtendedTypeLabelNotRead);
+                    self.label_pending = false;
+                }
+            }
+            CommandId::ReadData => {
+                if let crate::request::Request::ReadData { field: 0xFF, .. } = rf.request {
+                    self.label_pending = false;
                 }
             }
             _ => {}
