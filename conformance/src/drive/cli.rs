@@ -61,10 +61,7 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<ExitCode, String> {
     };
     let options = Options { attach, scenarios: args.scenarios.clone() };
     if let Some(globs) = &args.scenarios {
-        let any = super::scenarios::catalogue()
-            .iter()
-            .any(|s| globs.split(',').any(|g| crate::certify::glob_match(g.trim(), s.id)));
-        if !any {
+        if super::scenarios::chosen(Some(globs)).is_empty() {
             return Err(format!("no scenario matches `{globs}`"));
         }
     }

@@ -56,8 +56,7 @@ impl DriveEncoder {
 
     /// Flush the observer and the timeline at the end of the scenario.
     pub fn finish(&mut self, now_us: u64) {
-        let seen = &mut self.timeline.observations;
-        self.observer.poll(now_us, &mut |o| seen.push(o));
+        Hooks::idle(self, now_us);
         self.flush_heard(u64::MAX);
     }
 
@@ -119,8 +118,9 @@ impl Hooks for DriveEncoder {
     fn reply(&mut self, slave: &mut Slave, step: &Step, mut planned: Planned) -> Option<Planned> {
         // A master reads the reply as a UART would deliver it.
         planned.paced = true;
+        // `frame` saw this frame first: its command, and how many of it so far.
         let bytes = step.received.bytes.as_bytes();
-        let command = RequestFrame::decode(bytes).ok().map(|r| r.request.command());
+        let command = self.answered;
         let n = command.and_then(|c| self.timeline.requests.get(&c.byte()).copied()).unwrap_or(0);
         for (i, inj) in self.plan.iter().enumerate() {
             if Some(inj.on) != command || inj.nth != n {

@@ -12,7 +12,7 @@ pub mod reference;
 pub mod scenarios;
 pub mod timeline;
 
-use crate::certify::{glob_match, CaseResult, CaseVerdict, Finding};
+use crate::certify::{CaseResult, CaseVerdict, Finding};
 use crate::simulate::serve_with;
 use encoder::DriveEncoder;
 use hiperface_model::{Profile, Slave};
@@ -21,7 +21,6 @@ use scenarios::Scenario;
 use serde::Serialize;
 use serialport::SerialPort;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// Where the master under test is.
@@ -88,10 +87,7 @@ impl DriveReport {
 /// Run the catalogue against the master `options.exec`, for an encoder of `profile`.
 pub fn run(profile: Profile, options: &Options, mut progress: impl FnMut(usize, usize, &CaseResult)) -> DriveReport {
     let started = Instant::now();
-    let chosen: Vec<Scenario> = scenarios::catalogue()
-        .into_iter()
-        .filter(|s| options.scenarios.as_deref().is_none_or(|p| p.split(',').any(|g| glob_match(g.trim(), s.id))))
-        .collect();
+    let chosen = scenarios::chosen(options.scenarios.as_deref());
     let mut report = DriveReport {
         tool: format!("hiperface {}", env!("CARGO_PKG_VERSION")),
         profile: profile.name.as_str().to_string(),
@@ -182,21 +178,12 @@ fn on_port(profile: Profile, scenario: &Scenario, port: &dyn SerialPort, power_o
         }
     };
     let mut hooks = DriveEncoder::new(profile, scenario.plan, power_on == PowerOn::Prompt);
-    let stop = AtomicBool::new(false);
     let epoch = Instant::now();
     let deadline = epoch + Duration::from_millis(scenario.duration_ms);
-    let served = std::thread::scope(|scope| {
-        let server = scope.spawn(|| serve_with(port, &mut slave, epoch, &stop, &mut hooks));
-        while Instant::now() < deadline && !server.is_finished() {
-            std::thread::sleep(Duration::from_millis(5));
-        }
-        stop.store(true, Ordering::Relaxed);
-        server.join()
-    });
-    match served {
+    match serve_until(port, &mut slave, &mut hooks, epoch, deadline, || false) {
         Ok(Ok(())) => {}
         Ok(Err(e)) => result.push(Finding::error(format!("the port failed: {e}"))),
-        Err(_) => result.push(Finding::error("the encoder thread panicked")),
+        Err(()) => result.push(Finding::error("the encoder thread panicked")),
     }
     hooks.finish(epoch.elapsed().as_micros() as u64);
     finish(&mut result, &mut hooks, scenario, started);
@@ -217,8 +204,7 @@ fn run_scenario(profile: Profile, scenario: &Scenario, exec: &str) -> (CaseResul
     let path = master_end.name().unwrap_or_default();
     let mut slave = Slave::new(profile);
     (scenario.world)(&profile).apply_at_power_on(&mut slave);
-    let hooks = DriveEncoder::new(profile, scenario.plan, true);
-    let stop = Arc::new(AtomicBool::new(false));
+    let mut hooks = DriveEncoder::new(profile, scenario.plan, true);
     // Power-on is the master's start.
     let epoch = Instant::now();
     let mut master = match MasterProcess::start(exec, &path) {
@@ -228,37 +214,21 @@ fn run_scenario(profile: Profile, scenario: &Scenario, exec: &str) -> (CaseResul
             return (result, String::new());
         }
     };
-    let flag = stop.clone();
-    let server = std::thread::spawn(move || {
-        let mut hooks = hooks;
-        let served = serve_with(Box::new(encoder_end), &mut slave, epoch, &flag, &mut hooks);
-        (hooks, served)
-    });
     let deadline = epoch + Duration::from_millis(scenario.duration_ms);
     let mut exited = None;
-    while Instant::now() < deadline {
-        if let Some(status) = master.exited() {
-            exited = Some(status);
-            break;
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    stop.store(true, Ordering::Relaxed);
+    let served = serve_until(Box::new(encoder_end), &mut slave, &mut hooks, epoch, deadline, || {
+        exited = master.exited();
+        exited.is_some()
+    });
     let (status, output) = master.stop();
-    // The encoder stops before its line closes: nothing it writes is lost in a pipe.
-    let joined = server.join();
+    // The encoder has stopped before its line closes: nothing it writes is lost in a pipe.
     drop(master_end);
-    let (mut hooks, served) = match joined {
-        Ok(r) => r,
-        Err(_) => {
-            result.push(Finding::error("the encoder thread panicked"));
-            return (result, output);
-        }
-    };
     let end_us = epoch.elapsed().as_micros() as u64;
     hooks.finish(end_us);
-    if let Err(e) = served {
-        result.push(Finding::error(format!("the encoder's port failed: {e}")));
+    match served {
+        Ok(Ok(())) => {}
+        Ok(Err(e)) => result.push(Finding::error(format!("the encoder's port failed: {e}"))),
+        Err(()) => result.push(Finding::error("the encoder thread panicked")),
     }
     if let Some(s) = exited.or(status) {
         let at = end_us as f64 / 1000.0;
@@ -266,6 +236,28 @@ fn run_scenario(profile: Profile, scenario: &Scenario, exec: &str) -> (CaseResul
     }
     finish(&mut result, &mut hooks, scenario, started);
     (result, output)
+}
+
+/// Serve `slave` on `port` with `hooks` (time 0 at `epoch`) until `deadline`, the port
+/// goes, or `done()` (asked every 5 ms) says so; then stop the encoder. `Err(())` if the
+/// serving thread panicked.
+fn serve_until(
+    port: Box<dyn SerialPort>,
+    slave: &mut Slave,
+    hooks: &mut DriveEncoder,
+    epoch: Instant,
+    deadline: Instant,
+    mut done: impl FnMut() -> bool,
+) -> Result<std::io::Result<()>, ()> {
+    let stop = AtomicBool::new(false);
+    std::thread::scope(|scope| {
+        let server = scope.spawn(|| serve_with(port, slave, epoch, &stop, hooks));
+        while Instant::now() < deadline && !server.is_finished() && !done() {
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        stop.store(true, Ordering::Relaxed);
+        server.join().map_err(drop)
+    })
 }
 
 /// The verdict, and the timeline with the broken rules on it.

@@ -87,6 +87,12 @@ macro_rules! scenario {
     };
 }
 
+/// The scenarios whose id matches `globs` (`*`, `?`, comma-separated; all without),
+/// in run order.
+pub fn chosen(globs: Option<&str>) -> Vec<Scenario> {
+    catalogue().into_iter().filter(|s| globs.is_none_or(|g| crate::certify::glob_match(g, s.id))).collect()
+}
+
 /// Every scenario, in run order.
 pub fn catalogue() -> Vec<Scenario> {
     let mut all = vec![

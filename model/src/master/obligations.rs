@@ -401,21 +401,22 @@ impl Observer {
         let Some(first_end) = framer.ends_us.first().copied() else { return };
         let start = first_end.saturating_sub(self.char_time_us());
         let bytes = framer.bytes.as_bytes();
-        self.answered = RequestFrame::decode(bytes).ok().map(|r| r.request.command());
-        if RequestFrame::decode(bytes).is_ok() {
+        let decoded = RequestFrame::decode(bytes).ok();
+        self.answered = decoded.map(|r| r.request.command());
+        if let Some(rf) = decoded {
             // A valid request right after a held fragment that completes it is not
             // possible (the fragment would be part of it); the fragment stands alone.
             self.release_held(out);
-            self.request(&framer, start, out);
+            self.request(rf, framer.last_us().unwrap_or(start), start, out);
             return;
         }
         // Two fragments of one request: a gap inside it.
         if let Some(h) = self.held.take() {
             let mut joined = h.framer.bytes;
             let joins = bytes.iter().all(|b| joined.push(*b).is_ok());
-            if joins && RequestFrame::decode(joined.as_bytes()).is_ok() {
+            if let Some(whole) = RequestFrame::decode(joined.as_bytes()).ok().filter(|_| joins) {
                 let gap = start.saturating_sub(h.framer.last_us().unwrap_or(start));
-                let command = RequestFrame::decode(joined.as_bytes()).ok().map(|r| r.request.command());
+                let command = Some(whole.request.command());
                 out(Observation { rule: Rule::GapInRequest, at_us: h.start_us, measured_us: Some(gap), command });
                 return;
             }
@@ -456,14 +457,13 @@ impl Observer {
     }
 
     /// A well-formed request: the address, and what it says of the master's reactions.
-    fn request(&mut self, framer: &Framer, start: u64, out: &mut impl FnMut(Observation)) {
-        let Ok(rf) = RequestFrame::decode(framer.bytes.as_bytes()) else { return };
+    /// `end`: when its last character was complete.
+    fn request(&mut self, rf: RequestFrame, end: u64, start: u64, out: &mut impl FnMut(Observation)) {
         let command = rf.request.command();
         let mut report = |rule| out(Observation { rule, at_us: start, measured_us: None, command: Some(command) });
         if let AddressByte::Unknown(_) = rf.address {
             report(Rule::AddressFormat);
         }
-        let end = framer.last_us().unwrap_or(start);
         let timeout = self.timeout_us();
         let own = rf.address.addresses(self.address());
         if own {
