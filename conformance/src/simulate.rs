@@ -6,7 +6,7 @@
 
 use crate::certify::World;
 use hiperface_model::datalink::RxChar;
-use hiperface_model::{Hex, Profile, Slave, Step};
+use hiperface_model::{Hex, Profile, Slave, Step, UartSettings};
 use serialport::SerialPort;
 use std::io::{ErrorKind, Read, Write};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -20,8 +20,15 @@ pub const REPLY_DELAY_US: u64 = 300;
 /// master sends, change or withhold a reply (fault injection), learn what was sent.
 /// The default hooks serve the model as it is.
 pub trait Hooks {
-    /// A character from the master, stamped at the end of its stop bit.
-    fn received(&mut self, _ch: RxChar) {}
+    /// A character from the master, stamped at the end of its stop bit, and the
+    /// settings the slave listens at then (`None` while it does not listen).
+    fn received(&mut self, _ch: RxChar, _listening: Option<UartSettings>) {}
+    /// Whether the port follows the slave's listening settings. Not where the port's
+    /// settings are the peer's: on a pseudo-terminal, setting one end sets the other
+    /// (Linux), and the master under test owns them.
+    fn sets_port(&self) -> bool {
+        true
+    }
     /// Time passes with nothing received.
     fn idle(&mut self, _now_us: u64) {}
     /// The model processed a frame (whether it replies or not).
@@ -105,7 +112,7 @@ pub fn serve_with(
         // Follow the slave's listening settings (67h, reset, power-up windows) on the
         // port; a pseudo-terminal accepts and ignores them.
         let listening = slave.listening_settings(now(epoch));
-        if listening.is_some() && listening != port_settings {
+        if hooks.sets_port() && listening.is_some() && listening != port_settings {
             if let Some(s) = listening {
                 apply_settings(port.as_mut(), s)?;
             }
@@ -117,9 +124,9 @@ pub fn serve_with(
             Ok(n) => {
                 let t = now(epoch);
                 for b in &buf[..n] {
-                    let ct = slave.listening_settings(t).unwrap_or_default().char_time_us();
-                    let ch = rx_clock.stamp(*b, t, Some(ct));
-                    hooks.received(ch);
+                    let listening = slave.listening_settings(t);
+                    let ch = rx_clock.stamp(*b, t, Some(listening.unwrap_or_default().char_time_us()));
+                    hooks.received(ch, listening);
                     steps.extend(slave.receive(ch));
                 }
             }
@@ -172,7 +179,7 @@ pub fn serve_with(
     Ok(())
 }
 
-fn apply_settings(port: &mut dyn SerialPort, s: hiperface_model::UartSettings) -> std::io::Result<()> {
+fn apply_settings(port: &mut dyn SerialPort, s: UartSettings) -> std::io::Result<()> {
     use hiperface_model::settings::Parity as P;
     let parity = match s.parity {
         P::None => serialport::Parity::None,

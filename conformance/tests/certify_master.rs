@@ -25,7 +25,11 @@ fn hx_master(defect: Option<&str>) -> Option<String> {
 }
 
 fn certify(profile: Profile, exec: &str, scenarios: Option<&str>) -> DriveReport {
-    let options = Options { attach: Attach::Exec(exec.into()), scenarios: scenarios.map(str::to_string) };
+    let options = Options {
+        attach: Attach::Exec(exec.into()),
+        scenarios: scenarios.map(str::to_string),
+        polling_period_ms: drive::POLLING_PERIOD_MS,
+    };
     drive::run(profile, &options, |_, _, _| {})
 }
 
@@ -83,8 +87,21 @@ fn the_independent_master_passes_every_scenario() {
     assert_clean(&certify(profiles::srs50(), &exec, None));
 }
 
+#[test]
+fn the_independent_master_set_for_user_settings_passes_the_user_settings_scenario() {
+    // HX-M as a drive configured for 38400 Bd: it waits out the default window and
+    // talks at the encoder's stored data rate, as 000:3.3.1 allows.
+    let Some(exec) = hx_master(None) else { return };
+    let report = certify(profiles::srs50(), &format!("{exec} --user-baud 38400"), Some("startup.user-settings"));
+    let s = &report.scenarios[0];
+    assert_eq!(s.verdict, CaseVerdict::Pass, "{:#?}", s.findings);
+    // It did talk at 38400 Bd, after the window: the rate check saw frames to grade.
+    assert!(s.wire.iter().any(|w| w.direction == "M>" && w.t_us > 1_100_000), "{:#?}", s.wire);
+}
+
 /// A defect of HX-M, the scenario it is caught in, the clause and verdict there.
 struct Defect {
+    /// The defect switch, and HX-M's other options it needs.
     name: &'static str,
     scenario: &'static str,
     clause: &'static str,
@@ -173,6 +190,34 @@ const DEFECTS: &[Defect] = &[
         untouched: Some("startup.default"),
     },
     Defect {
+        name: "no-baud",
+        scenario: "startup.default",
+        clause: "000:3.3.1",
+        verdict: CaseVerdict::Fail,
+        untouched: None,
+    },
+    Defect {
+        name: "user-baud-early --user-baud 38400",
+        scenario: "startup.user-settings",
+        clause: "000:3.3.1",
+        verdict: CaseVerdict::Fail,
+        untouched: None,
+    },
+    Defect {
+        name: "late-default",
+        scenario: "startup.user-settings",
+        clause: "000:3.3.1",
+        verdict: CaseVerdict::Fail,
+        untouched: Some("startup.default"),
+    },
+    Defect {
+        name: "sparse-poll",
+        scenario: "polling.long",
+        clause: "000:3.2.2/cyclic",
+        verdict: CaseVerdict::NonStrict,
+        untouched: None,
+    },
+    Defect {
         name: "naive-poll",
         scenario: "startup.default",
         clause: "000:3.3.1/status",
@@ -217,7 +262,7 @@ fn every_defective_master_is_caught_where_it_breaks_a_rule() {
             d.scenario,
             own.verdict.label(),
             d.clause,
-            clean.unwrap_or_else(|| "(every scenario: a start-up defect)".into())
+            clean.unwrap_or_else(|| "(none: it shows in every scenario)".into())
         ));
     }
     eprintln!("{}", table.join("\n"));
@@ -289,6 +334,7 @@ fn a_drive_on_a_port_is_certified_without_seeing_its_power_on() {
         attach: Attach::Port { path, power_on: PowerOn::Unseen },
         // Not 22h: the drive stops reading the position for good after it, as it should.
         scenarios: Some("startup.default,protocol.checksum-error,protocol.parity,reply.corrupt".into()),
+        polling_period_ms: drive::POLLING_PERIOD_MS,
     };
     let report = drive::run(profile, &options, |_, _, _| {});
     // The drive ends when its line goes (the port closes under it).
@@ -304,4 +350,89 @@ fn a_drive_on_a_port_is_certified_without_seeing_its_power_on() {
         assert_eq!(s.verdict, CaseVerdict::Pass, "{id}: {:#?}", s.findings);
     }
     assert!(report.notes.iter().any(|n| n.contains("power-on was not seen")), "{:?}", report.notes);
+}
+
+/// An operator who switches a "drive" on the far end of a pseudo-terminal: the
+/// reference master in a thread, started at each power-on (optionally after a delay,
+/// and optionally sending a request at once, as a defective drive would).
+struct ScriptedOperator {
+    drive_end: serialport::TTYPort,
+    delay: std::time::Duration,
+    talks_at_once: bool,
+    running: Option<std::thread::JoinHandle<()>>,
+    switched_on: usize,
+}
+
+impl drive::Operator for ScriptedOperator {
+    fn switch_off(&mut self, _scenario: &str) {
+        if let Some(t) = self.running.take() {
+            t.join().unwrap();
+        }
+    }
+
+    fn switch_on(&mut self, _scenario: &str) {
+        use hiperface_conformance::exchange::Master;
+        use hiperface_conformance::line::serial::SerialLine;
+        use std::io::Write as _;
+        self.switched_on += 1;
+        let mut port = self.drive_end.try_clone_native().unwrap();
+        let (delay, talks_at_once) = (self.delay, self.talks_at_once);
+        self.running = Some(std::thread::spawn(move || {
+            std::thread::sleep(delay);
+            if talks_at_once {
+                port.write_all(&[0x40, 0x50, 0x10]).unwrap();
+            }
+            let profile = profiles::srs50();
+            let line = SerialLine::from_port(Box::new(port), "drive".into(), profile.settings, true);
+            let mut master = Master::new(line, profile.edition);
+            // Off before the scenario's 1500 ms end: the next switch_off finds it off.
+            let options = drive::reference::Options { poll_ms: 20, duration_ms: Some(1_300) };
+            let _ = drive::reference::run(&mut master, profile, options, &mut |_: &str| {});
+        }));
+    }
+}
+
+#[test]
+fn with_an_operator_the_start_up_of_a_drive_on_a_port_is_graded() {
+    use serialport::SerialPort as _;
+    let run = |delay_ms: u64, talks_at_once: bool, scenarios: &str| {
+        let (drive_end, encoder_end) = serialport::TTYPort::pair().unwrap();
+        let path = encoder_end.name().unwrap();
+        let mut operator = ScriptedOperator {
+            drive_end,
+            delay: std::time::Duration::from_millis(delay_ms),
+            talks_at_once,
+            running: None,
+            switched_on: 0,
+        };
+        let options = Options {
+            attach: Attach::Port { path, power_on: PowerOn::Prompt },
+            scenarios: Some(scenarios.into()),
+            polling_period_ms: drive::POLLING_PERIOD_MS,
+        };
+        let report = drive::run_with(profiles::srs50(), &options, &mut operator, |_, _, _| {});
+        drive::Operator::switch_off(&mut operator, "end");
+        assert_eq!(operator.switched_on, report.scenarios.len(), "one power-on per scenario");
+        drop(encoder_end);
+        report
+    };
+    // A conformant drive switched on 50 ms after the prompt: start-up graded and clean.
+    let report = run(50, false, "startup.default,fault.critical-at-start");
+    for s in &report.scenarios {
+        assert_eq!(s.verdict, CaseVerdict::Pass, "{}: {:#?}", s.id, s.findings);
+    }
+    assert!(report.notes.iter().any(|n| n.contains("operator")), "{:?}", report.notes);
+    // A drive that talks at once: a request during initialization, by the encoder's
+    // clock and so by the drive's (it powered on at the prompt or later).
+    let report = run(0, true, "startup.default");
+    let s = &report.scenarios[0];
+    assert_eq!(s.verdict, CaseVerdict::Fail, "{:#?}", s.findings);
+    assert!(s.findings.iter().any(|f| f.clause_id() == "000:3.3.1"), "{:#?}", s.findings);
+    // A slow operator: the drive's first request (120 ms after its own power-on) comes
+    // 970 ms after the encoder's, in its settings-change window. The harness cannot
+    // tell that from a drive that talks late: NON-STRICT, not FAIL.
+    let report = run(850, false, "startup.default");
+    let s = &report.scenarios[0];
+    assert_eq!(s.verdict, CaseVerdict::NonStrict, "{:#?}", s.findings);
+    assert!(s.findings.iter().any(|f| f.message().contains("operator")), "{:#?}", s.findings);
 }

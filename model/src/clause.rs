@@ -243,6 +243,7 @@ clauses! {
     [Recommended] MASTER_WARNING = "000:2.3.4/warning": "The Slave will issue the warning bit with each following command response until the Master has read out the error code (with command 50h) or performed a Slave reset (command 53h).";
     [Recommended] MASTER_FAULT_REACTION = "000:3.3.4": "In a second step it is recommended to refine drive controller actions based on individual fault codes as lined out in the following table.";
     [Recommended] MASTER_EXTENDED_TYPE_LABEL = "000:T19/master": "Masters have to implement the corresponding encoder parameters for a given code during design. Slaves that only implement the Extended Type Label have to use the type code FFh.";
+    [Recommended] MASTER_CYCLIC = "000:3.2.2/cyclic": "As the HIPERFACE Slave only issues fault indications upon command requests a sufficient cyclic request should be implemented in the drive software. If no other information is required the command Read Position should be used to poll fault indications.";
     [Recommended] MASTER_UNKNOWN_CODE = "000:3.3.4/unknown": "It is expected that a HIPERFACE Master can only react with the worst-case fault reaction to unknown fault codes (i.e. motor stop).";
     [Informative] S36_EXAMPLES = "001:5.1.4": "Worked request/response examples of the Kuebler Sendix S36.";
     [normative Legacy] LEGACY_TIMEOUT = "002:timing": "TIMEOUT programmable, 11/baud rate or 44/baud rate = default.";

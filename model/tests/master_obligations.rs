@@ -104,6 +104,14 @@ fn a_conformant_master_gets_no_observation() {
     bus.ask(&[0x40, 0x52], Response::TypeLabel { settings: 0xE4, type_code: 0xFF, memory_blocks: 0x70, option: 0 });
     bus.ask(&[0x40, 0x4A, 0xFF, 0x00, 0x40, 0x00], Response::Error(FaultCode::WrongOffset));
     bus.ask(&[0x40, 0x42], POSITION);
+    // 06h read with 08h from the stack: "06h + 08h", Minor, no action (000:T74); the
+    // master goes on without a reset.
+    bus.ask(&[0x40, 0x50], Response::EncoderStatus(FaultCode::InternalChecksum));
+    bus.ask(&[0x40, 0x50], Response::EncoderStatus(FaultCode::CounterOverflow));
+    bus.ask(&[0x40, 0x50], Response::EncoderStatus(FaultCode::NoFault));
+    for _ in 0..4 {
+        bus.ask(&[0x40, 0x42], POSITION);
+    }
     // Encoder Reset, then the timeout plus the initialization time.
     bus.send(&[0x40, 0x53]).wait_ms(6 + 100);
     bus.ask(&[0x40, 0x50], Response::EncoderStatus(FaultCode::NoFault)).ask(&[0x40, 0x42], POSITION);
@@ -189,6 +197,22 @@ fn each_broken_rule_is_observed() {
                 b.ask(&[0x40, 0x42], POSITION);
             }
         }),
+        (
+            "no reset after 06h read with 04h (\"06h + 04h\": Critical, SW reset)",
+            Rule::NoResetAfterCriticalFault,
+            |b| {
+                b.at(120 * MS).ask(&[0x40, 0x50], Response::EncoderStatus(FaultCode::AnalogLimits));
+                b.ask(&[0x40, 0x50], Response::EncoderStatus(FaultCode::InternalChecksum));
+                for _ in 0..4 {
+                    b.ask(&[0x40, 0x42], POSITION);
+                }
+            },
+        ),
+        ("stops polling for two seconds", Rule::NoCyclicRequest, |b| {
+            conformant_start(b);
+            b.wait_ms(2000);
+            b.ask(&[0x40, 0x42], POSITION);
+        }),
         ("type FFh and no Extended Type Label", Rule::ExtendedTypeLabelNotRead, |b| {
             b.at(120 * MS)
                 .ask(&[0x40, 0x50], Response::EncoderStatus(FaultCode::NoFault))
@@ -227,6 +251,48 @@ fn timing_observations_carry_the_measured_figure() {
 }
 
 #[test]
+fn the_data_rate_is_the_one_the_encoder_listens_at() {
+    use hiperface_model::master::obligations::DataRates;
+    use hiperface_model::settings::Baud;
+    let mut bus = Bus::new(profiles::srs50());
+    // Default communication: 9600 Bd is right, 38400 Bd is not (000:3.3.1, 000:T9).
+    bus.observer.master_data_rate(150 * MS, 9600, &mut |o| bus.seen.push(o));
+    assert!(bus.seen.is_empty(), "{:?}", bus.seen);
+    bus.observer.master_data_rate(160 * MS, 38400, &mut |o| bus.seen.push(o));
+    assert_eq!(bus.rules(), vec![Rule::DataRate]);
+    assert_eq!(bus.seen[0].data_rates, Some(DataRates { master_bps: 38400, encoder_bps: 9600 }));
+    // The encoder has gone over to its stored 38400 Bd: now 9600 Bd is wrong.
+    let mut stored = hiperface_model::UartSettings::DEFAULT;
+    stored.baud = Baud::B38400;
+    bus.observer.encoder_listens(stored);
+    bus.seen.clear();
+    bus.observer.master_data_rate(1200 * MS, 38400, &mut |o| bus.seen.push(o));
+    bus.observer.master_data_rate(1300 * MS, 9600, &mut |o| bus.seen.push(o));
+    assert_eq!(bus.rules(), vec![Rule::DataRate]);
+    assert_eq!(bus.seen[0].at_us, 1300 * MS);
+}
+
+#[test]
+fn a_gap_in_the_polling_counts_once_and_also_when_it_is_still_open() {
+    let mut bus = Bus::new(profiles::srs50());
+    conformant_start(&mut bus);
+    let last = bus.now;
+    bus.at(last + 900 * MS);
+    assert!(bus.seen.is_empty(), "within the period: {:?}", bus.seen);
+    // The master falls silent: the observation ends with the gap still open.
+    bus.observer.end(last + 3000 * MS, &mut |o| bus.seen.push(o));
+    assert_eq!(bus.seen.iter().map(|o| o.rule).collect::<Vec<_>>(), vec![Rule::NoCyclicRequest]);
+    assert!(bus.seen[0].measured_us.is_some_and(|g| g > 2900 * MS), "{:?}", bus.seen[0]);
+    // The application's own period.
+    let mut bus = Bus::new(profiles::srs50());
+    bus.observer.set_polling_period_ms(5000);
+    conformant_start(&mut bus);
+    let last = bus.now;
+    bus.observer.end(last + 3000 * MS, &mut |o| bus.seen.push(o));
+    assert!(bus.seen.is_empty(), "{:?}", bus.seen);
+}
+
+#[test]
 fn must_rules_are_normative_and_should_rules_are_not() {
     use hiperface_model::clause::Force;
     for (rule, normative) in [
@@ -235,11 +301,13 @@ fn must_rules_are_normative_and_should_rules_are_not() {
         (Rule::NoPause, true),
         (Rule::DuringInitialization, true),
         (Rule::TooSoonAfterReset, true),
+        (Rule::DataRate, true),
         (Rule::ReplyWindow, false),
         (Rule::StatusNotRead, false),
         (Rule::WarningIgnored, false),
         (Rule::NoRetry, false),
         (Rule::UnknownCodeIgnored, false),
+        (Rule::NoCyclicRequest, false),
     ] {
         assert_eq!(rule.clause().force() == Force::Normative, normative, "{rule:?}");
     }

@@ -195,10 +195,31 @@ pub fn invariants(s: &Slave) {
 /// encoder (decodable or not), power-on, or time passing.
 #[derive(Debug, Arbitrary)]
 pub enum MasterEvent {
-    Char { byte: u8, gap_us: u16 },
-    Reply { code: u8, warning: bool, readable: bool, gap_us: u16, len: u8 },
-    PowerOn { gap_ms: u8 },
-    Idle { gap_ms: u8 },
+    Char {
+        byte: u8,
+        gap_us: u16,
+    },
+    Reply {
+        code: u8,
+        warning: bool,
+        readable: bool,
+        gap_us: u16,
+        len: u8,
+    },
+    PowerOn {
+        gap_ms: u8,
+    },
+    Idle {
+        gap_ms: u8,
+    },
+    /// The encoder listens at the settings of this byte (000:T28), if it is one.
+    Listens {
+        settings: u8,
+    },
+    /// A master frame begins at this data rate.
+    DataRate {
+        bps: u32,
+    },
 }
 
 /// The master's observer on any events: no panic, time never goes backwards in what it
@@ -239,6 +260,12 @@ pub fn observer(events: &[MasterEvent]) {
                 t += gap_ms as u64 * 1000;
                 o.poll(t, &mut sink);
             }
+            MasterEvent::Listens { settings } => {
+                if let Ok(s) = hiperface_model::UartSettings::decode(settings) {
+                    o.encoder_listens(s);
+                }
+            }
+            MasterEvent::DataRate { bps } => o.master_data_rate(t, bps, &mut sink),
         }
     }
     assert!(count <= 4 * events.len().min(512) + 4, "{count} observations");

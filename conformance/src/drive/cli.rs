@@ -32,6 +32,11 @@ pub struct CertifyMasterArgs {
     /// Write report.json, junit.xml, certificate.md and certificate.html here.
     #[arg(long)]
     pub report: Option<PathBuf>,
+    /// The application's polling period, ms: a master that sends no request for longer
+    /// is NON-STRICT (000:3.2.2 "a sufficient cyclic request should be implemented").
+    #[arg(long, default_value_t = hiperface_model::master::obligations::POLLING_PERIOD_MS,
+          value_parser = clap::value_parser!(u32).range(1..))]
+    pub polling_period_ms: u32,
 }
 
 /// `hiperface master`.
@@ -59,7 +64,7 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<ExitCode, String> {
         (None, Some(path)) => Attach::Port { path: path.clone(), power_on: args.power_on },
         (None, None) => return Err("give the master with --exec or --port".into()),
     };
-    let options = Options { attach, scenarios: args.scenarios.clone() };
+    let options = Options { attach, scenarios: args.scenarios.clone(), polling_period_ms: args.polling_period_ms };
     if let Some(globs) = &args.scenarios {
         if super::scenarios::chosen(Some(globs)).is_empty() {
             return Err(format!("no scenario matches `{globs}`"));

@@ -9,6 +9,7 @@ use hiperface_model::datalink::RxChar;
 use hiperface_model::master::obligations::{Observation, Observer};
 use hiperface_model::response::ResponseFrame;
 use hiperface_model::{checksum, CommandId, Hex, Profile, RequestFrame, Slave, Step, UartSettings};
+use serialport::SerialPort;
 use std::collections::BTreeMap;
 
 /// What happened on the line in one scenario, on one time axis (µs since power-on).
@@ -34,6 +35,12 @@ pub struct DriveEncoder {
     /// The master's characters since the last pause of the timeout, for the timeline
     /// (the encoder may ignore them, e.g. while it initializes).
     heard: Vec<RxChar>,
+    /// The master's end of a pseudo-terminal, whose settings are the master's own.
+    peer: Option<Box<dyn SerialPort>>,
+    /// The master's data rate as last read while the line was quiet.
+    peer_bps: Option<u32>,
+    /// What the encoder listened at when the last character came.
+    listening: Option<UartSettings>,
 }
 
 /// More characters than any master needs in a scenario: a flood is cut here.
@@ -42,12 +49,55 @@ pub const MAX_CHARACTERS: usize = 20_000;
 impl DriveEncoder {
     /// `power_on_seen`: the scenario starts at the master's power-on of the encoder
     /// (t = 0); otherwise the rules about power-on are not graded.
-    pub fn new(profile: Profile, plan: &'static [Injection], power_on_seen: bool) -> DriveEncoder {
+    /// `peer`: the pseudo-terminal's end the master uses, whose settings (its data
+    /// rate) the harness reads; `None` on a real port, where they cannot be read.
+    pub fn new(
+        profile: Profile,
+        plan: &'static [Injection],
+        power_on_seen: bool,
+        peer: Option<Box<dyn SerialPort>>,
+    ) -> DriveEncoder {
         let mut observer = Observer::new(profile);
         if power_on_seen {
             observer.power_on(0);
         }
-        DriveEncoder { observer, plan, timeline: Timeline::default(), profile, answered: None, heard: Vec::new() }
+        DriveEncoder {
+            observer,
+            plan,
+            timeline: Timeline::default(),
+            profile,
+            answered: None,
+            heard: Vec::new(),
+            peer,
+            peer_bps: None,
+            listening: None,
+        }
+    }
+
+    /// The application's polling period (000:3.2.2).
+    pub fn set_polling_period_ms(&mut self, ms: u32) {
+        self.observer.set_polling_period_ms(ms);
+    }
+
+    /// The master's data rate now, where the harness can read it.
+    fn peer_bps(&self) -> Option<u32> {
+        self.peer.as_ref().and_then(|p| p.baud_rate().ok())
+    }
+
+    /// A frame of the master begins at `start_us`: grade its data rate if the
+    /// master's settings held still since the line was last quiet (otherwise the
+    /// harness cannot tell which settings the characters were sent with).
+    fn frame_begins(&mut self, start_us: u64) {
+        if self.peer.is_none() || self.listening.is_none() {
+            return;
+        }
+        match (self.peer_bps, self.peer_bps()) {
+            (Some(before), Some(now)) if before == now => {
+                let seen = &mut self.timeline.observations;
+                self.observer.master_data_rate(start_us, now, &mut |o| seen.push(o));
+            }
+            _ => self.note(start_us, "?", "data rate not graded: the master's settings changed as it sent".into()),
+        }
     }
 
     fn note(&mut self, t_us: u64, direction: &'static str, text: String) {
@@ -56,14 +106,15 @@ impl DriveEncoder {
 
     /// Flush the observer and the timeline at the end of the scenario.
     pub fn finish(&mut self, now_us: u64) {
-        Hooks::idle(self, now_us);
+        let seen = &mut self.timeline.observations;
+        self.observer.end(now_us, &mut |o| seen.push(o));
         self.flush_heard(u64::MAX);
     }
 
     /// The master's characters heard so far make one frame once the timeout has
     /// passed after the last of them (or `now_us` is `u64::MAX`).
     fn flush_heard(&mut self, now_us: u64) {
-        let timeout = UartSettings::DEFAULT.timeout_us(self.profile.edition);
+        let timeout = self.listening.unwrap_or_default().timeout_us(self.profile.edition);
         let Some(last) = self.heard.last() else { return };
         if now_us != u64::MAX && now_us < last.at_us + timeout {
             return;
@@ -80,8 +131,18 @@ impl DriveEncoder {
 }
 
 impl Hooks for DriveEncoder {
-    fn received(&mut self, ch: RxChar) {
-        self.flush_heard(ch.at_us.saturating_sub(UartSettings::DEFAULT.char_time_us()));
+    fn received(&mut self, ch: RxChar, listening: Option<UartSettings>) {
+        if listening != self.listening {
+            if let Some(s) = listening {
+                self.observer.encoder_listens(s);
+            }
+            self.listening = listening;
+        }
+        let start_us = ch.at_us.saturating_sub(listening.unwrap_or_default().char_time_us());
+        self.flush_heard(start_us);
+        if self.heard.is_empty() {
+            self.frame_begins(start_us);
+        }
         if self.timeline.characters < MAX_CHARACTERS {
             self.heard.push(ch);
         }
@@ -90,7 +151,14 @@ impl Hooks for DriveEncoder {
         self.observer.master_char(ch, &mut |o| seen.push(o));
     }
 
+    fn sets_port(&self) -> bool {
+        self.peer.is_none()
+    }
+
     fn idle(&mut self, now_us: u64) {
+        if self.heard.is_empty() {
+            self.peer_bps = self.peer_bps();
+        }
         let seen = &mut self.timeline.observations;
         self.observer.poll(now_us, &mut |o| seen.push(o));
         self.flush_heard(now_us);

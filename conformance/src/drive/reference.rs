@@ -5,8 +5,8 @@
 
 use crate::exchange::Master;
 use crate::line::{Line, LineError};
-use hiperface_model::fault::{self, FaultGroup, Severity};
-use hiperface_model::master::fault_reaction;
+use hiperface_model::fault::{self, Severity};
+use hiperface_model::master::fault_reaction::{self, Reaction};
 use hiperface_model::response::{Response, ResponseFrame};
 use hiperface_model::{CommandId, FaultCode, Profile, Request, RequestFrame};
 
@@ -114,22 +114,26 @@ impl<L: Line> Run<'_, L> {
     }
 
     /// Read Encoder Status until the stack is empty (four codes at most, 000:2.3.4),
-    /// reacting to each code.
+    /// then react to the codes read, together (000:T74 "06h + 08h").
     fn read_status(&mut self) -> Result<(), LineError> {
+        let mut codes = Vec::new();
         for _ in 0..5 {
-            let Outcome::Reply(r) = self.ask(Request::ReadEncoderStatus)? else { return Ok(()) };
+            let Outcome::Reply(r) = self.ask(Request::ReadEncoderStatus)? else { break };
             match r.response {
                 // Empty, and no warning left: done. (A warning with 00h: a fault stacked
                 // after the read; read again.)
-                Response::EncoderStatus(FaultCode::NoFault) if !r.warning => return Ok(()),
+                Response::EncoderStatus(FaultCode::NoFault) if !r.warning => break,
                 Response::EncoderStatus(FaultCode::NoFault) => {}
                 Response::EncoderStatus(code) => {
                     self.console.line(&format!("status: {code}"));
-                    if self.react(code, Some(FaultGroup::Initialization))? {
-                        return Ok(());
-                    }
+                    codes.push(code);
                 }
-                _ => return Ok(()),
+                _ => break,
+            }
+        }
+        for (code, reaction) in fault_reaction::stack_reactions(&codes) {
+            if self.react(code, reaction)? {
+                return Ok(());
             }
         }
         Ok(())
@@ -146,7 +150,8 @@ impl<L: Line> Run<'_, L> {
                     }
                     Response::Error(code) => {
                         self.console.line(&format!("Read Position: {code}"));
-                        if self.react(code, fault::runtime_group(code))? {
+                        let reaction = fault_reaction::reaction(code, fault::runtime_group(code));
+                        if self.react(code, reaction)? {
                             return Ok(());
                         }
                     }
@@ -159,9 +164,9 @@ impl<L: Line> Run<'_, L> {
         self.reset()
     }
 
-    /// React to `code` (000:T74); true when the reaction ends the current attempt.
-    fn react(&mut self, code: FaultCode, group: Option<FaultGroup>) -> Result<bool, LineError> {
-        let reaction = fault_reaction::reaction(code, group);
+    /// React to `code` as `reaction` says (000:T74); true when the reaction ends the
+    /// current attempt.
+    fn react(&mut self, code: FaultCode, reaction: Reaction) -> Result<bool, LineError> {
         match code.byte() {
             // "Retry command." // 000:T74 protocol group
             0x09..=0x0D => Ok(false),
@@ -177,9 +182,7 @@ impl<L: Line> Run<'_, L> {
                 self.reset()?;
                 Ok(true)
             }
-            _ if reaction.severity == Severity::Critical
-                && reaction.response.is_some_and(|r| r.starts_with("SW reset")) =>
-            {
+            _ if reaction.severity == Severity::Critical && reaction.is_reset() => {
                 self.reset()?;
                 Ok(true)
             }

@@ -4,6 +4,7 @@
 
 use crate::certify::World;
 use hiperface_model::clause::{self, Clause};
+use hiperface_model::settings::Baud;
 use hiperface_model::slave::inputs::{InitFault, PhysicalInputs, PositionFault};
 use hiperface_model::{CommandId, FaultCode, Profile};
 
@@ -50,8 +51,9 @@ pub struct Scenario {
     pub needs: Option<CommandId>,
     /// The scenario is about what happens from power-on.
     pub from_power_on: bool,
-    /// An encoder of this profile instead of the run's (e.g. one with type code FFh).
-    pub encoder: Option<fn() -> Profile>,
+    /// The encoder of this scenario, made from the run's profile (e.g. one with type
+    /// code FFh, or with stored settings other than the default).
+    pub encoder: Option<fn(Profile) -> Profile>,
 }
 
 fn calm(_: &Profile) -> World {
@@ -62,6 +64,19 @@ fn hot(p: &Profile) -> World {
     // Above the profile's limit: the encoder stacks 1Eh and sets the warning bit.
     let inputs = PhysicalInputs { temperature_c: p.temperature_max_c + 5, ..PhysicalInputs::default() };
     World { inputs: Some(inputs), ..World::default() }
+}
+
+fn four_stacked(p: &Profile) -> World {
+    // Four codes on the stack (000:2.3.4 holds four): 07h (watchdog reset: "Read and
+    // delete message"), 06h + 08h (counter value corrupted: "Minor, -") and 1Eh
+    // (temperature) — none asks for a reset (000:T74).
+    World { init_faults: vec![InitFault::Watchdog, InitFault::Counter], ..hot(p) }
+}
+
+/// The run's encoder with 38400 Bd stored (000:T4: the data rate "can be programmed").
+fn stored_38400(mut p: Profile) -> Profile {
+    p.settings.baud = Baud::B38400;
+    p
 }
 
 fn broken_at_start(_: &Profile) -> World {
@@ -106,12 +121,24 @@ pub fn catalogue() -> Vec<Scenario> {
             None
         ),
         Scenario {
-            encoder: Some(hiperface_model::profiles::sks36),
+            encoder: Some(|_| hiperface_model::profiles::sks36()),
             ..scenario!(
                 "startup.extended-type-label",
                 "An encoder of type FFh: the master reads the Extended Type Label",
                 [MASTER_EXTENDED_TYPE_LABEL, MASTER_START_UP],
                 1500,
+                calm,
+                &[],
+                None
+            )
+        },
+        Scenario {
+            encoder: Some(stored_38400),
+            ..scenario!(
+                "startup.user-settings",
+                "An encoder with 38400 Bd stored: default settings until the window passes, 38400 Bd from 1100 ms",
+                [MASTER_START_UP],
+                2000,
                 calm,
                 &[],
                 None
@@ -123,6 +150,15 @@ pub fn catalogue() -> Vec<Scenario> {
             [MASTER_WARNING],
             1500,
             hot,
+            &[],
+            None
+        ),
+        scenario!(
+            "warning.four-codes",
+            "Four codes stacked (07h, 06h + 08h, 1Eh): all read out, no reset asked",
+            [MASTER_WARNING, MASTER_READ_STATUS, MASTER_FAULT_REACTION],
+            1500,
+            four_stacked,
             &[],
             None
         ),
@@ -255,7 +291,7 @@ pub fn catalogue() -> Vec<Scenario> {
         scenario!(
             "polling.long",
             "Five seconds of cyclic polling",
-            [MASTER_FRAME, MASTER_PAUSE, MASTER_CHARACTER_GAP, MASTER_REPLY_WINDOW],
+            [MASTER_CYCLIC, MASTER_FRAME, MASTER_PAUSE, MASTER_CHARACTER_GAP, MASTER_REPLY_WINDOW],
             5000,
             calm,
             &[],
@@ -263,7 +299,7 @@ pub fn catalogue() -> Vec<Scenario> {
         ),
     ];
     for s in &mut all {
-        s.from_power_on = matches!(s.id, "startup.default" | "startup.extended-type-label" | "fault.critical-at-start");
+        s.from_power_on = s.id.starts_with("startup.") || s.id == "fault.critical-at-start";
     }
     all
 }

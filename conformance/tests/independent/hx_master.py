@@ -3,14 +3,16 @@
 timing, 2.3 frames, 2.3.4 warning bit, 2.4.1 state machine, 3.3.1 start-up, 3.3.4 and
 Table 74 fault reaction). Standard library only; it shares no code with the Rust model.
 
-    hx_master.py PORT [--defect NAME] [--poll-ms N]
+    hx_master.py PORT [--defect NAME] [--poll-ms N] [--user-baud N]
 
 Without --defect it is a conformant master: it waits out initialization, reads the
 status until the stack is empty, reads the type label, then polls Read Position; it
 reads the stack whenever a reply carries the warning bit, retries a request answered
 with a protocol error, resets (53h) after critical start-up faults and unknown codes,
-and stops reading the position after 22h. Each defect switch breaks one rule, the way
-masters in the field do.
+and stops reading the position after 22h. It sets its port to the default settings
+(9600 Bd, even parity, Table 4); with --user-baud it is a drive configured for an
+encoder whose stored data rate is N: it waits out the default window (1100 ms, 3.3.1)
+and talks at N. Each defect switch breaks one rule, the way masters in the field do.
 """
 import time
 
@@ -35,7 +37,14 @@ DEFECTS = {
     "no-retry": "answers a protocol error by moving on to another command",
     "naive-poll": "opens the port and polls 42h at once, in a loop, nothing else",
     "ignores-extended-type-label": "never reads the Extended Type Label of a type FFh encoder",
+    "no-baud": "never sets its port's data rate (a pseudo-terminal stays at 38400 Bd)",
+    "user-baud-early": "with --user-baud, talks at the user data rate from the start",
+    "sparse-poll": "polls once every 1.5 s: faults go unseen for that long",
+    "late-default": "waits out the default window, then talks at 9600 Bd whatever the encoder stores",
 }
+
+BAUD = {600: termios.B600, 1200: termios.B1200, 2400: termios.B2400, 4800: termios.B4800,
+        9600: termios.B9600, 19200: termios.B19200, 38400: termios.B38400}
 
 CHAR_S = 11 / 9600          # one character at 9600 Bd, 8E1
 TIMEOUT_S = 55 / 9600       # 000:2.2.2 default timeout
@@ -50,16 +59,25 @@ def xor(data):
 
 
 class Line:
-    def __init__(self, path):
+    def __init__(self, path, baud):
         self.fd = os.open(path, os.O_RDWR | os.O_NOCTTY)
         tty.setraw(self.fd)
         attrs = termios.tcgetattr(self.fd)
         attrs[6][termios.VMIN] = 0
         attrs[6][termios.VTIME] = 0
         termios.tcsetattr(self.fd, termios.TCSANOW, attrs)
+        if baud is not None:
+            self.set_baud(baud)
         os.set_blocking(self.fd, False)
         self.t0 = T0
         self.idle_since = 0.0
+
+    def set_baud(self, baud):
+        """8 data bits, even parity, one stop bit at `baud` (Table 4)."""
+        attrs = termios.tcgetattr(self.fd)
+        attrs[2] = (attrs[2] & ~(termios.CSIZE | termios.PARODD | termios.CSTOPB)) | termios.CS8 | termios.PARENB
+        attrs[4] = attrs[5] = BAUD[baud]
+        termios.tcsetattr(self.fd, termios.TCSADRAIN, attrs)
 
     def now(self):
         return time.monotonic() - self.t0
@@ -106,10 +124,11 @@ class Line:
 
 
 class Master:
-    def __init__(self, line, defect, poll_s):
+    def __init__(self, line, defect, poll_s, user_baud):
         self.line = line
         self.defect = defect
         self.poll_s = poll_s
+        self.user_baud = user_baud
         self.position_stopped = False
         self.resets = 0
 
@@ -142,16 +161,24 @@ class Master:
         return reply[1] & 0x7F, reply[2:-1], warning
 
     def read_stack(self):
-        """50h until the stack is empty (four codes at most, 2.3.4)."""
+        """50h until the stack is empty (four codes at most, 2.3.4), then react to the
+        codes together: Table 74's "06h + 08h" row is Minor with no action, where 06h
+        alone or with any other code asks for a reset."""
+        codes = []
         for _ in range(5):
             r = self.ask(0x50, max_response_s=0.005)
             if r is None:
-                return
+                break
             _, data, warning = r
             code = data[0] if data else 0
             if code == 0 and not warning:
-                return
-            if code != 0 and self.react(code, start_up=True):
+                break
+            if code != 0:
+                codes.append(code)
+        if 0x06 in codes and 0x08 in codes:
+            codes = [c for c in codes if c not in (0x06, 0x08)]
+        for code in codes:
+            if self.react(code, start_up=True):
                 return
 
     def react(self, code, start_up=False):
@@ -178,6 +205,8 @@ class Master:
         self.request([ADDRESS, 0x53])
         wait = 0.020 if self.defect == "no-reset-wait" else TIMEOUT_S + 0.100 + 0.020
         self.line.sleep_until(self.line.now() + wait)
+        if self.user_baud is not None and self.defect != "no-baud":
+            self.line.set_baud(9600)        # after a reset the encoder starts in default settings
         self.read_stack()
 
     def start_up(self):
@@ -185,6 +214,14 @@ class Master:
             pass                            # at once, well inside the 100 ms
         elif self.defect == "settings-window":
             self.line.sleep_until(0.940)
+        elif self.defect == "late-default":
+            self.line.sleep_until(1.120)
+        elif self.user_baud is not None and self.defect == "user-baud-early":
+            self.line.set_baud(self.user_baud)
+            self.line.sleep_until(0.120)
+        elif self.user_baud is not None:
+            self.line.sleep_until(1.120)    # 3.3.1: the user settings hold from 1100 ms
+            self.line.set_baud(self.user_baud)
         else:
             self.line.sleep_until(0.120)   # 2.4.1: initialization is over after 100 ms
         self.read_stack()
@@ -246,7 +283,16 @@ def main():
             return 2
     if "--poll-ms" in args:
         poll_s = int(args[args.index("--poll-ms") + 1]) / 1000
-    Master(Line(port), defect, poll_s).run()
+    if defect == "sparse-poll":
+        poll_s = 1.5
+    user_baud = None
+    if "--user-baud" in args:
+        user_baud = int(args[args.index("--user-baud") + 1])
+        if user_baud not in BAUD:
+            print(f"not a HIPERFACE data rate: {user_baud}", file=sys.stderr)
+            return 2
+    baud = None if defect == "no-baud" else 9600
+    Master(Line(port, baud), defect, poll_s, user_baud).run()
     return 0
 
 

@@ -46,6 +46,44 @@ pub fn reaction_to(code: FaultCode, group: Option<FaultGroup>, variant: Variant)
     }
 }
 
+impl Reaction {
+    /// Table 74 asks for a SW reset of the slave at once (the initialization rows).
+    pub fn is_reset(&self) -> bool {
+        self.known && self.response.is_some_and(|r| r.starts_with("SW reset"))
+    }
+
+    /// Table 74 asks to retry the command first.
+    pub fn is_retry(&self) -> bool {
+        self.response.is_some_and(|r| r.starts_with("Retry command."))
+    }
+}
+
+/// The group of a code read from the stack with Read Encoder Status: one found at
+/// start-up has its initialization row (000:T74 "SW reset of Slave"), any other its
+/// runtime group.
+pub fn stacked_group(code: FaultCode) -> Option<FaultGroup> {
+    match fault::rows(code).any(|r| r.group == FaultGroup::Initialization) {
+        true => Some(FaultGroup::Initialization),
+        false => fault::runtime_group(code),
+    }
+}
+
+/// The reactions to the codes read together from the stack (in any order): 06h stored
+/// along with a code of a "06h + xx" row of Table 74 takes that row's reaction, and the
+/// code with it has none of its own (000:T74 "06h + 08h: Minor, -").
+pub fn stack_reactions(codes: &[FaultCode]) -> impl Iterator<Item = (FaultCode, Reaction)> + '_ {
+    let has_pair = |x: FaultCode| fault::rows(FaultCode::InternalChecksum).any(|r| r.variant == Variant::With(x));
+    let companion = codes.iter().copied().find(|&x| has_pair(x));
+    let paired = codes.contains(&FaultCode::InternalChecksum);
+    codes.iter().copied().filter(move |&c| !(paired && Some(c) == companion)).map(move |c| {
+        let variant = match (c, companion) {
+            (FaultCode::InternalChecksum, Some(x)) => Variant::With(x),
+            _ => Variant::Any,
+        };
+        (c, reaction_to(c, stacked_group(c), variant))
+    })
+}
+
 /// Master behaviour noted in the masters' manuals.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct MasterNote {
@@ -117,5 +155,32 @@ pub fn master_reaction(f: MasterFault) -> Reaction {
         },
         MasterFault::Timeout => Reaction { severity: Severity::Major, response: Some("Retry the command; report a timeout (004: error id 255)."),
             known: true, },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use FaultCode as F;
+
+    fn resets(codes: &[FaultCode]) -> bool {
+        stack_reactions(codes).any(|(_, r)| r.severity == Severity::Critical && r.is_reset())
+    }
+
+    #[test]
+    fn codes_read_together_take_the_row_of_their_pair() {
+        // 000:T74: "06h + 08h" Minor, "-"; "06h + 04h" Critical, "SW reset of Slave.";
+        // 06h alone Critical, "SW reset of Slave."; in either order.
+        assert!(!resets(&[F::InternalChecksum, F::CounterOverflow]));
+        assert!(!resets(&[F::CounterOverflow, F::InternalChecksum]));
+        assert!(resets(&[F::InternalChecksum, F::AnalogLimits]));
+        assert!(resets(&[F::InternalChecksum]));
+        // 08h's own row ("Reset user counter.") does not apply when it is 06h's pair.
+        let mut pair = stack_reactions(&[F::InternalChecksum, F::CounterOverflow]);
+        assert_eq!(pair.next().map(|(c, r)| (c, r.response)), Some((F::InternalChecksum, None)));
+        assert!(pair.next().is_none());
+        // 07h "Read and delete message." and 1Eh ask for no reset.
+        assert!(!resets(&[F::Watchdog, F::Temperature]));
+        assert!(!resets(&[F::Watchdog, F::InternalChecksum, F::CounterOverflow, F::Temperature]));
     }
 }

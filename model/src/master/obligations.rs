@@ -17,7 +17,7 @@ use crate::address::{AddressByte, SlaveAddress};
 use crate::clause::{self, Clause};
 use crate::command::{CommandByte, CommandId};
 use crate::datalink::RxChar;
-use crate::fault::{FaultCode, FaultGroup, Severity};
+use crate::fault::{self, FaultCode, Severity};
 use crate::frame::{Frame, MAX_FRAME};
 use crate::master::fault_reaction;
 use crate::profile::Profile;
@@ -76,6 +76,13 @@ pub enum Rule {
     /// The type label said FFh and the master read the position without reading the
     /// Extended Type Label (field FFh), where the encoder's parameters are. // 000:T19
     ExtendedTypeLabelNotRead,
+    /// No request for longer than the polling period once the master has begun: faults
+    /// go unseen, for the slave only indicates them in replies. // 000:3.2.2 (should)
+    NoCyclicRequest,
+    /// A request at a data rate other than the one the encoder listens at: the default
+    /// settings until the default window has passed, the stored ones after it.
+    /// // 000:3.3.1, 000:T9
+    DataRate,
 }
 
 impl Rule {
@@ -89,7 +96,9 @@ impl Rule {
             Rule::NoPause => clause::MASTER_PAUSE.clause(),
             Rule::TalksOverReply => clause::MASTER_CYCLE.clause(),
             Rule::ReplyWindow => clause::MASTER_REPLY_WINDOW,
-            Rule::DuringInitialization | Rule::DuringSettingsChange => clause::MASTER_START_UP.clause(),
+            Rule::DuringInitialization | Rule::DuringSettingsChange | Rule::DataRate => {
+                clause::MASTER_START_UP.clause()
+            }
             Rule::TooSoonAfterReset => clause::MASTER_RESET_WAIT.clause(),
             Rule::StatusNotRead => clause::MASTER_READ_STATUS,
             Rule::WarningIgnored => clause::MASTER_WARNING,
@@ -97,6 +106,7 @@ impl Rule {
                 clause::MASTER_FAULT_REACTION
             }
             Rule::UnknownCodeIgnored => clause::MASTER_UNKNOWN_CODE,
+            Rule::NoCyclicRequest => clause::MASTER_CYCLIC,
             Rule::ExtendedTypeLabelNotRead => clause::MASTER_EXTENDED_TYPE_LABEL,
         }
     }
@@ -122,6 +132,8 @@ impl Rule {
             Rule::PositionAfterSyncFault => "position read after a multiturn sync fault",
             Rule::UnknownCodeIgnored => "position read on after an unknown fault code",
             Rule::ExtendedTypeLabelNotRead => "type FFh, and position read without the Extended Type Label",
+            Rule::DataRate => "a request at a data rate other than the encoder's",
+            Rule::NoCyclicRequest => "no request within the polling period",
         }
     }
 }
@@ -136,11 +148,24 @@ pub struct Observation {
     pub measured_us: Option<u64>,
     /// The command of the offending request, where it has one.
     pub command: Option<CommandId>,
+    /// The data rates, where the rule is about them.
+    pub data_rates: Option<DataRates>,
+}
+
+/// The master's data rate against the encoder's, bits per second.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct DataRates {
+    pub master_bps: u32,
+    pub encoder_bps: u32,
 }
 
 /// How many requests a master may make after a reply before it reacts (reads the
 /// warning's codes, resets after a critical fault).
 pub const REACTION_REQUESTS: u8 = 3;
+/// The polling period unless the user sets the application's: a request at least this
+/// often is "a sufficient cyclic request" (000:3.2.2); the figure is a decision of
+/// this project (docs/design.md).
+pub const POLLING_PERIOD_MS: u32 = 1000;
 /// How many times in a row the same request may fail before the master resets.
 pub const RETRY_BOUND: u8 = 8;
 
@@ -189,6 +214,32 @@ enum Pending {
     },
 }
 
+/// The codes the master read from the stack since its last other request.
+#[derive(Debug, Clone, Copy)]
+struct StackRead {
+    codes: [FaultCode; 4],
+    len: usize,
+}
+
+impl StackRead {
+    const EMPTY: StackRead = StackRead { codes: [FaultCode::NoFault; 4], len: 0 };
+
+    /// The stack holds four codes (000:2.3.4); a fifth read starts over.
+    fn push(&mut self, code: FaultCode) {
+        if self.len == self.codes.len() {
+            *self = StackRead::EMPTY;
+        }
+        if let Some(slot) = self.codes.get_mut(self.len) {
+            *slot = code;
+            self.len += 1;
+        }
+    }
+
+    fn codes(&self) -> &[FaultCode] {
+        self.codes.get(..self.len).unwrap_or(&[])
+    }
+}
+
 /// The observer of one master. See the module documentation.
 #[derive(Debug, Clone)]
 pub struct Observer {
@@ -221,6 +272,11 @@ pub struct Observer {
     unknown_code: bool,
     /// The type label said FFh and field FFh has not been read since.
     label_pending: bool,
+    stack_read: StackRead,
+    polling_period_us: u64,
+    /// When the master's last frame began, and whether the gap after it was reported.
+    last_frame_us: Option<u64>,
+    gap_reported: bool,
 }
 
 impl Observer {
@@ -249,6 +305,37 @@ impl Observer {
             sync_fault: false,
             unknown_code: false,
             label_pending: false,
+            stack_read: StackRead::EMPTY,
+            polling_period_us: POLLING_PERIOD_MS as u64 * 1000,
+            last_frame_us: None,
+            gap_reported: false,
+        }
+    }
+
+    /// The application's polling period, instead of [`POLLING_PERIOD_MS`].
+    pub fn set_polling_period_ms(&mut self, ms: u32) {
+        self.polling_period_us = ms as u64 * 1000;
+    }
+
+    /// The observation ends at `now_us`: a gap in the polling that is still open counts.
+    pub fn end(&mut self, now_us: u64, out: &mut impl FnMut(Observation)) {
+        self.poll(now_us, out);
+        self.polling_gap(now_us, out);
+    }
+
+    /// Report once a gap since the last frame longer than the polling period.
+    fn polling_gap(&mut self, now_us: u64, out: &mut impl FnMut(Observation)) {
+        let Some(last) = self.last_frame_us else { return };
+        let gap = now_us.saturating_sub(last);
+        if gap > self.polling_period_us && !self.gap_reported {
+            self.gap_reported = true;
+            out(Observation {
+                rule: Rule::NoCyclicRequest,
+                at_us: last,
+                measured_us: Some(gap),
+                command: None,
+                data_rates: None,
+            });
         }
     }
 
@@ -263,6 +350,7 @@ impl Observer {
     /// The encoder was powered on at `at_us`.
     pub fn power_on(&mut self, at_us: u64) {
         self.started_us = Some(at_us);
+        self.last_frame_us = None;
         self.after_reset = false;
         self.kept_default = false;
         self.status_read = false;
@@ -279,6 +367,29 @@ impl Observer {
         self.sync_fault = false;
         self.unknown_code = false;
         self.window_until_us = None;
+        self.stack_read = StackRead::EMPTY;
+    }
+
+    /// The encoder listens at `settings` from now on (its power-up windows, 57h and a
+    /// reset, 67h): the timeout that frames the master's characters follows them.
+    pub fn encoder_listens(&mut self, settings: UartSettings) {
+        self.settings = settings;
+    }
+
+    /// A frame of the master began at `at_us`, sent at `master_bps` as far as the
+    /// harness can see it (a pseudo-terminal's settings), while the encoder listened at
+    /// the settings last given to [`Observer::encoder_listens`]. // 000:3.3.1
+    pub fn master_data_rate(&mut self, at_us: u64, master_bps: u32, out: &mut impl FnMut(Observation)) {
+        let encoder_bps = self.settings.baud.bits_per_second();
+        if master_bps != encoder_bps {
+            out(Observation {
+                rule: Rule::DataRate,
+                at_us,
+                measured_us: None,
+                command: None,
+                data_rates: Some(DataRates { master_bps, encoder_bps }),
+            });
+        }
     }
 
     /// The encoder sent a reply from `start_us` to `end_us` (end of the last stop bit):
@@ -308,21 +419,32 @@ impl Observer {
             }
             return;
         };
-        // A code read from the stack may be one found at start-up: its initialization
-        // row applies (000:T74 "SW reset of Slave").
-        let group = match reply.response {
-            Response::EncoderStatus(_) if crate::fault::rows(code).any(|r| r.group == FaultGroup::Initialization) => {
-                Some(FaultGroup::Initialization)
+        // Codes read from the stack are judged together: 06h read with a companion code
+        // has the row of the pair (000:T74 "06h + 08h").
+        if let Response::EncoderStatus(_) = reply.response {
+            self.stack_read.push(code);
+            let reactions = || fault_reaction::stack_reactions(self.stack_read.codes());
+            if reactions().any(|(_, r)| !r.known) {
+                self.unknown_code = true;
             }
-            _ => crate::fault::runtime_group(code),
-        };
-        let reaction = fault_reaction::reaction(code, group);
-        let retry = reaction.response.is_some_and(|r| r.starts_with("Retry command."));
-        self.pending = match (code.byte(), group) {
+            if code.byte() == 0x22 {
+                self.sync_fault = true;
+            }
+            let reset = reactions().any(|(_, r)| r.severity == Severity::Critical && r.is_reset());
+            self.pending = match (self.pending, reset) {
+                (Pending::Reset { left }, true) => Pending::Reset { left },
+                (_, true) => Pending::Reset { left: REACTION_REQUESTS },
+                (Pending::Reset { .. }, false) => Pending::Nothing,
+                (other, false) => other,
+            };
+            return;
+        }
+        let reaction = fault_reaction::reaction(code, fault::runtime_group(code));
+        self.pending = match code.byte() {
             // "Retry command." (protocol errors), "Retry command. If error persists, SW
             // reset of Slave." (many position and other faults). // 000:T74
-            (0x09..=0x0D, _) => asked.map_or(Pending::Nothing, Pending::Retry),
-            (0x22, _) => {
+            0x09..=0x0D => asked.map_or(Pending::Nothing, Pending::Retry),
+            0x22 => {
                 self.sync_fault = true;
                 Pending::Nothing
             }
@@ -330,10 +452,7 @@ impl Observer {
                 self.unknown_code = true;
                 Pending::Nothing
             }
-            (_, Some(FaultGroup::Initialization)) if reaction.severity == Severity::Critical => {
-                Pending::Reset { left: REACTION_REQUESTS }
-            }
-            _ if retry => asked.map_or(Pending::Nothing, Pending::Retry),
+            _ if reaction.is_retry() => asked.map_or(Pending::Nothing, Pending::Retry),
             _ => Pending::Nothing,
         };
     }
@@ -371,7 +490,11 @@ impl Observer {
 
     /// Timing rules, checked where a frame begins.
     fn frame_starts(&mut self, start: u64, out: &mut impl FnMut(Observation)) {
-        let mut report = |rule, measured_us| out(Observation { rule, at_us: start, measured_us, command: None });
+        self.polling_gap(start, out);
+        self.last_frame_us = Some(start);
+        self.gap_reported = false;
+        let mut report =
+            |rule, measured_us| out(Observation { rule, at_us: start, measured_us, command: None, data_rates: None });
         if let Some(t0) = self.started_us {
             let init = self.profile.init_ms as u64 * 1000;
             let since = start.saturating_sub(t0);
@@ -417,7 +540,13 @@ impl Observer {
             if let Some(whole) = RequestFrame::decode(joined.as_bytes()).ok().filter(|_| joins) {
                 let gap = start.saturating_sub(h.framer.last_us().unwrap_or(start));
                 let command = Some(whole.request.command());
-                out(Observation { rule: Rule::GapInRequest, at_us: h.start_us, measured_us: Some(gap), command });
+                out(Observation {
+                    rule: Rule::GapInRequest,
+                    at_us: h.start_us,
+                    measured_us: Some(gap),
+                    command,
+                    data_rates: None,
+                });
                 return;
             }
             self.held = Some(h);
@@ -436,6 +565,7 @@ impl Observer {
                     at_us: start_b,
                     measured_us: Some(pause),
                     command: Some(ra.request.command()),
+                    data_rates: None,
                 });
                 return;
             }
@@ -453,14 +583,15 @@ impl Observer {
             }
             _ => Rule::Malformed,
         };
-        out(Observation { rule, at_us: h.start_us, measured_us: None, command: None });
+        out(Observation { rule, at_us: h.start_us, measured_us: None, command: None, data_rates: None });
     }
 
     /// A well-formed request: the address, and what it says of the master's reactions.
     /// `end`: when its last character was complete.
     fn request(&mut self, rf: RequestFrame, end: u64, start: u64, out: &mut impl FnMut(Observation)) {
         let command = rf.request.command();
-        let mut report = |rule| out(Observation { rule, at_us: start, measured_us: None, command: Some(command) });
+        let mut report =
+            |rule| out(Observation { rule, at_us: start, measured_us: None, command: Some(command), data_rates: None });
         if let AddressByte::Unknown(_) = rf.address {
             report(Rule::AddressFormat);
         }
@@ -517,6 +648,7 @@ impl Observer {
         }
         // Reading the stack (50h) and resetting (53h) are the reactions themselves.
         if !matches!(command, CommandId::EncoderReset | CommandId::ReadEncoderStatus) {
+            self.stack_read = StackRead::EMPTY;
             match self.warning_left {
                 Some(0 | 1) => {
                     report(Rule::WarningIgnored);
