@@ -3,6 +3,7 @@
 //! lockstep, reports, and the simulator serving the model as a virtual encoder.
 
 pub mod certify;
+pub mod clauses;
 pub mod demo;
 pub mod drive;
 pub mod exchange;

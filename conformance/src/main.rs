@@ -66,6 +66,21 @@ enum Command {
     ExportProfile { profile: String },
     /// The reference master: start-up, cyclic Read Position, fault reaction (000:3.3).
     Master(drive::cli::MasterArgs),
+    /// Clause coverage: what cites each clause of the registry (exit 1 when a
+    /// normative clause is neither covered nor listed as unobservable).
+    Clauses {
+        /// Only the normative clauses nothing covers.
+        #[arg(long)]
+        uncovered: bool,
+        #[arg(long, value_enum, default_value = "md")]
+        format: ClauseFormat,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum ClauseFormat {
+    Md,
+    Json,
 }
 
 #[derive(Subcommand)]
@@ -193,6 +208,19 @@ impl CliError {
     }
 }
 
+/// `hiperface clauses`: exit 1 when a normative clause is neither covered nor listed.
+fn print_clauses(uncovered: bool, format: ClauseFormat) -> Result<ExitCode, CliError> {
+    use hiperface_conformance::clauses;
+    let all = clauses::coverage().map_err(CliError)?;
+    let rows: Vec<&clauses::ClauseCoverage> = all.iter().filter(|c| !uncovered || c.uncovered()).collect();
+    let text = match format {
+        ClauseFormat::Md => clauses::markdown(&rows, &all),
+        ClauseFormat::Json => serde_json::to_string_pretty(&rows).map_err(|e| CliError(e.to_string()))? + "\n",
+    };
+    print_all(&text)?;
+    Ok(if all.iter().any(|c| c.uncovered()) { ExitCode::FAILURE } else { ExitCode::SUCCESS })
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -225,6 +253,7 @@ fn main() -> ExitCode {
             ExitCode::SUCCESS
         }),
         Command::Vectors { what } => vectors_command(what),
+        Command::Clauses { uncovered, format } => print_clauses(uncovered, format),
         Command::Commands => {
             println!("{:<6} {:<50} {:>8}  master  slave", "cmd", "name", "max ms");
             for s in COMMAND_TABLE {

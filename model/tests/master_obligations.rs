@@ -293,6 +293,37 @@ fn a_gap_in_the_polling_counts_once_and_also_when_it_is_still_open() {
 }
 
 #[test]
+fn every_rule_is_in_the_list_of_rules() {
+    // An exhaustive match: a new rule does not compile until it has a place here, and
+    // the assertion then asks for it in `Rule::ALL`.
+    let place = |r: Rule| match r {
+        Rule::Malformed => 0,
+        Rule::ErrorBit => 1,
+        Rule::AddressFormat => 2,
+        Rule::GapInRequest => 3,
+        Rule::NoPause => 4,
+        Rule::TalksOverReply => 5,
+        Rule::ReplyWindow => 6,
+        Rule::DuringInitialization => 7,
+        Rule::TooSoonAfterReset => 8,
+        Rule::DuringSettingsChange => 9,
+        Rule::StatusNotRead => 10,
+        Rule::WarningIgnored => 11,
+        Rule::NoRetry => 12,
+        Rule::UnboundedRetry => 13,
+        Rule::NoResetAfterCriticalFault => 14,
+        Rule::PositionAfterSyncFault => 15,
+        Rule::UnknownCodeIgnored => 16,
+        Rule::ExtendedTypeLabelNotRead => 17,
+        Rule::NoCyclicRequest => 18,
+        Rule::DataRate => 19,
+    };
+    for (i, r) in Rule::ALL.iter().enumerate() {
+        assert_eq!(place(*r), i, "{r:?}");
+    }
+}
+
+#[test]
 fn must_rules_are_normative_and_should_rules_are_not() {
     use hiperface_model::clause::Force;
     for (rule, normative) in [

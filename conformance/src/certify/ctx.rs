@@ -14,6 +14,10 @@ use hiperface_model::{CommandId, Grading, Hex, Oracle, Profile, Reply, Slave};
 use std::collections::BTreeMap;
 use std::sync::atomic::Ordering;
 
+/// What the harness checks on every exchange of every case, besides the oracle's grade
+/// of the reply: no characters outside a reply, and the reply's end (see `exchange`).
+pub const EVERY_EXCHANGE: [Normative; 2] = [clause::NO_UNSOLICITED, clause::REPLY_END];
+
 /// What the run accumulates across cases.
 #[derive(Debug, Default)]
 pub(crate) struct Tally {

@@ -243,6 +243,18 @@ pub fn catalogue() -> Vec<Scenario> {
             &[],
             None
         ),
+        Scenario {
+            encoder: Some(|_| hiperface_model::profiles::sks36()),
+            ..scenario!(
+                "fault.data-field",
+                "Reading the Extended Type Label answers 12h (Data group, \"Check/change number.\"): the master goes on",
+                [MASTER_FAULT_REACTION, MASTER_EXTENDED_TYPE_LABEL],
+                1500,
+                calm,
+                &[Injection { on: CommandId::ReadData, nth: 1, act: Act::Error(FaultCode::WrongFieldNumber) }],
+                Some(CommandId::ReadData)
+            )
+        },
         scenario!(
             "reply.silent",
             "A Read Position gets no reply: the master waits out the window, then goes on",

@@ -5,9 +5,10 @@
 //! (about 400 lines) so that the vector ids are named in one place.
 
 use super::fixtures::{provoke, valid_request, with_field_0, Provocation};
-use super::{hex, prepare, Expected, Flag, Inputs, Setup, Vector, VectorFile, VectorStep};
+use super::{hex, parse_hex, prepare, Expected, Flag, Inputs, Setup, Vector, VectorFile, VectorStep};
 use crate::exchange::sealed;
 use hiperface_model::command::COMMAND_TABLE;
+use hiperface_model::response::{Response, ResponseFrame};
 use hiperface_model::{checksum, profiles, CommandId, FaultCode, Profile, Reply};
 
 /// A request step to be completed with the model's response.
@@ -61,6 +62,11 @@ fn vector(
         let at = a.at_us.unwrap_or(0);
         let outcome =
             if a.uart_fault { slave.handle_faulty_frame(&a.frame, at) } else { slave.handle_frame(&a.frame, at) };
+        // The clause the model followed in its answer is one the vector exercises.
+        let followed = outcome.clause.id();
+        if !v.clauses.iter().any(|c| c == followed) {
+            v.clauses.push(followed.into());
+        }
         let response = match outcome.reply {
             Reply::Frame(f) => {
                 if f.warning && !v.flags.contains(&Flag::Warning) {
@@ -123,16 +129,34 @@ fn commands(p: &Profile, edition: &str) -> Vec<Vector> {
         for code in codes {
             let Some(Provocation { setup, frame, uart_fault }) = provoke(p, spec.id, code) else { continue };
             let a = Ask { uart_fault, ..ask_frame(frame) };
-            let clause = code.clause().unwrap_or(spec.clause).id();
-            out.push(vector(
+            let mut v = vector(
                 &format!("{edition}.{}.{name}.error-{:02x}", cmd.to_lowercase(), code.byte()),
                 p,
                 &cmd,
-                &[spec.clause.id(), clause],
+                &[spec.clause.id()],
                 setup,
                 vec![a],
                 &format!("{}: {}", spec.name, code),
-            ));
+            );
+            // The code's own clause where the model answers the code; where it shows it
+            // otherwise (002:47h: the legacy counter's overflow by the warning bit), the
+            // vector says so and cites what the model followed.
+            let answered = v.steps.first().and_then(|s| s.response.as_deref()).and_then(|r| parse_hex(r).ok());
+            let reply = answered.and_then(|b| ResponseFrame::decode(&b, spec.id).ok());
+            // (An error reply to 50h reads as a status reply: the same frame.)
+            match reply.map(|r| r.response) {
+                Some(Response::Error(c) | Response::EncoderStatus(c)) if c == code => {
+                    let clause = code.clause().unwrap_or(spec.clause).id();
+                    if !v.clauses.iter().any(|c| c == clause) {
+                        v.clauses.insert(1, clause.into());
+                    }
+                }
+                _ => {
+                    v.id = v.id.replace(".error-", ".shows-");
+                    v.meaning = format!("{}: the condition of {code}, shown without its error reply", spec.name);
+                }
+            }
+            out.push(v);
         }
     }
     out

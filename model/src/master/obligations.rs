@@ -86,6 +86,30 @@ pub enum Rule {
 }
 
 impl Rule {
+    /// Every rule.
+    pub const ALL: [Rule; 20] = [
+        Rule::Malformed,
+        Rule::ErrorBit,
+        Rule::AddressFormat,
+        Rule::GapInRequest,
+        Rule::NoPause,
+        Rule::TalksOverReply,
+        Rule::ReplyWindow,
+        Rule::DuringInitialization,
+        Rule::TooSoonAfterReset,
+        Rule::DuringSettingsChange,
+        Rule::StatusNotRead,
+        Rule::WarningIgnored,
+        Rule::NoRetry,
+        Rule::UnboundedRetry,
+        Rule::NoResetAfterCriticalFault,
+        Rule::PositionAfterSyncFault,
+        Rule::UnknownCodeIgnored,
+        Rule::ExtendedTypeLabelNotRead,
+        Rule::NoCyclicRequest,
+        Rule::DataRate,
+    ];
+
     /// The clause the rule rests on; a FAIL only where it is normative.
     pub const fn clause(self) -> Clause {
         match self {

@@ -342,6 +342,11 @@ fn version(before: &Slave, want: &Version, got: &Version) -> Grade {
     Grade::pass(rule)
 }
 
+/// The clauses the oracle checks on the form of every reply it grades (what
+/// `malformed_clause` cites).
+pub const REPLY_FORM: [Normative; 5] =
+    [clause::CHECKSUM, clause::COMMAND_BYTE, clause::ENCODER_RESET, clause::ERROR_RESPONSE, clause::COMMAND_DEFINITION];
+
 fn malformed_clause(e: ResponseError) -> Normative {
     match e {
         ResponseError::BadChecksum { .. } => clause::CHECKSUM,
@@ -349,5 +354,31 @@ fn malformed_clause(e: ResponseError) -> Normative {
         ResponseError::NoResponseExpected { .. } => clause::ENCODER_RESET,
         ResponseError::TooShort { .. } | ResponseError::WrongCommand { .. } => clause::ERROR_RESPONSE,
         ResponseError::WrongLength { .. } | ResponseError::CountMismatch { .. } => clause::COMMAND_DEFINITION,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::command::CommandId;
+
+    #[test]
+    fn reply_form_lists_every_clause_a_malformed_reply_cites() {
+        let to = CommandId::ReadPosition;
+        let every = [
+            ResponseError::NoResponseExpected { to },
+            ResponseError::TooShort { len: 1 },
+            ResponseError::BadChecksum { expected: 0, found: 1 },
+            ResponseError::BadCommandByte { byte: 0 },
+            ResponseError::WrongCommand { to, found: 0 },
+            ResponseError::WrongLength { to, data_len: 0 },
+            ResponseError::CountMismatch { count: 1, data_len: 0 },
+        ];
+        for e in every {
+            assert!(REPLY_FORM.contains(&malformed_clause(e)), "{e:?}");
+        }
+        for c in REPLY_FORM {
+            assert!(every.iter().any(|e| malformed_clause(*e) == c), "{c} is cited by no error");
+        }
     }
 }

@@ -58,7 +58,7 @@ pub const STATUS: Case = case!(
 pub const LIFECYCLE: Case = case!(
     "fields.lifecycle",
     "Create, store, read back, bounds, delete a data field",
-    [CREATE_FIELD, STORE_DATA, READ_DATA, WRONG_OFFSET, FIELD_POLICY],
+    [CREATE_FIELD, STORE_DATA, READ_DATA, WRONG_OFFSET, FIELD_POLICY, DATA_FIELDS],
     Writes,
     always,
     |c| {

@@ -20,7 +20,7 @@ pub const VERSION: Case = case!(
 pub const STATUS: Case = case!(
     "identity.status",
     "Read Encoder Status until the stack is empty (or five times)",
-    [READ_ENCODER_STATUS, WARNING_BIT],
+    [READ_ENCODER_STATUS, WARNING_BIT, FAULT_GROUPS],
     Nothing,
     always,
     |c| {

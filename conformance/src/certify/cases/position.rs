@@ -56,7 +56,7 @@ pub const SET: Case = case!(
 pub const SYNC: Case = case!(
     "position.sync",
     "Set Position with Synchronization keeps the phase; restored",
-    [SET_POSITION_SYNC, POSITION_POLICY],
+    [SET_POSITION_SYNC, POSITION_POLICY, POSITION_RESOLUTION],
     Writes,
     with_6a,
     |c| {

@@ -7,7 +7,7 @@ use hiperface_model::Request;
 pub const RESET: Case = case!(
     "powerup.reset",
     "Encoder Reset: no reply, silence during initialization, then default settings",
-    [ENCODER_RESET, STATE_MACHINE],
+    [ENCODER_RESET, STATE_MACHINE, DEFAULT_PARITY],
     Nothing,
     always,
     |c| {

@@ -4,15 +4,26 @@ use super::{always, case};
 use crate::certify::Case;
 use hiperface_model::{CommandId, Request};
 
-pub const CHECKSUM: Case =
-    case!("protocol.checksum", "A bad checksum draws 0Ah", [CHECKSUM_ERROR, CHECKSUM], Nothing, always, |c| {
+pub const CHECKSUM: Case = case!(
+    "protocol.checksum",
+    "A bad checksum draws 0Ah",
+    [CHECKSUM_ERROR, CHECKSUM, COMMON_ERRORS],
+    Nothing,
+    always,
+    |c| {
         let a = c.address();
         c.send_frame(&[a, 0x42, 0x00])?;
         c.send_frame(&[a, 0x4E, 0x0F]).map(drop)
-    });
+    }
+);
 
-pub const UNKNOWN_COMMAND: Case =
-    case!("protocol.unknown-command", "Unknown commands draw 0Bh", [UNKNOWN_COMMAND], Nothing, always, |c| {
+pub const UNKNOWN_COMMAND: Case = case!(
+    "protocol.unknown-command",
+    "Unknown commands draw 0Bh",
+    [UNKNOWN_COMMAND, COMMON_ERRORS],
+    Nothing,
+    always,
+    |c| {
         let a = c.address();
         c.ask(&[a, 0x45])?;
         c.ask(&[a, 0x7F])?;
@@ -24,12 +35,13 @@ pub const UNKNOWN_COMMAND: Case =
             }
         }
         Ok(())
-    });
+    }
+);
 
 pub const LENGTH: Case = case!(
     "protocol.length",
     "Frames of the wrong length draw 0Ch",
-    [WRONG_LENGTH, CHECK_ORDER],
+    [WRONG_LENGTH, CHECK_ORDER, COMMON_ERRORS],
     Nothing,
     always,
     |c| {

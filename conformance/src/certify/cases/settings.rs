@@ -13,7 +13,7 @@ fn with_67(p: &Profile) -> Option<&'static str> {
 pub const INVALID: Case = case!(
     "settings.invalid",
     "Set Serial Interface refuses undefined settings and wrong codes",
-    [SET_SERIAL, READ_TYPE_LABEL],
+    [SET_SERIAL, READ_TYPE_LABEL, SETTINGS_BYTE],
     Writes,
     always,
     |c| {
@@ -31,7 +31,7 @@ pub const INVALID: Case = case!(
 pub const TEMPORARY: Case = case!(
     "settings.temporary",
     "Temporarily Set Serial Interface: reply in the old settings, then the new; lost on reset",
-    [TEMP_SERIAL, ENCODER_RESET],
+    [TEMP_SERIAL, ENCODER_RESET, UART_SETTINGS, SETTINGS_BYTE],
     Nothing,
     with_67,
     |c| {

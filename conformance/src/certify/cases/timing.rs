@@ -7,7 +7,7 @@ use hiperface_model::Request;
 pub const READ_POSITION: Case = case!(
     "timing.read-position",
     "Response times and reply framing over 20 Read Position requests",
-    [FRAME_TIMING, COMMANDS],
+    [FRAME_TIMING, COMMANDS, TIMEOUT, LEGACY_TIMEOUT],
     Nothing,
     always,
     |c| {

@@ -154,7 +154,9 @@ impl Slave {
     }
 
     fn command(&mut self, request: Request, c: &mut Checks, then_settings: &mut Option<UartSettings>) -> Done {
-        let spec_clause = request.command().spec().map_or(clause::COMMANDS, |s| s.clause);
+        // The clause a successful reply follows: the command's, unless a rule of its own
+        // shaped the reply (the legacy counter's overflow).
+        let mut spec_clause = request.command().spec().map_or(clause::COMMANDS, |s| s.clause);
         let result = match request {
             Request::ReadPosition => self.position_faults(c, true).map(|()| Response::Position(self.position() as u32)),
             Request::SetPosition { preset, code0 } | Request::SetPositionInternalSync { preset, code0 } => {
@@ -184,7 +186,7 @@ impl Slave {
                 self.memory_checks(c, request.command());
                 ok_if(c, Response::Counter(self.nv.counter))
             }
-            Request::IncrementCounter => self.increment_counter(c),
+            Request::IncrementCounter => self.increment_counter(c, &mut spec_clause),
             Request::ResetCounter { code0 } => {
                 c.check(self.code0_wrong(code0), WrongAccessCode, clause::WRONG_ACCESS_CODE);
                 self.memory_checks(c, request.command());
@@ -339,7 +341,7 @@ impl Slave {
         UartSettings::decode(byte).ok().filter(|s| self.profile.supports_baud(s.baud))
     }
 
-    fn increment_counter(&mut self, c: &mut Checks) -> Result<Response, ()> {
+    fn increment_counter(&mut self, c: &mut Checks, success: &mut Normative) -> Result<Response, ()> {
         const MAX: u32 = 0xFF_FFFF;
         self.memory_checks(c, CommandId::IncrementCounter);
         let full = self.nv.counter >= MAX;
@@ -347,7 +349,10 @@ impl Slave {
             // 000:T46: at FFFFFFh the counter stays and increment answers 08h.
             Edition::Current => c.check(full, CounterOverflow, clause::COUNTER_OVERFLOW),
             // 002:47h: "any overflow is shown by the ERROR bit".
-            Edition::Legacy if full && c.first.is_none() => self.stack.push(CounterOverflow),
+            Edition::Legacy if full && c.first.is_none() => {
+                self.stack.push(CounterOverflow);
+                *success = clause::LEGACY_COUNTER;
+            }
             Edition::Legacy => {}
         }
         if c.first.is_some() {
