@@ -8,13 +8,17 @@ use crate::certify::World;
 use hiperface_model::datalink::RxChar;
 use hiperface_model::{Hex, Profile, Slave, Step, UartSettings};
 use serialport::SerialPort;
-use std::io::{ErrorKind, Read, Write};
+use std::io::{ErrorKind, Write};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// How long after the earliest allowed start the simulator begins a reply.
 pub const REPLY_DELAY_US: u64 = 300;
+
+/// Reads return at least every 500 µs; a longer interval between two is reported to
+/// the hooks as time the line was not watched.
+const UNWATCHED_US: u64 = 1_000;
 
 /// What an encoder served on a line does besides the model: see each character the
 /// master sends, change or withhold a reply (fault injection), learn what was sent.
@@ -29,6 +33,10 @@ pub trait Hooks {
     fn sets_port(&self) -> bool {
         true
     }
+    /// The line was not read from `from_us` to `to_us` (the harness was busy: writing a
+    /// reply, or not scheduled): the characters of this read (`received` next, before
+    /// `idle`) may have come any time in between; they are stamped when read.
+    fn unwatched(&mut self, _from_us: u64, _to_us: u64) {}
     /// Time passes with nothing received.
     fn idle(&mut self, _now_us: u64) {}
     /// The model processed a frame (whether it replies or not).
@@ -108,6 +116,10 @@ pub fn serve_with(
     let mut rx_clock = crate::line::RxClock::default();
     port.set_timeout(Duration::from_micros(500)).map_err(std::io::Error::from)?;
     let mut port_settings = None;
+    // When the last read returned: a read returns at least every timeout (500 µs).
+    let mut read_us = now(epoch);
+    // What the master sent while a reply went out, with its arrival times.
+    let mut heard: Vec<(u8, u64)> = Vec::new();
     while !stop.load(Ordering::Relaxed) {
         // Follow the slave's listening settings (67h, reset, power-up windows) on the
         // port; a pseudo-terminal accepts and ignores them.
@@ -119,20 +131,22 @@ pub fn serve_with(
             port_settings = listening;
         }
         let mut steps = Vec::new();
-        match port.read(&mut buf) {
-            Ok(0) => return Ok(()),
-            Ok(n) => {
-                let t = now(epoch);
-                for b in &buf[..n] {
-                    let listening = slave.listening_settings(t);
-                    let ch = rx_clock.stamp(*b, t, Some(listening.unwrap_or_default().char_time_us()));
-                    hooks.received(ch, listening);
-                    steps.extend(slave.receive(ch));
-                }
+        // Characters that came while a reply went out were read then, with their
+        // arrival times; otherwise read the line.
+        let chunk: Vec<(u8, u64)> = if heard.is_empty() {
+            match watch(port.as_mut(), epoch, &mut read_us, hooks, &mut buf) {
+                Ok(Some(bytes)) => bytes,
+                Ok(None) => return Ok(()),
+                Err(e) => return Err(e),
             }
-            Err(e) if matches!(e.kind(), ErrorKind::TimedOut | ErrorKind::WouldBlock | ErrorKind::Interrupted) => {}
-            Err(e) if e.raw_os_error() == Some(5) => return Ok(()), // EIO: the other end closed
-            Err(e) => return Err(e),
+        } else {
+            std::mem::take(&mut heard)
+        };
+        for (b, t) in chunk {
+            let listening = slave.listening_settings(t);
+            let ch = rx_clock.stamp(b, t, Some(listening.unwrap_or_default().char_time_us()));
+            hooks.received(ch, listening);
+            steps.extend(slave.receive(ch));
         }
         steps.extend(slave.poll(now(epoch)));
         hooks.idle(now(epoch));
@@ -146,12 +160,17 @@ pub fn serve_with(
                 gap: None,
                 paced: false,
             };
-            let Some(p) = hooks.reply(slave, &step, planned) else { continue };
+            let Some(mut p) = hooks.reply(slave, &step, planned) else { continue };
             let ct = p.settings.char_time_us();
             // Write each run of characters whole when its first character would be
-            // complete; the line is busy until the last is out.
+            // complete; the line is busy until the last is out. A harness that writes
+            // late (a busy machine) shifts the rest of the reply: what `sent` is told
+            // is when the reply really went out.
             let split = p.gap.map_or(p.frame.len(), |(i, _)| i.min(p.frame.len()));
             let mut start = p.start_us;
+            let mut first = true;
+            let mut index = 0;
+            let timeout = p.settings.timeout_us(slave.profile().edition);
             for (part, pause) in [(&p.frame[..split], p.gap.map_or(0, |(_, g)| g)), (&p.frame[split..], 0)] {
                 if part.is_empty() {
                     start += pause;
@@ -159,24 +178,81 @@ pub fn serve_with(
                 }
                 let runs: Vec<&[u8]> = if p.paced { part.chunks(1).collect() } else { vec![part] };
                 for run in runs {
-                    let due = epoch + Duration::from_micros(start + ct);
-                    if let Some(d) = due.checked_duration_since(Instant::now()) {
-                        std::thread::sleep(d);
-                    }
+                    watch_until(port.as_mut(), epoch, start + ct, &mut read_us, hooks, &mut buf, &mut heard)?;
                     port.write_all(run)?;
                     port.flush()?;
-                    start += run.len() as u64 * ct;
+                    // The run is complete as written: its characters began `ct` each before.
+                    let written = now(epoch).saturating_sub(ct).max(start);
+                    if first {
+                        p.start_us = written;
+                        first = false;
+                    } else if written - start >= timeout && p.gap.is_none() {
+                        // Written so late that the reply has a pause of the timeout
+                        // inside: to the master it ended there (000:2.2.2).
+                        p.gap = Some((index, written - start));
+                    }
+                    start = written + run.len() as u64 * ct;
+                    index += run.len();
                 }
-                let done = epoch + Duration::from_micros(start);
-                if let Some(d) = done.checked_duration_since(Instant::now()) {
-                    std::thread::sleep(d);
-                }
+                watch_until(port.as_mut(), epoch, start, &mut read_us, hooks, &mut buf, &mut heard)?;
                 start += pause;
             }
             hooks.sent(&p, start);
         }
     }
     Ok(())
+}
+
+/// One read of the line (at most its 500 µs timeout): the bytes with their arrival
+/// time, `None` when the other end has gone. Reports time the line went unwatched
+/// since the last read returned.
+fn watch(
+    port: &mut dyn SerialPort,
+    epoch: Instant,
+    read_us: &mut u64,
+    hooks: &mut dyn Hooks,
+    buf: &mut [u8],
+) -> std::io::Result<Option<Vec<(u8, u64)>>> {
+    let result = port.read(buf);
+    let returned_us = epoch.elapsed().as_micros() as u64;
+    if returned_us.saturating_sub(*read_us) >= UNWATCHED_US {
+        hooks.unwatched(*read_us, returned_us);
+    }
+    *read_us = returned_us;
+    match result {
+        Ok(0) => Ok(None),
+        Ok(n) => Ok(Some(buf.iter().take(n).map(|b| (*b, returned_us)).collect())),
+        Err(e) if matches!(e.kind(), ErrorKind::TimedOut | ErrorKind::WouldBlock | ErrorKind::Interrupted) => {
+            Ok(Some(Vec::new()))
+        }
+        Err(e) if e.raw_os_error() == Some(5) => Ok(None), // EIO: the other end closed
+        Err(e) => Err(e),
+    }
+}
+
+/// Keep reading the line until `due_us` (while a reply goes out): what the master sends
+/// meanwhile is kept in `heard` with its arrival times, so that it is timed as it came.
+fn watch_until(
+    port: &mut dyn SerialPort,
+    epoch: Instant,
+    due_us: u64,
+    read_us: &mut u64,
+    hooks: &mut dyn Hooks,
+    buf: &mut [u8],
+    heard: &mut Vec<(u8, u64)>,
+) -> std::io::Result<()> {
+    let due = epoch + Duration::from_micros(due_us);
+    loop {
+        let Some(left) = due.checked_duration_since(Instant::now()) else { return Ok(()) };
+        if left < Duration::from_micros(600) {
+            // Less than a read's timeout: sleep it out, to write on time.
+            std::thread::sleep(left);
+            return Ok(());
+        }
+        if let Some(bytes) = watch(port, epoch, read_us, hooks, buf)? {
+            heard.extend(bytes);
+        }
+    }
 }
 
 fn apply_settings(port: &mut dyn SerialPort, s: UartSettings) -> std::io::Result<()> {

@@ -241,6 +241,17 @@ fn each_broken_rule_is_observed() {
 }
 
 #[test]
+fn three_requests_back_to_back_are_two_missing_pauses() {
+    let mut bus = Bus::new(profiles::srs50());
+    conformant_start(&mut bus);
+    bus.wait_ms(10);
+    // 42h, 50h, 42h with no pause between them: one frame of nine characters.
+    bus.send_raw(&[0x40, 0x42, 0x02, 0x40, 0x50, 0x10, 0x40, 0x42, 0x02], &[]);
+    assert_eq!(bus.rules(), vec![Rule::NoPause, Rule::NoPause], "{:?}", bus.seen);
+    assert!(bus.seen.iter().all(|o| o.measured_us == Some(0)));
+}
+
+#[test]
 fn timing_observations_carry_the_measured_figure() {
     let mut bus = Bus::new(profiles::srs50());
     conformant_start(&mut bus);

@@ -6,7 +6,7 @@ use super::scenarios::{Act, Injection};
 use crate::certify::WireEntry;
 use crate::simulate::{Hooks, Planned};
 use hiperface_model::datalink::RxChar;
-use hiperface_model::master::obligations::{Observation, Observer};
+use hiperface_model::master::obligations::{Observation, Observer, Rule};
 use hiperface_model::response::ResponseFrame;
 use hiperface_model::{checksum, CommandId, Hex, Profile, RequestFrame, Slave, Step, UartSettings};
 use serialport::SerialPort;
@@ -22,6 +22,61 @@ pub struct Timeline {
     /// Injections that took place (index into the plan).
     pub injected: Vec<usize>,
     pub characters: usize,
+    /// Characters read after the line had gone unwatched for a while (the harness was
+    /// busy writing a reply, or not scheduled on a busy machine): their stamp (µs), and
+    /// how long the line had been unwatched before (µs). They may have come that much
+    /// earlier than stamped.
+    pub late_chars: Vec<(u64, u64)>,
+}
+
+impl Timeline {
+    /// The longest time unwatched before any character stamped in `from_us..=to_us`.
+    fn late_in(&self, from_us: u64, to_us: u64) -> u64 {
+        let inside = |&&(at, _): &&(u64, u64)| at >= from_us && at <= to_us;
+        self.late_chars.iter().filter(inside).map(|(_, late)| *late).max().unwrap_or(0)
+    }
+
+    /// Whether `o` may be the harness's own lateness rather than the master's: a
+    /// character it rests on was read after the line had gone unwatched for as long as
+    /// the margin by which the rule was broken. `None` when the observation stands;
+    /// otherwise how long the line had gone unwatched, µs.
+    pub fn unproven(&self, o: &Observation, timeout_us: u64, profile: &Profile) -> Option<u64> {
+        let ct = UartSettings::DEFAULT.char_time_us();
+        // The longest request: where its characters may be stamped after `at_us`.
+        let frame = 24 * ct;
+        let start = o.at_us;
+        // Characters read after the line went unwatched for the timeout may have come
+        // as two frames or as one: where a frame ends is not known.
+        if let (Rule::Malformed, None) = (o.rule, o.measured_us) {
+            let late = self.late_in(start, start + frame);
+            return (late >= timeout_us).then_some(late);
+        }
+        let measured = o.measured_us?;
+        let (window, margin) = match o.rule {
+            // The first request's characters, read late, came earlier than stamped:
+            // the pause after them may have been longer.
+            Rule::NoPause => ((start.saturating_sub(frame), start), timeout_us.saturating_sub(measured)),
+            // The second fragment's characters, read late, came earlier than stamped:
+            // the gap may be shorter.
+            Rule::GapInRequest => ((start + measured, start + measured + frame), measured.saturating_sub(timeout_us)),
+            // A request read late looks later than it was.
+            Rule::TalksOverReply => ((start, start + frame), measured),
+            Rule::DuringSettingsChange => {
+                ((start, start + frame), measured.saturating_sub(profile.default_window_ms as u64 * 1000))
+            }
+            // Encoder Reset read late moves the end of its wait later.
+            Rule::TooSoonAfterReset => {
+                let reset_end = start.saturating_sub(measured + timeout_us);
+                (
+                    (reset_end.saturating_sub(frame), reset_end + ct),
+                    (profile.init_ms as u64 * 1000).saturating_sub(measured),
+                )
+            }
+            _ => return None,
+        };
+        let late = self.late_in(window.0, window.1);
+        (late > 0 && late >= margin).then_some(late)
+    }
 }
 
 /// The hooks: observe, inject, record.
@@ -41,6 +96,8 @@ pub struct DriveEncoder {
     peer_bps: Option<u32>,
     /// What the encoder listened at when the last character came.
     listening: Option<UartSettings>,
+    /// How long the line had gone unwatched before the read in progress.
+    read_late_us: u64,
 }
 
 /// More characters than any master needs in a scenario: a flood is cut here.
@@ -71,6 +128,7 @@ impl DriveEncoder {
             peer,
             peer_bps: None,
             listening: None,
+            read_late_us: 0,
         }
     }
 
@@ -145,6 +203,9 @@ impl Hooks for DriveEncoder {
         }
         if self.timeline.characters < MAX_CHARACTERS {
             self.heard.push(ch);
+            if self.read_late_us > 0 {
+                self.timeline.late_chars.push((ch.at_us, self.read_late_us));
+            }
         }
         self.timeline.characters += 1;
         let seen = &mut self.timeline.observations;
@@ -155,7 +216,13 @@ impl Hooks for DriveEncoder {
         self.peer.is_none()
     }
 
+    fn unwatched(&mut self, from_us: u64, to_us: u64) {
+        self.read_late_us = to_us - from_us;
+    }
+
     fn idle(&mut self, now_us: u64) {
+        // The characters of this read have been taken.
+        self.read_late_us = 0;
         if self.heard.is_empty() {
             self.peer_bps = self.peer_bps();
         }
@@ -250,5 +317,47 @@ impl Hooks for DriveEncoder {
         // The observer grades the master against the reply it got.
         let reply = ResponseFrame::decode(&planned.frame, self.answered.unwrap_or(CommandId::Unknown(0))).ok();
         self.observer.encoder_reply(start_us, end_us, reply.as_ref());
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn observation(rule: Rule, at_us: u64, measured_us: u64) -> Observation {
+        Observation { rule, at_us, measured_us: Some(measured_us), command: None, data_rates: None }
+    }
+
+    #[test]
+    fn a_rule_broken_by_less_than_the_harness_was_late_is_not_proven() {
+        let p = hiperface_model::profiles::srs50();
+        let timeout = UartSettings::DEFAULT.timeout_us(p.edition);
+        let ct = UartSettings::DEFAULT.char_time_us();
+        let no_pause = observation(Rule::NoPause, 100_000, 0);
+        // Read attentively: the two requests came together; the FAIL stands.
+        let mut t = Timeline::default();
+        t.late_chars.push((100_000 - ct, 800));
+        assert_eq!(t.unproven(&no_pause, timeout, &p), None);
+        // The first read after 12 ms unwatched: it may have come that much earlier, and
+        // the pause after it been longer than the timeout.
+        t.late_chars.push((100_000 - ct, 12_000));
+        assert_eq!(t.unproven(&no_pause, timeout, &p), Some(12_000));
+        // A pause of 3 ms measured, the first request read after 2 ms unwatched: at
+        // most 5 ms, under the timeout; it stands.
+        let short = observation(Rule::NoPause, 100_000, 3_000);
+        let mut t = Timeline::default();
+        t.late_chars.push((100_000 - 3_000 - ct, 2_000));
+        assert_eq!(t.unproven(&short, timeout, &p), None);
+        // A gap of 8 ms inside a request, the second fragment read after 1 ms
+        // unwatched: it was at least 7 ms, over the timeout; it stands.
+        let gap = observation(Rule::GapInRequest, 200_000, 8_000);
+        let mut t = Timeline::default();
+        t.late_chars.push((200_000 + 8_000 + 2 * ct, 1_000));
+        assert_eq!(t.unproven(&gap, timeout, &p), None);
+        // Read after 4 ms unwatched: it may have been 4 ms, under the timeout.
+        t.late_chars.push((200_000 + 8_000 + 2 * ct, 4_000));
+        assert_eq!(t.unproven(&gap, timeout, &p), Some(4_000));
+        // Rules about order, not time, always stand.
+        assert_eq!(t.unproven(&observation(Rule::StatusNotRead, 200_000, 0), timeout, &p), None);
     }
 }

@@ -226,6 +226,48 @@ struct Held {
     start_us: u64,
 }
 
+/// Where the requests of a frame end, last first: at most one per three bytes.
+struct Ends {
+    at: [usize; MAX_FRAME / 3 + 1],
+    len: usize,
+}
+
+impl Ends {
+    /// In frame order.
+    fn iter(&self) -> impl Iterator<Item = usize> + '_ {
+        self.at.iter().take(self.len).rev().copied()
+    }
+}
+
+/// Where the requests end, if `bytes` is two or more requests back to back.
+fn requests_in(bytes: &[u8]) -> Option<Ends> {
+    const NONE: usize = usize::MAX;
+    let n = bytes.len();
+    // from[j]: where a request ending at j begins, if the bytes up to j split.
+    let mut from = [NONE; MAX_FRAME + 1];
+    *from.get_mut(0)? = 0;
+    for i in 0..n {
+        if from.get(i) == Some(&NONE) {
+            continue;
+        }
+        for j in (i + 3)..=n {
+            let whole = i == 0 && j == n;
+            let open = from.get(j) == Some(&NONE);
+            if !whole && open && bytes.get(i..j).is_some_and(|r| RequestFrame::decode(r).is_ok()) {
+                *from.get_mut(j)? = i;
+            }
+        }
+    }
+    let mut ends = Ends { at: [0; MAX_FRAME / 3 + 1], len: 0 };
+    let mut j = n;
+    while j > 0 {
+        *ends.at.get_mut(ends.len)? = j;
+        ends.len += 1;
+        j = *from.get(j).filter(|&&f| f != NONE)?;
+    }
+    (ends.len >= 2).then_some(ends)
+}
+
 /// What the encoder's last reply asked of the master.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Pending {
@@ -576,23 +618,26 @@ impl Observer {
             self.held = Some(h);
             self.release_held(out);
         }
-        // One frame that is two requests: no pause between them.
-        let ct = self.char_time_us();
-        for k in 3..bytes.len().saturating_sub(2) {
-            let (a, b) = bytes.split_at(k);
-            if let (Ok(ra), Ok(_)) = (RequestFrame::decode(a), RequestFrame::decode(b)) {
-                let end_a = framer.ends_us.get(k - 1).copied().unwrap_or(0);
-                let start_b = framer.ends_us.get(k).copied().unwrap_or(0).saturating_sub(ct);
-                let pause = start_b.saturating_sub(end_a);
+        // One frame that is several requests (a reader that looked late sees them
+        // together, too): no pause between them.
+        if let Some(ends) = requests_in(bytes) {
+            let ct = self.char_time_us();
+            let mut from = 0;
+            for end in ends.iter().take_while(|&e| e < bytes.len()) {
+                let command =
+                    bytes.get(from..end).and_then(|a| RequestFrame::decode(a).ok()).map(|r| r.request.command());
+                let end_a = framer.ends_us.get(end - 1).copied().unwrap_or(0);
+                let start_b = framer.ends_us.get(end).copied().unwrap_or(0).saturating_sub(ct);
                 out(Observation {
                     rule: Rule::NoPause,
                     at_us: start_b,
-                    measured_us: Some(pause),
-                    command: Some(ra.request.command()),
+                    measured_us: Some(start_b.saturating_sub(end_a)),
+                    command,
                     data_rates: None,
                 });
-                return;
+                from = end;
             }
+            return;
         }
         self.held = Some(Held { framer, start_us: start });
     }
