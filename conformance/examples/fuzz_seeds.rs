@@ -1,5 +1,5 @@
 //! Write the fuzz seed corpus from the golden vectors: every request of every vector
-//! into `fuzz/corpus/{request,response,datalink,slave}/`.
+//! into `fuzz/corpus/{request,response,datalink,slave,observer}/`.
 //! Run: `cargo run -p hiperface-conformance --example fuzz_seeds`.
 
 use hiperface_conformance::vectors;
@@ -12,7 +12,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         for v in vectors::load(&path)?.vectors {
             for (i, s) in v.steps.iter().enumerate() {
                 let bytes = vectors::parse_hex(&s.request)?;
-                for target in ["request", "response", "datalink", "slave"] {
+                for target in ["request", "response", "datalink", "slave", "observer"] {
                     let dir = root.join("fuzz/corpus").join(target);
                     std::fs::create_dir_all(&dir)?;
                     std::fs::write(dir.join(format!("{}-{i}", v.id)), &bytes)?;
