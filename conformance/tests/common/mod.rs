@@ -1,4 +1,9 @@
-//! Test helpers shared by the integration tests that need a real ser2net.
+//! Test helpers shared by the integration tests: a real ser2net, and HX-1 (the
+//! independent slave) on a pseudo-terminal.
+
+#![allow(dead_code)]
+
+pub mod hx1;
 
 use hiperface_conformance::line::tcp::TcpLine;
 use hiperface_model::UartSettings;

@@ -243,7 +243,11 @@ class Master:
         else:
             self.line.sleep_until(0.120)   # 2.4.1: initialization is over after 100 ms
         self.read_stack()
-        label = self.ask(0x52, max_response_s=0.005)
+        label = None
+        for _ in range(3):                  # no valid reply: ask again (Table 74 "Retry command.")
+            label = self.ask(0x52, max_response_s=0.005)
+            if label is not None:
+                break
         # Type FFh: the parameters are in the Extended Type Label, field FFh (Table 19).
         if label and len(label[1]) >= 2 and label[1][1] == 0xFF and self.defect != "ignores-extended-type-label":
             self.ask(0x4A, bytes([0xFF, 0x00, 0x40, 0x00]), max_response_s=0.030)
