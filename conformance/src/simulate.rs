@@ -17,7 +17,7 @@ use std::time::{Duration, Instant};
 pub const REPLY_DELAY_US: u64 = 300;
 
 /// Reads return at least every 500 µs; a longer interval between two is reported to
-/// the hooks as time the line was not watched.
+/// the hooks with the characters that end it, as time the line was not watched.
 const UNWATCHED_US: u64 = 1_000;
 
 /// What an encoder served on a line does besides the model: see each character the
@@ -33,10 +33,11 @@ pub trait Hooks {
     fn sets_port(&self) -> bool {
         true
     }
-    /// The line was not read from `from_us` to `to_us` (the harness was busy: writing a
-    /// reply, or not scheduled): the characters of this read (`received` next, before
-    /// `idle`) may have come any time in between; they are stamped when read.
-    fn unwatched(&mut self, _from_us: u64, _to_us: u64) {}
+    /// The characters of one read follow (`received` for each): the line had not been
+    /// read for `unwatched_us` before it (0 when it was watched; the harness was busy
+    /// writing a reply, or not scheduled). They may have come any time in that
+    /// stretch; they are stamped when read.
+    fn read(&mut self, _unwatched_us: u64) {}
     /// Time passes with nothing received.
     fn idle(&mut self, _now_us: u64) {}
     /// The model processed a frame (whether it replies or not).
@@ -118,8 +119,8 @@ pub fn serve_with(
     let mut port_settings = None;
     // When the last read returned: a read returns at least every timeout (500 µs).
     let mut read_us = now(epoch);
-    // What the master sent while a reply went out, with its arrival times.
-    let mut heard: Vec<(u8, u64)> = Vec::new();
+    // What the master sent while a reply went out, as it was read.
+    let mut heard: Vec<Chunk> = Vec::new();
     while !stop.load(Ordering::Relaxed) {
         // Follow the slave's listening settings (67h, reset, power-up windows) on the
         // port; a pseudo-terminal accepts and ignores them.
@@ -131,22 +132,24 @@ pub fn serve_with(
             port_settings = listening;
         }
         let mut steps = Vec::new();
-        // Characters that came while a reply went out were read then, with their
-        // arrival times; otherwise read the line.
-        let chunk: Vec<(u8, u64)> = if heard.is_empty() {
-            match watch(port.as_mut(), epoch, &mut read_us, hooks, &mut buf) {
-                Ok(Some(bytes)) => bytes,
-                Ok(None) => return Ok(()),
-                Err(e) => return Err(e),
+        // Characters that came while a reply went out were read then; otherwise read
+        // the line.
+        let chunks = if heard.is_empty() {
+            match watch(port.as_mut(), epoch, &mut read_us, &mut buf)? {
+                Some(chunk) => vec![chunk],
+                None => return Ok(()),
             }
         } else {
             std::mem::take(&mut heard)
         };
-        for (b, t) in chunk {
-            let listening = slave.listening_settings(t);
-            let ch = rx_clock.stamp(b, t, Some(listening.unwrap_or_default().char_time_us()));
-            hooks.received(ch, listening);
-            steps.extend(slave.receive(ch));
+        for Chunk { bytes, at_us: t, unwatched_us } in chunks {
+            hooks.read(unwatched_us);
+            for b in bytes {
+                let listening = slave.listening_settings(t);
+                let ch = rx_clock.stamp(b, t, Some(listening.unwrap_or_default().char_time_us()));
+                hooks.received(ch, listening);
+                steps.extend(slave.receive(ch));
+            }
         }
         steps.extend(slave.poll(now(epoch)));
         hooks.idle(now(epoch));
@@ -178,7 +181,7 @@ pub fn serve_with(
                 }
                 let runs: Vec<&[u8]> = if p.paced { part.chunks(1).collect() } else { vec![part] };
                 for run in runs {
-                    watch_until(port.as_mut(), epoch, start + ct, &mut read_us, hooks, &mut buf, &mut heard)?;
+                    watch_until(port.as_mut(), epoch, start + ct, &mut read_us, &mut buf, &mut heard)?;
                     port.write_all(run)?;
                     port.flush()?;
                     // The run is complete as written: its characters began `ct` each before.
@@ -194,7 +197,7 @@ pub fn serve_with(
                     start = written + run.len() as u64 * ct;
                     index += run.len();
                 }
-                watch_until(port.as_mut(), epoch, start, &mut read_us, hooks, &mut buf, &mut heard)?;
+                watch_until(port.as_mut(), epoch, start, &mut read_us, &mut buf, &mut heard)?;
                 start += pause;
             }
             hooks.sent(&p, start);
@@ -203,43 +206,47 @@ pub fn serve_with(
     Ok(())
 }
 
-/// One read of the line (at most its 500 µs timeout): the bytes with their arrival
-/// time, `None` when the other end has gone. Reports time the line went unwatched
-/// since the last read returned.
+/// The characters one read returned.
+struct Chunk {
+    bytes: Vec<u8>,
+    /// When the read returned, µs.
+    at_us: u64,
+    /// How long the line had not been read before it, µs (0 when it was watched).
+    unwatched_us: u64,
+}
+
+/// One read of the line (at most its 500 µs timeout); `None` when the other end has
+/// gone.
 fn watch(
     port: &mut dyn SerialPort,
     epoch: Instant,
     read_us: &mut u64,
-    hooks: &mut dyn Hooks,
     buf: &mut [u8],
-) -> std::io::Result<Option<Vec<(u8, u64)>>> {
+) -> std::io::Result<Option<Chunk>> {
     let result = port.read(buf);
-    let returned_us = epoch.elapsed().as_micros() as u64;
-    if returned_us.saturating_sub(*read_us) >= UNWATCHED_US {
-        hooks.unwatched(*read_us, returned_us);
-    }
-    *read_us = returned_us;
-    match result {
-        Ok(0) => Ok(None),
-        Ok(n) => Ok(Some(buf.iter().take(n).map(|b| (*b, returned_us)).collect())),
-        Err(e) if matches!(e.kind(), ErrorKind::TimedOut | ErrorKind::WouldBlock | ErrorKind::Interrupted) => {
-            Ok(Some(Vec::new()))
-        }
-        Err(e) if e.raw_os_error() == Some(5) => Ok(None), // EIO: the other end closed
-        Err(e) => Err(e),
-    }
+    let at_us = epoch.elapsed().as_micros() as u64;
+    let since = at_us.saturating_sub(*read_us);
+    let unwatched_us = if since >= UNWATCHED_US { since } else { 0 };
+    *read_us = at_us;
+    let n = match result {
+        Ok(0) => return Ok(None),
+        Ok(n) => n,
+        Err(e) if matches!(e.kind(), ErrorKind::TimedOut | ErrorKind::WouldBlock | ErrorKind::Interrupted) => 0,
+        Err(e) if e.raw_os_error() == Some(5) => return Ok(None), // EIO: the other end closed
+        Err(e) => return Err(e),
+    };
+    Ok(Some(Chunk { bytes: buf.iter().take(n).copied().collect(), at_us, unwatched_us }))
 }
 
 /// Keep reading the line until `due_us` (while a reply goes out): what the master sends
-/// meanwhile is kept in `heard` with its arrival times, so that it is timed as it came.
+/// meanwhile is kept in `heard`, so that it is timed as it came.
 fn watch_until(
     port: &mut dyn SerialPort,
     epoch: Instant,
     due_us: u64,
     read_us: &mut u64,
-    hooks: &mut dyn Hooks,
     buf: &mut [u8],
-    heard: &mut Vec<(u8, u64)>,
+    heard: &mut Vec<Chunk>,
 ) -> std::io::Result<()> {
     let due = epoch + Duration::from_micros(due_us);
     loop {
@@ -249,8 +256,8 @@ fn watch_until(
             std::thread::sleep(left);
             return Ok(());
         }
-        if let Some(bytes) = watch(port, epoch, read_us, hooks, buf)? {
-            heard.extend(bytes);
+        if let Some(chunk) = watch(port, epoch, read_us, buf)?.filter(|c| !c.bytes.is_empty()) {
+            heard.push(chunk);
         }
     }
 }

@@ -96,7 +96,7 @@ pub struct DriveEncoder {
     peer_bps: Option<u32>,
     /// What the encoder listened at when the last character came.
     listening: Option<UartSettings>,
-    /// How long the line had gone unwatched before the read in progress.
+    /// How long the line had gone unwatched before the read whose characters come.
     read_late_us: u64,
 }
 
@@ -216,13 +216,11 @@ impl Hooks for DriveEncoder {
         self.peer.is_none()
     }
 
-    fn unwatched(&mut self, from_us: u64, to_us: u64) {
-        self.read_late_us = to_us - from_us;
+    fn read(&mut self, unwatched_us: u64) {
+        self.read_late_us = unwatched_us;
     }
 
     fn idle(&mut self, now_us: u64) {
-        // The characters of this read have been taken.
-        self.read_late_us = 0;
         if self.heard.is_empty() {
             self.peer_bps = self.peer_bps();
         }

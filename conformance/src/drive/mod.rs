@@ -113,7 +113,7 @@ impl DriveReport {
     }
 }
 
-/// Run the catalogue against the master `options.exec`, for an encoder of `profile`;
+/// Run the catalogue against the master `options.attach`, for an encoder of `profile`;
 /// with `--power-on prompt` the operator at the console switches the drive.
 pub fn run(profile: Profile, options: &Options, progress: impl FnMut(usize, usize, &CaseResult)) -> DriveReport {
     run_with(profile, options, &mut ConsoleOperator, progress)
@@ -153,20 +153,19 @@ pub fn run_with(
         "A sufficient cyclic request (000:3.2.2) was taken as one at least every {} ms.",
         options.polling_period_ms
     ));
-    if let Attach::Port { power_on: PowerOn::Prompt, .. } = options.attach {
-        report.notes.push(
+    match options.attach {
+        Attach::Port { power_on: PowerOn::Prompt, .. } => report.notes.push(
             "The encoder powered on when the operator was told to switch the drive on; the drive powered on then \
              or later. A request during initialization is graded; one in the settings-change window may be the \
              operator's delay and is NON-STRICT at most."
                 .into(),
-        );
-    }
-    if let Attach::Port { power_on: PowerOn::Unseen, .. } = options.attach {
-        report.notes.push(
+        ),
+        Attach::Port { power_on: PowerOn::Unseen, .. } => report.notes.push(
             "The drive's power-on was not seen: the encoder was operational from the start of each scenario; \
              the rules about initialization, the start-up windows and the status after power-on were not graded."
                 .into(),
-        );
+        ),
+        Attach::Exec(_) => {}
     }
     let n = chosen.len();
     // A drive on a port: the port stays open for the whole run.
@@ -208,7 +207,6 @@ fn open_port(path: &str) -> Result<Box<dyn SerialPort>, String> {
         .map_err(|e| e.to_string())
 }
 
-/// One scenario with a drive on a real port: a fresh encoder served on the port.
 /// A drive on a real port, and how its power-on is known.
 struct Drive<'a> {
     port: &'a dyn SerialPort,
@@ -216,11 +214,12 @@ struct Drive<'a> {
     operator: &'a mut dyn Operator,
 }
 
+/// One scenario with a drive on a real port: a fresh encoder served on the port.
 fn on_port(profile: Profile, scenario: &Scenario, drive: Drive, polling_period_ms: u32) -> (CaseResult, String) {
     let Drive { port, power_on, operator } = drive;
     let started = Instant::now();
     let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
-    if scenario.from_power_on && power_on == PowerOn::Unseen {
+    if scenario.from_power_on() && power_on == PowerOn::Unseen {
         result.push(Finding::not_applicable(
             "the scenario starts at the drive's power-on, which the harness cannot see on this port (use --power-on prompt)",
         ));

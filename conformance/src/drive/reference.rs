@@ -5,7 +5,7 @@
 
 use crate::exchange::Master;
 use crate::line::{Line, LineError};
-use hiperface_model::fault::{self, Severity};
+use hiperface_model::fault;
 use hiperface_model::master::fault_reaction::{self, Reaction};
 use hiperface_model::response::{Response, ResponseFrame};
 use hiperface_model::{CommandId, FaultCode, Profile, Request, RequestFrame};
@@ -182,7 +182,7 @@ impl<L: Line> Run<'_, L> {
                 self.reset()?;
                 Ok(true)
             }
-            _ if reaction.severity == Severity::Critical && reaction.is_reset() => {
+            _ if reaction.is_reset() => {
                 self.reset()?;
                 Ok(true)
             }

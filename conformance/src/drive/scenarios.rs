@@ -49,8 +49,6 @@ pub struct Scenario {
     /// The request the plan waits for (its injection is void if the master never sends
     /// it: the scenario is then not applicable, with the reason).
     pub needs: Option<CommandId>,
-    /// The scenario is about what happens from power-on.
-    pub from_power_on: bool,
     /// The encoder of this scenario, made from the run's profile (e.g. one with type
     /// code FFh, or with stored settings other than the default).
     pub encoder: Option<fn(Profile) -> Profile>,
@@ -96,10 +94,17 @@ macro_rules! scenario {
             world: $world,
             plan: $plan,
             needs: $needs,
-            from_power_on: false,
             encoder: None,
         }
     };
+}
+
+impl Scenario {
+    /// The scenario is about what happens from power-on: the start-up scenarios, and
+    /// a critical fault found at start-up.
+    pub fn from_power_on(&self) -> bool {
+        self.id.starts_with("startup.") || self.id == "fault.critical-at-start"
+    }
 }
 
 /// The scenarios whose id matches `globs` (`*`, `?`, comma-separated; all without),
@@ -110,7 +115,7 @@ pub fn chosen(globs: Option<&str>) -> Vec<Scenario> {
 
 /// Every scenario, in run order.
 pub fn catalogue() -> Vec<Scenario> {
-    let mut all = vec![
+    vec![
         scenario!(
             "startup.default",
             "Start-up in default settings, then cyclic polling",
@@ -309,9 +314,5 @@ pub fn catalogue() -> Vec<Scenario> {
             &[],
             None
         ),
-    ];
-    for s in &mut all {
-        s.from_power_on = s.id.starts_with("startup.") || s.id == "fault.critical-at-start";
-    }
-    all
+    ]
 }

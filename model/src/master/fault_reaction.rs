@@ -47,9 +47,10 @@ pub fn reaction_to(code: FaultCode, group: Option<FaultGroup>, variant: Variant)
 }
 
 impl Reaction {
-    /// Table 74 asks for a SW reset of the slave at once (the initialization rows).
+    /// Table 74 asks for a SW reset of the slave at once: a critical fault whose
+    /// response begins "SW reset" (the initialization rows).
     pub fn is_reset(&self) -> bool {
-        self.known && self.response.is_some_and(|r| r.starts_with("SW reset"))
+        self.known && self.severity == Severity::Critical && self.response.is_some_and(|r| r.starts_with("SW reset"))
     }
 
     /// Table 74 asks to retry the command first.
@@ -164,7 +165,7 @@ mod tests {
     use FaultCode as F;
 
     fn resets(codes: &[FaultCode]) -> bool {
-        stack_reactions(codes).any(|(_, r)| r.severity == Severity::Critical && r.is_reset())
+        stack_reactions(codes).any(|(_, r)| r.is_reset())
     }
 
     #[test]

@@ -17,7 +17,7 @@ use crate::address::{AddressByte, SlaveAddress};
 use crate::clause::{self, Clause};
 use crate::command::{CommandByte, CommandId};
 use crate::datalink::RxChar;
-use crate::fault::{self, FaultCode, Severity};
+use crate::fault::{self, FaultCode};
 use crate::frame::{Frame, MAX_FRAME};
 use crate::master::fault_reaction;
 use crate::profile::Profile;
@@ -496,7 +496,7 @@ impl Observer {
             if code.byte() == 0x22 {
                 self.sync_fault = true;
             }
-            let reset = reactions().any(|(_, r)| r.severity == Severity::Critical && r.is_reset());
+            let reset = reactions().any(|(_, r)| r.is_reset());
             self.pending = match (self.pending, reset) {
                 (Pending::Reset { left }, true) => Pending::Reset { left },
                 (_, true) => Pending::Reset { left: REACTION_REQUESTS },
