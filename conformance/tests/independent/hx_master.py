@@ -117,6 +117,18 @@ class Line:
         # The line is busy while the characters go out.
         time.sleep(len(data) * CHAR_S)
 
+    def discard_input(self):
+        """Read and drop what has come since the last reply; True if anything had."""
+        got = False
+        while True:
+            try:
+                chunk = os.read(self.fd, 256)
+            except BlockingIOError:
+                chunk = b""
+            if not chunk:
+                return got
+            got = True
+
     def read_reply(self, max_response_s):
         """Bytes of one reply: the first within the timeout plus the maximum response
         time, the rest until a pause of the timeout (2.2.2)."""
@@ -154,8 +166,14 @@ class Master:
         frame = bytes(body) + bytes([xor(body)])
         if self.defect == "wrong-checksum" and body[1] == 0x42:
             frame = frame[:-1] + bytes([frame[-1] ^ 0x01])
-        # 2.2.2: a pause of at least the timeout after the last transmission.
-        self.line.sleep_until(self.line.idle_since + TIMEOUT_S + 0.001)
+        # 2.2.2: a pause of at least the timeout after the last transmission. A reply
+        # that came after it was given up is no answer to this request: discard it, and
+        # pause after it too.
+        while True:
+            self.line.sleep_until(self.line.idle_since + TIMEOUT_S + 0.001)
+            if not self.line.discard_input():
+                break
+            self.line.idle_since = self.line.now()
         if self.defect == "gap-in-request" and body[1] == 0x42:
             self.line.write(frame, gap_before=2, gap_s=0.010)
         else:
