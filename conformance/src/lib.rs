@@ -2,12 +2,14 @@
 //! master on a serial line, slave certification with the model's oracle in
 //! lockstep, reports, and the simulator serving the model as a virtual encoder.
 
+pub mod capture;
 pub mod certify;
 pub mod clauses;
 pub mod demo;
 pub mod drive;
 pub mod exchange;
 pub mod line;
+pub mod listen;
 pub mod port;
 pub mod profile_file;
 pub mod report;

@@ -68,6 +68,9 @@ enum Command {
     Master(drive::cli::MasterArgs),
     /// Clause coverage: what cites each clause of the registry (exit 1 when a
     /// normative clause is neither covered nor listed as unobservable).
+    /// Grade a capture of a bus (a wire log, a logic analyzer's CSV, sigrok-cli's UART
+    /// decoder output) without talking: both sides, exit 1 on a FAIL.
+    Decode(hiperface_conformance::listen::cli::DecodeArgs),
     Clauses {
         /// Only the normative clauses nothing covers.
         #[arg(long)]
@@ -253,6 +256,7 @@ fn main() -> ExitCode {
             ExitCode::SUCCESS
         }),
         Command::Vectors { what } => vectors_command(what),
+        Command::Decode(args) => hiperface_conformance::listen::cli::decode(&args).map_err(CliError),
         Command::Clauses { uncovered, format } => print_clauses(uncovered, format),
         Command::Commands => {
             println!("{:<6} {:<50} {:>8}  master  slave", "cmd", "name", "max ms");

@@ -1,0 +1,266 @@
+//! Captures of a bus, read as a stream of characters with their times: the input of
+//! the passive listener (`hiperface decode`). Each reader streams (one line at a time,
+//! memory constant in the capture's length) and rejects malformed input with the line
+//! number and what was expected.
+//!
+//! Every reader turns its format's notion of time into the one the model uses: the
+//! end of a character's stop bit (000:2.2.2, see `hiperface_model::datalink`), in µs
+//! from the capture's start. What a format does not carry (the character time, the
+//! direction) comes from the options and is stated in the report.
+
+use std::fmt;
+use std::io::BufRead;
+
+pub mod csv;
+mod merge;
+pub mod sigrok;
+pub mod vcd;
+pub mod wirelog;
+
+/// Who sent a character, where the capture tells.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
+pub enum Role {
+    Master,
+    Slave,
+}
+
+/// What the receiver saw.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Mark {
+    Byte(u8),
+    /// A character whose parity bit was wrong (its data bits as read). // 000:T47
+    ParityError(u8),
+    /// A character without its stop bit.
+    FramingError(u8),
+    /// The line held low for longer than a character.
+    Break,
+}
+
+/// One character (or break) on the bus.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Event {
+    /// End of the stop bit, µs from the capture's start.
+    pub at_us: u64,
+    /// The channel it was captured on: an index into the reader's channel names.
+    pub channel: u8,
+    /// Who sent it, where the format says (the project's wire logs do).
+    pub role: Option<Role>,
+    pub mark: Mark,
+}
+
+/// A capture that cannot be read: where, and what was expected there.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("line {line}: {message}")]
+pub struct ParseError {
+    pub line: u64,
+    pub message: String,
+}
+
+impl ParseError {
+    pub fn at(line: u64, message: impl Into<String>) -> ParseError {
+        ParseError { line, message: message.into() }
+    }
+}
+
+/// The formats `decode` reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// The project's wire log: `certify --report` (report.json or the certificate's
+    /// text) and `simulate --log`.
+    Wirelog,
+    /// Timestamped bytes as logic-analyzer software exports them.
+    Csv,
+    /// sigrok-cli's UART decoder output with `--protocol-decoder-samplenum`.
+    Sigrok,
+}
+
+impl Format {
+    /// Tell the format from the first line that is not blank.
+    pub fn detect(first_line: &str) -> Option<Format> {
+        let l = first_line.trim();
+        if l.starts_with('{') || wirelog::is_line(l) {
+            Some(Format::Wirelog)
+        } else if sigrok::is_line(l) {
+            Some(Format::Sigrok)
+        } else if l.contains(',') {
+            Some(Format::Csv)
+        } else {
+            None
+        }
+    }
+}
+
+impl fmt::Display for Format {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Format::Wirelog => "wirelog",
+            Format::Csv => "csv",
+            Format::Sigrok => "sigrok",
+        })
+    }
+}
+
+/// What a capture does not carry.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ReadOptions {
+    /// Bits per second on the bus: the character time (11 bits, 8E1, 000:2.2.1).
+    pub baud: u32,
+    /// Samples per second of the capture (sigrok reports sample numbers).
+    pub samplerate_hz: Option<u64>,
+}
+
+impl ReadOptions {
+    /// The bus's settings at this rate (8E1, the long timeout: 000:2.2.1, 000:T8).
+    fn settings(&self) -> hiperface_model::UartSettings {
+        let baud = hiperface_model::settings::Baud::from_bits_per_second(self.baud);
+        hiperface_model::UartSettings {
+            baud: baud.unwrap_or(hiperface_model::settings::Baud::B9600),
+            ..Default::default()
+        }
+    }
+    /// One character's time, µs (start, 8 data, parity, stop).
+    pub fn char_time_us(&self) -> u64 {
+        self.settings().char_time_us()
+    }
+    /// The inter-character timeout, µs.
+    pub fn timeout_us(&self) -> u64 {
+        self.settings().timeout_us(hiperface_model::Edition::Current)
+    }
+    /// One bit's time, µs.
+    pub fn bit_time_us(&self) -> u64 {
+        self.char_time_us() / 11
+    }
+}
+
+/// A stream of events, in time order, and the names of its channels.
+pub trait Capture: Iterator<Item = Result<Event, ParseError>> {
+    /// The channels seen so far, by index.
+    fn channels(&self) -> Vec<String>;
+    /// What this reader assumed, for the report.
+    fn assumptions(&self) -> Vec<String>;
+    /// The timing uncertainty the capture states (a certify report's tolerance), µs.
+    fn tolerance_us(&self) -> Option<u64> {
+        None
+    }
+}
+
+/// Open `input` in `format` (`None`: detect it from the first line).
+pub fn open<'a>(
+    mut input: Box<dyn BufRead + 'a>,
+    format: Option<Format>,
+    options: ReadOptions,
+) -> Result<(Format, Box<dyn Capture + 'a>), ParseError> {
+    let format = match format {
+        Some(f) => f,
+        None => {
+            let first = peek_first_line(&mut input).map_err(|e| ParseError::at(0, e.to_string()))?;
+            Format::detect(&first).ok_or_else(|| {
+                ParseError::at(
+                    1,
+                    "cannot tell the format: expected a wire log line (`12.345 ms  M> 40 42 02`), a \
+                     report.json, sigrok-cli output (`1104-1938 uart-1: 40`) or a CSV header; use --format",
+                )
+            })?
+        }
+    };
+    let capture: Box<dyn Capture + 'a> = match format {
+        Format::Wirelog => Box::new(wirelog::Reader::new(input, options)?),
+        Format::Csv => Box::new(csv::Reader::new(input, options)?),
+        Format::Sigrok => Box::new(sigrok::Reader::new(input, options)?),
+    };
+    Ok((format, capture))
+}
+
+/// The first line that is not blank, without consuming it.
+fn peek_first_line(input: &mut dyn BufRead) -> std::io::Result<String> {
+    loop {
+        let buf = input.fill_buf()?;
+        if buf.is_empty() {
+            return Ok(String::new());
+        }
+        let text = String::from_utf8_lossy(buf);
+        let trimmed = text.trim_start();
+        if trimmed.is_empty() {
+            let n = buf.len();
+            input.consume(n);
+            continue;
+        }
+        return Ok(trimmed.lines().next().unwrap_or("").to_string());
+    }
+}
+
+/// Read one line into `buf` (cleared first), counting lines; `false` at the end.
+/// A line longer than `MAX_LINE` is an error, not an allocation without bound.
+pub(crate) fn next_line(input: &mut dyn BufRead, buf: &mut String, line: &mut u64) -> Result<bool, ParseError> {
+    const MAX_LINE: u64 = 64 * 1024;
+    buf.clear();
+    *line += 1;
+    let mut bytes = Vec::new();
+    let mut limited = std::io::Read::take(&mut *input, MAX_LINE);
+    let n = BufRead::read_until(&mut limited, b'\n', &mut bytes)
+        .map_err(|e| ParseError::at(*line, format!("cannot read: {e}")))?;
+    if n == 0 {
+        return Ok(false);
+    }
+    if n as u64 == MAX_LINE && bytes.last() != Some(&b'\n') {
+        return Err(ParseError::at(*line, format!("a line longer than {MAX_LINE} bytes")));
+    }
+    match String::from_utf8(bytes) {
+        Ok(s) => buf.push_str(s.trim_end_matches(['\n', '\r'])),
+        Err(_) => return Err(ParseError::at(*line, "not UTF-8 text")),
+    }
+    Ok(true)
+}
+
+/// A byte written as two hex digits, optionally with `0x`.
+pub(crate) fn hex_byte(s: &str) -> Option<u8> {
+    let s = s.trim();
+    let s = s.strip_prefix("0x").or_else(|| s.strip_prefix("0X")).unwrap_or(s);
+    (!s.is_empty() && s.len() <= 2).then(|| u8::from_str_radix(s, 16).ok()).flatten()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Read everything, stopping at the first error: never a panic.
+    fn drain(text: &[u8], format: Option<Format>) {
+        let opts = ReadOptions { baud: 9600, samplerate_hz: Some(1_000_000) };
+        if let Ok((_, capture)) = open(Box::new(text), format, opts) {
+            for e in capture {
+                if e.is_err() {
+                    break;
+                }
+            }
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+        #[test]
+        fn no_reader_panics_on_any_input(text in proptest::collection::vec(any::<u8>(), 0..400)) {
+            for f in [None, Some(Format::Wirelog), Some(Format::Csv), Some(Format::Sigrok)] {
+                drain(&text, f);
+            }
+        }
+
+        #[test]
+        fn no_reader_panics_on_near_valid_lines(
+            lines in proptest::collection::vec(
+                prop_oneof![
+                    "[0-9]{1,6}\\.[0-9]{3} ms  (M>|S<)( [0-9A-F]{2}){1,6}",
+                    "[0-9]{1,7}-[0-9]{1,7} uart-[12]: ([0-9a-f]{2}|Parity error|Frame error|Break condition)",
+                    "0\\.[0-9]{1,6},0x[0-9A-F]{2},(Error)?,",
+                ],
+                0..40,
+            )
+        ) {
+            let text = lines.join("\n");
+            for f in [None, Some(Format::Wirelog), Some(Format::Sigrok)] {
+                drain(text.as_bytes(), f);
+            }
+            drain(format!("Time [s],Value,Parity Error,Framing Error\n{text}").as_bytes(), Some(Format::Csv));
+        }
+    }
+}

@@ -1,0 +1,388 @@
+//! The passive listener: grade both sides of a conversation it only overhears (a live
+//! bus tapped by a third transceiver, or a logic-analyzer capture). Sans-IO: it is
+//! fed [`Event`]s in time order and reports each exchange as it closes.
+//!
+//! - Framing by the inter-character timeout at the bus's settings (000:2.2.2), per
+//!   channel.
+//! - Requests and replies are told apart by the capture's direction where it has one
+//!   (a wire log, `--master-channel`), otherwise by timing and structure: a frame that
+//!   starts within the reply window of an open request is its reply; a frame that
+//!   decodes as a request is one; a request with an early reply run into it (less
+//!   than the timeout between them) is split where the request ends.
+//! - The master is graded by the master rules (`hiperface_model::master::obligations`),
+//!   the slave by the oracle against a model that follows the requests it hears.
+//!
+//! What a listener cannot know is never charged to a device: it does not see the
+//! encoder's stored state (data fields, access codes, address, counter, error stack)
+//! or whether it was powered on before the capture began. A reply's form (length and
+//! checksum for its command, its address echo, a warning bit without a code) and its
+//! timing are graded; a difference in content from the model is reported as
+//! UNKNOWN with the oracle's reason, not as FAIL.
+
+use crate::capture::{Event, Mark, Role};
+use crate::certify::{timing, CaseVerdict, Finding, TimingMode};
+use crate::exchange::Exchange;
+use crate::line::Window;
+use hiperface_model::command::CommandId;
+use hiperface_model::datalink::{RxChar, UartFault};
+use hiperface_model::frame::Hex;
+use hiperface_model::master::obligations::{Observation, Observer};
+use hiperface_model::oracle::{Deviation, Oracle};
+use hiperface_model::request::RequestFrame;
+use hiperface_model::response::ResponseFrame;
+use hiperface_model::slave::{Reply, Slave};
+use hiperface_model::{Grading, Profile, UartSettings};
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+pub mod cli;
+mod summary;
+pub use summary::{Heard, Summary};
+
+/// What the listener is told.
+#[derive(Debug, Clone)]
+pub struct Options {
+    pub profile: Profile,
+    /// The bus's settings (the encoder's listening settings).
+    pub settings: UartSettings,
+    /// The capture's timing uncertainty, µs: its sample period, a logger's latency.
+    pub tolerance_us: u64,
+    /// The channel the master talks on, where the capture has several.
+    pub master_channel: Option<u8>,
+    /// The application's polling period, ms (000:3.2.2).
+    pub polling_period_ms: u32,
+}
+
+/// One character of a frame being assembled.
+#[derive(Debug, Clone, Copy)]
+struct Char {
+    byte: u8,
+    at_us: u64,
+    fault: Option<UartFault>,
+}
+
+/// A request waiting for its reply.
+#[derive(Debug, Clone)]
+struct Open {
+    bytes: Vec<u8>,
+    start_us: u64,
+    end_us: u64,
+}
+
+/// One exchange as heard: what the live view prints and the report counts.
+#[derive(Debug, Clone, Serialize)]
+pub struct HeardExchange {
+    /// End of the request, ms from the capture's start.
+    pub t_ms: f64,
+    pub command: String,
+    pub request: String,
+    pub reply: Option<String>,
+    /// From the end of the request's timeout to the reply's first start bit, ms.
+    pub response_ms: Option<f64>,
+    pub verdict: Heard,
+    pub findings: Vec<Finding>,
+}
+
+/// The listener.
+pub struct Listener {
+    options: Options,
+    oracle: Oracle,
+    shadow: Slave,
+    observer: Observer,
+    timeout_us: u64,
+    char_us: u64,
+    /// Frames being assembled, per channel.
+    frames: BTreeMap<u8, (Option<Role>, Vec<Char>)>,
+    open: Option<Open>,
+    now_us: u64,
+    pub summary: Summary,
+}
+
+impl Listener {
+    pub fn new(options: Options) -> Listener {
+        let mut observer = Observer::new(options.profile);
+        observer.encoder_listens(options.settings);
+        observer.set_polling_period_ms(options.polling_period_ms);
+        let edition = options.profile.edition;
+        Listener {
+            oracle: Oracle::new(Grading::Range),
+            shadow: Slave::operational(options.profile),
+            observer,
+            timeout_us: options.settings.timeout_us(edition),
+            char_us: options.settings.char_time_us(),
+            frames: BTreeMap::new(),
+            open: None,
+            now_us: 0,
+            summary: Summary::default(),
+            options,
+        }
+    }
+
+    /// Take in one event; `out` gets every exchange it closes.
+    pub fn feed(&mut self, e: Event, out: &mut impl FnMut(&HeardExchange)) {
+        self.advance(e.at_us, out);
+        let role = e.role.or(match self.options.master_channel {
+            Some(m) if m == e.channel => Some(Role::Master),
+            Some(_) => Some(Role::Slave),
+            None => None,
+        });
+        let (byte, fault) = match e.mark {
+            Mark::Byte(b) => (b, None),
+            Mark::ParityError(b) => (b, Some(UartFault::Parity)),
+            Mark::FramingError(b) => (b, Some(UartFault::Framing)),
+            Mark::Break => {
+                // A break ends the frame it interrupts. // 000:T47 (a UART fault)
+                self.summary.breaks += 1;
+                self.close_channel(e.channel, out);
+                return;
+            }
+        };
+        self.summary.characters += 1;
+        let entry = self.frames.entry(e.channel).or_insert((role, Vec::new()));
+        entry.0 = role;
+        // A frame longer than any valid one is cut: memory stays bounded.
+        if entry.1.len() < 4 * hiperface_model::frame::MAX_FRAME {
+            entry.1.push(Char { byte, at_us: e.at_us, fault });
+        }
+    }
+
+    /// The capture ended at `at_us`: close what is open.
+    pub fn finish(&mut self, at_us: u64, out: &mut impl FnMut(&HeardExchange)) {
+        let end = at_us.max(self.now_us) + self.timeout_us;
+        self.advance(end, out);
+        let channels: Vec<u8> = self.frames.keys().copied().collect();
+        for ch in channels {
+            self.close_channel(ch, out);
+        }
+        if let Some(open) = self.open.take() {
+            self.exchange(open, None, out);
+        }
+        let mut obs = Vec::new();
+        self.observer.end(end, &mut |o| obs.push(o));
+        self.master_observations(obs);
+    }
+
+    /// Time passes to `now`: frames whose timeout elapsed complete, in the order they
+    /// began; a request whose reply window closed was not answered.
+    fn advance(&mut self, now: u64, out: &mut impl FnMut(&HeardExchange)) {
+        loop {
+            let due = self
+                .frames
+                .iter()
+                .filter_map(|(ch, (_, cs))| Some((cs.first()?.at_us, cs.last()?.at_us, *ch)))
+                .filter(|(_, last, _)| last + self.timeout_us <= now)
+                .min();
+            let Some((_, _, ch)) = due else { break };
+            self.close_channel(ch, out);
+        }
+        if let Some(open) = &self.open {
+            // A frame still being assembled that began in the window may be the reply.
+            let end = self.window_end(open);
+            let reply_under_way = self
+                .frames
+                .values()
+                .any(|(_, cs)| cs.first().is_some_and(|c| c.at_us.saturating_sub(self.char_us) <= end));
+            if now > end && !reply_under_way {
+                let open = self.open.take();
+                if let Some(open) = open {
+                    self.exchange(open, None, out);
+                }
+            }
+        }
+        let mut obs = Vec::new();
+        self.observer.poll(now, &mut |o| obs.push(o));
+        self.master_observations(obs);
+        self.now_us = self.now_us.max(now);
+    }
+
+    /// The last instant a reply to `open` may start and still be heard as its reply:
+    /// well past the command's limit, so that a late reply is measured, not lost.
+    fn window_end(&self, open: &Open) -> u64 {
+        let command = open.bytes.get(1).map_or(CommandId::Unknown(0), |b| CommandId::decode(b & 0x7F));
+        let limit_us = self.options.profile.response_limit(command).max_ms as u64 * 1000;
+        open.end_us + self.timeout_us + 3 * limit_us + self.options.tolerance_us
+    }
+
+    fn close_channel(&mut self, ch: u8, out: &mut impl FnMut(&HeardExchange)) {
+        let Some((role, chars)) = self.frames.remove(&ch) else { return };
+        if !chars.is_empty() {
+            self.frame(role, chars, out);
+        }
+    }
+
+    /// A complete frame: a request, a reply, or both run together.
+    fn frame(&mut self, role: Option<Role>, chars: Vec<Char>, out: &mut impl FnMut(&HeardExchange)) {
+        let start = chars.first().map_or(0, |c| c.at_us.saturating_sub(self.char_us));
+        let bytes: Vec<u8> = chars.iter().map(|c| c.byte).collect();
+        let in_window = self.open.as_ref().is_some_and(|o| start <= self.window_end(o));
+        match role {
+            Some(Role::Master) => self.request(chars, out),
+            Some(Role::Slave) if in_window => self.reply(chars, out),
+            Some(Role::Slave) => self.stray(&bytes, start, "a reply frame with no request open"),
+            None if in_window && RequestFrame::decode(&bytes).is_err() => self.reply(chars, out),
+            None if RequestFrame::decode(&bytes).is_ok() => self.request(chars, out),
+            None => match (2..bytes.len()).find(|n| RequestFrame::decode(&bytes[..*n]).is_ok()) {
+                // A request and a reply with less than the timeout between them.
+                Some(n) => {
+                    let mut chars = chars;
+                    let reply = chars.split_off(n);
+                    self.request(chars, out);
+                    self.reply(reply, out);
+                }
+                None => self.stray(&bytes, start, "a frame that is neither a request nor a reply in its window"),
+            },
+        }
+    }
+
+    fn stray(&mut self, bytes: &[u8], start_us: u64, what: &str) {
+        self.summary.unattributed += 1;
+        self.summary.note(format!("{:.3} ms: {what} [{}]: not graded", start_us as f64 / 1000.0, Hex(bytes)));
+    }
+
+    fn request(&mut self, chars: Vec<Char>, out: &mut impl FnMut(&HeardExchange)) {
+        if let Some(open) = self.open.take() {
+            self.exchange(open, None, out);
+        }
+        let mut obs = Vec::new();
+        for c in &chars {
+            self.observer.master_char(RxChar { byte: c.byte, at_us: c.at_us, fault: c.fault }, &mut |o| obs.push(o));
+        }
+        self.master_observations(obs);
+        let (Some(first), Some(last)) = (chars.first(), chars.last()) else { return };
+        let open = Open {
+            bytes: chars.iter().map(|c| c.byte).collect(),
+            start_us: first.at_us.saturating_sub(self.char_us),
+            end_us: last.at_us,
+        };
+        self.open = Some(open);
+    }
+
+    fn reply(&mut self, chars: Vec<Char>, out: &mut impl FnMut(&HeardExchange)) {
+        let Some(open) = self.open.take() else { return };
+        let (Some(first), Some(last)) = (chars.first(), chars.last()) else { return };
+        let bytes: Vec<u8> = chars.iter().map(|c| c.byte).collect();
+        let command = open.bytes.get(1).map_or(CommandId::Unknown(0), |b| CommandId::decode(b & 0x7F));
+        let decoded = ResponseFrame::decode(&bytes, command).ok();
+        self.observer.encoder_reply(first.at_us.saturating_sub(self.char_us), last.at_us, decoded.as_ref());
+        let rx: Vec<RxChar> = chars.iter().map(|c| RxChar { byte: c.byte, at_us: c.at_us, fault: c.fault }).collect();
+        self.exchange(open, Some(rx), out);
+    }
+
+    /// Grade one exchange: the reply's form and timing, and its content where the
+    /// listener can know it.
+    fn exchange(&mut self, open: Open, reply: Option<Vec<RxChar>>, out: &mut impl FnMut(&HeardExchange)) {
+        let edition = self.options.profile.edition;
+        let command = open.bytes.get(1).map_or(CommandId::Unknown(0), |b| CommandId::decode(b & 0x7F));
+        let complete_us = open.end_us + self.timeout_us;
+        let before = self.shadow.clone();
+        let expected = self.shadow.handle_frame(&open.bytes, complete_us);
+        let observed: Option<Vec<u8>> = reply.as_ref().map(|r| r.iter().map(|c| c.byte).collect());
+        let grade = self.oracle.grade(&before, &open.bytes, complete_us, &expected, observed.as_deref());
+        let mut findings = Vec::new();
+        let reason = grade.deviation().map_or(String::new(), |d| d.to_string());
+        if let Some(f) = Finding::graded(&grade, format!("request [{}]: {reason}", Hex(&open.bytes))) {
+            let knowable = grade.deviation().is_some_and(|d| knowable(&d, &open.bytes));
+            findings.push(if knowable {
+                f
+            } else {
+                Finding::not_applicable(format!(
+                    "not graded: {f}; the listener does not know the encoder's stored state or its address"
+                ))
+            });
+        }
+        if let Some(r) = reply.as_ref().filter(|r| r.iter().any(|c| c.fault.is_some())) {
+            let n = r.iter().filter(|c| c.fault.is_some()).count();
+            findings.push(Finding::not_applicable(format!(
+                "{n} characters of the reply had a parity or framing error as captured: the line, the tap or the encoder"
+            )));
+        }
+        let mut response_ms = None;
+        if let (Some(r), Reply::Frame(_)) = (&reply, expected.reply) {
+            let x = Exchange {
+                request: open.bytes.clone(),
+                stray: Vec::new(),
+                sent_start_us: open.start_us,
+                request_end: Window::exact(open.end_us),
+                reply: r.clone(),
+                reply_start: r.first().map(|c| Window::exact(c.at_us.saturating_sub(self.char_us))),
+                trailing: Vec::new(),
+                settings: self.options.settings,
+                timeout_us: self.timeout_us,
+                harness_late_us: 0,
+            };
+            let limits = self.options.profile.response_limit(command);
+            findings.extend(timing::grade(&x, limits, self.options.tolerance_us, TimingMode::Strict, edition));
+            response_ms = timing::at_most_us(&x).map(|t| t as f64 / 1000.0);
+            if let Some(t) = timing::at_most_us(&x) {
+                self.summary.response_time(command, t);
+            }
+        }
+        if let (Some(bytes), true) = (&observed, findings.is_empty()) {
+            self.learn(command, bytes);
+        }
+        let heard = HeardExchange {
+            t_ms: open.end_us as f64 / 1000.0,
+            command: command.to_string(),
+            request: Hex(&open.bytes).to_string(),
+            reply: observed.as_deref().map(|b| Hex(b).to_string()),
+            response_ms,
+            verdict: Heard::of(&findings),
+            findings,
+        };
+        self.summary.exchange(&heard);
+        out(&heard);
+    }
+
+    /// What a well-formed reply tells of the encoder's world (as `certify` does on a
+    /// real device).
+    fn learn(&mut self, command: CommandId, bytes: &[u8]) {
+        let Ok(frame) = ResponseFrame::decode(bytes, command) else { return };
+        use hiperface_model::response::Response;
+        match frame.response {
+            Response::Position(p) => {
+                self.shadow.adopt_position(p as u64);
+            }
+            Response::Data { field, offset, data } => {
+                self.shadow.adopt_field_data(field, offset, data.as_bytes());
+            }
+            _ => {}
+        }
+    }
+
+    fn master_observations(&mut self, obs: Vec<Observation>) {
+        let edition = self.options.profile.edition;
+        for o in obs {
+            let figure = o.measured_us.map_or(String::new(), |m| format!(", {:.3} ms", m as f64 / 1000.0));
+            let message = format!("{} at {:.3} ms{figure}", o.rule.text(), o.at_us as f64 / 1000.0);
+            let clause = o.rule.clause();
+            let f = match clause.normative() {
+                Some(n) => Finding::fail(message, n, edition),
+                None => Finding::non_strict(message, clause),
+            };
+            self.summary.master(o.rule, f);
+        }
+    }
+}
+
+/// A deviation the listener can see whatever the encoder's stored state: the reply's
+/// form, its address echo to a request that named one, a warning bit with "no fault".
+fn knowable(d: &Deviation, request: &[u8]) -> bool {
+    match d {
+        Deviation::Malformed(_) | Deviation::WarningWithoutCode => true,
+        Deviation::WrongAddress { .. } => request.first() != Some(&0xFF),
+        _ => false,
+    }
+}
+
+impl Heard {
+    fn of(findings: &[Finding]) -> Heard {
+        findings.iter().fold(Heard::Pass, |h, f| {
+            h.max(match f.verdict() {
+                CaseVerdict::Fail => Heard::Fail,
+                CaseVerdict::NonStrict => Heard::NonStrict,
+                CaseVerdict::NotApplicable | CaseVerdict::Error => Heard::Unknown,
+                CaseVerdict::Pass => Heard::Pass,
+            })
+        })
+    }
+}

@@ -1,0 +1,134 @@
+//! What a listening run adds up to: counts, the master's broken rules, response times
+//! per command as a histogram, and the exchanges worth reading. Bounded in memory
+//! whatever the capture's length (a cap on what is kept, counts for the rest).
+
+use super::HeardExchange;
+use crate::certify::{CaseVerdict, Finding};
+use hiperface_model::command::CommandId;
+use hiperface_model::master::obligations::Rule;
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// An exchange's verdict as heard. UNKNOWN: the listener cannot tell (it does not see
+/// the encoder's stored state, or the capture is corrupted there), never a charge.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[serde(rename_all = "SCREAMING-KEBAB-CASE")]
+pub enum Heard {
+    Pass,
+    Unknown,
+    NonStrict,
+    Fail,
+}
+
+impl Heard {
+    pub fn label(self) -> &'static str {
+        match self {
+            Heard::Pass => "PASS",
+            Heard::Unknown => "UNKNOWN",
+            Heard::NonStrict => "NON-STRICT",
+            Heard::Fail => "FAIL",
+        }
+    }
+}
+
+/// Exchanges kept for the report (the worst first ones); notes kept.
+const KEPT: usize = 1000;
+
+/// Response-time histogram bounds, ms (the last bucket is "more").
+pub const BUCKETS_MS: [f64; 8] = [0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0];
+
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Times {
+    pub count: u64,
+    pub min_ms: f64,
+    pub max_ms: f64,
+    pub mean_ms: f64,
+    /// Counts per bucket of [`BUCKETS_MS`], and one for beyond.
+    pub histogram: Vec<u64>,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct MasterRule {
+    pub rule: String,
+    pub count: u64,
+    pub first: Finding,
+}
+
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Summary {
+    pub characters: u64,
+    pub breaks: u64,
+    pub exchanges: u64,
+    /// Exchanges per verdict.
+    pub verdicts: BTreeMap<&'static str, u64>,
+    /// Frames neither a request nor a reply in its window (not graded).
+    pub unattributed: u64,
+    pub master: Vec<MasterRule>,
+    pub response_times: BTreeMap<String, Times>,
+    /// The first exchanges that were not PASS.
+    pub exchanges_kept: Vec<HeardExchange>,
+    pub notes: Vec<String>,
+    pub notes_dropped: u64,
+}
+
+impl Summary {
+    pub(super) fn exchange(&mut self, h: &HeardExchange) {
+        self.exchanges += 1;
+        *self.verdicts.entry(h.verdict.label()).or_insert(0) += 1;
+        if h.verdict != Heard::Pass && self.exchanges_kept.len() < KEPT {
+            self.exchanges_kept.push(h.clone());
+        }
+    }
+
+    pub(super) fn note(&mut self, n: String) {
+        if self.notes.len() < KEPT {
+            self.notes.push(n);
+        } else {
+            self.notes_dropped += 1;
+        }
+    }
+
+    pub(super) fn response_time(&mut self, command: CommandId, t_us: i64) {
+        let ms = t_us as f64 / 1000.0;
+        let t = self.response_times.entry(command.to_string()).or_default();
+        if t.count == 0 {
+            (t.min_ms, t.max_ms) = (ms, ms);
+            t.histogram = vec![0; BUCKETS_MS.len() + 1];
+        }
+        t.count += 1;
+        t.min_ms = t.min_ms.min(ms);
+        t.max_ms = t.max_ms.max(ms);
+        t.mean_ms += (ms - t.mean_ms) / t.count as f64;
+        let i = BUCKETS_MS.iter().position(|b| ms <= *b).unwrap_or(BUCKETS_MS.len());
+        if let Some(c) = t.histogram.get_mut(i) {
+            *c += 1;
+        }
+    }
+
+    pub(super) fn master(&mut self, rule: Rule, f: Finding) {
+        match self.master.iter_mut().find(|m| m.rule == rule.text()) {
+            Some(m) => m.count += 1,
+            None => self.master.push(MasterRule { rule: rule.text().to_string(), count: 1, first: f }),
+        }
+    }
+
+    /// The worst verdict of the slave's exchanges and the master's rules.
+    pub fn worst(&self) -> Heard {
+        let slave = [Heard::Fail, Heard::NonStrict, Heard::Unknown]
+            .into_iter()
+            .find(|h| self.verdicts.get(h.label()).is_some_and(|n| *n > 0))
+            .unwrap_or(Heard::Pass);
+        let master = self.master.iter().fold(Heard::Pass, |w, m| {
+            w.max(match m.first.verdict() {
+                CaseVerdict::Fail => Heard::Fail,
+                CaseVerdict::NonStrict => Heard::NonStrict,
+                _ => Heard::Pass,
+            })
+        });
+        slave.max(master)
+    }
+
+    pub fn count(&self, h: Heard) -> u64 {
+        self.verdicts.get(h.label()).copied().unwrap_or(0)
+    }
+}
