@@ -151,8 +151,7 @@ mod tests {
     use super::*;
 
     fn read(text: &str) -> Vec<Result<Event, ParseError>> {
-        let opts = ReadOptions { baud: 9600, samplerate_hz: None };
-        Reader::new(Box::new(text.as_bytes()), opts).unwrap().collect()
+        crate::capture::tests::read(super::super::Format::Csv, text)
     }
 
     #[test]

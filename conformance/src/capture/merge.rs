@@ -12,46 +12,34 @@ pub const WINDOW: usize = 1 << 16;
 
 #[derive(Default)]
 pub struct Merge {
-    heap: BinaryHeap<Reverse<(u64, u64, Key)>>,
+    heap: BinaryHeap<Reverse<Held>>,
     seq: u64,
     passed_us: u64,
 }
 
-/// An event as a sortable key.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
-struct Key(u64, u8, u16);
-
-fn key(e: &Event) -> Key {
-    use super::Mark::*;
-    let (kind, byte) = match e.mark {
-        Byte(b) => (0, b),
-        ParityError(b) => (1, b),
-        FramingError(b) => (2, b),
-        Break => (3, 0),
-    };
-    let role = match e.role {
-        None => 0,
-        Some(super::Role::Master) => 1,
-        Some(super::Role::Slave) => 2,
-    };
-    Key(e.at_us, e.channel, (role << 12) | (kind << 8) | byte as u16)
+/// An event in the window, ordered by its time, then by arrival (which keeps a
+/// channel's own order for equal times).
+struct Held {
+    at_us: u64,
+    seq: u64,
+    event: Event,
 }
 
-fn event(k: Key) -> Event {
-    use super::Mark::*;
-    let byte = (k.2 & 0xFF) as u8;
-    let mark = match (k.2 >> 8) & 0xF {
-        0 => Byte(byte),
-        1 => ParityError(byte),
-        2 => FramingError(byte),
-        _ => Break,
-    };
-    let role = match k.2 >> 12 {
-        1 => Some(super::Role::Master),
-        2 => Some(super::Role::Slave),
-        _ => None,
-    };
-    Event { at_us: k.0, channel: k.1, role, mark }
+impl PartialEq for Held {
+    fn eq(&self, other: &Held) -> bool {
+        (self.at_us, self.seq) == (other.at_us, other.seq)
+    }
+}
+impl Eq for Held {}
+impl PartialOrd for Held {
+    fn partial_cmp(&self, other: &Held) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Held {
+    fn cmp(&self, other: &Held) -> std::cmp::Ordering {
+        (self.at_us, self.seq).cmp(&(other.at_us, other.seq))
+    }
 }
 
 impl Merge {
@@ -64,14 +52,14 @@ impl Merge {
             ));
         }
         self.seq += 1;
-        self.heap.push(Reverse((e.at_us, self.seq, key(&e))));
+        self.heap.push(Reverse(Held { at_us: e.at_us, seq: self.seq, event: e }));
         Ok(if self.heap.len() > WINDOW { self.pop() } else { None })
     }
 
     /// The oldest held event.
     pub fn pop(&mut self) -> Option<Event> {
-        let Reverse((at, _, k)) = self.heap.pop()?;
-        self.passed_us = at;
-        Some(event(k))
+        let Reverse(held) = self.heap.pop()?;
+        self.passed_us = held.at_us;
+        Some(held.event)
     }
 }

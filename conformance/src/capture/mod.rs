@@ -224,10 +224,20 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
 
+    /// 9600 Bd, a sample a µs (sigrok).
+    const OPTIONS: ReadOptions = ReadOptions { baud: 9600, samplerate_hz: Some(1_000_000) };
+
+    /// Every event of `text` read as `format` (the readers' own tests).
+    pub(crate) fn read(format: Format, text: &str) -> Vec<Result<Event, ParseError>> {
+        match open(Box::new(text.as_bytes()), Some(format), OPTIONS) {
+            Ok((_, capture)) => capture.collect(),
+            Err(e) => panic!("{format} reader refused to start: {e}"),
+        }
+    }
+
     /// Read everything, stopping at the first error: never a panic.
     fn drain(text: &[u8], format: Option<Format>) {
-        let opts = ReadOptions { baud: 9600, samplerate_hz: Some(1_000_000) };
-        if let Ok((_, capture)) = open(Box::new(text), format, opts) {
+        if let Ok((_, capture)) = open(Box::new(text), format, OPTIONS) {
             for e in capture {
                 if e.is_err() {
                     break;

@@ -174,8 +174,7 @@ mod tests {
     use super::*;
 
     fn read(text: &str) -> Vec<Result<Event, ParseError>> {
-        let opts = ReadOptions { baud: 9600, samplerate_hz: Some(1_000_000) };
-        Reader::new(Box::new(text.as_bytes()), opts).unwrap().collect()
+        crate::capture::tests::read(super::super::Format::Sigrok, text)
     }
 
     #[test]

@@ -43,6 +43,15 @@ impl Finding {
     }
 
     /// Acceptable where the documents leave latitude, or a departure from a decision.
+    /// A rule resting on `clause` was broken: FAIL where the clause is normative
+    /// ([`Finding::fail`]), NON-STRICT where it is a recommendation or a decision.
+    pub fn broken(clause: Clause, message: impl Into<String>, edition: Edition) -> Finding {
+        match clause.normative() {
+            Some(n) => Finding::fail(message, n, edition),
+            None => Finding::non_strict(message, clause),
+        }
+    }
+
     pub fn non_strict(message: impl Into<String>, clause: impl Into<Clause>) -> Finding {
         Finding { verdict: CaseVerdict::NonStrict, message: message.into(), clause: Some(clause.into()) }
     }

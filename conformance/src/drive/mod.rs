@@ -397,11 +397,7 @@ fn grade(result: &mut CaseResult, hooks: &DriveEncoder, scenario: &Scenario, by_
         };
         let times = if count > 1 { format!(" ({count} times)") } else { String::new() };
         let message = format!("{} at {:.3} ms{figure}{times}", rule.text(), at_us as f64 / 1000.0);
-        let clause = rule.clause();
-        let mut finding = match clause.normative() {
-            Some(n) => Finding::fail(message, n, edition),
-            None => Finding::non_strict(message, clause),
-        };
+        let mut finding = Finding::broken(rule.clause(), message, edition);
         if standing.is_none() {
             let worst = all.iter().filter_map(|o| unproven(o)).max().unwrap_or(0) as f64 / 1000.0;
             finding = finding.softened(&format!(

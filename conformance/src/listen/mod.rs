@@ -69,6 +69,12 @@ struct Open {
     end_us: u64,
 }
 
+impl Open {
+    fn command(&self) -> CommandId {
+        self.bytes.get(1).map_or(CommandId::Unknown(0), |b| CommandId::decode(b & 0x7F))
+    }
+}
+
 /// One exchange as heard: what the live view prints and the report counts.
 #[derive(Debug, Clone, Serialize)]
 pub struct HeardExchange {
@@ -198,7 +204,7 @@ impl Listener {
     /// The last instant a reply to `open` may start and still be heard as its reply:
     /// well past the command's limit, so that a late reply is measured, not lost.
     fn window_end(&self, open: &Open) -> u64 {
-        let command = open.bytes.get(1).map_or(CommandId::Unknown(0), |b| CommandId::decode(b & 0x7F));
+        let command = open.command();
         let limit_us = self.options.profile.response_limit(command).max_ms as u64 * 1000;
         open.end_us + self.timeout_us + 3 * limit_us + self.options.tolerance_us
     }
@@ -261,7 +267,7 @@ impl Listener {
         let Some(open) = self.open.take() else { return };
         let (Some(first), Some(last)) = (chars.first(), chars.last()) else { return };
         let bytes: Vec<u8> = chars.iter().map(|c| c.byte).collect();
-        let command = open.bytes.get(1).map_or(CommandId::Unknown(0), |b| CommandId::decode(b & 0x7F));
+        let command = open.command();
         let decoded = ResponseFrame::decode(&bytes, command).ok();
         self.observer.encoder_reply(first.at_us.saturating_sub(self.char_us), last.at_us, decoded.as_ref());
         let rx: Vec<RxChar> = chars.iter().map(|c| RxChar { byte: c.byte, at_us: c.at_us, fault: c.fault }).collect();
@@ -272,7 +278,7 @@ impl Listener {
     /// listener can know it.
     fn exchange(&mut self, open: Open, reply: Option<Vec<RxChar>>, out: &mut impl FnMut(&HeardExchange)) {
         let edition = self.options.profile.edition;
-        let command = open.bytes.get(1).map_or(CommandId::Unknown(0), |b| CommandId::decode(b & 0x7F));
+        let command = open.command();
         let complete_us = open.end_us + self.timeout_us;
         let before = self.shadow.clone();
         let expected = self.shadow.handle_frame(&open.bytes, complete_us);
@@ -312,8 +318,8 @@ impl Listener {
             };
             let limits = self.options.profile.response_limit(command);
             findings.extend(timing::grade(&x, limits, self.options.tolerance_us, TimingMode::Strict, edition));
-            response_ms = timing::at_most_us(&x).map(|t| t as f64 / 1000.0);
             if let Some(t) = timing::at_most_us(&x) {
+                response_ms = Some(t as f64 / 1000.0);
                 self.summary.response_time(command, t);
             }
         }
@@ -354,12 +360,7 @@ impl Listener {
         for o in obs {
             let figure = o.measured_us.map_or(String::new(), |m| format!(", {:.3} ms", m as f64 / 1000.0));
             let message = format!("{} at {:.3} ms{figure}", o.rule.text(), o.at_us as f64 / 1000.0);
-            let clause = o.rule.clause();
-            let f = match clause.normative() {
-                Some(n) => Finding::fail(message, n, edition),
-                None => Finding::non_strict(message, clause),
-            };
-            self.summary.master(o.rule, f);
+            self.summary.master(o.rule, Finding::broken(o.rule.clause(), message, edition));
         }
     }
 }
