@@ -71,6 +71,9 @@ enum Command {
     /// Grade a capture of a bus (a wire log, a logic analyzer's CSV, sigrok-cli's UART
     /// decoder output) without talking: both sides, exit 1 on a FAIL.
     Decode(hiperface_conformance::listen::cli::DecodeArgs),
+    /// Listen to a live bus without talking (the port is opened read-only) and grade
+    /// both sides as it goes; Ctrl-C ends the run with a summary and the reports.
+    Monitor(hiperface_conformance::listen::monitor::MonitorArgs),
     Clauses {
         /// Only the normative clauses nothing covers.
         #[arg(long)]
@@ -257,6 +260,10 @@ fn main() -> ExitCode {
         }),
         Command::Vectors { what } => vectors_command(what),
         Command::Decode(args) => hiperface_conformance::listen::cli::decode(&args).map_err(CliError),
+        Command::Monitor(args) => {
+            let stop = interrupt_flag("\ninterrupted: the summary and the reports follow");
+            hiperface_conformance::listen::monitor::monitor(&args, &stop).map_err(CliError)
+        }
         Command::Clauses { uncovered, format } => print_clauses(uncovered, format),
         Command::Commands => {
             println!("{:<6} {:<50} {:>8}  master  slave", "cmd", "name", "max ms");
@@ -315,7 +322,7 @@ fn certify_slave(what: CertifyWhat) -> Result<ExitCode, CliError> {
         write_budget,
         cases,
         grading,
-        interrupt: Some(interrupt_flag()),
+        interrupt: Some(interrupt_flag("\ninterrupted: restoring and writing a partial report")),
         world,
         timing: timing.unwrap_or(default_timing),
     };
@@ -425,14 +432,14 @@ fn print_all(text: &str) -> Result<(), CliError> {
 
 /// A flag set by Ctrl-C: the run stops after the current exchange, restores what the
 /// current case changed, and writes a partial report.
-fn interrupt_flag() -> Arc<AtomicBool> {
+fn interrupt_flag(message: &'static str) -> Arc<AtomicBool> {
     let flag = Arc::new(AtomicBool::new(false));
     let f = flag.clone();
     if let Err(e) = ctrlc::set_handler(move || {
-        eprintln!("\ninterrupted: restoring and writing a partial report");
+        eprintln!("{message}");
         f.store(true, std::sync::atomic::Ordering::Relaxed);
     }) {
-        eprintln!("warning: Ctrl-C will not restore the device: {e}");
+        eprintln!("warning: Ctrl-C is not handled: {e}");
     }
     flag
 }

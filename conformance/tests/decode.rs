@@ -2,53 +2,18 @@
 //! waveform and the real sigrok-cli's UART decoder (Debian's package; `.ci/run`
 //! installs it and sets HIPERFACE_REQUIRE_SIGROK, so CI cannot skip it).
 
+mod common;
+
+use common::session::{defective, verdicts, wirelog, CT};
 use std::path::Path;
 use std::process::Command;
 
 const BIN: &str = env!("CARGO_BIN_EXE_hiperface");
-const CT: f64 = 1.146; // ms per character at 9600 Bd, 8E1
-
-/// Reference-encoder exchanges (profile SRS50) as the project logs them: the request
-/// stamped at the end of its last character, the reply at its first start bit.
-const CYCLE: [(&str, &str); 3] =
-    [("40 52 12", "40 52 E4 22 80 00 54"), ("40 50 10", "40 50 00 10"), ("40 42 02", "40 42 00 00 00 00 02")];
-
-/// A wire log of `cycles` cycles, every 40 ms, replies `rt_ms` after the timeout
-/// (5.73 ms); `edit` may change an exchange's reply and its response time.
-fn wirelog(cycles: usize, edit: impl Fn(usize, &str) -> Option<(String, f64)>) -> String {
-    let mut s = String::new();
-    let mut t = 10.0;
-    for i in 0..cycles * CYCLE.len() {
-        let (req, reply) = CYCLE[i % CYCLE.len()];
-        let (reply, rt) = edit(i, reply).unwrap_or((reply.to_string(), 2.0));
-        s += &format!("{t:12.3} ms  M> {req}\n{:12.3} ms  S< {reply}\n", t + 5.73 + rt);
-        t += 40.0;
-    }
-    s
-}
 
 fn decode(file: &Path, extra: &[&str]) -> (i32, String) {
     let out = Command::new(BIN).arg("decode").arg(file).args(extra).output().unwrap();
     let text = String::from_utf8_lossy(&out.stdout).to_string() + &String::from_utf8_lossy(&out.stderr);
     (out.status.code().unwrap_or(-1), text)
-}
-
-/// The verdict of each exchange line, in order.
-fn verdicts(text: &str) -> Vec<String> {
-    text.lines()
-        .filter(|l| l.contains(" ms  ") && l.contains(" M> "))
-        .filter_map(|l| l.split_whitespace().nth(2).map(str::to_string))
-        .collect()
-}
-
-/// A late reply (12 ms after the timeout: 000:T10 allows 5 ms) on the 4th exchange,
-/// a wrong checksum on the 8th.
-fn defective(i: usize, reply: &str) -> Option<(String, f64)> {
-    match i {
-        3 => Some((reply.to_string(), 12.0)),
-        7 => Some(("40 50 00 11".to_string(), 2.0)),
-        _ => None,
-    }
 }
 
 #[test]
@@ -61,7 +26,7 @@ fn a_clean_wire_log_passes_and_a_defective_one_fails_exactly_where_it_is_wrong()
     assert_eq!(verdicts(&text), vec!["PASS"; 12], "{text}");
 
     let bad = dir.path().join("bad.log");
-    std::fs::write(&bad, wirelog(4, defective)).unwrap();
+    std::fs::write(&bad, wirelog(4, defective(12.0))).unwrap();
     let (code, text) = decode(&bad, &["--report", dir.path().join("r").to_str().unwrap()]);
     assert_eq!(code, 1, "{text}");
     let v = verdicts(&text);
@@ -87,7 +52,7 @@ fn malformed_input_is_rejected_with_its_line_number() {
 #[test]
 fn a_single_channel_csv_is_graded_like_the_wire_log() {
     let dir = tempfile::tempdir().unwrap();
-    let log = wirelog(4, defective);
+    let log = wirelog(4, defective(12.0));
     let mut csv = String::from("Time [s],Value,Parity Error,Framing Error\n");
     for l in log.lines() {
         let w: Vec<&str> = l.split_whitespace().collect();
@@ -134,7 +99,7 @@ fn the_sigrok_round_trip_reproduces_the_verdicts() {
     }
     let dir = tempfile::tempdir().unwrap();
     let log_path = dir.path().join("bad.log");
-    std::fs::write(&log_path, wirelog(4, defective)).unwrap();
+    std::fs::write(&log_path, wirelog(4, defective(12.0))).unwrap();
     let vcd = dir.path().join("cap.vcd");
     let (code, text) = decode(&log_path, &["--vcd", vcd.to_str().unwrap()]);
     assert_eq!(code, 0, "{text}");

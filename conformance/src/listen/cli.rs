@@ -1,7 +1,8 @@
 //! `hiperface decode`: the listener over a capture file, with a live line per
 //! exchange, a summary, and reports.
 
-use super::{Heard, HeardExchange, Listener, Options, Summary};
+use super::report::ListeningReport;
+use super::{Heard, HeardExchange, Listener, Options};
 use crate::capture::{self, Format, ReadOptions};
 use crate::profile_file;
 use hiperface_model::settings::Baud;
@@ -57,27 +58,9 @@ pub struct DecodeArgs {
     pub vcd: Option<PathBuf>,
 }
 
-/// The report of a listening run.
-#[derive(Debug, serde::Serialize)]
-pub struct ListeningReport {
-    pub tool: String,
-    pub capture: String,
-    pub format: String,
-    pub profile: String,
-    pub baud: u32,
-    pub tolerance_us: u64,
-    pub channels: Vec<String>,
-    pub assumptions: Vec<String>,
-    pub verdict: Heard,
-    pub summary: Summary,
-}
-
 /// Run `decode`; exit 0 with no FAIL, 1 with one, an error for input it cannot read.
 pub fn decode(args: &DecodeArgs) -> Result<ExitCode, String> {
-    let profile = profile_file::resolve(&args.profile).map_err(|e| e.to_string())?;
-    let baud = Baud::from_bits_per_second(args.baud)
-        .ok_or_else(|| format!("{} Bd is not a HIPERFACE data rate (000:T7)", args.baud))?;
-    let settings = UartSettings { baud, ..UartSettings::DEFAULT };
+    let (profile, settings) = bus(&args.profile, args.baud)?;
     let read = ReadOptions { baud: args.baud, samplerate_hz: args.samplerate };
     let input: Box<dyn BufRead> = if args.file.as_os_str() == "-" {
         Box::new(BufReader::new(std::io::stdin()))
@@ -98,20 +81,14 @@ pub fn decode(args: &DecodeArgs) -> Result<ExitCode, String> {
     }
     // The capture's own statement (a certify report's tolerance), else one bit time.
     let tolerance_us = match args.tolerance_ms {
-        Some(ms) => (ms * 1000.0).round().max(0.0) as u64,
+        Some(ms) => ms_to_us(ms),
         None => capture.tolerance_us().unwrap_or(read.bit_time_us()),
     };
     let mut listener: Option<Listener> = None;
     let mut options =
         Options { profile, settings, tolerance_us, master_channel: None, polling_period_ms: args.polling_period_ms };
-    let stdout = std::io::stdout();
-    let mut out = std::io::BufWriter::new(stdout.lock());
-    let quiet = args.quiet;
-    let mut print = |h: &HeardExchange| {
-        if !quiet {
-            let _ = writeln!(out, "{}", line(h));
-        }
-    };
+    let mut view = LiveView::new(args.quiet, false);
+    let mut print = |h: &HeardExchange| view.print(h);
     let mut last_us = 0;
     while let Some(e) = capture.next() {
         let e = e.map_err(|e| format!("{name}: {e}"))?;
@@ -133,25 +110,90 @@ pub fn decode(args: &DecodeArgs) -> Result<ExitCode, String> {
     }
     let mut l = listener.unwrap_or_else(|| Listener::new(options.clone()));
     l.finish(last_us, &mut print);
-    let _ = out.flush();
-    drop(out);
-    let report = ListeningReport {
-        tool: format!("hiperface {}", env!("CARGO_PKG_VERSION")),
+    drop(view);
+    let source = Source {
         capture: name,
         format: format.to_string(),
-        profile: profile.name.to_string(),
-        baud: args.baud,
-        tolerance_us,
         channels: capture.channels(),
         assumptions: capture.assumptions(),
-        verdict: l.summary.worst(),
-        summary: l.summary,
+    };
+    conclude(l, source, &options, args.baud, args.report.as_deref())
+}
+
+/// Where a listening run heard its characters, for the report.
+pub struct Source {
+    pub capture: String,
+    pub format: String,
+    pub channels: Vec<String>,
+    pub assumptions: Vec<String>,
+}
+
+/// End a listening run (`decode`, `monitor`): the summary on standard output, the
+/// reports, and the exit code (1 on a FAIL).
+pub fn conclude(
+    listener: Listener,
+    source: Source,
+    options: &Options,
+    baud: u32,
+    report_dir: Option<&std::path::Path>,
+) -> Result<ExitCode, String> {
+    let report = ListeningReport {
+        tool: format!("hiperface {}", env!("CARGO_PKG_VERSION")),
+        capture: source.capture,
+        format: source.format,
+        profile: options.profile.name.to_string(),
+        baud,
+        tolerance_us: options.tolerance_us,
+        channels: source.channels,
+        assumptions: source.assumptions,
+        verdict: listener.summary.worst(),
+        summary: listener.summary,
     };
     print_summary(&report);
-    if let Some(dir) = &args.report {
-        write_report(&report, dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    if let Some(dir) = report_dir {
+        super::report::write_all(&report, dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     }
     Ok(if report.verdict == Heard::Fail { ExitCode::from(1) } else { ExitCode::SUCCESS })
+}
+
+/// The line per exchange on standard output, coloured by verdict where standard
+/// output is a terminal that wants colour (`NO_COLOR`, `CLICOLOR_FORCE` respected).
+pub struct LiveView {
+    out: Option<anstream::AutoStream<Box<dyn Write>>>,
+    /// Flush after each line (a live bus), or once at the end (a file).
+    live: bool,
+}
+
+impl LiveView {
+    pub fn new(quiet: bool, live: bool) -> LiveView {
+        let choice = anstream::AutoStream::choice(&std::io::stdout());
+        let raw: Box<dyn Write> = Box::new(std::io::BufWriter::new(std::io::stdout()));
+        LiveView { out: (!quiet).then(|| anstream::AutoStream::new(raw, choice)), live }
+    }
+
+    pub fn print(&mut self, h: &HeardExchange) {
+        let Some(out) = self.out.as_mut() else { return };
+        use anstyle::AnsiColor;
+        let colour = match h.verdict {
+            Heard::Pass => AnsiColor::Green,
+            Heard::Unknown => AnsiColor::Cyan,
+            Heard::NonStrict => AnsiColor::Yellow,
+            Heard::Fail => AnsiColor::Red,
+        };
+        let style = anstyle::Style::new().fg_color(Some(colour.into()));
+        let _ = writeln!(out, "{style}{}{style:#}", line(h));
+        if self.live {
+            let _ = out.flush();
+        }
+    }
+}
+
+impl Drop for LiveView {
+    fn drop(&mut self) {
+        if let Some(out) = self.out.as_mut() {
+            let _ = out.flush();
+        }
+    }
 }
 
 /// One exchange as a line: time, command, bytes, response time, verdict.
@@ -187,73 +229,17 @@ fn print_summary(r: &ListeningReport) {
     println!("verdict: {}", r.verdict.label());
 }
 
-fn write_report(r: &ListeningReport, dir: &std::path::Path) -> std::io::Result<()> {
-    std::fs::create_dir_all(dir)?;
-    let json = serde_json::to_string_pretty(r).map_err(std::io::Error::other)?;
-    std::fs::write(dir.join("report.json"), json + "\n")?;
-    std::fs::write(dir.join("listening.md"), markdown(r))
+/// A tolerance given in ms, in µs.
+pub fn ms_to_us(ms: f64) -> u64 {
+    (ms * 1000.0).round().max(0.0) as u64
 }
 
-/// The report for people.
-pub fn markdown(r: &ListeningReport) -> String {
-    use std::fmt::Write as _;
-    let s = &r.summary;
-    let mut m = String::new();
-    let _ = writeln!(m, "# Listening report: {}\n", r.capture);
-    let _ = writeln!(m, "- Verdict: **{}**", r.verdict.label());
-    let _ = writeln!(m, "- Format: {}; channels: {}", r.format, r.channels.join(", "));
-    let _ = writeln!(m, "- Profile: {}; {} Bd; timing tolerance {} µs", r.profile, r.baud, r.tolerance_us);
-    let _ = writeln!(
-        m,
-        "- {} characters, {} exchanges, {} frames not attributed, {} breaks",
-        s.characters, s.exchanges, s.unattributed, s.breaks
-    );
-    for (k, v) in &s.verdicts {
-        let _ = writeln!(m, "  - {k}: {v}");
-    }
-    for a in &r.assumptions {
-        let _ = writeln!(m, "- Assumed: {a}");
-    }
-    let _ = writeln!(
-        m,
-        "\nUNKNOWN is what a listener cannot tell (the encoder's stored state, a corrupted capture), never a charge.\n"
-    );
-    if !s.master.is_empty() {
-        let _ = writeln!(m, "## The master\n\n| verdict | rule | times | first |\n|---|---|---|---|");
-        for x in &s.master {
-            let _ = writeln!(m, "| {} | {} | {} | {} |", x.first.verdict().label(), x.rule, x.count, x.first);
-        }
-    }
-    let _ = writeln!(m, "\n## Response times per command (ms)\n");
-    let head: Vec<String> = super::summary::BUCKETS_MS.iter().map(|b| format!("≤{b}")).collect();
-    let _ = writeln!(m, "| command | n | min | mean | max | {} | more |", head.join(" | "));
-    let _ = writeln!(m, "|---|---|---|---|---|{}---|", "---|".repeat(head.len()));
-    for (c, t) in &s.response_times {
-        let h: Vec<String> = t.histogram.iter().map(|n| n.to_string()).collect();
-        let _ = writeln!(
-            m,
-            "| {c} | {} | {:.3} | {:.3} | {:.3} | {} |",
-            t.count,
-            t.min_ms,
-            t.mean_ms,
-            t.max_ms,
-            h.join(" | ")
-        );
-    }
-    if !s.exchanges_kept.is_empty() {
-        let _ = writeln!(m, "\n## Exchanges not PASS (the first {})\n\n```", s.exchanges_kept.len());
-        for h in &s.exchanges_kept {
-            let _ = writeln!(m, "{}", line(h));
-        }
-        let _ = writeln!(m, "```");
-    }
-    if !s.notes.is_empty() {
-        let _ = writeln!(m, "\n## Notes\n");
-        for n in &s.notes {
-            let _ = writeln!(m, "- {n}");
-        }
-    }
-    m
+/// The profile and the bus's settings at `baud` (000:T7).
+pub fn bus(profile: &str, baud: u32) -> Result<(hiperface_model::Profile, UartSettings), String> {
+    let profile = profile_file::resolve(profile).map_err(|e| e.to_string())?;
+    let baud =
+        Baud::from_bits_per_second(baud).ok_or_else(|| format!("{baud} Bd is not a HIPERFACE data rate (000:T7)"))?;
+    Ok((profile, UartSettings { baud, ..UartSettings::DEFAULT }))
 }
 
 fn write_vcd(capture: &mut dyn capture::Capture, path: &std::path::Path, baud: u32, name: &str) -> Result<(), String> {

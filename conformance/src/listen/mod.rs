@@ -36,7 +36,10 @@ use serde::Serialize;
 use std::collections::BTreeMap;
 
 pub mod cli;
+pub mod monitor;
+pub mod report;
 mod summary;
+pub mod tap;
 pub use summary::{Heard, Summary};
 
 /// What the listener is told.
@@ -149,6 +152,13 @@ impl Listener {
         // A frame longer than any valid one is cut: memory stays bounded.
         if entry.1.len() < 4 * hiperface_model::frame::MAX_FRAME {
             entry.1.push(Char { byte, at_us: e.at_us, fault });
+        }
+    }
+
+    /// Nothing was heard until `now_us` (a live bus, quiet): close what timed out.
+    pub fn idle(&mut self, now_us: u64, out: &mut impl FnMut(&HeardExchange)) {
+        if now_us > self.now_us {
+            self.advance(now_us, out);
         }
     }
 

@@ -61,6 +61,8 @@ pub struct Summary {
     pub exchanges: u64,
     /// Exchanges per verdict.
     pub verdicts: BTreeMap<&'static str, u64>,
+    /// Exchanges per command and verdict.
+    pub per_command: BTreeMap<String, BTreeMap<&'static str, u64>>,
     /// Frames neither a request nor a reply in its window (not graded).
     pub unattributed: u64,
     pub master: Vec<MasterRule>,
@@ -75,6 +77,7 @@ impl Summary {
     pub(super) fn exchange(&mut self, h: &HeardExchange) {
         self.exchanges += 1;
         *self.verdicts.entry(h.verdict.label()).or_insert(0) += 1;
+        *self.per_command.entry(h.command.clone()).or_default().entry(h.verdict.label()).or_insert(0) += 1;
         if h.verdict != Heard::Pass && self.exchanges_kept.len() < KEPT {
             self.exchanges_kept.push(h.clone());
         }

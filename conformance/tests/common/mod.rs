@@ -4,6 +4,7 @@
 #![allow(dead_code)]
 
 pub mod hx1;
+pub mod session;
 
 use hiperface_conformance::line::tcp::TcpLine;
 use hiperface_model::UartSettings;
@@ -57,6 +58,11 @@ impl Ser2net {
             .spawn()
             .unwrap();
         Some(Ser2net { _server: KillOnDrop(server), port, _config: dir })
+    }
+
+    /// Its address, `127.0.0.1:PORT`.
+    pub fn address(&self) -> String {
+        format!("127.0.0.1:{}", self.port)
     }
 
     /// Connect, waiting up to 10 s for the server to accept.

@@ -1,0 +1,234 @@
+//! The reports of a listening run (`decode`, `monitor`): report.json for programs,
+//! junit.xml for CI (a test case per command heard and per master rule broken),
+//! listening.md and listening.html for people.
+
+use super::{Heard, Summary};
+use crate::report::escape;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// The report of a listening run.
+#[derive(Debug, serde::Serialize)]
+pub struct ListeningReport {
+    pub tool: String,
+    pub capture: String,
+    pub format: String,
+    pub profile: String,
+    pub baud: u32,
+    pub tolerance_us: u64,
+    pub channels: Vec<String>,
+    pub assumptions: Vec<String>,
+    pub verdict: Heard,
+    pub summary: Summary,
+}
+
+/// The report for people.
+pub fn markdown(r: &ListeningReport) -> String {
+    let s = &r.summary;
+    let mut m = String::new();
+    let _ = writeln!(m, "# Listening report: {}\n", r.capture);
+    let _ = writeln!(m, "- Verdict: **{}**", r.verdict.label());
+    let _ = writeln!(m, "- Format: {}; channels: {}", r.format, r.channels.join(", "));
+    let _ = writeln!(m, "- Profile: {}; {} Bd; timing tolerance {} µs", r.profile, r.baud, r.tolerance_us);
+    let _ = writeln!(
+        m,
+        "- {} characters, {} exchanges, {} frames not attributed, {} breaks",
+        s.characters, s.exchanges, s.unattributed, s.breaks
+    );
+    for (k, v) in &s.verdicts {
+        let _ = writeln!(m, "  - {k}: {v}");
+    }
+    for a in &r.assumptions {
+        let _ = writeln!(m, "- Assumed: {a}");
+    }
+    let _ = writeln!(
+        m,
+        "\nUNKNOWN is what a listener cannot tell (the encoder's stored state, a corrupted capture), never a charge.\n"
+    );
+    if !s.master.is_empty() {
+        let _ = writeln!(m, "## The master\n\n| verdict | rule | times | first |\n|---|---|---|---|");
+        for x in &s.master {
+            let _ = writeln!(m, "| {} | {} | {} | {} |", x.first.verdict().label(), x.rule, x.count, x.first);
+        }
+    }
+    let _ = writeln!(m, "\n## Response times per command (ms)\n");
+    let head: Vec<String> = super::summary::BUCKETS_MS.iter().map(|b| format!("≤{b}")).collect();
+    let _ = writeln!(m, "| command | n | min | mean | max | {} | more |", head.join(" | "));
+    let _ = writeln!(m, "|---|---|---|---|---|{}---|", "---|".repeat(head.len()));
+    for (c, t) in &s.response_times {
+        let h: Vec<String> = t.histogram.iter().map(|n| n.to_string()).collect();
+        let _ = writeln!(
+            m,
+            "| {c} | {} | {:.3} | {:.3} | {:.3} | {} |",
+            t.count,
+            t.min_ms,
+            t.mean_ms,
+            t.max_ms,
+            h.join(" | ")
+        );
+    }
+    if !s.exchanges_kept.is_empty() {
+        let _ = writeln!(m, "\n## Exchanges not PASS (the first {})\n\n```", s.exchanges_kept.len());
+        for h in &s.exchanges_kept {
+            let _ = writeln!(m, "{}", super::cli::line(h));
+        }
+        let _ = writeln!(m, "```");
+    }
+    if !s.notes.is_empty() {
+        let _ = writeln!(m, "\n## Notes\n");
+        for n in &s.notes {
+            let _ = writeln!(m, "- {n}");
+        }
+    }
+    m
+}
+
+/// report.json, junit.xml, listening.md and listening.html into `dir`.
+pub fn write_all(r: &ListeningReport, dir: &Path) -> std::io::Result<()> {
+    std::fs::create_dir_all(dir)?;
+    let json = serde_json::to_string_pretty(r).map_err(std::io::Error::other)?;
+    std::fs::write(dir.join("report.json"), json + "\n")?;
+    std::fs::write(dir.join("junit.xml"), junit(r))?;
+    std::fs::write(dir.join("listening.html"), html(r))?;
+    std::fs::write(dir.join("listening.md"), markdown(r))
+}
+
+/// Suite "slave": a case per command heard, failed when one of its exchanges FAILed,
+/// skipped when none could be graded (all UNKNOWN). Suite "master": a case per rule
+/// the master broke, failed where the rule is normative.
+pub fn junit(r: &ListeningReport) -> String {
+    use quick_junit::{NonSuccessKind, Report, TestCase, TestCaseStatus, TestSuite};
+    let s = &r.summary;
+    let mut slave = TestSuite::new(format!("slave heard on {}", r.capture));
+    for (command, counts) in &s.per_command {
+        let n = |h: Heard| counts.get(h.label()).copied().unwrap_or(0);
+        let first = s.exchanges_kept.iter().find(|h| &h.command == command && h.verdict == Heard::Fail);
+        let status = if n(Heard::Fail) > 0 {
+            let mut st = TestCaseStatus::non_success(NonSuccessKind::Failure);
+            st.set_message(format!("{} of {} exchanges FAIL", n(Heard::Fail), counts.values().sum::<u64>()));
+            if let Some(h) = first {
+                st.set_description(super::cli::line(h));
+            }
+            st
+        } else if n(Heard::Pass) + n(Heard::NonStrict) == 0 {
+            let mut st = TestCaseStatus::skipped();
+            st.set_message("no exchange could be graded (UNKNOWN)");
+            st
+        } else {
+            TestCaseStatus::success()
+        };
+        let mut t = TestCase::new(command.clone(), status);
+        t.set_classname("hiperface.listen.slave");
+        let tally: Vec<String> = counts.iter().map(|(k, v)| format!("{v} {k}")).collect();
+        t.set_system_out(tally.join(", "));
+        slave.add_test_case(t);
+    }
+    let mut master = TestSuite::new(format!("master heard on {}", r.capture));
+    for m in &s.master {
+        let status = match m.first.verdict() {
+            crate::certify::CaseVerdict::Fail => {
+                let mut st = TestCaseStatus::non_success(NonSuccessKind::Failure);
+                st.set_message(format!("{} ({} times)", m.first, m.count));
+                st
+            }
+            _ => TestCaseStatus::success(),
+        };
+        let mut t = TestCase::new(m.rule.clone(), status);
+        t.set_classname("hiperface.listen.master");
+        t.set_system_out(format!("[{}] {} ({} times)", m.first.verdict().label(), m.first, m.count));
+        master.add_test_case(t);
+    }
+    let mut report = Report::new("hiperface listen");
+    report.add_test_suites([slave, master]);
+    report.to_string().unwrap_or_else(|e| format!("<!-- cannot serialise: {e} -->"))
+}
+
+/// The report for people, as a page.
+pub fn html(r: &ListeningReport) -> String {
+    let s = &r.summary;
+    let mut h = String::new();
+    let _ = write!(
+        h,
+        "<!doctype html><html><head><meta charset=\"utf-8\"><title>HIPERFACE listening report: {}</title>\
+         <style>body{{font-family:sans-serif;max-width:70em;margin:2em auto}}table{{border-collapse:collapse}}\
+         td,th{{border:1px solid #ccc;padding:.2em .5em;text-align:left}}.PASS{{color:#070}}.FAIL{{color:#b00;font-weight:bold}}\
+         .NON-STRICT{{color:#a60}}.UNKNOWN{{color:#066}}pre{{background:#f4f4f4;padding:.5em}}</style></head><body>",
+        escape(&r.capture)
+    );
+    let v = r.verdict.label();
+    let _ = write!(h, "<h1>HIPERFACE listening report: <span class=\"{v}\">{v}</span></h1><table>");
+    let rows = [
+        ("capture", r.capture.clone()),
+        ("format", format!("{}; channels: {}", r.format, r.channels.join(", "))),
+        ("profile", format!("{}; {} Bd; timing tolerance {} µs", r.profile, r.baud, r.tolerance_us)),
+        (
+            "heard",
+            format!(
+                "{} characters, {} exchanges, {} frames not attributed, {} breaks",
+                s.characters, s.exchanges, s.unattributed, s.breaks
+            ),
+        ),
+    ];
+    for (k, v) in rows {
+        let _ = write!(h, "<tr><th>{k}</th><td>{}</td></tr>", escape(&v));
+    }
+    for (k, n) in &s.verdicts {
+        let _ = write!(h, "<tr><th class=\"{k}\">{k}</th><td>{n}</td></tr>");
+    }
+    h.push_str("</table><ul>");
+    for a in &r.assumptions {
+        let _ = write!(h, "<li>Assumed: {}</li>", escape(a));
+    }
+    h.push_str("<li>UNKNOWN is what a listener cannot tell (the encoder's stored state, a corrupted capture), never a charge.</li></ul>");
+    if !s.master.is_empty() {
+        h.push_str("<h2>The master</h2><table><tr><th>verdict</th><th>rule</th><th>times</th><th>first</th></tr>");
+        for m in &s.master {
+            let v = m.first.verdict().label();
+            let _ = write!(
+                h,
+                "<tr><td class=\"{v}\">{v}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
+                escape(&m.rule),
+                m.count,
+                escape(&m.first.to_string())
+            );
+        }
+        h.push_str("</table>");
+    }
+    h.push_str("<h2>Response times per command (ms)</h2><table><tr><th>command</th><th>n</th><th>min</th><th>mean</th><th>max</th>");
+    for b in super::summary::BUCKETS_MS {
+        let _ = write!(h, "<th>≤{b}</th>");
+    }
+    h.push_str("<th>more</th></tr>");
+    for (c, t) in &s.response_times {
+        let _ = write!(
+            h,
+            "<tr><td>{}</td><td>{}</td><td>{:.3}</td><td>{:.3}</td><td>{:.3}</td>",
+            escape(c),
+            t.count,
+            t.min_ms,
+            t.mean_ms,
+            t.max_ms
+        );
+        for n in &t.histogram {
+            let _ = write!(h, "<td>{n}</td>");
+        }
+        h.push_str("</tr>");
+    }
+    h.push_str("</table>");
+    if !s.exchanges_kept.is_empty() {
+        let _ = write!(h, "<h2>Exchanges not PASS (the first {})</h2><pre>", s.exchanges_kept.len());
+        for x in &s.exchanges_kept {
+            let _ = writeln!(h, "<span class=\"{}\">{}</span>", x.verdict.label(), escape(&super::cli::line(x)));
+        }
+        h.push_str("</pre>");
+    }
+    if !s.notes.is_empty() {
+        h.push_str("<h2>Notes</h2><ul>");
+        for n in &s.notes {
+            let _ = write!(h, "<li>{}</li>", escape(n));
+        }
+        h.push_str("</ul>");
+    }
+    h.push_str("</body></html>\n");
+    h
+}
