@@ -2,7 +2,8 @@
 //! local corpus under fuzz/corpus, and the recorded regressions under fuzz/regressions.
 
 use arbitrary::{Arbitrary, Unstructured};
-use hiperface_conformance::vectors;
+use hiperface_conformance::capture::Format;
+use hiperface_conformance::{listen, vectors};
 use hiperface_proofs::targets::{self, MasterEvent, SlaveInput, TimedChar};
 use std::path::Path;
 
@@ -44,6 +45,18 @@ fn local_corpus_and_regressions_replay() {
             for e in entries.flatten() {
                 if let Ok(bytes) = std::fs::read(e.path()) {
                     run_all(&bytes);
+                    n += 1;
+                }
+            }
+        }
+        // The capture readers and the listener: every file through every format.
+        for target in ["capture_wirelog", "capture_csv", "capture_sigrok"] {
+            let Ok(entries) = std::fs::read_dir(root.join(dir).join(target)) else { continue };
+            for e in entries.flatten() {
+                if let Ok(bytes) = std::fs::read(e.path()) {
+                    for format in [Format::Wirelog, Format::Csv, Format::Sigrok] {
+                        listen::fuzz_capture(format, &bytes);
+                    }
                     n += 1;
                 }
             }

@@ -5,6 +5,7 @@ use super::report::ListeningReport;
 use super::{Heard, HeardExchange, Listener, Options};
 use crate::capture::{self, Format, ReadOptions};
 use crate::profile_file;
+use hiperface_model::frame::Hex;
 use hiperface_model::settings::Baud;
 use hiperface_model::UartSettings;
 use std::io::{BufRead, BufReader, Write};
@@ -198,10 +199,10 @@ impl Drop for LiveView {
 
 /// One exchange as a line: time, command, bytes, response time, verdict.
 pub fn line(h: &HeardExchange) -> String {
-    let reply = h.reply.as_deref().unwrap_or("(silence)");
+    let reply = h.reply.as_deref().map_or("(silence)".to_string(), |b| Hex(b).to_string());
     let rt = h.response_ms.map_or(String::new(), |t| format!(" +{t:.3} ms"));
     let mut s =
-        format!("{:>12.3} ms  {:<10} {}  M> {}  S< {reply}{rt}", h.t_ms, h.verdict.label(), h.command, h.request);
+        format!("{:>12.3} ms  {:<10} {}  M> {}  S< {reply}{rt}", h.t_ms, h.verdict.label(), h.command, Hex(&h.request));
     for f in &h.findings {
         s.push_str(&format!("\n{:>27} {f}", f.verdict().label()));
     }

@@ -83,9 +83,12 @@ impl Open {
 pub struct HeardExchange {
     /// End of the request, ms from the capture's start.
     pub t_ms: f64,
-    pub command: String,
-    pub request: String,
-    pub reply: Option<String>,
+    #[serde(serialize_with = "summary::command_name")]
+    pub command: CommandId,
+    #[serde(serialize_with = "summary::hex")]
+    pub request: Vec<u8>,
+    #[serde(serialize_with = "summary::hex_or_silence")]
+    pub reply: Option<Vec<u8>>,
     /// From the end of the request's timeout to the reply's first start bit, ms.
     pub response_ms: Option<f64>,
     pub verdict: Heard,
@@ -295,8 +298,13 @@ impl Listener {
         let observed: Option<Vec<u8>> = reply.as_ref().map(|r| r.iter().map(|c| c.byte).collect());
         let grade = self.oracle.grade(&before, &open.bytes, complete_us, &expected, observed.as_deref());
         let mut findings = Vec::new();
-        let reason = grade.deviation().map_or(String::new(), |d| d.to_string());
-        if let Some(f) = Finding::graded(&grade, format!("request [{}]: {reason}", Hex(&open.bytes))) {
+        let message = || {
+            format!("request [{}]: {}", Hex(&open.bytes), grade.deviation().map_or(String::new(), |d| d.to_string()))
+        };
+        // The message is written only for an exchange that did not pass.
+        let graded =
+            (grade.verdict() != hiperface_model::oracle::Verdict::Pass).then(|| Finding::graded(&grade, message()));
+        if let Some(f) = graded.flatten() {
             let knowable = grade.deviation().is_some_and(|d| knowable(&d, &open.bytes));
             findings.push(if knowable {
                 f
@@ -313,14 +321,15 @@ impl Listener {
             )));
         }
         let mut response_ms = None;
-        if let (Some(r), Reply::Frame(_)) = (&reply, expected.reply) {
+        let mut request = open.bytes;
+        if let (Some(r), Reply::Frame(_)) = (reply, expected.reply) {
             let x = Exchange {
-                request: open.bytes.clone(),
+                request,
                 stray: Vec::new(),
                 sent_start_us: open.start_us,
                 request_end: Window::exact(open.end_us),
-                reply: r.clone(),
                 reply_start: r.first().map(|c| Window::exact(c.at_us.saturating_sub(self.char_us))),
+                reply: r,
                 trailing: Vec::new(),
                 settings: self.options.settings,
                 timeout_us: self.timeout_us,
@@ -332,15 +341,16 @@ impl Listener {
                 response_ms = Some(t as f64 / 1000.0);
                 self.summary.response_time(command, t);
             }
+            request = x.request;
         }
         if let (Some(bytes), true) = (&observed, findings.is_empty()) {
             self.learn(command, bytes);
         }
         let heard = HeardExchange {
             t_ms: open.end_us as f64 / 1000.0,
-            command: command.to_string(),
-            request: Hex(&open.bytes).to_string(),
-            reply: observed.as_deref().map(|b| Hex(b).to_string()),
+            command,
+            request,
+            reply: observed,
             response_ms,
             verdict: Heard::of(&findings),
             findings,
@@ -373,6 +383,42 @@ impl Listener {
             self.summary.master(o.rule, Finding::broken(o.rule.clause(), message, edition));
         }
     }
+}
+
+/// Read a whole capture and listen to it, without printing: what the fuzz targets,
+/// their corpus replay and the throughput benchmark run. `format`: `None` detects it.
+pub fn listen_to(
+    input: &[u8],
+    format: Option<crate::capture::Format>,
+    read: crate::capture::ReadOptions,
+    options: Options,
+) -> Result<Summary, crate::capture::ParseError> {
+    let (_, capture) = crate::capture::open(Box::new(input), format, read)?;
+    let mut listener = Listener::new(options);
+    let mut last_us = 0;
+    for e in capture {
+        let e = e?;
+        last_us = e.at_us;
+        listener.feed(e, &mut |_| {});
+    }
+    listener.finish(last_us, &mut |_| {});
+    Ok(listener.summary)
+}
+
+/// The fuzz targets' entry (fuzz/fuzz_targets/capture_*.rs) and their corpus replay:
+/// any bytes as a capture of `format` (9600 Bd, sigrok at 1 MHz) through its reader
+/// and the listener. An error for bad input is fine; a panic or a hang is not.
+pub fn fuzz_capture(format: crate::capture::Format, input: &[u8]) {
+    let profile = hiperface_model::profiles::srs50();
+    let options = Options {
+        profile,
+        settings: UartSettings::DEFAULT,
+        tolerance_us: 1_000,
+        master_channel: None,
+        polling_period_ms: hiperface_model::master::obligations::POLLING_PERIOD_MS,
+    };
+    let read = crate::capture::ReadOptions { baud: 9600, samplerate_hz: Some(1_000_000) };
+    let _ = listen_to(input, Some(format), read, options);
 }
 
 /// A deviation the listener can see whatever the encoder's stored state: the reply's

@@ -102,7 +102,7 @@ pub fn junit(r: &ListeningReport) -> String {
     let mut slave = TestSuite::new(format!("slave heard on {}", r.capture));
     for (command, counts) in &s.per_command {
         let n = |h: Heard| counts.get(h.label()).copied().unwrap_or(0);
-        let first = s.exchanges_kept.iter().find(|h| &h.command == command && h.verdict == Heard::Fail);
+        let first = s.exchanges_kept.iter().find(|h| h.command == *command && h.verdict == Heard::Fail);
         let status = if n(Heard::Fail) > 0 {
             let mut st = TestCaseStatus::non_success(NonSuccessKind::Failure);
             st.set_message(format!("{} of {} exchanges FAIL", n(Heard::Fail), counts.values().sum::<u64>()));
@@ -117,7 +117,7 @@ pub fn junit(r: &ListeningReport) -> String {
         } else {
             TestCaseStatus::success()
         };
-        let mut t = TestCase::new(command.clone(), status);
+        let mut t = TestCase::new(command.to_string(), status);
         t.set_classname("hiperface.listen.slave");
         let tally: Vec<String> = counts.iter().map(|(k, v)| format!("{v} {k}")).collect();
         t.set_system_out(tally.join(", "));
@@ -203,7 +203,7 @@ pub fn html(r: &ListeningReport) -> String {
         let _ = write!(
             h,
             "<tr><td>{}</td><td>{}</td><td>{:.3}</td><td>{:.3}</td><td>{:.3}</td>",
-            escape(c),
+            escape(&c.to_string()),
             t.count,
             t.min_ms,
             t.mean_ms,

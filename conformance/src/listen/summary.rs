@@ -62,11 +62,13 @@ pub struct Summary {
     /// Exchanges per verdict.
     pub verdicts: BTreeMap<&'static str, u64>,
     /// Exchanges per command and verdict.
-    pub per_command: BTreeMap<String, BTreeMap<&'static str, u64>>,
+    #[serde(serialize_with = "by_command_name")]
+    pub per_command: BTreeMap<CommandId, BTreeMap<&'static str, u64>>,
     /// Frames neither a request nor a reply in its window (not graded).
     pub unattributed: u64,
     pub master: Vec<MasterRule>,
-    pub response_times: BTreeMap<String, Times>,
+    #[serde(serialize_with = "by_command_name")]
+    pub response_times: BTreeMap<CommandId, Times>,
     /// The first exchanges that were not PASS.
     pub exchanges_kept: Vec<HeardExchange>,
     pub notes: Vec<String>,
@@ -77,7 +79,7 @@ impl Summary {
     pub(super) fn exchange(&mut self, h: &HeardExchange) {
         self.exchanges += 1;
         *self.verdicts.entry(h.verdict.label()).or_insert(0) += 1;
-        *self.per_command.entry(h.command.clone()).or_default().entry(h.verdict.label()).or_insert(0) += 1;
+        *self.per_command.entry(h.command).or_default().entry(h.verdict.label()).or_insert(0) += 1;
         if h.verdict != Heard::Pass && self.exchanges_kept.len() < KEPT {
             self.exchanges_kept.push(h.clone());
         }
@@ -93,7 +95,7 @@ impl Summary {
 
     pub(super) fn response_time(&mut self, command: CommandId, t_us: i64) {
         let ms = t_us as f64 / 1000.0;
-        let t = self.response_times.entry(command.to_string()).or_default();
+        let t = self.response_times.entry(command).or_default();
         if t.count == 0 {
             (t.min_ms, t.max_ms) = (ms, ms);
             t.histogram = vec![0; BUCKETS_MS.len() + 1];
@@ -134,4 +136,26 @@ impl Summary {
     pub fn count(&self, h: Heard) -> u64 {
         self.verdicts.get(h.label()).copied().unwrap_or(0)
     }
+}
+
+// The report names commands and shows bytes as hex; the listener keeps them as they
+// are (formatting every exchange would cost more than grading it).
+
+pub(super) fn command_name<S: serde::Serializer>(c: &CommandId, s: S) -> Result<S::Ok, S::Error> {
+    s.collect_str(c)
+}
+
+pub(super) fn hex<S: serde::Serializer>(b: &[u8], s: S) -> Result<S::Ok, S::Error> {
+    s.collect_str(&hiperface_model::frame::Hex(b))
+}
+
+pub(super) fn hex_or_silence<S: serde::Serializer>(b: &Option<Vec<u8>>, s: S) -> Result<S::Ok, S::Error> {
+    match b {
+        Some(b) => hex(b, s),
+        None => s.serialize_none(),
+    }
+}
+
+fn by_command_name<S: serde::Serializer, V: Serialize>(m: &BTreeMap<CommandId, V>, s: S) -> Result<S::Ok, S::Error> {
+    s.collect_map(m.iter().map(|(c, v)| (c.to_string(), v)))
 }
