@@ -22,8 +22,9 @@ trap 'rm -rf "$LOGS"' EXIT
 # Seeds from the golden vectors, added to whatever corpus there is.
 cargo run -q -p hiperface-conformance --example fuzz_seeds >/dev/null
 cd fuzz
-# The model forbids `unsafe`: no sanitizer needed (-s none), optimised (-O).
-cargo +nightly fuzz build -O -s none >/dev/null 2>&1 || cargo +nightly fuzz build -O -s none
+# The model forbids `unsafe`: no sanitizer needed (-s none); optimised (-O) with
+# overflow checks and debug assertions (-a): an overflow is a finding, as in `cargo test`.
+cargo +nightly fuzz build -O -a -s none >/dev/null 2>&1 || cargo +nightly fuzz build -O -a -s none
 
 budget() {
     if [ -n "${SECONDS_PER_TARGET:-}" ]; then
@@ -37,7 +38,7 @@ run_one() {
     t=$1
     mkdir -p "corpus/$t"
     start=$(date +%s)
-    if ! cargo +nightly fuzz run -O -s none "$t" "corpus/$t" -- "$(budget)" -print_final_stats=1 \
+    if ! cargo +nightly fuzz run -O -a -s none "$t" "corpus/$t" -- "$(budget)" -print_final_stats=1 \
         >"$LOGS/$t.log" 2>&1; then
         echo "FINDING in $t: see fuzz/artifacts/$t and the log below" >&2
         tail -40 "$LOGS/$t.log" >&2
@@ -69,7 +70,7 @@ echo "|---|---|---|---|---|---|---|"
 for t in $TARGETS; do
     [ -f "$LOGS/$t.row" ] || continue
     # Minimise: keep only inputs that add coverage.
-    cargo +nightly fuzz cmin -O -s none "$t" "corpus/$t" >/dev/null 2>&1 || true
+    cargo +nightly fuzz cmin -O -a -s none "$t" "corpus/$t" >/dev/null 2>&1 || true
     files=$(find "corpus/$t" -type f | wc -l)
     set -- $(cat "$LOGS/$t.row")
     echo "| $1 | $2 | $3 | $4 | $5 | $6 | $files |"

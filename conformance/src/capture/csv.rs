@@ -82,7 +82,7 @@ impl<'a> Reader<'a> {
             .trim()
             .parse()
             .ok()
-            .filter(|s: &f64| s.is_finite() && *s >= 0.0 && *s < 1e9)
+            .filter(|s: &f64| s.is_finite() && *s >= 0.0 && *s * 1e6 < super::MAX_TIME_US as f64)
             .ok_or_else(|| ParseError::at(line, format!("time `{t}`: expected seconds, a number ≥ 0")))?;
         let v = field(c.value, "value")?;
         let byte = super::hex_byte(v)

@@ -132,6 +132,20 @@ impl ReadOptions {
     }
 }
 
+/// The latest time a capture may state: 10^9 s (31 years) in µs. Anything later is
+/// not a capture but a malformed number; bounding it keeps every sum of times and
+/// durations far from overflowing.
+pub const MAX_TIME_US: u64 = 1_000_000_000_000_000;
+
+/// A time from a capture, µs, checked against [`MAX_TIME_US`].
+pub(crate) fn capture_time(t_us: u64, line: u64) -> Result<u64, ParseError> {
+    if t_us < MAX_TIME_US {
+        Ok(t_us)
+    } else {
+        Err(ParseError::at(line, format!("a time of {t_us} µs: expected less than 10^9 s")))
+    }
+}
+
 /// A stream of events, in time order, and the names of its channels.
 pub trait Capture: Iterator<Item = Result<Event, ParseError>> {
     /// The channels seen so far, by index.

@@ -64,7 +64,7 @@ impl<'a> Reader<'a> {
     }
 
     fn us(&self, sample: u64) -> u64 {
-        (sample as u128 * 1_000_000 / self.samplerate as u128) as u64
+        u64::try_from(sample as u128 * 1_000_000 / self.samplerate as u128).unwrap_or(u64::MAX)
     }
 
     fn channel(&mut self, name: &str) -> Result<u8, ParseError> {
@@ -112,6 +112,7 @@ impl<'a> Reader<'a> {
             ParseError::at(self.line, format!("expected `<start>-<end> <decoder>: <annotation>`, found `{l}`"))
         })?;
         let ch = self.channel(instance)?;
+        let end_us = super::capture_time(self.us(end), self.line)?;
         let bit = self.options.bit_time_us();
         let held = &mut self.held[ch as usize];
         let new = match text {
@@ -126,11 +127,11 @@ impl<'a> Reader<'a> {
                 };
                 return Ok(None);
             }
-            "Break condition" => Event { at_us: self.us(end), channel: ch, role: None, mark: Mark::Break },
+            "Break condition" => Event { at_us: end_us, channel: ch, role: None, mark: Mark::Break },
             "Start bit" | "Stop bit" | "Parity bit" | "0" | "1" => return Ok(None),
             t => match super::hex_byte(t).filter(|_| t.len() == 2) {
                 // The data bits end where the parity bit begins: two bits to the stop bit's end.
-                Some(b) => Event { at_us: self.us(end) + 2 * bit, channel: ch, role: None, mark: Mark::Byte(b) },
+                Some(b) => Event { at_us: end_us + 2 * bit, channel: ch, role: None, mark: Mark::Byte(b) },
                 None => {
                     return Err(ParseError::at(
                         self.line,

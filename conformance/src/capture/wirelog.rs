@@ -95,7 +95,7 @@ impl<'a> Reader<'a> {
                 let bytes = bytes
                     .filter(|b| !b.is_empty())
                     .ok_or_else(|| ParseError::at(0, format!("a wire entry's bytes `{}`: expected hex", w.bytes)))?;
-                frames.push((w.t_us, role, bytes));
+                frames.push((super::capture_time(w.t_us, 0)?, role, bytes));
             }
             tolerance_us = report.tolerance_us;
             Source::Report(frames.into_iter())
@@ -130,9 +130,10 @@ impl<'a> Reader<'a> {
                 if l.is_empty() || l.starts_with('#') {
                     continue;
                 }
-                return parse_line(l).map(Some).ok_or_else(|| {
+                let (t_us, role, bytes) = parse_line(l).ok_or_else(|| {
                     ParseError::at(self.line, format!("expected `<time> ms M>|S< <hex bytes>`, found `{l}`"))
-                });
+                })?;
+                return Ok(Some((super::capture_time(t_us, self.line)?, role, bytes)));
             },
         }
     }
@@ -146,7 +147,7 @@ impl<'a> Reader<'a> {
         let n = bytes.len() as u64;
         let first_end = match role {
             Role::Master => t_us.checked_sub((n - 1) * ct),
-            Role::Slave => Some(t_us + ct),
+            Role::Slave => t_us.checked_add(ct),
         };
         let first_end = first_end.filter(|t| *t >= self.last_us).ok_or_else(|| {
             ParseError::at(
@@ -265,5 +266,14 @@ mod tests {
     fn times_must_not_go_back() {
         let ev = read("20.000 ms  M> 40 42 02\n10.000 ms  S< 40 42 00 00 00 00 02\n");
         assert_eq!(ev.into_iter().find_map(Result::err).map(|e| e.line), Some(2));
+    }
+
+    /// Found by fuzzing: a time near u64::MAX overflowed the listener's sums.
+    #[test]
+    fn a_time_beyond_a_billion_seconds_is_an_error() {
+        let ev = read("10.000 ms  M> 40 42 02\n18446744073709551 ms  S< 40 42 00 00 00 00 02\n");
+        let err = ev.into_iter().find_map(Result::err).unwrap();
+        assert_eq!(err.line, 2);
+        assert!(err.message.contains("10^9 s"), "{err}");
     }
 }

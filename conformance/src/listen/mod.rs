@@ -167,7 +167,7 @@ impl Listener {
 
     /// The capture ended at `at_us`: close what is open.
     pub fn finish(&mut self, at_us: u64, out: &mut impl FnMut(&HeardExchange)) {
-        let end = at_us.max(self.now_us) + self.timeout_us;
+        let end = at_us.max(self.now_us).saturating_add(self.timeout_us);
         self.advance(end, out);
         let channels: Vec<u8> = self.frames.keys().copied().collect();
         for ch in channels {
@@ -189,7 +189,7 @@ impl Listener {
                 .frames
                 .iter()
                 .filter_map(|(ch, (_, cs))| Some((cs.first()?.at_us, cs.last()?.at_us, *ch)))
-                .filter(|(_, last, _)| last + self.timeout_us <= now)
+                .filter(|(_, last, _)| last.saturating_add(self.timeout_us) <= now)
                 .min();
             let Some((_, _, ch)) = due else { break };
             self.close_channel(ch, out);
@@ -219,7 +219,7 @@ impl Listener {
     fn window_end(&self, open: &Open) -> u64 {
         let command = open.command();
         let limit_us = self.options.profile.response_limit(command).max_ms as u64 * 1000;
-        open.end_us + self.timeout_us + 3 * limit_us + self.options.tolerance_us
+        open.end_us.saturating_add(self.timeout_us + 3 * limit_us + self.options.tolerance_us)
     }
 
     fn close_channel(&mut self, ch: u8, out: &mut impl FnMut(&HeardExchange)) {
@@ -292,7 +292,7 @@ impl Listener {
     fn exchange(&mut self, open: Open, reply: Option<Vec<RxChar>>, out: &mut impl FnMut(&HeardExchange)) {
         let edition = self.options.profile.edition;
         let command = open.command();
-        let complete_us = open.end_us + self.timeout_us;
+        let complete_us = open.end_us.saturating_add(self.timeout_us);
         let before = self.shadow.clone();
         let expected = self.shadow.handle_frame(&open.bytes, complete_us);
         let observed: Option<Vec<u8>> = reply.as_ref().map(|r| r.iter().map(|c| c.byte).collect());

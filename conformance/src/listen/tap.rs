@@ -238,7 +238,7 @@ impl Stamps {
         let span = (n.saturating_sub(1) as u64).saturating_mul(self.char_us);
         let mut first = arrival_us.saturating_sub(span);
         if let Some(last) = self.last_us {
-            first = first.max(last + self.char_us);
+            first = first.max(last.saturating_add(self.char_us));
         }
         if n > 0 {
             self.last_us = Some(first + span);
