@@ -430,8 +430,9 @@ fn print_all(text: &str) -> Result<(), CliError> {
     }
 }
 
-/// A flag set by Ctrl-C: the run stops after the current exchange, restores what the
-/// current case changed, and writes a partial report.
+/// A flag set by Ctrl-C, which prints `message`: the run stops at its next look at
+/// the flag (a certification after the current exchange, restoring what the current
+/// case changed; a monitor at once) and writes its report.
 fn interrupt_flag(message: &'static str) -> Arc<AtomicBool> {
     let flag = Arc::new(AtomicBool::new(false));
     let f = flag.clone();

@@ -223,9 +223,7 @@ impl Ctx<'_> {
         if let (Some(bytes), Some(cmd)) = (&observed, command) {
             self.learn(cmd, bytes, graded);
         }
-        let reason = grade.deviation().map_or(String::new(), |d| d.to_string());
-        let mut found: Vec<Finding> =
-            Finding::graded(&grade, format!("request [{}]: {reason}", Hex(frame))).into_iter().collect();
+        let mut found: Vec<Finding> = Finding::graded(&grade, frame).into_iter().collect();
         let edition = self.model.profile().edition;
         if !x.stray.is_empty() {
             let bytes: Vec<u8> = x.stray.iter().map(|c| c.byte).collect();

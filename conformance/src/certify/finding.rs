@@ -66,13 +66,17 @@ impl Finding {
         Finding { verdict: CaseVerdict::NotApplicable, message: message.into(), clause: None }
     }
 
-    /// The oracle's grade of an exchange (PASS grades make no finding).
-    pub fn graded(grade: &Grade, message: impl Into<String>) -> Option<Finding> {
+    /// The oracle's grade of the exchange of `request` (PASS grades make no finding,
+    /// and no message: grading is on the listener's hot path).
+    pub fn graded(grade: &Grade, request: &[u8]) -> Option<Finding> {
         let verdict = CaseVerdict::from(grade.verdict());
-        (verdict != CaseVerdict::Pass).then(|| Finding {
-            verdict,
-            message: message.into(),
-            clause: Some(grade.clause()),
+        (verdict != CaseVerdict::Pass).then(|| {
+            let reason = grade.deviation().map_or(String::new(), |d| d.to_string());
+            Finding {
+                verdict,
+                message: format!("request [{}]: {reason}", hiperface_model::frame::Hex(request)),
+                clause: Some(grade.clause()),
+            }
         })
     }
 

@@ -27,12 +27,6 @@ pub struct DecodeArgs {
     pub file: PathBuf,
     #[arg(long, value_enum, default_value = "auto")]
     pub format: FormatArg,
-    /// The encoder's profile: a built-in name or a TOML file.
-    #[arg(long, default_value = "SRS50")]
-    pub profile: String,
-    /// The bus's data rate, bits per second (8E1).
-    #[arg(long, default_value_t = 9600)]
-    pub baud: u32,
     /// The capture's sample rate, Hz (sigrok-cli's sample numbers).
     #[arg(long)]
     pub samplerate: Option<u64>,
@@ -44,25 +38,38 @@ pub struct DecodeArgs {
     /// capture has one channel per direction.
     #[arg(long)]
     pub master_channel: Option<String>,
+    /// Instead of grading: write the capture's UART waveform as a VCD file.
+    #[arg(long)]
+    pub vcd: Option<PathBuf>,
+    #[command(flatten)]
+    pub listening: ListeningArgs,
+}
+
+/// What `decode` and `monitor` are both told.
+#[derive(clap::Args, Debug, Clone)]
+pub struct ListeningArgs {
+    /// The encoder's profile: a built-in name or a TOML file.
+    #[arg(long, default_value = "SRS50")]
+    pub profile: String,
+    /// The bus's data rate, bits per second (8E1).
+    #[arg(long, default_value_t = 9600)]
+    pub baud: u32,
     /// The application's polling period, ms.
     #[arg(long, default_value_t = hiperface_model::master::obligations::POLLING_PERIOD_MS,
           value_parser = clap::value_parser!(u32).range(1..))]
     pub polling_period_ms: u32,
-    /// Write report.json and listening.md here.
+    /// Write report.json, junit.xml, listening.md and listening.html here.
     #[arg(long)]
     pub report: Option<PathBuf>,
     /// Do not print a line per exchange.
     #[arg(long)]
     pub quiet: bool,
-    /// Instead of grading: write the capture's UART waveform as a VCD file.
-    #[arg(long)]
-    pub vcd: Option<PathBuf>,
 }
 
 /// Run `decode`; exit 0 with no FAIL, 1 with one, an error for input it cannot read.
 pub fn decode(args: &DecodeArgs) -> Result<ExitCode, String> {
-    let (profile, settings) = bus(&args.profile, args.baud)?;
-    let read = ReadOptions { baud: args.baud, samplerate_hz: args.samplerate };
+    let (profile, settings) = bus(&args.listening.profile, args.listening.baud)?;
+    let read = ReadOptions { baud: args.listening.baud, samplerate_hz: args.samplerate };
     let input: Box<dyn BufRead> = if args.file.as_os_str() == "-" {
         Box::new(BufReader::new(std::io::stdin()))
     } else {
@@ -78,7 +85,7 @@ pub fn decode(args: &DecodeArgs) -> Result<ExitCode, String> {
     let name = args.file.display().to_string();
     let (format, mut capture) = capture::open(input, format, read).map_err(|e| format!("{name}: {e}"))?;
     if let Some(vcd) = &args.vcd {
-        return write_vcd(capture.as_mut(), vcd, args.baud, &name).map(|()| ExitCode::SUCCESS);
+        return write_vcd(capture.as_mut(), vcd, args.listening.baud, &name).map(|()| ExitCode::SUCCESS);
     }
     // The capture's own statement (a certify report's tolerance), else one bit time.
     let tolerance_us = match args.tolerance_ms {
@@ -86,9 +93,14 @@ pub fn decode(args: &DecodeArgs) -> Result<ExitCode, String> {
         None => capture.tolerance_us().unwrap_or(read.bit_time_us()),
     };
     let mut listener: Option<Listener> = None;
-    let mut options =
-        Options { profile, settings, tolerance_us, master_channel: None, polling_period_ms: args.polling_period_ms };
-    let mut view = LiveView::new(args.quiet, false);
+    let mut options = Options {
+        profile,
+        settings,
+        tolerance_us,
+        master_channel: None,
+        polling_period_ms: args.listening.polling_period_ms,
+    };
+    let mut view = LiveView::new(args.listening.quiet, false);
     let mut print = |h: &HeardExchange| view.print(h);
     let mut last_us = 0;
     while let Some(e) = capture.next() {
@@ -118,7 +130,7 @@ pub fn decode(args: &DecodeArgs) -> Result<ExitCode, String> {
         channels: capture.channels(),
         assumptions: capture.assumptions(),
     };
-    conclude(l, source, &options, args.baud, args.report.as_deref())
+    conclude(l, source, &options, args.listening.report.as_deref())
 }
 
 /// Where a listening run heard its characters, for the report.
@@ -135,7 +147,6 @@ pub fn conclude(
     listener: Listener,
     source: Source,
     options: &Options,
-    baud: u32,
     report_dir: Option<&std::path::Path>,
 ) -> Result<ExitCode, String> {
     let report = ListeningReport {
@@ -143,7 +154,7 @@ pub fn conclude(
         capture: source.capture,
         format: source.format,
         profile: options.profile.name.to_string(),
-        baud,
+        baud: options.settings.baud.bits_per_second(),
         tolerance_us: options.tolerance_us,
         channels: source.channels,
         assumptions: source.assumptions,

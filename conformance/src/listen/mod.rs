@@ -298,13 +298,7 @@ impl Listener {
         let observed: Option<Vec<u8>> = reply.as_ref().map(|r| r.iter().map(|c| c.byte).collect());
         let grade = self.oracle.grade(&before, &open.bytes, complete_us, &expected, observed.as_deref());
         let mut findings = Vec::new();
-        let message = || {
-            format!("request [{}]: {}", Hex(&open.bytes), grade.deviation().map_or(String::new(), |d| d.to_string()))
-        };
-        // The message is written only for an exchange that did not pass.
-        let graded =
-            (grade.verdict() != hiperface_model::oracle::Verdict::Pass).then(|| Finding::graded(&grade, message()));
-        if let Some(f) = graded.flatten() {
+        if let Some(f) = Finding::graded(&grade, &open.bytes) {
             let knowable = grade.deviation().is_some_and(|d| knowable(&d, &open.bytes));
             findings.push(if knowable {
                 f

@@ -2,7 +2,7 @@
 //! ([`super::tap`]). A line per exchange as it closes, a summary when the run ends
 //! (Ctrl-C, `--duration-s`, or the port closing), and the reports.
 
-use super::cli::{conclude, ms_to_us, LiveView, Source};
+use super::cli::{conclude, ms_to_us, ListeningArgs, LiveView, Source};
 use super::tap::{Got, Marks, Stamps, Tap};
 use super::{Listener, Options};
 use crate::capture::{Event, Mark};
@@ -20,21 +20,11 @@ pub struct MonitorArgs {
     /// `tcp://HOST:PORT` (a serial device server).
     #[arg(long)]
     pub port: PortSpec,
-    /// The encoder's profile: a built-in name or a TOML file.
-    #[arg(long, default_value = "SRS50")]
-    pub profile: String,
-    /// The bus's data rate, bits per second (8E1).
-    #[arg(long, default_value_t = 9600)]
-    pub baud: u32,
     /// Timing jitter allowed before a reply's timing is graded, ms (default: the
     /// port's: 2 on a pseudo-terminal or serial port, 4 over TCP, a USB adapter's
     /// latency timer when that is longer).
     #[arg(long)]
     pub tolerance_ms: Option<f64>,
-    /// The application's polling period, ms.
-    #[arg(long, default_value_t = hiperface_model::master::obligations::POLLING_PERIOD_MS,
-          value_parser = clap::value_parser!(u32).range(1..))]
-    pub polling_period_ms: u32,
     /// Stop after this many seconds (default: at Ctrl-C, or when the port closes).
     #[arg(long)]
     pub duration_s: Option<f64>,
@@ -42,12 +32,8 @@ pub struct MonitorArgs {
     /// `hiperface decode` reads (nothing heard is lost).
     #[arg(long)]
     pub capture: Option<PathBuf>,
-    /// Write report.json, junit.xml, listening.md and listening.html here.
-    #[arg(long)]
-    pub report: Option<PathBuf>,
-    /// Do not print a line per exchange.
-    #[arg(long)]
-    pub quiet: bool,
+    #[command(flatten)]
+    pub listening: ListeningArgs,
 }
 
 /// How far behind the clock the listener is moved while the bus is quiet: bytes
@@ -60,18 +46,23 @@ fn lag_us(tap: &Tap, options: &Options) -> u64 {
 
 /// Listen until `stop` is set, the duration is over, or the port closes.
 pub fn monitor(args: &MonitorArgs, stop: &AtomicBool) -> Result<ExitCode, String> {
-    let (profile, settings) = super::cli::bus(&args.profile, args.baud)?;
+    let (profile, settings) = super::cli::bus(&args.listening.profile, args.listening.baud)?;
     let mut tap = Tap::open(&args.port, settings)?;
     let tolerance_us = args.tolerance_ms.map_or(tap.jitter_us, ms_to_us);
-    let options =
-        Options { profile, settings, tolerance_us, master_channel: None, polling_period_ms: args.polling_period_ms };
+    let options = Options {
+        profile,
+        settings,
+        tolerance_us,
+        master_channel: None,
+        polling_period_ms: args.listening.polling_period_ms,
+    };
     let mut capture = match &args.capture {
         Some(p) => Some(CaptureFile::create(p, settings.char_time_us())?),
         None => None,
     };
     eprintln!("listening on {} at {settings} (read-only); Ctrl-C ends the run with a summary", tap.name);
     let mut listener = Listener::new(options.clone());
-    let mut view = LiveView::new(args.quiet, true);
+    let mut view = LiveView::new(args.listening.quiet, true);
     let mut print = |h: &super::HeardExchange| view.print(h);
     let epoch = Instant::now();
     let now_us = || epoch.elapsed().as_micros() as u64;
@@ -163,7 +154,7 @@ pub fn monitor(args: &MonitorArgs, stop: &AtomicBool) -> Result<ExitCode, String
         assumptions.push(format!("every character heard is in {}", c.path.display()));
     }
     let source = Source { capture: tap.name.clone(), format: "live".into(), channels: vec!["bus".into()], assumptions };
-    conclude(listener, source, &options, args.baud, args.report.as_deref())
+    conclude(listener, source, &options, args.listening.report.as_deref())
 }
 
 /// The characters heard as a CSV capture (`decode` reads it): the start of each
