@@ -11,11 +11,10 @@
 //! start bit, as those exports stamp it; its stop bit ends a character time later.
 
 use super::merge::Merge;
-use super::{Capture, Event, Mark, ParseError, ReadOptions};
-use std::io::BufRead;
+use super::{Capture, Event, Input, Mark, ParseError, ReadOptions};
 
 pub struct Reader<'a> {
-    records: csv::StringRecordsIntoIter<Box<dyn BufRead + 'a>>,
+    records: csv::StringRecordsIntoIter<Input<'a>>,
     columns: Columns,
     options: ReadOptions,
     names: Vec<String>,
@@ -57,7 +56,7 @@ fn flag(s: Option<&str>) -> bool {
 }
 
 impl<'a> Reader<'a> {
-    pub fn new(input: Box<dyn BufRead + 'a>, options: ReadOptions) -> Result<Reader<'a>, ParseError> {
+    pub fn new(input: Input<'a>, options: ReadOptions) -> Result<Reader<'a>, ParseError> {
         let mut reader = csv::ReaderBuilder::new().has_headers(true).flexible(true).from_reader(input);
         let header = reader.headers().map_err(|e| ParseError::at(1, format!("expected a CSV header: {e}")))?.clone();
         let columns = Columns::of(&header)?;

@@ -14,8 +14,7 @@
 //! `1`, "Start bit", ...) are skipped; anything else is an error.
 
 use super::merge::Merge;
-use super::{next_line, Capture, Event, Mark, ParseError, ReadOptions};
-use std::io::BufRead;
+use super::{next_line, Capture, Event, Input, Mark, ParseError, ReadOptions};
 
 /// A line of sigrok-cli's decoder output.
 pub fn is_line(l: &str) -> bool {
@@ -32,7 +31,7 @@ fn parse_line(l: &str) -> Option<(u64, u64, &str, &str)> {
 }
 
 pub struct Reader<'a> {
-    input: Box<dyn BufRead + 'a>,
+    input: Input<'a>,
     buf: String,
     line: u64,
     options: ReadOptions,
@@ -46,7 +45,7 @@ pub struct Reader<'a> {
 }
 
 impl<'a> Reader<'a> {
-    pub fn new(input: Box<dyn BufRead + 'a>, options: ReadOptions) -> Result<Reader<'a>, ParseError> {
+    pub fn new(input: Input<'a>, options: ReadOptions) -> Result<Reader<'a>, ParseError> {
         let samplerate = options.samplerate_hz.filter(|r| *r > 0).ok_or_else(|| {
             ParseError::at(0, "sigrok-cli prints sample numbers: give the capture's sample rate (--samplerate)")
         })?;

@@ -6,9 +6,8 @@
 //! characters between are taken as sent back to back at the bus's rate: the log does
 //! not keep them apart, so a gap inside a frame is not in it.
 
-use super::{next_line, Capture, Event, Mark, ParseError, ReadOptions, Role};
+use super::{next_line, Capture, Event, Input, Mark, ParseError, ReadOptions, Role};
 use std::collections::VecDeque;
-use std::io::BufRead;
 
 /// A line of the text form.
 pub fn is_line(l: &str) -> bool {
@@ -17,9 +16,9 @@ pub fn is_line(l: &str) -> bool {
 
 /// `(t_us, role, bytes)` of one text line.
 fn parse_line(l: &str) -> Option<(u64, Role, Vec<u8>)> {
-    let mut words = l.split_whitespace();
-    let t_ms: f64 = words.next()?.parse().ok()?;
-    if words.next()? != "ms" || !(t_ms.is_finite() && t_ms >= 0.0) {
+    let mut words = l.split_ascii_whitespace();
+    let t_us = ms_as_us(words.next()?)?;
+    if words.next()? != "ms" {
         return None;
     }
     let role = match words.next()? {
@@ -27,9 +26,25 @@ fn parse_line(l: &str) -> Option<(u64, Role, Vec<u8>)> {
         "S<" => Role::Slave,
         _ => return None,
     };
-    let bytes: Option<Vec<u8>> = words.map(super::hex_byte).collect();
-    let bytes = bytes.filter(|b| !b.is_empty())?;
-    Some(((t_ms * 1000.0).round() as u64, role, bytes))
+    let mut bytes = Vec::with_capacity(hiperface_model::frame::MAX_FRAME);
+    for w in words {
+        bytes.push(super::hex_byte(w)?);
+    }
+    (!bytes.is_empty()).then_some((t_us, role, bytes))
+}
+
+/// A time written in ms (`171.465`), in µs. The logs' own form (at most three
+/// decimals) is read exactly; any other number is rounded to the µs.
+fn ms_as_us(word: &str) -> Option<u64> {
+    let (int, frac) = word.split_once('.').unwrap_or((word, ""));
+    let digits = |s: &str| s.bytes().all(|b| b.is_ascii_digit());
+    if !int.is_empty() && int.len() <= 12 && frac.len() <= 3 && digits(int) && digits(frac) {
+        let int: u64 = int.parse().ok()?;
+        let frac = frac.bytes().chain(std::iter::repeat(b'0')).take(3).fold(0, |us, d| us * 10 + u64::from(d - b'0'));
+        return Some(int * 1000 + frac);
+    }
+    let t_ms: f64 = word.parse().ok()?;
+    (t_ms.is_finite() && t_ms >= 0.0).then(|| (t_ms * 1000.0).round() as u64)
 }
 
 pub struct Reader<'a> {
@@ -50,7 +65,7 @@ pub struct Reader<'a> {
 
 enum Source<'a> {
     Text {
-        input: Box<dyn BufRead + 'a>,
+        input: Input<'a>,
         buf: String,
     },
     /// The frames of a report.json, case after case.
@@ -77,7 +92,7 @@ struct ReportWire {
 }
 
 impl<'a> Reader<'a> {
-    pub fn new(mut input: Box<dyn BufRead + 'a>, options: ReadOptions) -> Result<Reader<'a>, ParseError> {
+    pub fn new(mut input: Input<'a>, options: ReadOptions) -> Result<Reader<'a>, ParseError> {
         let first = super::peek_first_line(&mut input).map_err(|e| ParseError::at(0, e.to_string()))?;
         let mut tolerance_us = None;
         let source = if first.trim_start().starts_with('{') {
@@ -260,6 +275,28 @@ mod tests {
         let err = ev.into_iter().find_map(Result::err).unwrap();
         assert_eq!(err.line, 3);
         assert!(err.message.contains("expected"), "{err}");
+    }
+
+    proptest::proptest! {
+        /// The exact reading of a logged time is the float reading, rounded to the µs.
+        #[test]
+        fn a_time_reads_as_its_rounded_value(us in 0u64..1_000_000_000_000, decimals in 0usize..=3) {
+            let text = format!("{}.{:03}", us / 1000, us % 1000);
+            let text = &text[..text.len() - (3 - decimals)];
+            let text = text.trim_end_matches('.');
+            let float = (text.parse::<f64>().unwrap() * 1000.0).round() as u64;
+            proptest::prop_assert_eq!(ms_as_us(text), Some(float));
+        }
+    }
+
+    #[test]
+    fn odd_times_are_read_or_refused() {
+        assert_eq!(ms_as_us("1.2345"), Some(1235));
+        assert_eq!(ms_as_us("1e3"), Some(1_000_000));
+        assert_eq!(ms_as_us(".5"), Some(500));
+        assert_eq!(ms_as_us("-1.000"), None);
+        assert_eq!(ms_as_us("inf"), None);
+        assert_eq!(ms_as_us("1.x"), None);
     }
 
     #[test]

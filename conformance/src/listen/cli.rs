@@ -3,12 +3,12 @@
 
 use super::report::ListeningReport;
 use super::{Heard, HeardExchange, Listener, Options};
-use crate::capture::{self, Format, ReadOptions};
+use crate::capture::{self, Capture, Format, ReadOptions};
 use crate::profile_file;
 use hiperface_model::frame::Hex;
 use hiperface_model::settings::Baud;
 use hiperface_model::UartSettings;
-use std::io::{BufRead, BufReader, Write};
+use std::io::{BufReader, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -70,7 +70,7 @@ pub struct ListeningArgs {
 pub fn decode(args: &DecodeArgs) -> Result<ExitCode, String> {
     let (profile, settings) = bus(&args.listening.profile, args.listening.baud)?;
     let read = ReadOptions { baud: args.listening.baud, samplerate_hz: args.samplerate };
-    let input: Box<dyn BufRead> = if args.file.as_os_str() == "-" {
+    let input: capture::Input = if args.file.as_os_str() == "-" {
         Box::new(BufReader::new(std::io::stdin()))
     } else {
         let f = std::fs::File::open(&args.file).map_err(|e| format!("{}: {e}", args.file.display()))?;
@@ -92,7 +92,6 @@ pub fn decode(args: &DecodeArgs) -> Result<ExitCode, String> {
         Some(ms) => ms_to_us(ms),
         None => capture.tolerance_us().unwrap_or(read.bit_time_us()),
     };
-    let mut listener: Option<Listener> = None;
     let mut options = Options {
         profile,
         settings,
@@ -100,36 +99,39 @@ pub fn decode(args: &DecodeArgs) -> Result<ExitCode, String> {
         master_channel: None,
         polling_period_ms: args.listening.polling_period_ms,
     };
-    let mut view = LiveView::new(args.listening.quiet, false);
-    let mut print = |h: &HeardExchange| view.print(h);
-    let mut last_us = 0;
-    while let Some(e) = capture.next() {
-        let e = e.map_err(|e| format!("{name}: {e}"))?;
-        // The master's channel is known once the capture has named it.
-        let l = match &mut listener {
-            Some(l) => l,
-            None => {
-                if let Some(m) = &args.master_channel {
-                    let names = capture.channels();
-                    options.master_channel = Some(names.iter().position(|n| n == m).ok_or_else(|| {
-                        format!("{name}: no channel `{m}` before the first character (channels: {})", names.join(", "))
-                    })? as u8);
+    // The text is parsed on a thread of its own while the listener grades.
+    let (l, channels, assumptions) = std::thread::scope(|s| {
+        let mut capture = capture::prefetch(s, capture);
+        let mut listener: Option<Listener> = None;
+        let mut view = LiveView::new(args.listening.quiet, false);
+        let mut print = |h: &HeardExchange| view.print(h);
+        let mut last_us = 0;
+        while let Some(e) = capture.next() {
+            let e = e.map_err(|e| format!("{name}: {e}"))?;
+            // The master's channel is known once the capture has named it.
+            let l = match &mut listener {
+                Some(l) => l,
+                None => {
+                    if let Some(m) = &args.master_channel {
+                        let names = capture.channels();
+                        options.master_channel = Some(names.iter().position(|n| n == m).ok_or_else(|| {
+                            format!(
+                                "{name}: no channel `{m}` before the first character (channels: {})",
+                                names.join(", ")
+                            )
+                        })? as u8);
+                    }
+                    listener.insert(Listener::new(options.clone()))
                 }
-                listener.insert(Listener::new(options.clone()))
-            }
-        };
-        last_us = e.at_us;
-        l.feed(e, &mut print);
-    }
-    let mut l = listener.unwrap_or_else(|| Listener::new(options.clone()));
-    l.finish(last_us, &mut print);
-    drop(view);
-    let source = Source {
-        capture: name,
-        format: format.to_string(),
-        channels: capture.channels(),
-        assumptions: capture.assumptions(),
-    };
+            };
+            last_us = e.at_us;
+            l.feed(e, &mut print);
+        }
+        let mut l = listener.unwrap_or_else(|| Listener::new(options.clone()));
+        l.finish(last_us, &mut print);
+        Ok::<_, String>((l, capture.channels(), capture.assumptions()))
+    })?;
+    let source = Source { capture: name, format: format.to_string(), channels, assumptions };
     conclude(l, source, &options, args.listening.report.as_deref())
 }
 

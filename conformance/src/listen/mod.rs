@@ -33,7 +33,6 @@ use hiperface_model::response::ResponseFrame;
 use hiperface_model::slave::{Reply, Slave};
 use hiperface_model::{Grading, Profile, UartSettings};
 use serde::Serialize;
-use std::collections::BTreeMap;
 
 pub mod cli;
 pub mod monitor;
@@ -56,12 +55,20 @@ pub struct Options {
     pub polling_period_ms: u32,
 }
 
-/// One character of a frame being assembled.
-#[derive(Debug, Clone, Copy)]
-struct Char {
-    byte: u8,
-    at_us: u64,
-    fault: Option<UartFault>,
+/// The frame being assembled on one channel.
+#[derive(Debug)]
+struct Assembly {
+    channel: u8,
+    /// Who sends on it, where the capture says.
+    role: Option<Role>,
+    chars: Vec<RxChar>,
+}
+
+/// A reply as heard: its characters, their bytes, and the frame they decode to.
+struct ReplyHeard {
+    chars: Vec<RxChar>,
+    bytes: Vec<u8>,
+    decoded: Option<ResponseFrame>,
 }
 
 /// A request waiting for its reply.
@@ -70,6 +77,8 @@ struct Open {
     bytes: Vec<u8>,
     start_us: u64,
     end_us: u64,
+    /// The last instant a reply may start and still be heard as this one's.
+    window_end_us: u64,
 }
 
 impl Open {
@@ -103,8 +112,8 @@ pub struct Listener {
     observer: Observer,
     timeout_us: u64,
     char_us: u64,
-    /// Frames being assembled, per channel.
-    frames: BTreeMap<u8, (Option<Role>, Vec<Char>)>,
+    /// Frames being assembled, one per channel heard, by channel.
+    frames: Vec<Assembly>,
     open: Option<Open>,
     now_us: u64,
     pub summary: Summary,
@@ -122,7 +131,7 @@ impl Listener {
             observer,
             timeout_us: options.settings.timeout_us(edition),
             char_us: options.settings.char_time_us(),
-            frames: BTreeMap::new(),
+            frames: Vec::new(),
             open: None,
             now_us: 0,
             summary: Summary::default(),
@@ -150,11 +159,22 @@ impl Listener {
             }
         };
         self.summary.characters += 1;
-        let entry = self.frames.entry(e.channel).or_insert((role, Vec::new()));
-        entry.0 = role;
+        const MAX: usize = 4 * hiperface_model::frame::MAX_FRAME;
+        let at = match self.frames.binary_search_by_key(&e.channel, |a| a.channel) {
+            Ok(at) => at,
+            Err(at) => {
+                self.frames.insert(at, Assembly { channel: e.channel, role, chars: Vec::new() });
+                at
+            }
+        };
+        let Some(a) = self.frames.get_mut(at) else { return };
+        a.role = role;
+        if a.chars.capacity() == 0 {
+            a.chars.reserve(hiperface_model::frame::MAX_FRAME);
+        }
         // A frame longer than any valid one is cut: memory stays bounded.
-        if entry.1.len() < 4 * hiperface_model::frame::MAX_FRAME {
-            entry.1.push(Char { byte, at_us: e.at_us, fault });
+        if a.chars.len() < MAX {
+            a.chars.push(RxChar { byte, at_us: e.at_us, fault });
         }
     }
 
@@ -169,7 +189,7 @@ impl Listener {
     pub fn finish(&mut self, at_us: u64, out: &mut impl FnMut(&HeardExchange)) {
         let end = at_us.max(self.now_us).saturating_add(self.timeout_us);
         self.advance(end, out);
-        let channels: Vec<u8> = self.frames.keys().copied().collect();
+        let channels: Vec<u8> = self.frames.iter().map(|a| a.channel).collect();
         for ch in channels {
             self.close_channel(ch, out);
         }
@@ -188,7 +208,7 @@ impl Listener {
             let due = self
                 .frames
                 .iter()
-                .filter_map(|(ch, (_, cs))| Some((cs.first()?.at_us, cs.last()?.at_us, *ch)))
+                .filter_map(|a| Some((a.chars.first()?.at_us, a.chars.last()?.at_us, a.channel)))
                 .filter(|(_, last, _)| last.saturating_add(self.timeout_us) <= now)
                 .min();
             let Some((_, _, ch)) = due else { break };
@@ -196,11 +216,11 @@ impl Listener {
         }
         if let Some(open) = &self.open {
             // A frame still being assembled that began in the window may be the reply.
-            let end = self.window_end(open);
+            let end = open.window_end_us;
             let reply_under_way = self
                 .frames
-                .values()
-                .any(|(_, cs)| cs.first().is_some_and(|c| c.at_us.saturating_sub(self.char_us) <= end));
+                .iter()
+                .any(|a| a.chars.first().is_some_and(|c| c.at_us.saturating_sub(self.char_us) <= end));
             if now > end && !reply_under_way {
                 let open = self.open.take();
                 if let Some(open) = open {
@@ -214,33 +234,50 @@ impl Listener {
         self.now_us = self.now_us.max(now);
     }
 
-    /// The last instant a reply to `open` may start and still be heard as its reply:
-    /// well past the command's limit, so that a late reply is measured, not lost.
-    fn window_end(&self, open: &Open) -> u64 {
-        let command = open.command();
+    /// The last instant a reply to a request of `command` that ended at `end_us` may
+    /// start and still be heard as its reply: well past the command's limit, so that
+    /// a late reply is measured, not lost.
+    fn window_end(&self, command: CommandId, end_us: u64) -> u64 {
         let limit_us = self.options.profile.response_limit(command).max_ms as u64 * 1000;
-        open.end_us.saturating_add(self.timeout_us + 3 * limit_us + self.options.tolerance_us)
+        end_us.saturating_add(self.timeout_us + 3 * limit_us + self.options.tolerance_us)
     }
 
     fn close_channel(&mut self, ch: u8, out: &mut impl FnMut(&HeardExchange)) {
-        let Some((role, chars)) = self.frames.remove(&ch) else { return };
+        let Some(a) = self.frames.iter_mut().find(|a| a.channel == ch) else { return };
+        let (role, chars) = (a.role, std::mem::take(&mut a.chars));
         if !chars.is_empty() {
             self.frame(role, chars, out);
         }
     }
 
     /// A complete frame: a request, a reply, or both run together.
-    fn frame(&mut self, role: Option<Role>, chars: Vec<Char>, out: &mut impl FnMut(&HeardExchange)) {
+    fn frame(&mut self, role: Option<Role>, chars: Vec<RxChar>, out: &mut impl FnMut(&HeardExchange)) {
         let start = chars.first().map_or(0, |c| c.at_us.saturating_sub(self.char_us));
-        let bytes: Vec<u8> = chars.iter().map(|c| c.byte).collect();
-        let in_window = self.open.as_ref().is_some_and(|o| start <= self.window_end(o));
+        let bytes = || -> Vec<u8> { chars.iter().map(|c| c.byte).collect() };
+        let in_window = self.open.as_ref().is_some_and(|o| start <= o.window_end_us);
         match role {
             Some(Role::Master) => self.request(chars, out),
             Some(Role::Slave) if in_window => self.reply(chars, out),
-            Some(Role::Slave) => self.stray(&bytes, start, "a reply frame with no request open"),
-            None if in_window && RequestFrame::decode(&bytes).is_err() => self.reply(chars, out),
-            None if RequestFrame::decode(&bytes).is_ok() => self.request(chars, out),
-            None => match (2..bytes.len()).find(|n| RequestFrame::decode(&bytes[..*n]).is_ok()) {
+            Some(Role::Slave) => self.stray(&bytes(), start, "a reply frame with no request open"),
+            None => self.unmarked(bytes(), chars, start, in_window, out),
+        }
+    }
+
+    /// A frame of a capture that does not say who sent it: told by its window and
+    /// its structure.
+    fn unmarked(
+        &mut self,
+        bytes: Vec<u8>,
+        chars: Vec<RxChar>,
+        start: u64,
+        in_window: bool,
+        out: &mut impl FnMut(&HeardExchange),
+    ) {
+        let request = RequestFrame::decode(&bytes).is_ok();
+        match () {
+            () if in_window && !request => self.reply(chars, out),
+            () if request => self.request(chars, out),
+            () => match (2..bytes.len()).find(|n| RequestFrame::decode(&bytes[..*n]).is_ok()) {
                 // A request and a reply with less than the timeout between them.
                 Some(n) => {
                     let mut chars = chars;
@@ -258,44 +295,47 @@ impl Listener {
         self.summary.note(format!("{:.3} ms: {what} [{}]: not graded", start_us as f64 / 1000.0, Hex(bytes)));
     }
 
-    fn request(&mut self, chars: Vec<Char>, out: &mut impl FnMut(&HeardExchange)) {
+    fn request(&mut self, chars: Vec<RxChar>, out: &mut impl FnMut(&HeardExchange)) {
         if let Some(open) = self.open.take() {
             self.exchange(open, None, out);
         }
         let mut obs = Vec::new();
         for c in &chars {
-            self.observer.master_char(RxChar { byte: c.byte, at_us: c.at_us, fault: c.fault }, &mut |o| obs.push(o));
+            self.observer.master_char(*c, &mut |o| obs.push(o));
         }
         self.master_observations(obs);
         let (Some(first), Some(last)) = (chars.first(), chars.last()) else { return };
-        let open = Open {
-            bytes: chars.iter().map(|c| c.byte).collect(),
+        let bytes: Vec<u8> = chars.iter().map(|c| c.byte).collect();
+        let command = bytes.get(1).map_or(CommandId::Unknown(0), |b| CommandId::decode(b & 0x7F));
+        self.open = Some(Open {
+            bytes,
             start_us: first.at_us.saturating_sub(self.char_us),
             end_us: last.at_us,
-        };
-        self.open = Some(open);
+            window_end_us: self.window_end(command, last.at_us),
+        });
     }
 
-    fn reply(&mut self, chars: Vec<Char>, out: &mut impl FnMut(&HeardExchange)) {
+    fn reply(&mut self, chars: Vec<RxChar>, out: &mut impl FnMut(&HeardExchange)) {
         let Some(open) = self.open.take() else { return };
         let (Some(first), Some(last)) = (chars.first(), chars.last()) else { return };
         let bytes: Vec<u8> = chars.iter().map(|c| c.byte).collect();
-        let command = open.command();
-        let decoded = ResponseFrame::decode(&bytes, command).ok();
+        let decoded = ResponseFrame::decode(&bytes, open.command()).ok();
         self.observer.encoder_reply(first.at_us.saturating_sub(self.char_us), last.at_us, decoded.as_ref());
-        let rx: Vec<RxChar> = chars.iter().map(|c| RxChar { byte: c.byte, at_us: c.at_us, fault: c.fault }).collect();
-        self.exchange(open, Some(rx), out);
+        self.exchange(open, Some(ReplyHeard { chars, bytes, decoded }), out);
     }
 
-    /// Grade one exchange: the reply's form and timing, and its content where the
-    /// listener can know it.
-    fn exchange(&mut self, open: Open, reply: Option<Vec<RxChar>>, out: &mut impl FnMut(&HeardExchange)) {
+    /// Grade one exchange (its reply's characters and bytes, if one was heard): the
+    /// reply's form and timing, and its content where the listener can know it.
+    fn exchange(&mut self, open: Open, reply: Option<ReplyHeard>, out: &mut impl FnMut(&HeardExchange)) {
         let edition = self.options.profile.edition;
         let command = open.command();
         let complete_us = open.end_us.saturating_add(self.timeout_us);
+        let (reply, observed, decoded) = match reply {
+            Some(r) => (Some(r.chars), Some(r.bytes), r.decoded),
+            None => (None, None, None),
+        };
         let before = self.shadow.clone();
         let expected = self.shadow.handle_frame(&open.bytes, complete_us);
-        let observed: Option<Vec<u8>> = reply.as_ref().map(|r| r.iter().map(|c| c.byte).collect());
         let grade = self.oracle.grade(&before, &open.bytes, complete_us, &expected, observed.as_deref());
         let mut findings = Vec::new();
         if let Some(f) = Finding::graded(&grade, &open.bytes) {
@@ -337,8 +377,8 @@ impl Listener {
             }
             request = x.request;
         }
-        if let (Some(bytes), true) = (&observed, findings.is_empty()) {
-            self.learn(command, bytes);
+        if let (Some(frame), true) = (decoded, findings.is_empty()) {
+            self.learn(frame);
         }
         let heard = HeardExchange {
             t_ms: open.end_us as f64 / 1000.0,
@@ -355,8 +395,7 @@ impl Listener {
 
     /// What a well-formed reply tells of the encoder's world (as `certify` does on a
     /// real device).
-    fn learn(&mut self, command: CommandId, bytes: &[u8]) {
-        let Ok(frame) = ResponseFrame::decode(bytes, command) else { return };
+    fn learn(&mut self, frame: ResponseFrame) {
         use hiperface_model::response::Response;
         match frame.response {
             Response::Position(p) => {
@@ -379,8 +418,9 @@ impl Listener {
     }
 }
 
-/// Read a whole capture and listen to it, without printing: what the fuzz targets,
-/// their corpus replay and the throughput benchmark run. `format`: `None` detects it.
+/// Read a whole capture and listen to it, without printing, the reader on a thread
+/// of its own as `decode` does: what the throughput benchmark and the tests run.
+/// `format`: `None` detects it.
 pub fn listen_to(
     input: &[u8],
     format: Option<crate::capture::Format>,
@@ -388,6 +428,13 @@ pub fn listen_to(
     options: Options,
 ) -> Result<Summary, crate::capture::ParseError> {
     let (_, capture) = crate::capture::open(Box::new(input), format, read)?;
+    std::thread::scope(|s| listen_all(crate::capture::prefetch(s, capture), options))
+}
+
+fn listen_all(
+    capture: impl Iterator<Item = Result<crate::capture::Event, crate::capture::ParseError>>,
+    options: Options,
+) -> Result<Summary, crate::capture::ParseError> {
     let mut listener = Listener::new(options);
     let mut last_us = 0;
     for e in capture {
@@ -401,7 +448,8 @@ pub fn listen_to(
 
 /// The fuzz targets' entry (fuzz/fuzz_targets/capture_*.rs) and their corpus replay:
 /// any bytes as a capture of `format` (9600 Bd, sigrok at 1 MHz) through its reader
-/// and the listener. An error for bad input is fine; a panic or a hang is not.
+/// and the listener, on one thread. An error for bad input is fine; a panic or a
+/// hang is not.
 pub fn fuzz_capture(format: crate::capture::Format, input: &[u8]) {
     let profile = hiperface_model::profiles::srs50();
     let options = Options {
@@ -412,7 +460,9 @@ pub fn fuzz_capture(format: crate::capture::Format, input: &[u8]) {
         polling_period_ms: hiperface_model::master::obligations::POLLING_PERIOD_MS,
     };
     let read = crate::capture::ReadOptions { baud: 9600, samplerate_hz: Some(1_000_000) };
-    let _ = listen_to(input, Some(format), read, options);
+    if let Ok((_, capture)) = crate::capture::open(Box::new(input), Some(format), read) {
+        let _ = listen_all(capture, options);
+    }
 }
 
 /// A deviation the listener can see whatever the encoder's stored state: the reply's
