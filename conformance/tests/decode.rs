@@ -167,3 +167,76 @@ fn decoding_a_certify_report_reproduces_its_slave_verdicts() {
     assert!(text.contains(&format!("{replies} exchanges ({replies} PASS)")), "{replies} exchanges: {text}");
     assert!(text.contains("master: FAIL a frame that is no request"), "{text}");
 }
+
+/// An encoder whose Code0 is not the factory 55h takes a new address (55h, 000:T30:
+/// the reply already comes from the new address) and answers there. The listener
+/// does not know the code; the encoder's acceptance tells it. A reply from the old
+/// address after the change is a FAIL.
+#[test]
+fn an_address_change_with_an_unknown_code0_is_followed() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = |reply3: &str| {
+        [
+            ("10.000", "40 42 02", Some("40 42 00 00 00 00 02")),
+            ("50.000", "40 55 5F 3C 76", Some("5F 55 0A")),
+            ("90.000", "5F 42 1D", Some(reply3)),
+            ("130.000", "40 42 02", None),
+        ]
+        .iter()
+        .map(|(t, req, reply)| {
+            let t: f64 = t.parse().unwrap();
+            let reply = reply.map_or(String::new(), |r| format!("{:.3} ms  S< {r}\n", t + 7.73));
+            format!("{t:.3} ms  M> {req}\n{reply}")
+        })
+        .collect::<String>()
+    };
+    let good = dir.path().join("good.log");
+    std::fs::write(&good, log("5F 42 00 00 00 00 1D")).unwrap();
+    let (code, text) = decode(&good, &[]);
+    assert_eq!(verdicts(&text), vec!["PASS"; 4], "{text}");
+    assert_eq!(code, 0, "{text}");
+
+    let bad = dir.path().join("bad.log");
+    std::fs::write(&bad, log("40 42 00 00 00 00 02")).unwrap();
+    let (code, text) = decode(&bad, &[]);
+    assert_eq!(verdicts(&text), vec!["PASS", "PASS", "FAIL", "PASS"], "{text}");
+    assert!(text.contains("000:T30") || text.contains("000:2.3.1"), "{text}");
+    assert_eq!(code, 1, "{text}");
+}
+
+/// Wire-log lines `(request end ms, request, reply)`, each reply starting `after_ms`
+/// after its request ended.
+fn exchanges(lines: &[(f64, &str, Option<&str>, f64)]) -> String {
+    lines
+        .iter()
+        .map(|(t, req, reply, after_ms)| {
+            let reply = reply.map_or(String::new(), |r| format!("{:.3} ms  S< {r}\n", t + after_ms));
+            format!("{t:.3} ms  M> {req}\n{reply}")
+        })
+        .collect()
+}
+
+/// 57h stores a shorter timeout (A4h: 2*11 bit times, 000:T32) with a Code0 the
+/// listener does not know; after Encoder Reset and the default window the encoder
+/// answers after that timeout. Graded against the old one, the reply would start
+/// before the request's timeout had ended; graded against the new one it is on time.
+#[test]
+fn a_settings_change_takes_effect_after_the_reset() {
+    let dir = tempfile::tempdir().unwrap();
+    let short = 2.0 * 11.0 / 9.6 + 2.0;
+    let f = dir.path().join("57h.log");
+    std::fs::write(
+        &f,
+        exchanges(&[
+            (10.0, "40 57 A4 3C 8F", Some("40 57 A4 B3"), 7.73),
+            (50.0, "40 53 13", None, 0.0),
+            // Past the default window after the reset (000:T9): the stored settings apply.
+            (1300.0, "40 42 02", Some("40 42 00 00 00 00 02"), short),
+            (1340.0, "40 42 02", Some("40 42 00 00 00 00 02"), short),
+        ]),
+    )
+    .unwrap();
+    let (code, text) = decode(&f, &[]);
+    assert_eq!(verdicts(&text), vec!["PASS"; 4], "{text}");
+    assert_eq!(code, 0, "{text}");
+}

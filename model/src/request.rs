@@ -161,6 +161,21 @@ impl Request {
         }
     }
 
+    /// The Code0 the request presents, for the commands that Code0 guards
+    /// (000:T26, "Access code: Code0" in each command's table).
+    pub fn code0(&self) -> Option<u8> {
+        match *self {
+            Request::SetPosition { code0, .. }
+            | Request::SetPositionInternalSync { code0, .. }
+            | Request::SetPositionWithSync { code0, .. }
+            | Request::ResetCounter { code0 }
+            | Request::SetEncoderAddress { code0, .. }
+            | Request::SetSerialInterface { code0, .. }
+            | Request::SensorAdjustment { code0, .. } => Some(code0),
+            _ => None,
+        }
+    }
+
     /// Decode the data bytes of a known command whose length the table accepts.
     fn from_data(command: CommandId, d: &[u8]) -> Result<Request, RequestError> {
         let wrong = RequestError::WrongLength { command, data_len: d.len() };
@@ -360,10 +375,10 @@ mod tests {
         assert!(matches!(RequestFrame::decode(f.as_bytes()), Err(RequestError::WrongLength { .. })));
     }
 
-    #[test]
-    fn every_request_round_trips() {
+    /// One request of each command.
+    fn one_of_each() -> [Request; 23] {
         let data = FieldBytes::from_bytes(&[7; 128]).unwrap();
-        let all = [
+        [
             Request::ReadPosition,
             Request::SetPosition { preset: 0x0102_0304, code0: 0x55 },
             Request::ReadAnalogValue { channel: 0x48 },
@@ -387,7 +402,12 @@ mod tests {
             Request::SetPositionWithSync { preset: 0x0005_D2C7, code0: 0x55 },
             Request::SensorAdjustment { option: 1, code0: 0x55 },
             Request::ReadSyncOffset,
-        ];
+        ]
+    }
+
+    #[test]
+    fn every_request_round_trips() {
+        let all = one_of_each();
         assert_eq!(all.len(), crate::command::COMMAND_TABLE.len());
         for request in all {
             let rf = RequestFrame::new(A, request);
@@ -396,5 +416,19 @@ mod tests {
             assert_eq!(RequestFrame::decode(bytes.as_bytes()), Ok(rf), "{rf}");
         }
         assert_eq!(RequestFrame::new(A, Request::ReadPosition).encode().as_bytes(), &[0x40, 0x42, 0x02]);
+    }
+
+    /// The commands whose table says "Access code: Code0" carry it as their last data
+    /// byte (000:T26 and each command's table); no other request presents Code0.
+    #[test]
+    fn code0_is_where_the_command_table_says() {
+        use crate::command::AccessCodeRule;
+        for request in one_of_each() {
+            let frame = RequestFrame::new(A, request).encode();
+            let bytes = frame.as_bytes();
+            let last_data = bytes.len().checked_sub(2).and_then(|i| bytes.get(i)).copied();
+            let guarded = request.command().spec().map(|s| s.access) == Some(AccessCodeRule::Code0);
+            assert_eq!(request.code0(), last_data.filter(|_| guarded), "{request:?}");
+        }
     }
 }

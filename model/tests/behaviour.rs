@@ -256,3 +256,43 @@ fn settings_commands() {
         assert_eq!(ask_sealed(&mut s, &[0x40, 0x57, bad, 0x55]), Some(error(0x40, 0x0D)), "{bad:02X}");
     }
 }
+
+/// A listener learns Code0 from a request the device accepted: the model then accepts
+/// what the device accepted, and still refuses another code. Nothing is written.
+#[test]
+fn an_adopted_access_code_is_the_one_checked() {
+    let mut s = operational(profiles::srs50());
+    // 55h with 3Ch while Code0 is the factory 55h: 0Fh, wrong access code. // 000:T26
+    assert_eq!(ask_sealed(&mut s, &[0x40, 0x55, 0x5F, 0x3C]), Some(error(0x40, 0x0F)));
+    assert!(s.adopt_access_code(0, 0x3C));
+    assert!(!s.adopt_access_code(4, 0x3C), "there is no Code4");
+    let writes = s.eeprom_writes();
+    assert_eq!(ask_sealed(&mut s, &[0x40, 0x55, 0x5F, 0x55]), Some(error(0x40, 0x0F)));
+    assert_eq!(ask_sealed(&mut s, &[0x40, 0x55, 0x5F, 0x3C]), Some(sealed(&[0x5F, 0x55])));
+    assert_eq!(s.nonvolatile().codes, [0x3C, 0x55, 0x55, 0x55]);
+    assert_eq!(s.eeprom_writes(), writes + 1, "only the accepted 55h wrote");
+}
+
+/// What a real device's reply says of its world is taken into the model (positions,
+/// the preset a synchronised Set Position used), and nothing else; a value outside the
+/// range is refused. Nothing is written.
+#[test]
+fn a_device_s_reply_is_adopted_and_nothing_more() {
+    use hiperface_model::response::Response;
+    let profile = profiles::srs50();
+    let mut s = operational(profile);
+    assert!(s.adopt_reply(&Response::Position(0x1234)));
+    assert_eq!(ask_sealed(&mut s, &[0x40, 0x42]), Some(sealed(&[0x40, 0x42, 0x00, 0x00, 0x12, 0x34])));
+    let range = u32::try_from(profile.range()).unwrap();
+    assert!(!s.adopt_reply(&Response::Position(range)));
+    assert!(s.adopt_reply(&Response::Position(range - 1)));
+    assert_eq!(s.position(), u64::from(range - 1));
+    assert!(s.adopt_reply(&Response::PositionWithSyncSet(0x50)));
+    assert_eq!(s.position(), 0x50);
+    assert!(!s.adopt_reply(&Response::PositionWithSyncSet(range)));
+    let before = s.clone();
+    assert!(!s.adopt_reply(&Response::EncoderStatus(FaultCode::NoFault)));
+    assert!(!s.adopt_reply(&Response::Counter(7)));
+    assert_eq!(s, before);
+    assert_eq!(s.eeprom_writes(), 0);
+}

@@ -393,3 +393,21 @@ fn without_a_seen_power_on_the_start_up_rules_are_not_graded() {
     observer.poll(t + 100 * MS, &mut |o| seen.push(o));
     assert_eq!(seen, vec![], "no initialization, no status-after-power-on rule");
 }
+
+/// The reply window is kept for requests to the encoder's address, which 55h moves:
+/// before the observer is told, a request to 5Fh right after another is no breach (5Fh
+/// is someone else); after, the same is one, and the old address is someone else's.
+/// // 000:T30, 000:2.3.1
+#[test]
+fn the_reply_window_follows_the_address_the_encoder_answers_at() {
+    let mut bus = Bus::new(profiles::srs50());
+    conformant_start(&mut bus);
+    bus.send(&[0x5F, 0x42]).wait_ms(8).send(&[0x5F, 0x42]);
+    assert_eq!(bus.rules(), vec![]);
+    bus.observer.encoder_at(hiperface_model::address::SlaveAddress::new(0x5F).unwrap());
+    bus.send(&[0x5F, 0x42]).wait_ms(8).send(&[0x5F, 0x42]);
+    assert_eq!(bus.rules(), vec![Rule::ReplyWindow]);
+    bus.seen.clear();
+    bus.send(&[0x40, 0x42]).wait_ms(8).send(&[0x40, 0x42]);
+    assert_eq!(bus.rules(), vec![]);
+}

@@ -9,7 +9,7 @@ use crate::line::Line;
 use hiperface_model::address::AddressByte;
 use hiperface_model::clause::{self, Normative};
 use hiperface_model::request::{Request, RequestFrame};
-use hiperface_model::response::{Response, ResponseFrame};
+use hiperface_model::response::ResponseFrame;
 use hiperface_model::{CommandId, Grading, Hex, Oracle, Profile, Reply, Slave};
 use std::collections::BTreeMap;
 use std::sync::atomic::Ordering;
@@ -278,18 +278,7 @@ impl Ctx<'_> {
         if verdict == CaseVerdict::Fail || self.options.grading != Grading::Range {
             return;
         }
-        match frame.response {
-            Response::Position(p) => {
-                self.model.adopt_position(p as u64);
-            }
-            Response::PositionWithSyncSet(used) => {
-                self.model.adopt_preset(used as u64);
-            }
-            Response::Data { field, offset, data } => {
-                self.model.adopt_field_data(field, offset, data.as_bytes());
-            }
-            _ => {}
-        }
+        self.model.adopt_reply(&frame.response);
     }
 
     /// Wait, with nothing on the line; anything that arrives is a FAIL.

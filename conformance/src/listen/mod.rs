@@ -116,6 +116,8 @@ pub struct Listener {
     frames: Vec<Assembly>,
     open: Option<Open>,
     now_us: u64,
+    /// The summary says once that the encoder moved to another data rate.
+    rate_noted: bool,
     pub summary: Summary,
 }
 
@@ -134,6 +136,7 @@ impl Listener {
             frames: Vec::new(),
             open: None,
             now_us: 0,
+            rate_noted: false,
             summary: Summary::default(),
             options,
         }
@@ -299,6 +302,9 @@ impl Listener {
         if let Some(open) = self.open.take() {
             self.exchange(open, None, out);
         }
+        if let Some(first) = chars.first() {
+            self.follow(first.at_us.saturating_sub(self.char_us));
+        }
         let mut obs = Vec::new();
         for c in &chars {
             self.observer.master_char(*c, &mut |o| obs.push(o));
@@ -329,13 +335,23 @@ impl Listener {
     fn exchange(&mut self, open: Open, reply: Option<ReplyHeard>, out: &mut impl FnMut(&HeardExchange)) {
         let edition = self.options.profile.edition;
         let command = open.command();
-        let complete_us = open.end_us.saturating_add(self.timeout_us);
+        // The timeout the encoder framed the request with (its settings may have changed
+        // since the capture began: 57h and a reset). // 000:T28/settings
+        let timeout_us = self.shadow.timeout_us(open.end_us);
+        let complete_us = open.end_us.saturating_add(timeout_us);
         let (reply, observed, decoded) = match reply {
             Some(r) => (Some(r.chars), Some(r.bytes), r.decoded),
             None => (None, None, None),
         };
-        let before = self.shadow.clone();
-        let expected = self.shadow.handle_frame(&open.bytes, complete_us);
+        let mut before = self.shadow.clone();
+        let mut expected = self.shadow.handle_frame(&open.bytes, complete_us);
+        if let Some(code0) = accepted_code0(&open.bytes, &expected, decoded.as_ref()) {
+            // The encoder took a Code0 the model refused: the listener does not know
+            // the codes, so that one is the encoder's. // 000:T26
+            before.adopt_access_code(0, code0);
+            self.shadow = before.clone();
+            expected = self.shadow.handle_frame(&open.bytes, complete_us);
+        }
         let grade = self.oracle.grade(&before, &open.bytes, complete_us, &expected, observed.as_deref());
         let mut findings = Vec::new();
         if let Some(f) = Finding::graded(&grade, &open.bytes) {
@@ -365,8 +381,8 @@ impl Listener {
                 reply_start: r.first().map(|c| Window::exact(c.at_us.saturating_sub(self.char_us))),
                 reply: r,
                 trailing: Vec::new(),
-                settings: self.options.settings,
-                timeout_us: self.timeout_us,
+                settings: self.shadow.listening_settings(open.end_us).unwrap_or(self.options.settings),
+                timeout_us,
                 harness_late_us: 0,
             };
             let limits = self.options.profile.response_limit(command);
@@ -377,9 +393,12 @@ impl Listener {
             }
             request = x.request;
         }
+        // What a well-formed reply tells of the encoder's world (as `certify` does on a
+        // real device).
         if let (Some(frame), true) = (decoded, findings.is_empty()) {
-            self.learn(frame);
+            self.shadow.adopt_reply(&frame.response);
         }
+        self.follow(complete_us);
         let heard = HeardExchange {
             t_ms: open.end_us as f64 / 1000.0,
             command,
@@ -393,18 +412,20 @@ impl Listener {
         out(&heard);
     }
 
-    /// What a well-formed reply tells of the encoder's world (as `certify` does on a
-    /// real device).
-    fn learn(&mut self, frame: ResponseFrame) {
-        use hiperface_model::response::Response;
-        match frame.response {
-            Response::Position(p) => {
-                self.shadow.adopt_position(p as u64);
-            }
-            Response::Data { field, offset, data } => {
-                self.shadow.adopt_field_data(field, offset, data.as_bytes());
-            }
-            _ => {}
+    /// What the encoder accepted moves where it answers (55h) and, after a reset, how
+    /// it listens (57h): the master's rules follow it at `at_us`. // 000:T30, 000:T32
+    fn follow(&mut self, at_us: u64) {
+        self.observer.encoder_at(self.shadow.nonvolatile().address);
+        let Some(settings) = self.shadow.listening_settings(at_us) else { return };
+        self.observer.encoder_listens(settings);
+        if settings.baud != self.options.settings.baud && !self.rate_noted {
+            self.rate_noted = true;
+            self.summary.note(format!(
+                "{:.3} ms: the encoder now listens at {} Bd; a capture read at {} Bd cannot follow it",
+                at_us as f64 / 1000.0,
+                settings.baud.bits_per_second(),
+                self.options.settings.baud.bits_per_second()
+            ));
         }
     }
 
@@ -463,6 +484,24 @@ pub fn fuzz_capture(format: crate::capture::Format, input: &[u8]) {
     if let Ok((_, capture)) = crate::capture::open(Box::new(input), Some(format), read) {
         let _ = listen_all(capture, options);
     }
+}
+
+/// The Code0 of a request the model refused for its access code and the encoder
+/// accepted (a reply of the command's own form, not an error).
+fn accepted_code0(
+    request: &[u8],
+    expected: &hiperface_model::slave::Outcome,
+    heard: Option<&ResponseFrame>,
+) -> Option<u8> {
+    use hiperface_model::response::Response;
+    use hiperface_model::FaultCode::WrongAccessCode;
+    let refused = match expected.reply {
+        Reply::Frame(f) => f.response == Response::Error(WrongAccessCode) || expected.also.contains(WrongAccessCode),
+        Reply::Silent(_) => false,
+    };
+    let accepted = heard.is_some_and(|h| !matches!(h.response, Response::Error(_)));
+    let code0 = RequestFrame::decode(request).ok().and_then(|r| r.request.code0());
+    code0.filter(|_| refused && accepted)
 }
 
 /// A deviation the listener can see whatever the encoder's stored state: the reply's

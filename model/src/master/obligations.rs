@@ -311,6 +311,8 @@ impl StackRead {
 pub struct Observer {
     profile: Profile,
     settings: UartSettings,
+    /// The encoder's address: the profile's until told otherwise (55h).
+    address: SlaveAddress,
     framer: Framer,
     held: Option<Held>,
     /// Power-on, or the end of the last Encoder Reset's timeout.
@@ -352,6 +354,7 @@ impl Observer {
         Observer {
             profile,
             settings: UartSettings::DEFAULT,
+            address: profile.address,
             framer: Framer::new(),
             held: None,
             started_us: None,
@@ -440,6 +443,12 @@ impl Observer {
     /// reset, 67h): the timeout that frames the master's characters follows them.
     pub fn encoder_listens(&mut self, settings: UartSettings) {
         self.settings = settings;
+    }
+
+    /// The encoder answers at `address` from now on (it accepted a Set Encoder
+    /// Address, 55h): the reply window is kept for requests to it. // 000:T30
+    pub fn encoder_at(&mut self, address: SlaveAddress) {
+        self.address = address;
     }
 
     /// A frame of the master began at `at_us`, sent at `master_bps` as far as the
@@ -752,6 +761,6 @@ impl Observer {
     }
 
     fn address(&self) -> SlaveAddress {
-        self.profile.address
+        self.address
     }
 }

@@ -239,6 +239,33 @@ impl Slave {
         self.nv.fields.write(number, offset, data)
     }
 
+    /// Adopt what a real device's reply says of its world: a position, the preset a
+    /// Set Position with Synchronization used, data-field bytes. `false` for a reply
+    /// that tells nothing to adopt or a value the model cannot take.
+    pub fn adopt_reply(&mut self, response: &crate::response::Response) -> bool {
+        use crate::response::Response;
+        match *response {
+            Response::Position(p) => self.adopt_position(p as u64),
+            Response::PositionWithSyncSet(used) => self.adopt_preset(used as u64),
+            Response::Data { field, offset, data } => self.adopt_field_data(field, offset, data.as_bytes()),
+            _ => false,
+        }
+    }
+
+    /// Adopt access code `number` (Code0...Code3) as `code`: a real device accepted a
+    /// request that presented it, so it is the code the device stores. A listener
+    /// learns the codes this way; nothing is written. `false` for a number beyond
+    /// Code3. // 000:T26
+    pub fn adopt_access_code(&mut self, number: usize, code: u8) -> bool {
+        match self.nv.codes.get_mut(number) {
+            Some(stored) => {
+                *stored = code;
+                true
+            }
+            None => false,
+        }
+    }
+
     /// Take the internal I2C bus down or bring it back. // 000:T43
     pub fn inject_i2c_fault(&mut self, on: bool) {
         self.injected.set_i2c(on);
