@@ -193,12 +193,6 @@ pub struct CommandSpec {
 }
 
 impl CommandSpec {
-    /// True when the error code may be answered to this command: a listed one, a
-    /// protocol error common to all commands (000:2.4.2), or a wrong argument.
-    pub fn may_answer(&self, code: FaultCode) -> bool {
-        matches!(code, Parity | Checksum | UnknownCommand | WrongLength) || self.errors.contains(&code)
-    }
-
     /// Whether the command writes non-volatile memory (DESIGN: safety on real devices).
     pub const fn writes_eeprom(&self) -> bool {
         matches!(self.memory, Memory::WritesEeprom)

@@ -174,8 +174,27 @@ mod tests {
         let f = link.poll(u64::MAX).unwrap();
         assert!(f.overflowed());
         assert_eq!((f.char_count, f.bytes.len()), (MAX_FRAME + 10, MAX_FRAME));
+        // Exactly as many characters as the longest frame is no overflow.
+        let mut full = DataLink::new(100);
+        for i in 0..MAX_FRAME {
+            full.receive(RxChar::ok(i as u8, i as u64));
+        }
+        assert!(!full.poll(u64::MAX).unwrap().overflowed());
         // Time running backwards never panics and never splits.
         link.receive(RxChar::ok(1, u64::MAX));
         assert!(link.receive(RxChar::ok(2, 0)).is_none());
+    }
+
+    /// The timeout is the one last set; a frame in progress keeps assembling across a
+    /// change, and `clear` drops it (a reset, 000:T29).
+    #[test]
+    fn the_timeout_can_change_and_a_frame_can_be_dropped() {
+        let mut link = DataLink::new(5730);
+        assert_eq!(link.timeout_us(), 5730);
+        link.receive(RxChar::ok(0x40, 1000));
+        link.set_timeout(2292);
+        assert_eq!((link.timeout_us(), link.deadline()), (2292, Some(1000 + 2292)));
+        link.clear();
+        assert_eq!((link.deadline(), link.poll(u64::MAX)), (None, None));
     }
 }

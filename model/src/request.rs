@@ -431,4 +431,34 @@ mod tests {
             assert_eq!(request.code0(), last_data.filter(|_| guarded), "{request:?}");
         }
     }
+
+    /// Each condition of the check order on its own (DESIGN:order): a command byte
+    /// names a command of the table only with bit 6 set and the error bit clear, and
+    /// the length is judged only for such a command.
+    #[test]
+    fn request_checks_judge_each_condition() {
+        let sealed = |body: &[u8]| {
+            let mut f = body.to_vec();
+            f.push(checksum::xor(body));
+            f
+        };
+        let ok = RequestChecks::of(&sealed(&[0x40, 0x42]));
+        assert_eq!(
+            ok,
+            RequestChecks {
+                too_short: false,
+                bad_checksum: None,
+                command: Some(CommandId::ReadPosition),
+                wrong_length: false
+            }
+        );
+        assert_eq!(RequestChecks::of(&sealed(&[0x40, 0x45])).command, None, "45h is no command of the table");
+        assert_eq!(RequestChecks::of(&sealed(&[0x40, 0xC2])).command, None, "error bit set");
+        let long = RequestChecks::of(&sealed(&[0x40, 0x42, 0x00]));
+        assert!(long.wrong_length && long.command.is_some());
+        let unknown = RequestChecks::of(&sealed(&[0x40, 0x45, 0x00]));
+        assert!(!unknown.wrong_length, "no length to judge for an unknown command");
+        let short = RequestChecks::of(&[0x40, 0x42]);
+        assert!(short.too_short && short.bad_checksum == Some((0x40, 0x42)));
+    }
 }

@@ -4,7 +4,7 @@
 mod common;
 use common::*;
 use hiperface_model::slave::inputs::{InitFault, PositionFault};
-use hiperface_model::{profiles, FaultCode, Reply, Silence};
+use hiperface_model::{profiles, FaultCode, Reply, Silence, Slave};
 
 #[test]
 fn addressing_and_broadcast() {
@@ -295,4 +295,108 @@ fn a_device_s_reply_is_adopted_and_nothing_more() {
     assert!(!s.adopt_reply(&Response::Counter(7)));
     assert_eq!(s, before);
     assert_eq!(s.eeprom_writes(), 0);
+}
+
+/// Others-group monitoring before every reply (000:T58, 000:T59): a temperature
+/// outside the profile's limits or an LED current above its maximum goes onto the
+/// stack (the warning bit of the reply); the limits themselves are inside.
+#[test]
+fn monitoring_limits_are_inclusive() {
+    let p = profiles::srs50();
+    let warned = |f: &dyn Fn(&mut hiperface_model::slave::inputs::PhysicalInputs)| {
+        let mut s = with_inputs(operational(p), f);
+        let reply = ask_sealed(&mut s, &[0x40, 0x46]).unwrap();
+        reply[1] & 0x80 != 0
+    };
+    assert!(!warned(&|i| i.temperature_c = p.temperature_max_c));
+    assert!(warned(&|i| i.temperature_c = p.temperature_max_c + 1));
+    assert!(!warned(&|i| i.temperature_c = p.temperature_min_c));
+    assert!(warned(&|i| i.temperature_c = p.temperature_min_c - 1));
+    assert!(!warned(&|i| i.led_current_ma = p.led_current_max_ma));
+    assert!(warned(&|i| i.led_current_ma = p.led_current_max_ma + 1));
+}
+
+/// After an internal checksum error at start-up the commands that list 06h answer it
+/// (000:T44, and 57h which T44 names); 05h is acceptable for those that also list it
+/// (000:T43). Others are not locked, and without the lock nothing is tolerated.
+#[test]
+fn the_nonvolatile_lock_answers_06h_where_the_tables_list_it() {
+    let locked = || {
+        let mut s = Slave::new(profiles::srs50());
+        s.power_up_with([hiperface_model::slave::inputs::InitFault::MultiturnParameters], true);
+        s
+    };
+    for body in [&[0x40, 0x55, 0x41, 0x55][..], &[0x40, 0x57, 0xE4, 0x55]] {
+        let o = locked().handle_frame(&sealed(body), 0);
+        assert_eq!(reply_bytes(&o).map(|r| r[2]), Some(0x06), "{body:02X?}");
+        assert!(o.also.contains(FaultCode::I2cBus), "{body:02X?}: 05h acceptable");
+    }
+    // Read Counter lists 06h but not 05h.
+    let o = locked().handle_frame(&sealed(&[0x40, 0x46]), 0);
+    assert_eq!(reply_bytes(&o).map(|r| r[2]), Some(0x06));
+    assert!(!o.also.contains(FaultCode::I2cBus));
+    // Read Type Label lists neither: not locked.
+    let o = locked().handle_frame(&sealed(&[0x40, 0x52]), 0);
+    assert_eq!(reply_bytes(&o).map(|r| r[1] & 0x7F), Some(0x52));
+    let o = operational(profiles::srs50()).handle_frame(&sealed(&[0x40, 0x55, 0x41, 0x55]), 0);
+    assert_eq!(reply_bytes(&o), Some(sealed(&[0x41, 0x55])));
+    assert!(o.also.is_empty(), "{:?}", o.also);
+}
+
+/// An alternative code is never the preferred one itself, and a frame too short to
+/// hold a command is not also an unknown command. Exhaustive over the command byte
+/// with up to two data bytes from a small set.
+#[test]
+fn alternatives_exclude_the_preferred_code() {
+    let o = operational(profiles::reference()).handle_frame(&[0x40], 0);
+    assert_eq!(reply_bytes(&o), Some(error(0x40, 0x0C)));
+    assert!(o.also.is_empty(), "{:?}", o.also);
+    let data = [0x00, 0x55, 0xFF];
+    for command in 0u8..=255 {
+        let mut bodies = vec![vec![0x40, command]];
+        for a in data {
+            bodies.push(vec![0x40, command, a]);
+            for b in data {
+                bodies.push(vec![0x40, command, a, b]);
+            }
+        }
+        for body in bodies {
+            for frame in [sealed(&body), body.clone()] {
+                let o = operational(profiles::reference()).handle_frame(&frame, 0);
+                if let Reply::Frame(f) = o.reply {
+                    if let hiperface_model::Response::Error(code) = f.response {
+                        assert!(!o.also.contains(code), "{frame:02X?}: {code} preferred and also allowed");
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Sensor Adjustment (6Bh) with an option of the profile answers the option and its
+/// status from the data sheet (000:T35).
+#[test]
+fn sensor_adjustment_answers_the_profile_s_option() {
+    let mut s = operational(profiles::reference());
+    assert_eq!(ask_sealed(&mut s, &[0x40, 0x6B, 0x01, 0x55]), Some(sealed(&[0x40, 0x6B, 0x01, 0x00])));
+    assert_eq!(s.eeprom_writes(), 1);
+    assert_eq!(ask_sealed(&mut s, &[0x40, 0x6B, 0x02, 0x55]), Some(error(0x40, 0x0D)));
+}
+
+/// The counter at FFFFFFh: the current edition refuses to increment it (08h,
+/// 000:T46); a legacy device answers and shows the overflow by the warning bit
+/// (002:47h).
+#[test]
+fn an_increment_at_the_counter_s_end() {
+    let mut current = operational(profiles::srs50());
+    current.set_counter(0xFF_FFFF);
+    assert_eq!(ask_sealed(&mut current, &[0x40, 0x47]), Some(error(0x40, 0x08)));
+    let mut legacy = operational(profiles::legacy_srs());
+    legacy.set_counter(0xFF_FFFF);
+    let reply = ask_sealed(&mut legacy, &[0x40, 0x47]).unwrap();
+    assert_eq!(reply[..2], [0x40, 0xC7], "{reply:02X?}");
+    legacy.set_counter(0xFF_FFFE);
+    let mut fresh = operational(profiles::legacy_srs());
+    fresh.set_counter(0xFF_FFFE);
+    assert_eq!(ask_sealed(&mut fresh, &[0x40, 0x47]).map(|r| r[1]), Some(0x47), "not yet full");
 }

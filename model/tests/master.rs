@@ -345,3 +345,66 @@ fn runtime_synchronisation_follows_a_moving_shaft() {
     }
     assert_eq!(counter.invalid, 0);
 }
+
+/// The f64 reference of the interpolation is exact to 1e-9° over the whole circle
+/// (the arctangent's series, its reduction and the octant's base), against std's.
+#[test]
+fn the_reference_angle_is_exact_all_around() {
+    for tenth in 0..3600 {
+        let deg = f64::from(tenth) / 10.0 + 0.03;
+        let (s, c) = deg.to_radians().sin_cos();
+        let got = interpolation::reference_degrees(s * 1000.0, c * 1000.0).unwrap();
+        assert!((got - deg).abs() < 1e-9, "{deg}: {got}");
+    }
+    assert_eq!(interpolation::reference_degrees(0.0, 1.0), Some(0.0));
+    assert_eq!(interpolation::reference_degrees(1.0, 0.0), Some(90.0));
+    assert_eq!(interpolation::reference_degrees(0.0, 0.0), None);
+    assert_eq!(interpolation::reference_degrees(0.0, -5.0), Some(180.0));
+}
+
+/// A fine angle's quadrant is its two top bits; with fewer than two bits there is
+/// no quadrant to read (0). The full position carries a ±1 period where the fine
+/// angle's quadrant and the counter's disagree by one across a period boundary.
+#[test]
+fn quadrants_and_the_carried_period() {
+    assert_eq!(FineAngle { value: 0b11, bits: 2 }.quadrant(), 3);
+    assert_eq!(FineAngle { value: 0b10_0000, bits: 6 }.quadrant(), 2);
+    assert_eq!(FineAngle { value: 1, bits: 1 }.quadrant(), 0);
+    assert_eq!(FineAngle { value: 0, bits: 0 }.quadrant(), 0);
+    let fine = |q: u32| FineAngle { value: (q << 6) | 5, bits: 8 };
+    // Counter in period 10, quadrant 3; the fine angle already in quadrant 0: period 11.
+    assert_eq!(sync::full_position(10 * 4 + 3, fine(0)), Some((11 << 8) | (5)));
+    // Counter in period 10, quadrant 0; the fine angle still in quadrant 3: period 9.
+    assert_eq!(sync::full_position(10 * 4, fine(3)), Some((9 << 8) | (3 << 6) | 5));
+    assert_eq!(sync::full_position(10 * 4 + 2, fine(2)), Some((10 << 8) | (2 << 6) | 5));
+    assert_eq!(sync::full_position(10 * 4 + 2, fine(0)), None, "two quadrants apart");
+}
+
+/// Table 74 read as the master's reactions: which rows ask for a reset at once, the
+/// group a stacked code is judged in, and where the table has a row per encoder kind
+/// the rotary one is the default.
+#[test]
+fn fault_reactions_by_group_and_kind() {
+    let critical_retry = fault_reaction::reaction(FaultCode::AngularOffset, Some(FaultGroup::Position));
+    assert!(critical_retry.is_retry() && !critical_retry.is_reset(), "{critical_retry:?}");
+    assert!(fault_reaction::reaction(FaultCode::AngularOffset, Some(FaultGroup::Initialization)).is_reset());
+    assert!(!fault_reaction::reaction(FaultCode::Watchdog, None).is_reset(), "Minor: read and delete");
+    assert_eq!(fault_reaction::stacked_group(FaultCode::AlignmentData), Some(FaultGroup::Initialization));
+    assert_eq!(fault_reaction::stacked_group(FaultCode::Temperature), Some(FaultGroup::Others));
+    assert_eq!(hiperface_model::fault::runtime_group(FaultCode::AlignmentData), Some(FaultGroup::Others));
+    assert_eq!(hiperface_model::fault::runtime_group(FaultCode::AnalogLimits), Some(FaultGroup::Initialization));
+    // Group unknown: the most severe of the primary rows, the rotary one, never the
+    // linear one ("Check assembly of sensor.").
+    let r = fault_reaction::reaction(FaultCode::MultiturnAmplitude, None);
+    assert_eq!(r.response, Some("Retry command. If error persists, SW reset of Slave."), "{r:?}");
+    let p = fault_reaction::reaction(FaultCode::MultiturnAmplitude, Some(FaultGroup::Position));
+    assert_eq!(p.response, Some("Retry command. If error persists, SW reset of Slave."));
+    // The amplitude window is inclusive and only after settling (004).
+    let w = AmplitudeWindow::default();
+    assert_eq!((w.min_mv, w.max_mv, w.settle_ms), (800, 1200, 100));
+    assert_eq!(w.check(800, 100), None);
+    assert_eq!(w.check(1200, 100), None);
+    assert_eq!(w.check(799, 100), Some(MasterFault::Amplitude { vpp_mv: 799 }));
+    assert_eq!(w.check(1201, 100), Some(MasterFault::Amplitude { vpp_mv: 1201 }));
+    assert_eq!(w.check(1201, 99), None, "still settling");
+}

@@ -3,7 +3,7 @@
 //! the observation of that rule.
 
 use hiperface_model::datalink::RxChar;
-use hiperface_model::master::obligations::{Observation, Observer, Rule, RETRY_BOUND};
+use hiperface_model::master::obligations::{Observation, Observer, Rule, REACTION_REQUESTS, RETRY_BOUND};
 use hiperface_model::response::{Response, ResponseFrame};
 use hiperface_model::{checksum, profiles, FaultCode, Profile};
 
@@ -410,4 +410,234 @@ fn the_reply_window_follows_the_address_the_encoder_answers_at() {
     bus.seen.clear();
     bus.send(&[0x40, 0x42]).wait_ms(8).send(&[0x40, 0x42]);
     assert_eq!(bus.rules(), vec![]);
+}
+
+/// Where each timing rule's limit lies: at the limit is allowed, a microsecond past it
+/// is not, and the figure reported is the measured one.
+mod limits {
+    use super::*;
+
+    fn observed(run: impl Fn(&mut Bus)) -> Vec<Observation> {
+        let mut bus = Bus::new(profiles::srs50());
+        run(&mut bus);
+        bus.rules();
+        bus.seen
+    }
+
+    fn rules(run: impl Fn(&mut Bus)) -> Vec<Rule> {
+        observed(run).iter().map(|o| o.rule).collect()
+    }
+
+    /// "Initialization: 100 ms" (000:T9): a request may begin at 100 ms, not before.
+    #[test]
+    fn initialization() {
+        assert_eq!(
+            rules(|b| {
+                b.at(100 * MS).send(&[0x40, 0x50]);
+            }),
+            vec![]
+        );
+        assert_eq!(
+            rules(|b| {
+                b.at(100 * MS - 1).send(&[0x40, 0x50]);
+            }),
+            vec![Rule::DuringInitialization]
+        );
+    }
+
+    /// The settings change (000:T9): quiet from 900 ms to 1100 ms unless a request in
+    /// the default window (before 900 ms) kept the defaults.
+    #[test]
+    fn settings_change_window() {
+        assert_eq!(
+            rules(|b| {
+                b.at(1100 * MS).send(&[0x40, 0x50]);
+            }),
+            vec![]
+        );
+        assert_eq!(
+            rules(|b| {
+                b.at(1100 * MS - 1).send(&[0x40, 0x50]);
+            }),
+            vec![Rule::DuringSettingsChange]
+        );
+        // Kept by a request just inside the default window: later ones are fine.
+        assert_eq!(
+            rules(|b| {
+                b.at(900 * MS - 1).send(&[0x40, 0x50]);
+                b.at(1000 * MS).send(&[0x40, 0x50]);
+            }),
+            vec![]
+        );
+        // At 900 ms the window is over: that request and the next are in the change.
+        assert_eq!(
+            rules(|b| {
+                b.at(900 * MS).send(&[0x40, 0x50]);
+                b.at(1000 * MS).send(&[0x40, 0x50]);
+            }),
+            vec![Rule::DuringSettingsChange, Rule::DuringSettingsChange]
+        );
+    }
+
+    /// The reply window: the limit of 42h (10 ms, 000:T10/T12) after the request's
+    /// timeout. A request at its end is fine; one earlier breaks it by the difference.
+    #[test]
+    fn reply_window() {
+        let until = |b: &Bus| b.now + TIMEOUT + 10 * MS;
+        assert_eq!(
+            rules(|b| {
+                conformant_start(b);
+                b.send(&[0x40, 0x42]);
+                b.now = until(b);
+                b.send(&[0x40, 0x42]);
+            }),
+            vec![]
+        );
+        let seen = observed(|b| {
+            conformant_start(b);
+            b.send(&[0x40, 0x42]);
+            b.now = until(b) - 1;
+            b.send(&[0x40, 0x42]);
+        });
+        assert_eq!(
+            seen.iter().map(|o| (o.rule, o.measured_us)).collect::<Vec<_>>(),
+            vec![(Rule::ReplyWindow, Some(1))]
+        );
+    }
+
+    /// Talking over a reply: from its first start bit to its last stop bit. A reply
+    /// that began after its window closed may be talked over (the master gave up).
+    #[test]
+    fn talking_over_a_reply() {
+        let reply = |b: &mut Bus, delay: u64| {
+            let start = b.now + TIMEOUT + delay;
+            let end = start + 7 * CT;
+            b.at(start);
+            let rf = ResponseFrame { address: 0x40, warning: false, response: POSITION };
+            b.observer.encoder_reply(start, end, Some(&rf));
+            (start, end)
+        };
+        assert_eq!(
+            rules(|b| {
+                conformant_start(b);
+                b.send(&[0x40, 0x42]);
+                let (_, end) = reply(b, 300);
+                b.now = end;
+                b.send(&[0x40, 0x42]);
+            }),
+            vec![]
+        );
+        let seen = observed(|b| {
+            conformant_start(b);
+            b.send(&[0x40, 0x42]);
+            let (start, _) = reply(b, 300);
+            b.now = start + 2 * CT;
+            b.send(&[0x40, 0x42]);
+        });
+        let talks: Vec<_> = seen.iter().map(|o| (o.rule, o.measured_us)).collect();
+        assert_eq!(talks, vec![(Rule::TalksOverReply, Some(2 * CT))]);
+        // A reply starting exactly at the window's end is on time: talking over it counts.
+        assert_eq!(
+            rules(|b| {
+                conformant_start(b);
+                b.send(&[0x40, 0x42]);
+                let (start, _) = reply(b, 10 * MS);
+                b.now = start + CT;
+                b.send(&[0x40, 0x42]);
+            }),
+            vec![Rule::TalksOverReply]
+        );
+        // One microsecond later it is late, and the master may have moved on.
+        assert_eq!(
+            rules(|b| {
+                conformant_start(b);
+                b.send(&[0x40, 0x42]);
+                let (start, _) = reply(b, 10 * MS + 1);
+                b.now = start + CT;
+                b.send(&[0x40, 0x42]);
+            }),
+            vec![]
+        );
+    }
+
+    /// Cyclic requests: a gap of exactly the polling period between frames' starts is
+    /// cyclic; one microsecond more is not. // 000:3.2.2
+    #[test]
+    fn polling_period() {
+        let gap = |extra: u64| {
+            rules(move |b| {
+                b.observer.set_polling_period_ms(50);
+                conformant_start(b);
+                let start = b.now;
+                b.send(&[0x40, 0x42]);
+                b.now = start + 50 * MS + extra;
+                b.send(&[0x40, 0x42]);
+                b.now += 20 * MS;
+                b.send(&[0x40, 0x42]);
+            })
+        };
+        assert_eq!(gap(0), vec![]);
+        assert_eq!(gap(1), vec![Rule::NoCyclicRequest]);
+    }
+
+    /// A fragment that is no request is judged once the line has been quiet for four
+    /// timeouts (it may still be joined by the rest of a request with a gap).
+    #[test]
+    fn a_lone_fragment_is_judged_after_four_timeouts() {
+        let mut bus = Bus::new(profiles::srs50());
+        conformant_start(&mut bus);
+        bus.send_raw(&[0x40, 0x42], &[]);
+        let last = bus.now;
+        bus.at(last + 4 * TIMEOUT - 1);
+        assert!(bus.seen.is_empty(), "{:?}", bus.seen);
+        bus.at(last + 4 * TIMEOUT);
+        assert_eq!(bus.seen.iter().map(|o| o.rule).collect::<Vec<_>>(), vec![Rule::Malformed]);
+    }
+
+    /// Two requests with no pause: the pause measured is 0 and located where the
+    /// second began.
+    #[test]
+    fn a_missing_pause_is_measured() {
+        let seen = observed(|b| {
+            conformant_start(b);
+            b.send_raw(&[0x40, 0x42, 0x02, 0x40, 0x50, 0x10], &[]);
+        });
+        let pause: Vec<_> = seen.iter().map(|o| (o.rule, o.measured_us)).collect();
+        assert_eq!(pause, vec![(Rule::NoPause, Some(0))]);
+        let later = observed(|b| {
+            conformant_start(b);
+            b.send_raw(&[0x40, 0x42, 0x02, 0x40, 0x50, 0x10], &[(3, 1000)]);
+        });
+        assert_eq!(later.iter().map(|o| o.measured_us).collect::<Vec<_>>(), vec![Some(1000)]);
+    }
+
+    /// A critical fault read from the stack wants an Encoder Reset within three other
+    /// requests (REACTION_REQUESTS, 000:T74): the third without one is the breach.
+    #[test]
+    fn the_reset_after_a_critical_fault_is_due_within_three_requests() {
+        let run = |requests: usize| {
+            rules(move |b| {
+                b.at(120 * MS).ask(&[0x40, 0x50], Response::EncoderStatus(FaultCode::AnalogLimits));
+                for _ in 0..requests {
+                    b.ask(&[0x40, 0x42], POSITION);
+                }
+            })
+        };
+        assert_eq!(REACTION_REQUESTS, 3);
+        assert_eq!(run(2), vec![]);
+        assert_eq!(run(3), vec![Rule::NoResetAfterCriticalFault]);
+        assert_eq!(run(6), vec![Rule::NoResetAfterCriticalFault], "reported once");
+    }
+
+    /// A fault whose reaction is "Retry command" that is not a protocol error (a
+    /// position fault, 000:T74) asks for the same request again.
+    #[test]
+    fn a_retry_is_due_after_a_position_fault_too() {
+        let r = rules(|b| {
+            conformant_start(b);
+            b.send(&[0x40, 0x42]).reply(false, Response::Error(FaultCode::decode(0x1C)));
+            b.ask(&[0x40, 0x46], Response::Counter(0));
+        });
+        assert_eq!(r, vec![Rule::NoRetry]);
+    }
 }

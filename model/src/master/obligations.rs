@@ -516,9 +516,6 @@ impl Observer {
         }
         let reaction = fault_reaction::reaction(code, fault::runtime_group(code));
         self.pending = match code.byte() {
-            // "Retry command." (protocol errors), "Retry command. If error persists, SW
-            // reset of Slave." (many position and other faults). // 000:T74
-            0x09..=0x0D => asked.map_or(Pending::Nothing, Pending::Retry),
             0x22 => {
                 self.sync_fault = true;
                 Pending::Nothing
@@ -527,6 +524,8 @@ impl Observer {
                 self.unknown_code = true;
                 Pending::Nothing
             }
+            // "Retry command." (protocol errors 09h-0Dh), "Retry command. If error
+            // persists, SW reset of Slave." (many position and other faults). // 000:T74
             _ if reaction.is_retry() => asked.map_or(Pending::Nothing, Pending::Retry),
             _ => Pending::Nothing,
         };
