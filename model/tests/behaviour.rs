@@ -290,6 +290,12 @@ fn a_device_s_reply_is_adopted_and_nothing_more() {
     assert!(s.adopt_reply(&Response::PositionWithSyncSet(0x50)));
     assert_eq!(s.position(), 0x50);
     assert!(!s.adopt_reply(&Response::PositionWithSyncSet(range)));
+    // Read Data's bytes, in a field the device had.
+    assert!(s.adopt(&[0x80], 4, 0));
+    let data = hiperface_model::frame::FieldBytes::from_bytes(&[9, 8]).unwrap();
+    assert!(s.adopt_reply(&Response::Data { field: 0, offset: 2, data }));
+    assert_eq!(ask_sealed(&mut s, &[0x40, 0x4A, 0, 2, 2, 0x55]), Some(sealed(&[0x40, 0x4A, 0, 2, 2, 9, 8])));
+    assert!(!s.adopt_reply(&Response::Data { field: 1, offset: 0, data }), "no field 1");
     let before = s.clone();
     assert!(!s.adopt_reply(&Response::EncoderStatus(FaultCode::NoFault)));
     assert!(!s.adopt_reply(&Response::Counter(7)));

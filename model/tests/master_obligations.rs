@@ -641,3 +641,52 @@ mod limits {
         assert_eq!(r, vec![Rule::NoRetry]);
     }
 }
+
+/// Codes read from the stack are judged together: 06h read with 08h is the row
+/// "06h + 08h" (Minor, no action, 000:T74), so no reset is due; 06h alone would be
+/// Critical with a SW reset.
+#[test]
+fn a_stacked_pair_is_judged_by_its_own_row() {
+    let mut bus = Bus::new(profiles::srs50());
+    bus.at(120 * MS)
+        .ask(&[0x40, 0x50], Response::EncoderStatus(FaultCode::CounterOverflow))
+        .ask(&[0x40, 0x50], Response::EncoderStatus(FaultCode::InternalChecksum));
+    for _ in 0..6 {
+        bus.ask(&[0x40, 0x42], POSITION);
+    }
+    assert_eq!(bus.rules(), vec![]);
+    let mut alone = Bus::new(profiles::srs50());
+    alone.at(120 * MS).ask(&[0x40, 0x50], Response::EncoderStatus(FaultCode::InternalChecksum));
+    for _ in 0..6 {
+        alone.ask(&[0x40, 0x42], POSITION);
+    }
+    assert_eq!(alone.rules(), vec![Rule::NoResetAfterCriticalFault]);
+}
+
+/// An Encoder Reset is the reaction to everything pending: a warning not yet read
+/// is not "ignored" after it. // 000:3.3.1, 000:T29
+#[test]
+fn a_reset_clears_what_was_pending() {
+    let run = |reset: bool| {
+        let mut bus = Bus::new(profiles::srs50());
+        conformant_start(&mut bus);
+        bus.send(&[0x40, 0x42]).reply(true, POSITION);
+        if reset {
+            bus.send(&[0x40, 0x53]).wait_ms(200);
+        }
+        for _ in 0..6 {
+            bus.ask(&[0x40, 0x42], POSITION);
+        }
+        bus.rules()
+    };
+    assert_eq!(run(false), vec![Rule::WarningIgnored]);
+    assert_eq!(run(true), vec![]);
+}
+
+#[test]
+fn every_rule_says_what_it_asks_in_its_own_words() {
+    let texts: std::collections::BTreeSet<&str> = Rule::ALL.iter().map(|r| r.text()).collect();
+    assert_eq!(texts.len(), Rule::ALL.len(), "distinct");
+    assert!(texts.iter().all(|t| t.len() > 10 && t.chars().all(|c| c.is_ascii_graphic() || c == ' ' || !c.is_ascii())));
+    assert_eq!(Rule::Malformed.text(), "a frame that is no request");
+}
