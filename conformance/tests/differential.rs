@@ -1,6 +1,7 @@
 //! A differential check of the model against HX-1, the independent slave
 //! (`tests/independent/hx1_slave.py`, written from 000's tables alone): the same random
-//! request sequences (valid requests, data field work, counter, malformed frames) go to
+//! request sequences (valid requests, data field work, counter, malformed frames, an
+//! Encoder Reset followed by a request in one of the power-up phases) go to
 //! a fresh HX-1 on a pseudo-terminal and to the model, and the oracle grades HX-1's
 //! every reply against the model's. They must agree: PASS, or NON-STRICT where 000
 //! leaves latitude. A disagreement prints the sequence up to it. Real time, bounded
@@ -14,6 +15,7 @@ use hiperface_conformance::line::serial::SerialLine;
 use hiperface_model::oracle::Verdict;
 use hiperface_model::{Grading, Hex, Oracle, Reply, Slave, UartSettings};
 use proptest::prelude::*;
+use std::time::Duration;
 
 /// One request of a sequence, as bytes the master sends.
 #[derive(Debug, Clone)]
@@ -22,6 +24,32 @@ enum Step {
     BadChecksum(Vec<u8>),
     UnknownCommand(u8),
     Truncated(Vec<u8>),
+    /// Encoder Reset (53h), then the next request in the given phase of 000:T9.
+    Reset(Phase),
+}
+
+/// Where the request after an Encoder Reset falls in 000:T9 (HX-1's profile:
+/// initialization 100 ms, default settings until 900 ms, its own from 1100 ms). Each
+/// far from the phase's ends, so that neither side's clock can move it across one.
+#[derive(Debug, Clone, Copy)]
+enum Phase {
+    /// At once: a few milliseconds after the reset, well inside the initialization.
+    Initialization,
+    /// About 400 ms after the reset: the default settings' window.
+    DefaultWindow,
+    /// About 1500 ms after the reset: operational with its stored settings.
+    Operational,
+}
+
+impl Phase {
+    /// How long to wait after the reset's exchange before the next request.
+    fn pause(self) -> Duration {
+        Duration::from_millis(match self {
+            Phase::Initialization => 0,
+            Phase::DefaultWindow => 400,
+            Phase::Operational => 1500,
+        })
+    }
 }
 
 impl Step {
@@ -37,6 +65,7 @@ impl Step {
             }
             Step::UnknownCommand(c) => sealed(&[0x40, *c]),
             Step::Truncated(body) => sealed(body.get(..body.len().saturating_sub(1)).unwrap_or(body)),
+            Step::Reset(_) => sealed(&[0x40, 0x53]),
         }
     }
 }
@@ -73,6 +102,12 @@ fn step() -> impl Strategy<Value = Step> {
         1 => valid().prop_map(Step::BadChecksum),
         1 => prop_oneof![Just(0x45u8), Just(0x51), Just(0x7F)].prop_map(Step::UnknownCommand),
         1 => valid().prop_filter("has data", |b| b.len() > 2).prop_map(Step::Truncated),
+        1 => prop_oneof![
+            2 => Just(Phase::Initialization),
+            2 => Just(Phase::DefaultWindow),
+            1 => Just(Phase::Operational),
+        ]
+        .prop_map(Step::Reset),
     ]
 }
 
@@ -89,7 +124,10 @@ fn disagreement(steps: &[Step], args: &[&str]) -> Option<String> {
     for s in steps {
         let frame = s.frame();
         let before = model.clone();
-        let x = master.exchange(&frame, 100).expect("the line");
+        // After an Encoder Reset the next request is timed by the phase; the reset
+        // itself is answered by silence (000:T9), so listen for it only briefly.
+        let listen_ms = if matches!(s, Step::Reset(_)) { 0 } else { 100 };
+        let x = master.exchange(&frame, listen_ms).expect("the line");
         let expected = model.handle_frame(&frame, x.complete_us());
         let observed = x.reply_bytes();
         let grade = oracle.grade(&before, &frame, x.complete_us(), &expected, observed.as_deref());
@@ -102,6 +140,9 @@ fn disagreement(steps: &[Step], args: &[&str]) -> Option<String> {
         if grade.verdict() == Verdict::Fail {
             let why = grade.deviation().map_or(String::new(), |d| d.to_string());
             return Some(format!("{} ({})\n{}", why, grade.clause(), log.join("\n")));
+        }
+        if let Step::Reset(phase) = s {
+            std::thread::sleep(phase.pause());
         }
     }
     None
@@ -123,7 +164,7 @@ fn a_defective_hx1_is_a_disagreement() {
     if std::process::Command::new("python3").arg("--version").output().is_err() {
         return;
     }
-    let cases: [(&str, Vec<Step>); 3] = [
+    let cases: [(&str, Vec<Step>); 5] = [
         ("wrong-error-code", vec![Step::Valid(vec![0x40, 0x42]), Step::UnknownCommand(0x45)]),
         (
             "no-field-bounds",
@@ -132,6 +173,15 @@ fn a_defective_hx1_is_a_disagreement() {
         ),
         // The stack read empty, and the warning bit still set.
         ("warning-stuck", [0x42, 0x50, 0x50, 0x42].map(|c| Step::Valid(vec![0x40, c])).to_vec()),
+        // A request at once after an Encoder Reset, inside the initialization.
+        (
+            "no-init-silence",
+            vec![Step::Valid(vec![0x40, 0x42]), Step::Reset(Phase::Initialization), Step::Valid(vec![0x40, 0x42])],
+        ),
+        (
+            "reset-answers",
+            vec![Step::Valid(vec![0x40, 0x42]), Step::Reset(Phase::DefaultWindow), Step::Valid(vec![0x40, 0x42])],
+        ),
     ];
     for (defect, steps) in cases {
         let found = disagreement(&steps, &["--defect", defect]);

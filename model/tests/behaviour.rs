@@ -3,6 +3,7 @@
 
 mod common;
 use common::*;
+use hiperface_model::response::{Response, ResponseFrame};
 use hiperface_model::slave::inputs::{InitFault, PositionFault};
 use hiperface_model::{profiles, FaultCode, Reply, Silence, Slave};
 
@@ -320,6 +321,21 @@ fn monitoring_limits_are_inclusive() {
     assert!(warned(&|i| i.temperature_c = p.temperature_min_c - 1));
     assert!(!warned(&|i| i.led_current_ma = p.led_current_max_ma));
     assert!(warned(&|i| i.led_current_ma = p.led_current_max_ma + 1));
+    // A position command answers the LED current fault, and the speed fault above
+    // the data sheet's reading speed, from one past the limit (000:T57, 000:T60).
+    let position = |f: &dyn Fn(&mut hiperface_model::slave::inputs::PhysicalInputs)| {
+        let mut s = with_inputs(operational(p), f);
+        let reply = ask_sealed(&mut s, &[0x40, 0x42]).unwrap();
+        (reply[1] & 0x7F == 0x50).then(|| reply[2])
+    };
+    assert_eq!(position(&|i| i.led_current_ma = p.led_current_max_ma), None);
+    let led = FaultCode::LedCurrent.byte();
+    assert_eq!(position(&|i| i.led_current_ma = p.led_current_max_ma + 1), Some(led));
+    let max = i32::try_from(p.max_read_speed).unwrap();
+    assert_eq!(position(&|i| i.speed = max), None);
+    assert_eq!(position(&|i| i.speed = -max), None);
+    assert_eq!(position(&|i| i.speed = max + 1), Some(FaultCode::Speed.byte()));
+    assert_eq!(position(&|i| i.speed = -max - 1), Some(FaultCode::Speed.byte()));
 }
 
 /// After an internal checksum error at start-up the commands that list 06h answer it
@@ -369,14 +385,58 @@ fn alternatives_exclude_the_preferred_code() {
         for body in bodies {
             for frame in [sealed(&body), body.clone()] {
                 let o = operational(profiles::reference()).handle_frame(&frame, 0);
-                if let Reply::Frame(f) = o.reply {
-                    if let hiperface_model::Response::Error(code) = f.response {
+                match o.reply {
+                    Reply::Frame(ResponseFrame { response: Response::Error(code), .. }) => {
                         assert!(!o.also.contains(code), "{frame:02X?}: {code} preferred and also allowed");
                     }
+                    // Alternatives are other errors: a request that succeeds has none.
+                    _ => assert!(o.also.is_empty(), "{frame:02X?}: {:?}", o.also),
                 }
             }
         }
     }
+}
+
+/// A condition that holds twice names its code once: deleting a field that is not
+/// the last, with other attributes, is 12h for both reasons, and 1Ch is the other
+/// applicable code (000:T24, 000:T56).
+#[test]
+fn a_code_whose_conditions_hold_twice_is_no_alternative_to_itself() {
+    let mut s = operational(profiles::kuebler_s36());
+    ask_sealed(&mut s, &[0x40, 0x4D, 0, 0xC0, 0x55]).unwrap();
+    ask_sealed(&mut s, &[0x40, 0x4D, 1, 0xC0, 0x55]).unwrap();
+    let o = s.handle_frame(&sealed(&[0x40, 0x4D, 0, 0x41, 0x55]), 0);
+    assert_eq!(reply_bytes(&o), Some(error(0x40, 0x12)));
+    assert_eq!(o.also.iter().collect::<Vec<_>>(), vec![FaultCode::WrongArgument]);
+    assert!(!o.also.is_empty());
+}
+
+/// Field FFh is the Extended Type Label only on a device that has one; the numbered
+/// fields are ordinary on both (000:T20, 000:2.4.2).
+#[test]
+fn field_ff_is_the_label_only_where_there_is_one() {
+    let mut s = operational(profiles::skm36());
+    assert_eq!(ask_sealed(&mut s, &[0x40, 0x4D, 0, 0xC0, 0x55]), Some(sealed(&[0x40, 0x4D, 0, 0xC0])));
+    assert_eq!(ask_sealed(&mut s, &[0x40, 0x4B, 0, 0, 2, 0x55, 7, 8]), Some(sealed(&[0x40, 0x4B, 0, 0, 2])));
+    assert_eq!(ask_sealed(&mut s, &[0x40, 0x4A, 0, 0, 2, 0x55]), Some(sealed(&[0x40, 0x4A, 0, 0, 2, 7, 8])));
+    let mut t = operational(profiles::srs50());
+    assert_eq!(ask_sealed(&mut t, &[0x40, 0x4C, 0xFF]), Some(error(0x40, 0x12)));
+    assert_eq!(ask_sealed(&mut t, &[0x40, 0x4B, 0xFF, 0, 1, 0x55, 0]), Some(error(0x40, 0x12)));
+}
+
+/// Growing the last field needs the free blocks: one more than there are is 10h,
+/// as many as there are is fine (000:T24, 000:T54).
+#[test]
+fn the_last_field_grows_into_free_memory_only() {
+    let mut s = operational(profiles::kuebler_s36()); // 22 blocks
+    let create = |s: &mut hiperface_model::Slave, n: u8, status: u8| ask_sealed(s, &[0x40, 0x4D, n, status, 0x55]);
+    assert_eq!(create(&mut s, 0, 0xC7), Some(sealed(&[0x40, 0x4D, 0, 0xC7])));
+    assert_eq!(create(&mut s, 1, 0xC7), Some(sealed(&[0x40, 0x4D, 1, 0xC7])));
+    assert_eq!(create(&mut s, 2, 0xC0), Some(sealed(&[0x40, 0x4D, 2, 0xC0])));
+    assert_eq!(ask_sealed(&mut s, &[0x40, 0x4E]), Some(sealed(&[0x40, 0x4E, 5, 3])));
+    assert_eq!(create(&mut s, 2, 0xC6), Some(error(0x40, 0x10)), "7 blocks: 6 more, 5 free");
+    assert_eq!(create(&mut s, 2, 0xC5), Some(sealed(&[0x40, 0x4D, 2, 0xC5])), "6 blocks: 5 more");
+    assert_eq!(ask_sealed(&mut s, &[0x40, 0x4E]), Some(sealed(&[0x40, 0x4E, 0, 3])));
 }
 
 /// Sensor Adjustment (6Bh) with an option of the profile answers the option and its

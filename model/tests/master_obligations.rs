@@ -493,16 +493,18 @@ mod limits {
             }),
             vec![]
         );
-        let seen = observed(|b| {
-            conformant_start(b);
-            b.send(&[0x40, 0x42]);
-            b.now = until(b) - 1;
-            b.send(&[0x40, 0x42]);
-        });
-        assert_eq!(
-            seen.iter().map(|o| (o.rule, o.measured_us)).collect::<Vec<_>>(),
-            vec![(Rule::ReplyWindow, Some(1))]
-        );
+        for early in [1, 500] {
+            let seen = observed(|b| {
+                conformant_start(b);
+                b.send(&[0x40, 0x42]);
+                b.now = until(b) - early;
+                b.send(&[0x40, 0x42]);
+            });
+            assert_eq!(
+                seen.iter().map(|o| (o.rule, o.measured_us)).collect::<Vec<_>>(),
+                vec![(Rule::ReplyWindow, Some(early))]
+            );
+        }
     }
 
     /// Talking over a reply: from its first start bit to its last stop bit. A reply
@@ -609,6 +611,82 @@ mod limits {
             b.send_raw(&[0x40, 0x42, 0x02, 0x40, 0x50, 0x10], &[(3, 1000)]);
         });
         assert_eq!(later.iter().map(|o| o.measured_us).collect::<Vec<_>>(), vec![Some(1000)]);
+    }
+
+    /// The power-up timeline starts again when the Encoder Reset's frame is over (its
+    /// last character and the timeout): a request 950 ms later is in the settings
+    /// change, measured from there (000:T9, 000:T34).
+    #[test]
+    fn the_timeline_after_a_reset_starts_at_the_reset() {
+        let seen = observed(|b| {
+            conformant_start(b);
+            b.send(&[0x40, 0x53]);
+            let reset_end = b.now + TIMEOUT;
+            b.now = reset_end + 950 * MS;
+            b.send(&[0x40, 0x50]);
+        });
+        let start = |o: &Observation| (o.rule, o.measured_us);
+        assert_eq!(seen.iter().map(start).collect::<Vec<_>>(), vec![(Rule::DuringSettingsChange, Some(950 * MS))]);
+    }
+
+    /// The same failing request may be sent RETRY_BOUND times; once more is unbounded.
+    #[test]
+    fn retries_are_bounded_at_retry_bound() {
+        let run = |sendings: u8| {
+            rules(move |b| {
+                conformant_start(b);
+                for _ in 0..sendings {
+                    b.send(&[0x40, 0x42]).reply(false, Response::Error(FaultCode::Checksum));
+                }
+            })
+        };
+        assert_eq!(run(RETRY_BOUND), vec![]);
+        assert_eq!(run(RETRY_BOUND + 1), vec![Rule::UnboundedRetry]);
+    }
+
+    /// A request with the error bit is only that when it is a request otherwise; with
+    /// a wrong checksum it is malformed (000:2.3.2, 000:2.3.3).
+    #[test]
+    fn the_error_bit_counts_only_in_a_frame_with_a_right_checksum() {
+        let with = |checksum_ok: bool| {
+            rules(move |b| {
+                conformant_start(b);
+                let c = hiperface_model::checksum::xor(&[0x40, 0xC2]) ^ u8::from(!checksum_ok);
+                b.send_raw(&[0x40, 0xC2, c], &[]);
+            })
+        };
+        assert_eq!(with(true), vec![Rule::ErrorBit]);
+        assert_eq!(with(false), vec![Rule::Malformed]);
+    }
+
+    /// Requests back to back are found up to the longest frame: a Read Position and a
+    /// Store Data of 125 bytes fill 135 bytes; six bytes that are not two requests
+    /// are one malformed frame, not a missing pause.
+    #[test]
+    fn requests_back_to_back_fill_the_longest_frame() {
+        let mut store = vec![0x40, 0x4B, 0x00, 0x00, 125, 0x55];
+        store.extend([0xA5; 125]);
+        store.push(hiperface_model::checksum::xor(&store));
+        let mut both = vec![0x40, 0x42, 0x02];
+        both.extend(&store);
+        assert_eq!(both.len(), hiperface_model::frame::MAX_FRAME);
+        let r = rules(|b| {
+            conformant_start(b);
+            b.send_raw(&both, &[]);
+        });
+        assert_eq!(r, vec![Rule::NoPause]);
+        let r = rules(|b| {
+            conformant_start(b);
+            b.send_raw(&[0x40, 0x42, 0x03, 0x40, 0x42, 0x03], &[]);
+        });
+        assert_eq!(r, vec![Rule::Malformed]);
+        // A frame ending in a whole request is no stack when what comes before it is
+        // no request: the frame is malformed, not two requests without a pause.
+        let r = rules(|b| {
+            conformant_start(b);
+            b.send_raw(&[0x40, 0x42, 0x03, 0x11, 0x40, 0x42, 0x02], &[]);
+        });
+        assert_eq!(r, vec![Rule::Malformed]);
     }
 
     /// A critical fault read from the stack wants an Encoder Reset within three other

@@ -59,3 +59,92 @@ fn clauses_print_their_id_and_quote_their_words() {
     assert!(c == "000:T12" && !(c == "000:T10"));
     assert!(c.quote().starts_with("Read Position 42h"), "{}", c.quote());
 }
+
+/// Injected faults are named on command lines and in vectors by these words; each
+/// name reads back as its fault and no other.
+#[test]
+fn injected_faults_are_named_as_on_the_command_line() {
+    use hiperface_model::slave::inputs::{InitFault, PositionFault};
+    let init: Vec<&str> = InitFault::ALL.iter().map(|f| f.name()).collect();
+    assert_eq!(
+        init,
+        [
+            "alignment-data",
+            "angular-offset",
+            "partition-table",
+            "analog-limits",
+            "type-code",
+            "watchdog",
+            "counter",
+            "extended-type-label",
+            "multiturn-parameters"
+        ]
+    );
+    let position: Vec<&str> = PositionFault::ALL.iter().map(|f| f.name()).collect();
+    assert_eq!(
+        position,
+        [
+            "analog-signals",
+            "analog-monitoring",
+            "singleturn",
+            "multiturn-amplitude",
+            "multiturn-sync",
+            "multiturn-vector-length",
+            "multiturn-counter"
+        ]
+    );
+    for f in InitFault::ALL {
+        assert_eq!(InitFault::from_name(f.name()), Some(f));
+    }
+    for f in PositionFault::ALL {
+        assert_eq!(PositionFault::from_name(f.name()), Some(f));
+    }
+    assert_eq!(InitFault::from_name("Watchdog"), None);
+    assert_eq!(PositionFault::from_name(""), None);
+}
+
+/// The power-up states by the names of 000 Table 9, as the demo prints them.
+#[test]
+fn power_up_states_are_named_as_in_table_9() {
+    use hiperface_model::slave::powerup::CommState;
+    let names = [
+        CommState::Initialization,
+        CommState::DefaultCommunication,
+        CommState::OperationalDefault,
+        CommState::ChangeOfSettings,
+        CommState::OperationalUser,
+    ]
+    .map(CommState::name);
+    assert_eq!(
+        names,
+        [
+            "Initialization",
+            "Default Communication",
+            "Operational (default communication)",
+            "Change of communication settings",
+            "Operational (user-defined communication)"
+        ]
+    );
+}
+
+/// Debug output that a failing assertion prints: a received frame with its bytes and
+/// times, the data field table without 4 KB of memory.
+#[test]
+fn debug_forms_show_what_matters() {
+    use hiperface_model::datalink::ReceivedFrame;
+    use hiperface_model::slave::fields::{DataFields, FieldStatus};
+    let frame = ReceivedFrame {
+        bytes: Frame::from_bytes(&[0x40, 0x42, 0x02]).unwrap(),
+        char_count: 3,
+        uart_fault: None,
+        first_us: 10,
+        last_us: 30,
+        complete_us: 60,
+    };
+    assert_eq!(format!("{frame:?}"), "[40 42 02] at 10..30 µs");
+    let faulty = ReceivedFrame { uart_fault: Some(hiperface_model::datalink::UartFault::Parity), ..frame };
+    assert_eq!(format!("{faulty:?}"), "[40 42 02] at 10..30 µs Parity");
+    let mut fields = DataFields::new(8);
+    assert!(fields.create(FieldStatus(0xC1)));
+    assert_eq!(format!("{fields:?}"), "DataFields { statuses: [193], free_blocks: 6 }");
+}

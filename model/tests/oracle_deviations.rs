@@ -100,6 +100,21 @@ fn data_field_contents_are_graded_by_what_the_model_knows() {
         let g = grade(&created, &read, &got(&wrong, 1), Grading::Range);
         assert!(matches!(g.deviation(), Some(Deviation::WrongReply { .. })), "{wrong:?}: {g}");
     }
+    // Known and unknown bytes in one reply, away from offset 0: byte 3 of the
+    // adopted (read-only) field was read in the run, byte 2 is the device's own.
+    assert!(adopted.adopt_field_data(0, 3, &[0x77]));
+    let read = [0x40, 0x4A, 0x00, 0x02, 0x02, 0x55];
+    assert_eq!(grade(&adopted, &read, &got(&[0x12, 0x77], 2), Grading::Range).verdict(), Verdict::Pass);
+    let g = grade(&adopted, &read, &got(&[0x12, 0x78], 2), Grading::Range);
+    assert!(matches!(g.deviation(), Some(Deviation::WrongReply { .. })), "{g}");
+    // An erased byte that differs beside a written one that matches: NON-STRICT only.
+    let read = [0x40, 0x4A, 0x00, 0x00, 0x03, 0x55];
+    ask_sealed(&mut created, &[0x40, 0x4D, 0x00, 0xC1, 0x55]).unwrap();
+    ask_sealed(&mut created, &[0x40, 0x4B, 0x00, 0x10, 0x01, 0x55, 0x66]).unwrap();
+    let read_16 = [0x40, 0x4A, 0x00, 0x0F, 0x02, 0x55];
+    let g = grade(&created, &read_16, &got(&[0x00, 0x66], 15), Grading::Range);
+    assert_eq!(verdict_and_deviation(&g), (Verdict::NonStrict, Some(Deviation::UnwrittenContents)), "{g}");
+    assert_eq!(grade(&created, &read, &got(&[1, 2, 3], 0), Grading::Range).verdict(), Verdict::Pass);
 }
 
 /// Values of the physical world on a real device: only what no world allows fails.
@@ -187,6 +202,9 @@ fn a_version_is_graded_by_its_pins_and_its_form() {
         assert_eq!(grade_version(&p, ours).verdict(), Verdict::Pass, "{field}");
     }
     p.version_pins = Default::default();
+    // The built-in encoder is graded exactly: another serial number is a wrong reply.
+    let exact = grade(&operational(p), &[0x40, 0x56], &reply(Response::Version(other)), Grading::Exact);
+    assert!(matches!(exact.deviation(), Some(Deviation::WrongReply { .. })), "{exact}");
     // Form: NON-STRICT, naming the field and the problem.
     let form = |v: Version| match grade_version(&p, v).deviation() {
         Some(Deviation::VersionForm { field, problem }) => Some((field, problem)),

@@ -5,7 +5,7 @@
 mod common;
 use common::*;
 use hiperface_model::datalink::RxChar;
-use hiperface_model::slave::inputs::InitFault;
+use hiperface_model::slave::inputs::{InitFault, PositionFault};
 use hiperface_model::slave::Locks;
 use hiperface_model::{profiles, Slave};
 
@@ -39,19 +39,79 @@ fn adopted_positions_hold_with_any_offset() {
     // Set Position to 100: offset = 100 - 12345 (mod range).
     ask_sealed(&mut s, &[0x40, 0x43, 0, 0, 0, 100, 0x55]).unwrap();
     assert_eq!(s.position(), 100);
+    let offset = (100 + range - 12345) % range;
     for reported in [0, 1, 99, 101, range / 2, range - 1] {
         assert!(s.adopt_position(reported));
         assert_eq!(s.position(), reported);
-        assert_eq!(s.nonvolatile().offset, (100 + range - 12345) % range, "the offset stays");
+        assert_eq!(s.nonvolatile().offset, offset, "the offset stays");
+        // The shaft is where the position says, within the range.
+        assert_eq!(s.inputs().position, (reported + range - offset) % range);
     }
     assert!(!s.adopt_position(range));
     assert_eq!(s.position(), range - 1, "a refused value changes nothing");
+    let raw = s.inputs().position;
     for used in [0, 7, range - 1] {
         assert!(s.adopt_preset(used));
         assert_eq!(s.position(), used);
+        // The offset the device stored is one Set Position could have stored.
+        assert_eq!(s.nonvolatile().offset, (used + range - raw) % range);
     }
     assert!(!s.adopt_preset(range));
     assert_eq!(s.position(), range - 1);
+}
+
+/// The raw position input is taken modulo the range, whatever its value (the world
+/// may hand the model any count): the position, Read Position and an adopted preset
+/// stay within the range.
+#[test]
+fn any_raw_position_input_is_within_the_range() {
+    let p = profiles::srs50();
+    let range = p.range();
+    let mut s = operational(p);
+    ask_sealed(&mut s, &[0x40, 0x43, 0, 0, 0, 100, 0x55]).unwrap();
+    s.set_inputs(hiperface_model::slave::inputs::PhysicalInputs { position: u64::MAX, ..Default::default() });
+    assert_eq!(s.position(), (u64::MAX % range + 100) % range);
+    assert!(s.adopt_preset(5));
+    assert_eq!(s.position(), 5);
+    assert_eq!(s.nonvolatile().offset, (5 + range - u64::MAX % range) % range);
+}
+
+/// Clearing one injected start-up fault leaves the others: the next power-up finds
+/// exactly them.
+#[test]
+fn clearing_one_start_up_fault_keeps_the_others() {
+    let found = |inject: &[InitFault], clear: &[InitFault]| {
+        let mut s = operational(profiles::srs50());
+        for f in inject {
+            s.inject_init_fault(*f, true);
+        }
+        for f in clear {
+            s.inject_init_fault(*f, false);
+        }
+        s.power_cycle(0);
+        s.settle();
+        s.error_stack().entries().collect::<Vec<_>>()
+    };
+    let analog = found(&[InitFault::AnalogLimits], &[]);
+    assert!(!analog.is_empty());
+    assert_eq!(found(&[InitFault::Watchdog, InitFault::AnalogLimits], &[InitFault::Watchdog]), analog);
+    assert_eq!(found(&[InitFault::Watchdog, InitFault::AnalogLimits], &[InitFault::AnalogLimits]).len(), 1);
+}
+
+/// 20h locks the position of a linear encoder ("sensor not adjusted") until reset,
+/// not of a rotary one ("singleturn position unreliable") (000:T62).
+#[test]
+fn the_singleturn_fault_locks_a_linear_encoder_only() {
+    let after_20h = |p: hiperface_model::Profile| {
+        let mut s = operational(p);
+        s.inject_position_fault(PositionFault::Singleturn, true);
+        assert_eq!(ask_sealed(&mut s, &[0x40, 0x42]).map(|r| r[2]), Some(0x20));
+        s.inject_position_fault(PositionFault::Singleturn, false);
+        ask_sealed(&mut s, &[0x40, 0x42]).map(|r| r[1] & 0x7F)
+    };
+    assert_eq!(after_20h(profiles::ttk70()), Some(0x50), "locked: an error");
+    assert_eq!(after_20h(profiles::srs50()), Some(0x42), "a position again");
+    assert!(PositionFault::Singleturn.locks(true) && !PositionFault::Singleturn.locks(false));
 }
 
 /// Bytes a device returned are adopted into an existing field, within it.

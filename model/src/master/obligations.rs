@@ -239,7 +239,8 @@ impl Ends {
     }
 }
 
-/// Where the requests end, if `bytes` is two or more requests back to back.
+/// Where the requests end, if `bytes` is two or more requests back to back. The
+/// caller has found that `bytes` is not one request.
 fn requests_in(bytes: &[u8]) -> Option<Ends> {
     const NONE: usize = usize::MAX;
     let n = bytes.len();
@@ -251,9 +252,8 @@ fn requests_in(bytes: &[u8]) -> Option<Ends> {
             continue;
         }
         for j in (i + 3)..=n {
-            let whole = i == 0 && j == n;
             let open = from.get(j) == Some(&NONE);
-            if !whole && open && bytes.get(i..j).is_some_and(|r| RequestFrame::decode(r).is_ok()) {
+            if open && bytes.get(i..j).is_some_and(|r| RequestFrame::decode(r).is_ok()) {
                 *from.get_mut(j)? = i;
             }
         }

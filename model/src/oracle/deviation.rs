@@ -31,10 +31,6 @@ pub enum Deviation {
     ErrorInsteadOfReply {
         found: FaultCode,
     },
-    /// An error code the model also accepts where it would have answered.
-    TolerableError {
-        found: FaultCode,
-    },
     ReplyInsteadOfError {
         expected: FaultCode,
     },
@@ -96,9 +92,6 @@ impl fmt::Display for Deviation {
             }
             Deviation::ErrorInsteadOfReply { found } => {
                 write!(f, "answered error {found} to a valid request")
-            }
-            Deviation::TolerableError { found } => {
-                write!(f, "answered {found}, which the documents also allow here")
             }
             Deviation::ReplyInsteadOfError { expected } => {
                 write!(f, "executed a request that must draw {expected}")

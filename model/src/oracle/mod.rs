@@ -209,9 +209,6 @@ impl Oracle {
             (Response::Error(pref), Response::Error(got)) => {
                 wrong(Deviation::WrongError { expected: pref, found: got })
             }
-            (_, Response::Error(got)) if expected.also.contains(got) => {
-                Grade::non_strict(Deviation::TolerableError { found: got }, c)
-            }
             (_, Response::Error(got)) => wrong(Deviation::ErrorInsteadOfReply { found: got }),
             (Response::Error(pref), _) => wrong(Deviation::ReplyInsteadOfError { expected: pref }),
             (a, b) if a == b => Grade::pass(c),

@@ -114,12 +114,26 @@ impl DataFields {
         self.statuses.get(..self.count as usize).unwrap_or(&[])
     }
 
-    fn set_known(&mut self, range: core::ops::Range<usize>, known: bool) {
+    /// Bytes written or read back: the model knows them now.
+    fn learn(&mut self, range: core::ops::Range<usize>) {
         for i in range {
             if let Some(byte) = self.known.get_mut(i / 8) {
-                let bit = 1u8 << (i % 8);
-                *byte = if known { *byte | bit } else { *byte & !bit };
+                *byte |= 1u8 << (i % 8);
             }
+        }
+    }
+
+    /// Memory past the last field is free: it reads FFh and the model knows nothing of
+    /// it, so a new field and the grown blocks of the last one read FFh (DESIGN:fields)
+    /// with nothing more to do. Called after every change of where the fields end.
+    fn free_the_rest(&mut self) {
+        // The fields end on a block boundary: whole bytes of `known`.
+        let end = self.start(self.count);
+        if let Some(free) = self.memory.get_mut(end..) {
+            free.fill(ERASED);
+        }
+        if let Some(free) = self.known.get_mut(end / 8..) {
+            free.fill(0);
         }
     }
 
@@ -187,7 +201,7 @@ impl DataFields {
             Some(dst) => dst.copy_from_slice(data),
             None => return false,
         }
-        self.set_known(start..start + data.len(), true);
+        self.learn(start..start + data.len());
         true
     }
 
@@ -196,25 +210,19 @@ impl DataFields {
         self.used_blocks() + extra_blocks <= self.capacity_blocks as u32
     }
 
-    /// Append a field (the caller checked number == count and that it fits). New
-    /// contents read FFh.
+    /// Append a field (the caller checked number == count and that it fits). Its
+    /// contents read FFh: they were free memory.
     pub fn create(&mut self, status: FieldStatus) -> bool {
-        let size = status.size_bytes();
         if self.count as usize >= MAX_FIELDS || !self.fits(status.blocks() as u32) {
             return false;
         }
-        let start = self.start(self.count);
-        if let Some(mem) = self.memory.get_mut(start..start + size) {
-            mem.fill(ERASED);
-        }
-        self.set_known(start..start + size, false);
         self.statuses[self.count as usize] = status.0 | FieldStatus::EXISTS;
         self.count += 1;
         true
     }
 
     /// Change a field's status. A size change is only possible for the last field;
-    /// grown blocks read FFh.
+    /// grown blocks read FFh, blocks given up become free memory.
     pub fn modify(&mut self, number: u8, status: FieldStatus) -> bool {
         let Some(old) = self.status(number) else {
             return false;
@@ -227,14 +235,9 @@ impl DataFields {
             if !self.fits(grow) {
                 return false;
             }
-            let start = self.start(number);
-            let grown = start + old.size_bytes().min(status.size_bytes())..start + status.size_bytes();
-            if let Some(mem) = self.memory.get_mut(grown.clone()) {
-                mem.fill(ERASED);
-            }
-            self.set_known(grown, false);
         }
         self.statuses[number as usize] = status.0 | FieldStatus::EXISTS;
+        self.free_the_rest();
         true
     }
 
@@ -243,15 +246,10 @@ impl DataFields {
         let Some(last) = self.count.checked_sub(1) else {
             return false;
         };
-        let start = self.start(last);
-        let size = FieldStatus(self.statuses[last as usize]).size_bytes();
-        if let Some(mem) = self.memory.get_mut(start..start + size) {
-            mem.fill(ERASED);
-        }
-        self.set_known(start..start + size, false);
         self.statuses[last as usize] = 0;
         self.count = last;
         self.adopted = self.adopted.min(last);
+        self.free_the_rest();
         true
     }
 }

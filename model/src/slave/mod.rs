@@ -215,7 +215,8 @@ impl Slave {
         if reported >= range {
             return false;
         }
-        self.inputs.position = (reported + range - self.nv.offset % range) % range;
+        // The offset is below the range (Set Position and adopt_preset reduce it).
+        self.inputs.position = (reported + range - self.nv.offset) % range;
         true
     }
 

@@ -19,10 +19,6 @@ pub enum CommState {
 }
 
 impl CommState {
-    pub const fn listens(self) -> bool {
-        !matches!(self, CommState::Initialization | CommState::ChangeOfSettings)
-    }
-
     pub const fn name(self) -> &'static str {
         match self {
             CommState::Initialization => "Initialization",
