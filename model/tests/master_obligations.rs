@@ -428,53 +428,33 @@ mod limits {
         observed(run).iter().map(|o| o.rule).collect()
     }
 
+    /// The rules broken by Read Encoder Status requests at `times` after power-up.
+    fn status_requests_at(times: &[u64]) -> Vec<Rule> {
+        rules(|b| {
+            for &t in times {
+                b.at(t).send(&[0x40, 0x50]);
+            }
+        })
+    }
+
     /// "Initialization: 100 ms" (000:T9): a request may begin at 100 ms, not before.
     #[test]
     fn initialization() {
-        assert_eq!(
-            rules(|b| {
-                b.at(100 * MS).send(&[0x40, 0x50]);
-            }),
-            vec![]
-        );
-        assert_eq!(
-            rules(|b| {
-                b.at(100 * MS - 1).send(&[0x40, 0x50]);
-            }),
-            vec![Rule::DuringInitialization]
-        );
+        assert_eq!(status_requests_at(&[100 * MS]), vec![]);
+        assert_eq!(status_requests_at(&[100 * MS - 1]), vec![Rule::DuringInitialization]);
     }
 
     /// The settings change (000:T9): quiet from 900 ms to 1100 ms unless a request in
     /// the default window (before 900 ms) kept the defaults.
     #[test]
     fn settings_change_window() {
-        assert_eq!(
-            rules(|b| {
-                b.at(1100 * MS).send(&[0x40, 0x50]);
-            }),
-            vec![]
-        );
-        assert_eq!(
-            rules(|b| {
-                b.at(1100 * MS - 1).send(&[0x40, 0x50]);
-            }),
-            vec![Rule::DuringSettingsChange]
-        );
+        assert_eq!(status_requests_at(&[1100 * MS]), vec![]);
+        assert_eq!(status_requests_at(&[1100 * MS - 1]), vec![Rule::DuringSettingsChange]);
         // Kept by a request just inside the default window: later ones are fine.
-        assert_eq!(
-            rules(|b| {
-                b.at(900 * MS - 1).send(&[0x40, 0x50]);
-                b.at(1000 * MS).send(&[0x40, 0x50]);
-            }),
-            vec![]
-        );
+        assert_eq!(status_requests_at(&[900 * MS - 1, 1000 * MS]), vec![]);
         // At 900 ms the window is over: that request and the next are in the change.
         assert_eq!(
-            rules(|b| {
-                b.at(900 * MS).send(&[0x40, 0x50]);
-                b.at(1000 * MS).send(&[0x40, 0x50]);
-            }),
+            status_requests_at(&[900 * MS, 1000 * MS]),
             vec![Rule::DuringSettingsChange, Rule::DuringSettingsChange]
         );
     }
