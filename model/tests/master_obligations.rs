@@ -428,6 +428,11 @@ mod limits {
         observed(run).iter().map(|o| o.rule).collect()
     }
 
+    /// The rules broken, each with the figure measured.
+    fn figures(run: impl Fn(&mut Bus)) -> Vec<(Rule, Option<u64>)> {
+        observed(run).iter().map(|o| (o.rule, o.measured_us)).collect()
+    }
+
     /// The rules broken by Read Encoder Status requests at `times` after power-up.
     fn status_requests_at(times: &[u64]) -> Vec<Rule> {
         rules(|b| {
@@ -474,16 +479,13 @@ mod limits {
             vec![]
         );
         for early in [1, 500] {
-            let seen = observed(|b| {
+            let seen = figures(|b| {
                 conformant_start(b);
                 b.send(&[0x40, 0x42]);
                 b.now = until(b) - early;
                 b.send(&[0x40, 0x42]);
             });
-            assert_eq!(
-                seen.iter().map(|o| (o.rule, o.measured_us)).collect::<Vec<_>>(),
-                vec![(Rule::ReplyWindow, Some(early))]
-            );
+            assert_eq!(seen, vec![(Rule::ReplyWindow, Some(early))]);
         }
     }
 
@@ -509,14 +511,13 @@ mod limits {
             }),
             vec![]
         );
-        let seen = observed(|b| {
+        let talks = figures(|b| {
             conformant_start(b);
             b.send(&[0x40, 0x42]);
             let (start, _) = reply(b, 300);
             b.now = start + 2 * CT;
             b.send(&[0x40, 0x42]);
         });
-        let talks: Vec<_> = seen.iter().map(|o| (o.rule, o.measured_us)).collect();
         assert_eq!(talks, vec![(Rule::TalksOverReply, Some(2 * CT))]);
         // A reply starting exactly at the window's end is on time: talking over it counts.
         assert_eq!(
@@ -580,17 +581,16 @@ mod limits {
     /// second began.
     #[test]
     fn a_missing_pause_is_measured() {
-        let seen = observed(|b| {
+        let pause = figures(|b| {
             conformant_start(b);
             b.send_raw(&[0x40, 0x42, 0x02, 0x40, 0x50, 0x10], &[]);
         });
-        let pause: Vec<_> = seen.iter().map(|o| (o.rule, o.measured_us)).collect();
         assert_eq!(pause, vec![(Rule::NoPause, Some(0))]);
-        let later = observed(|b| {
+        let later = figures(|b| {
             conformant_start(b);
             b.send_raw(&[0x40, 0x42, 0x02, 0x40, 0x50, 0x10], &[(3, 1000)]);
         });
-        assert_eq!(later.iter().map(|o| o.measured_us).collect::<Vec<_>>(), vec![Some(1000)]);
+        assert_eq!(later, vec![(Rule::NoPause, Some(1000))]);
     }
 
     /// The power-up timeline starts again when the Encoder Reset's frame is over (its
@@ -598,15 +598,14 @@ mod limits {
     /// change, measured from there (000:T9, 000:T34).
     #[test]
     fn the_timeline_after_a_reset_starts_at_the_reset() {
-        let seen = observed(|b| {
+        let seen = figures(|b| {
             conformant_start(b);
             b.send(&[0x40, 0x53]);
             let reset_end = b.now + TIMEOUT;
             b.now = reset_end + 950 * MS;
             b.send(&[0x40, 0x50]);
         });
-        let start = |o: &Observation| (o.rule, o.measured_us);
-        assert_eq!(seen.iter().map(start).collect::<Vec<_>>(), vec![(Rule::DuringSettingsChange, Some(950 * MS))]);
+        assert_eq!(seen, vec![(Rule::DuringSettingsChange, Some(950 * MS))]);
     }
 
     /// The same failing request may be sent RETRY_BOUND times; once more is unbounded.

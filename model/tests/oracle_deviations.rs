@@ -107,13 +107,15 @@ fn data_field_contents_are_graded_by_what_the_model_knows() {
     assert_eq!(grade(&adopted, &read, &got(&[0x12, 0x77], 2), Grading::Range).verdict(), Verdict::Pass);
     let g = grade(&adopted, &read, &got(&[0x12, 0x78], 2), Grading::Range);
     assert!(matches!(g.deviation(), Some(Deviation::WrongReply { .. })), "{g}");
-    // An erased byte that differs beside a written one that matches: NON-STRICT only.
-    let read = [0x40, 0x4A, 0x00, 0x00, 0x03, 0x55];
+    // The field grown to two blocks, byte 16 written: an erased byte (15) that
+    // differs beside a written one that matches is NON-STRICT only.
     ask_sealed(&mut created, &[0x40, 0x4D, 0x00, 0xC1, 0x55]).unwrap();
     ask_sealed(&mut created, &[0x40, 0x4B, 0x00, 0x10, 0x01, 0x55, 0x66]).unwrap();
-    let read_16 = [0x40, 0x4A, 0x00, 0x0F, 0x02, 0x55];
-    let g = grade(&created, &read_16, &got(&[0x00, 0x66], 15), Grading::Range);
+    let read = [0x40, 0x4A, 0x00, 0x0F, 0x02, 0x55];
+    let g = grade(&created, &read, &got(&[0x00, 0x66], 15), Grading::Range);
     assert_eq!(verdict_and_deviation(&g), (Verdict::NonStrict, Some(Deviation::UnwrittenContents)), "{g}");
+    // The bytes written before it grew are still known.
+    let read = [0x40, 0x4A, 0x00, 0x00, 0x03, 0x55];
     assert_eq!(grade(&created, &read, &got(&[1, 2, 3], 0), Grading::Range).verdict(), Verdict::Pass);
 }
 
