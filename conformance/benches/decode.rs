@@ -36,7 +36,7 @@ fn decode(c: &mut Criterion) {
     // The session is clean: every exchange must pass, or the figure means nothing.
     let summary = listen_to(text.as_bytes(), Some(Format::Wirelog), read, options.clone()).unwrap();
     assert_eq!(summary.exchanges, EXCHANGES as u64);
-    assert_eq!(summary.count(hiperface_conformance::listen::Heard::Pass), EXCHANGES as u64);
+    assert_eq!(summary.count(hiperface_conformance::verdict::CaseVerdict::Pass), EXCHANGES as u64);
     let mut g = c.benchmark_group("decode");
     g.sample_size(10);
     g.throughput(Throughput::Elements(2 * EXCHANGES as u64));

@@ -15,3 +15,4 @@ pub mod profile_file;
 pub mod report;
 pub mod simulate;
 pub mod vectors;
+pub mod verdict;

@@ -276,7 +276,7 @@ fn main() -> ExitCode {
     };
     result.unwrap_or_else(|e| {
         eprintln!("error: {e}");
-        ExitCode::from(2)
+        ExitCode::from(hiperface_conformance::verdict::EXIT_USAGE)
     })
 }
 
@@ -298,6 +298,14 @@ fn certify_slave(what: CertifyWhat) -> Result<ExitCode, CliError> {
         return Err(CliError("not a slave certification".into()));
     };
     let profile = profile_file::resolve(&profile).map_err(CliError::from)?;
+    // Nothing selected is nothing graded: refused before the port is touched.
+    if let Some(globs) = &cases {
+        if certify::select(Some(globs)).is_empty() {
+            return Err(CliError(format!(
+                "no case matches `{globs}` (hiperface certify slave --port virtual lists them)"
+            )));
+        }
+    }
     let sim = port.is_model();
     let grading = grading.unwrap_or(if sim { Grading::Exact } else { Grading::Range });
     let world = if sim { world.world() } else { certify::World::default() };
@@ -366,7 +374,7 @@ fn certify_slave(what: CertifyWhat) -> Result<ExitCode, CliError> {
             .map_err(|e| CliError(format!("cannot write the report to {}: {e}", dir.display())))?;
         eprintln!("reports written to {}", dir.display());
     }
-    Ok(if report.passed() { ExitCode::SUCCESS } else { ExitCode::from(1) })
+    Ok(report.outcome().exit())
 }
 
 fn summarize(report: &certify::Report, profile: &Profile) {
@@ -397,7 +405,7 @@ fn summarize(report: &certify::Report, profile: &Profile) {
             println!("  {c}");
         }
     }
-    println!("{}", if report.passed() { "PASSED" } else { "NOT PASSED" });
+    println!("{}", report.outcome().label());
 }
 
 fn run_simulator(port: &str, profile: &str, log: bool, world: &certify::World) -> Result<ExitCode, CliError> {
@@ -460,6 +468,10 @@ fn vectors_command(what: VectorsCommand) -> Result<ExitCode, CliError> {
         }
         VectorsCommand::Verify { dir } => {
             let (count, failures) = vectors::verify_dir(&dir).map_err(CliError::from)?;
+            // Nothing verified is not a pass.
+            if count == 0 {
+                return Err(CliError(format!("{}: no vectors to verify (no *.json vector file)", dir.display())));
+            }
             if failures.is_empty() {
                 println!("{count} vectors verified: schema, checksums, agreement with the model");
                 return Ok(ExitCode::SUCCESS);

@@ -1,7 +1,8 @@
 //! Reports of a certification run: JSON and JUnit XML for CI, a Markdown and an HTML
 //! certificate for people. The wire log is included for every failing case.
 
-use crate::certify::{CaseVerdict, Report, TimingMode};
+use crate::certify::{Report, TimingMode};
+use crate::verdict::CaseVerdict;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -40,9 +41,10 @@ pub fn junit_suite(name: String, cases: &[crate::certify::CaseResult]) -> String
                 s.set_description(wire_text(c));
                 s
             }
-            CaseVerdict::Error => {
+            // Not observed: neither a pass nor the device's failure (INCOMPLETE).
+            CaseVerdict::Error | CaseVerdict::NotExercised | CaseVerdict::Unknown => {
                 let mut s = TestCaseStatus::non_success(NonSuccessKind::Error);
-                s.set_message(detail.trim().to_string());
+                s.set_message(format!("{}: {}", c.verdict.label(), detail.trim()));
                 s
             }
         };
@@ -65,7 +67,7 @@ pub(crate) fn wire_text(c: &crate::certify::CaseResult) -> String {
 
 pub fn markdown(r: &Report) -> String {
     let mut s = String::new();
-    let verdict = if r.passed() { "PASSED" } else { "NOT PASSED" };
+    let verdict = r.outcome().label();
     let _ = writeln!(s, "# HIPERFACE slave certificate: {verdict}\n");
     let _ = writeln!(s, "| | |\n|---|---|");
     for (k, v) in header(r) {
@@ -171,7 +173,7 @@ pub fn html(r: &Report) -> String {
          .NON-STRICT{{color:#a60}}.ERROR{{color:#b0b}}pre{{background:#f4f4f4;padding:.5em}}</style></head><body>",
         escape(&r.profile)
     );
-    let verdict = if r.passed() { "PASSED" } else { "NOT PASSED" };
+    let verdict = r.outcome().label();
     let _ = write!(s, "<h1>HIPERFACE slave certificate: {verdict}</h1><table>");
     let rows = header(r);
     for (k, v) in rows {

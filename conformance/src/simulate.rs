@@ -63,6 +63,29 @@ pub struct Planned {
     /// a run at once: a peer that reads a pseudo-terminal then sees the reply end
     /// when it really ends.
     pub paced: bool,
+    /// Set when sent: the longest pause inside the reply that was not planned (the
+    /// harness wrote a character late), µs; 0 when none reached [`DISTURBED_US`].
+    pub disturbed_us: u64,
+}
+
+/// An unplanned pause inside a paced reply this long or longer is a disturbance of
+/// the harness's own timing: half a character at 9600 Bd. A master that ends a reply
+/// on a short silence (a UART's receive-idle interrupt fires after one character time)
+/// may take it for the reply's end where the harness meant none.
+pub const DISTURBED_US: u64 = 570;
+
+/// Ask for a real-time scheduling priority for the calling thread (SCHED_FIFO), so
+/// that replies are paced on time on a busy machine. Where it is not permitted (no
+/// privilege, a container's limits) the thread stays as it was, and timing is still
+/// checked: correctness never depends on it. Returns whether it was granted.
+pub fn real_time_priority() -> bool {
+    use thread_priority::unix::{
+        set_thread_priority_and_policy, thread_native_id, RealtimeThreadSchedulePolicy, ThreadSchedulePolicy,
+    };
+    use thread_priority::ThreadPriority;
+    let policy = ThreadSchedulePolicy::Realtime(RealtimeThreadSchedulePolicy::Fifo);
+    let priority = ThreadPriority::Crossplatform(50u8.try_into().unwrap_or_default());
+    set_thread_priority_and_policy(thread_native_id(), priority, policy).is_ok()
 }
 
 /// The model as it is.
@@ -80,6 +103,8 @@ pub fn serve(
 ) -> std::io::Result<()> {
     let mut slave = Slave::operational(profile);
     world.apply(&mut slave);
+    // A device's UART keeps time whatever the host does: be as punctual as permitted.
+    real_time_priority();
     let mut logger = Logger { log };
     serve_with(port, &mut slave, Instant::now(), &stop, &mut logger)
 }
@@ -162,6 +187,7 @@ pub fn serve_with(
                 settings: tx.settings,
                 gap: None,
                 paced: false,
+                disturbed_us: 0,
             };
             let Some(mut p) = hooks.reply(slave, &step, planned) else { continue };
             let ct = p.settings.char_time_us();
@@ -189,10 +215,16 @@ pub fn serve_with(
                     if first {
                         p.start_us = written;
                         first = false;
-                    } else if written - start >= timeout && p.gap.is_none() {
-                        // Written so late that the reply has a pause of the timeout
-                        // inside: to the master it ended there (000:2.2.2).
-                        p.gap = Some((index, written - start));
+                    } else {
+                        let late = written - start;
+                        if late >= DISTURBED_US {
+                            p.disturbed_us = p.disturbed_us.max(late);
+                        }
+                        if late >= timeout && p.gap.is_none() {
+                            // Written so late that the reply has a pause of the timeout
+                            // inside: to the master it ended there (000:2.2.2).
+                            p.gap = Some((index, late));
+                        }
                     }
                     start = written + run.len() as u64 * ct;
                     index += run.len();

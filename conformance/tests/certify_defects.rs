@@ -105,7 +105,7 @@ fn verdict(r: &Report, id: &str) -> CaseVerdict {
 }
 
 fn assert_fails(r: &Report, ids: &[&str]) {
-    assert!(!r.passed());
+    assert!(!r.outcome().passed());
     for id in ids {
         assert_eq!(verdict(r, id), CaseVerdict::Fail, "{id}: {:#?}", r.cases.iter().find(|c| c.id == *id));
     }
@@ -114,7 +114,11 @@ fn assert_fails(r: &Report, ids: &[&str]) {
 #[test]
 fn the_unmodified_wrapper_passes() {
     let r = certify(Defective::new(keep));
-    assert!(r.passed(), "{:#?}", r.cases.iter().filter(|c| c.verdict == CaseVerdict::Fail).collect::<Vec<_>>());
+    assert!(
+        r.outcome().passed(),
+        "{:#?}",
+        r.cases.iter().filter(|c| c.verdict == CaseVerdict::Fail).collect::<Vec<_>>()
+    );
 }
 
 #[test]
@@ -255,7 +259,11 @@ fn stack_not_deduplicated() {
     let options =
         Options { allow_writes: true, allow_counter_change: true, world: world.clone(), ..Options::default() };
     let r = certify::run(Box::new(VirtualLine::new(conforming)), profiles::srs50(), &options, |_, _, _| {});
-    assert!(r.passed(), "{:#?}", r.cases.iter().filter(|c| c.verdict == CaseVerdict::Fail).collect::<Vec<_>>());
+    assert!(
+        r.outcome().passed(),
+        "{:#?}",
+        r.cases.iter().filter(|c| c.verdict == CaseVerdict::Fail).collect::<Vec<_>>()
+    );
 
     let mut d = Defective::new(keep);
     world.apply(&mut d.model);
@@ -283,7 +291,11 @@ fn a_real_device_with_data_fields_is_adopted_not_failed() {
     };
     let black_box = Options { allow_writes: true, grading: Grading::Range, ..Options::default() };
     let r = certify::run(Box::new(VirtualLine::new(used())), profiles::srs50(), &black_box, |_, _, _| {});
-    assert!(r.passed(), "{:#?}", r.cases.iter().filter(|c| c.verdict == CaseVerdict::Fail).collect::<Vec<_>>());
+    assert!(
+        r.outcome().passed(),
+        "{:#?}",
+        r.cases.iter().filter(|c| c.verdict == CaseVerdict::Fail).collect::<Vec<_>>()
+    );
     assert!(r.notes[0].contains("2 data fields, 107 free blocks, counter 1234"), "{}", r.notes[0]);
     // Without adopting (a model in factory state), the same device would be failed.
     let exact = Options { allow_writes: true, ..Options::default() };

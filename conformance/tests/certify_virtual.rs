@@ -23,7 +23,7 @@ fn the_reference_model_passes_every_case_in_virtual_time() {
                 c.wire
             );
         }
-        assert!(report.passed());
+        assert!(report.outcome().passed());
         assert!(report.cases.iter().filter(|c| c.verdict == CaseVerdict::Pass).count() >= 20, "{name}");
     }
 }

@@ -35,7 +35,7 @@ fn a_clean_wire_log_passes_and_a_defective_one_fails_exactly_where_it_is_wrong()
     assert!(text.contains("the limit is 5 ms (000:T10)"), "{text}");
     assert!(text.contains("checksum"), "{text}");
     let md = std::fs::read_to_string(dir.path().join("r/listening.md")).unwrap();
-    assert!(md.contains("Verdict: **FAIL**") && md.contains("| 42h Read Position |"), "{md}");
+    assert!(md.contains("Result: **FAILED**") && md.contains("| 42h Read Position |"), "{md}");
 }
 
 #[test]

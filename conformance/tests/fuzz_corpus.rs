@@ -35,32 +35,43 @@ fn seeds_from_the_vectors_replay() {
     assert!(n > 300, "{n}");
 }
 
+/// The files of `dir`, or none where it does not exist (fuzz/regressions/<target> exists
+/// only once a finding was recorded).
+fn files(dir: &Path) -> Vec<std::path::PathBuf> {
+    let Ok(entries) = std::fs::read_dir(dir) else { return Vec::new() };
+    entries.flatten().map(|e| e.path()).filter(|p| p.is_file()).collect()
+}
+
 #[test]
-fn local_corpus_and_regressions_replay() {
+fn the_kept_corpus_and_the_regressions_replay() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fuzz");
-    let mut n = 0;
-    for dir in ["corpus", "regressions"] {
-        for target in ["request", "response", "datalink", "slave", "observer"] {
-            let Ok(entries) = std::fs::read_dir(root.join(dir).join(target)) else { continue };
-            for e in entries.flatten() {
-                if let Ok(bytes) = std::fs::read(e.path()) {
-                    run_all(&bytes);
-                    n += 1;
-                }
-            }
+    let mut replayed = Vec::new();
+    for target in ["request", "response", "datalink", "slave", "observer"] {
+        let corpus = files(&root.join("corpus").join(target));
+        let regressions = files(&root.join("regressions").join(target));
+        for path in corpus.iter().chain(&regressions) {
+            run_all(&std::fs::read(path).unwrap());
         }
-        // The capture readers and the listener: every file through every format.
-        for target in ["capture_wirelog", "capture_csv", "capture_sigrok"] {
-            let Ok(entries) = std::fs::read_dir(root.join(dir).join(target)) else { continue };
-            for e in entries.flatten() {
-                if let Ok(bytes) = std::fs::read(e.path()) {
-                    for format in [Format::Wirelog, Format::Csv, Format::Sigrok] {
-                        listen::fuzz_capture(format, &bytes);
-                    }
-                    n += 1;
-                }
-            }
-        }
+        replayed.push((target, corpus.len(), regressions.len()));
     }
-    eprintln!("replayed {n} corpus and regression files");
+    // The capture readers and the listener: every file through every format.
+    for target in ["capture_wirelog", "capture_csv", "capture_sigrok"] {
+        let corpus = files(&root.join("corpus").join(target));
+        let regressions = files(&root.join("regressions").join(target));
+        for path in corpus.iter().chain(&regressions) {
+            let bytes = std::fs::read(path).unwrap();
+            for format in [Format::Wirelog, Format::Csv, Format::Sigrok] {
+                listen::fuzz_capture(format, &bytes);
+            }
+        }
+        replayed.push((target, corpus.len(), regressions.len()));
+    }
+    eprintln!("replayed (target, corpus files, regressions): {replayed:?}");
+    // The minimised corpus of every target is kept in the repository (fuzz/corpus/):
+    // a replay of none is no replay. Each holds dozens of files at least.
+    for (target, corpus, _) in &replayed {
+        assert!(*corpus >= 50, "fuzz/corpus/{target} holds {corpus} files: the kept corpus is missing");
+    }
+    let total: usize = replayed.iter().map(|(_, c, r)| c + r).sum();
+    assert!(total >= 7000, "{total} files replayed");
 }

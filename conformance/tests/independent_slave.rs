@@ -38,7 +38,7 @@ fn with_verdict(r: &Report, v: CaseVerdict) -> Vec<&'static str> {
 fn assert_no_fail(r: &Report) {
     let bad: Vec<_> = r.cases.iter().filter(|c| matches!(c.verdict, CaseVerdict::Fail | CaseVerdict::Error)).collect();
     assert!(bad.is_empty(), "{bad:#?}");
-    assert!(r.passed() && r.aborted.is_none());
+    assert!(r.outcome().passed() && r.aborted.is_none());
     assert!(r.safety.restored(), "{:#?}", r.safety);
     // The catalogue ran.
     assert!(with_verdict(r, CaseVerdict::NotApplicable).len() < 4, "{:?}", r.summary);

@@ -237,7 +237,7 @@ clauses! {
     [normative Both] MASTER_PAUSE = "000:2.2.2/master-pause": "Accordingly the end of a Master transmission must be followed by a pause of at least the length of the timeout condition.";
     [normative Both] MASTER_FRAME = "000:2.3/master": "Each frame contains an address byte, command, and optionally data bytes of varying length and a trailing checksum to detect transmission errors. This specification applies both for Master and Slave transmissions.";
     [normative Both] MASTER_NO_FAULTS = "000:2.3.4/master": "Faults are always only communicated from Slave to Master.";
-    [normative Both] MASTER_RESET_WAIT = "000:T30/master": "A HIPERFACE Master must wait for this time plus the initialization time of 100 ms before communication can resume.";
+    [normative Both] MASTER_RESET_WAIT = "000:T29/master": "A HIPERFACE Master must wait for this time plus the initialization time of 100 ms before communication can resume.";
     [normative Both] MASTER_START_UP = "000:3.3.1": "At power-up of the encoder the drive controller has to follow the state machine of the HIPERFACE Slave. Depending on required communication settings the drive controller must wait for the Default Communication Phase to pass.";
     [Recommended] MASTER_READ_STATUS = "000:3.3.1/status": "It is strongly recommended to read the Slave status after a power-on and react according to potential fault indications.";
     [Recommended] MASTER_WARNING = "000:2.3.4/warning": "The Slave will issue the warning bit with each following command response until the Master has read out the error code (with command 50h) or performed a Slave reset (command 53h).";

@@ -249,7 +249,7 @@ impl Ctx<'_> {
             found.extend(timing::grade(&x, limits, tol, self.options.timing, edition));
         }
         // The exchange's verdict is the worst of its findings, as the case's is.
-        let verdict = found.iter().fold(graded, |v, f| v.max_with(f.verdict()));
+        let verdict = found.iter().fold(graded, |v, f| v.worst(f.verdict()));
         for f in found {
             self.push(f);
         }

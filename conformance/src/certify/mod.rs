@@ -3,85 +3,31 @@
 //!
 //! - [`cases`]: the catalogue;
 //! - [`ctx`]: what a case sees (the master, the model in lockstep, findings, guards);
-//! - [`finding`]: verdicts and findings (a FAIL needs a binding normative clause);
+//! - [`case`]: a case of the catalogue (verdicts and findings are `crate::verdict`'s);
 //! - [`timing`]: reply timing against the windows the line can vouch for;
 //! - [`identity`]: what the device says of itself, for the certificate;
 //! - [`safety`]: whether the run left the device as it found it;
 //! - [`run`]: the runner and the report.
 
+mod case;
 pub mod cases;
 pub mod ctx;
-pub mod finding;
 pub mod identity;
 pub mod run;
 pub mod safety;
 pub mod timing;
 
+pub use crate::verdict::{CaseResult, CaseVerdict, Finding, Outcome, WireEntry};
+pub use case::{Case, CaseError};
 pub use ctx::{Ctx, Graded, Guard};
-pub use finding::{Case, CaseError, CaseResult, Finding, WireEntry};
 pub use identity::Identity;
-pub use run::{run, Report, TimingStats};
+pub use run::{run, select, Report, TimingStats};
 pub use safety::Safety;
 
-use hiperface_model::oracle::Verdict;
 use hiperface_model::{Grading, Slave};
 use serde::Serialize;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
-
-/// A case's verdict. PASS and NON-STRICT pass certification; FAIL does not; ERROR
-/// means the harness could not run the case; NOT-APPLICABLE, that the profile or
-/// the options exclude it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "SCREAMING-KEBAB-CASE")]
-pub enum CaseVerdict {
-    Pass,
-    NonStrict,
-    Fail,
-    NotApplicable,
-    Error,
-}
-
-impl CaseVerdict {
-    /// Severity for "worst of": FAIL > ERROR > NON-STRICT > PASS.
-    pub(crate) fn rank(self) -> u8 {
-        match self {
-            CaseVerdict::Pass | CaseVerdict::NotApplicable => 0,
-            CaseVerdict::NonStrict => 1,
-            CaseVerdict::Error => 2,
-            CaseVerdict::Fail => 3,
-        }
-    }
-
-    /// The worse of two verdicts.
-    pub(crate) fn max_with(self, other: CaseVerdict) -> CaseVerdict {
-        if other.rank() > self.rank() {
-            other
-        } else {
-            self
-        }
-    }
-
-    pub fn label(self) -> &'static str {
-        match self {
-            CaseVerdict::Pass => "PASS",
-            CaseVerdict::NonStrict => "NON-STRICT",
-            CaseVerdict::Fail => "FAIL",
-            CaseVerdict::NotApplicable => "NOT-APPLICABLE",
-            CaseVerdict::Error => "ERROR",
-        }
-    }
-}
-
-impl From<Verdict> for CaseVerdict {
-    fn from(v: Verdict) -> Self {
-        match v {
-            Verdict::Pass => CaseVerdict::Pass,
-            Verdict::NonStrict => CaseVerdict::NonStrict,
-            Verdict::Fail => CaseVerdict::Fail,
-        }
-    }
-}
 
 /// What a case may do to the device.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

@@ -3,7 +3,7 @@
 
 use super::ctx::Tally;
 use super::safety::Snapshot;
-use super::{cases, glob_match, Case, CaseError, CaseResult, CaseVerdict, Ctx, Finding, Identity, Needs, Options};
+use super::{cases, glob_match, Case, CaseError, CaseResult, Ctx, Finding, Identity, Needs, Options, Outcome};
 use super::{Safety, TimingMode};
 use crate::exchange::Master;
 use crate::line::{Line, LineError, LineKind};
@@ -81,10 +81,11 @@ impl Report {
         Report { aborted: Some(reason.to_string()), ..Report::empty(profile, line, options) }
     }
 
-    /// No case FAILed and the run was complete. (Safety is reported apart: it is the
+    /// What the run adds up to: PASSED only when every case that ran was observed and
+    /// none FAILed, and the run was complete. (Safety is reported apart: it is the
     /// operator's information, not a verdict on the device.)
-    pub fn passed(&self) -> bool {
-        self.cases.iter().all(|c| c.verdict != CaseVerdict::Fail) && self.aborted.is_none()
+    pub fn outcome(&self) -> Outcome {
+        Outcome::of(self.cases.iter().map(|c| c.verdict), self.aborted.is_none())
     }
 }
 
@@ -111,13 +112,11 @@ pub fn run(
         report.notes.extend(adopt(&mut model, &before));
     }
     let initial = model.nonvolatile().clone();
-    let catalogue = cases::catalogue();
-    let selected: Vec<&Case> =
-        catalogue.iter().filter(|c| options.cases.as_deref().is_none_or(|g| glob_match(g, c.id))).collect();
+    let selected = select(options.cases.as_deref());
     let mut restores_run = 0usize;
     let mut line_gone = false;
     for (i, case) in selected.iter().enumerate() {
-        let mut result = CaseResult::new(case);
+        let mut result = case.result();
         let case_start = Instant::now();
         let excluded = (case.applies)(&profile).map(str::to_string).or_else(|| match case.needs {
             Needs::Writes if !options.allow_writes => Some("writes EEPROM; run with --allow-writes".into()),
@@ -184,6 +183,12 @@ pub fn run(
         "Power cycling is out of reach on a serial line: the power-up cases start from an Encoder Reset (53h), which 000:T29 says leads to the same initialization as power-on.".into(),
     );
     report
+}
+
+/// The cases whose id matches `globs` (`*`, `?`, comma-separated; all without), in
+/// run order.
+pub fn select(globs: Option<&str>) -> Vec<Case> {
+    cases::catalogue().into_iter().filter(|c| globs.is_none_or(|g| glob_match(g, c.id))).collect()
 }
 
 /// Let the lockstep model adopt a real device's data field table and counter; a note

@@ -2,15 +2,17 @@
 //! (`simulate::serve_with`), with a scenario's fault injections, and the observer of
 //! the master's obligations watching every character the master sends.
 
-use super::scenarios::{Act, Injection};
-use crate::certify::WireEntry;
+use super::scenarios::{Act, Injection, Situation};
 use crate::simulate::{Hooks, Planned};
+use crate::verdict::WireEntry;
 use hiperface_model::datalink::RxChar;
 use hiperface_model::master::obligations::{Observation, Observer, Rule};
 use hiperface_model::response::ResponseFrame;
 use hiperface_model::{checksum, CommandId, Hex, Profile, RequestFrame, Slave, Step, UartSettings};
 use serialport::SerialPort;
 use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
 
 /// What happened on the line in one scenario, on one time axis (µs since power-on).
 #[derive(Debug, Default)]
@@ -21,6 +23,18 @@ pub struct Timeline {
     pub requests: BTreeMap<u8, u32>,
     /// Injections that took place (index into the plan).
     pub injected: Vec<usize>,
+    /// The master's well-formed requests as the encoder framed them: the end of the
+    /// last character (µs), and the request.
+    pub requests_log: Vec<(u64, RequestFrame)>,
+    /// When the scenario's situation arose (µs), if it did.
+    pub situation_us: Option<u64>,
+    /// When the scenario ended, µs.
+    pub end_us: u64,
+    /// Replies the harness wrote with a pause it did not plan: when they started (µs),
+    /// and the longest such pause (µs). The master may have heard a reply end there.
+    pub disturbed: Vec<(u64, u64)>,
+    /// The encoder's thread ran at a real-time priority.
+    pub real_time: bool,
     pub characters: usize,
     /// Characters read after the line had gone unwatched for a while (the harness was
     /// busy writing a reply, or not scheduled on a busy machine): their stamp (µs), and
@@ -98,6 +112,10 @@ pub struct DriveEncoder {
     listening: Option<UartSettings>,
     /// How long the line had gone unwatched before the read whose characters come.
     read_late_us: u64,
+    /// What the scenario is about, and where the serving loop learns when it arose
+    /// (µs, `u64::MAX` until then) to watch long enough after it.
+    situation: Situation,
+    arisen: Arc<AtomicU64>,
 }
 
 /// More characters than any master needs in a scenario: a flood is cut here.
@@ -129,6 +147,23 @@ impl DriveEncoder {
             peer_bps: None,
             listening: None,
             read_late_us: 0,
+            situation: Situation::Injected,
+            arisen: Arc::new(AtomicU64::new(u64::MAX)),
+        }
+    }
+
+    /// The scenario is about `situation`; returns where its time (µs) is published
+    /// once it arises (`u64::MAX` until then).
+    pub fn watch_for(&mut self, situation: Situation) -> Arc<AtomicU64> {
+        self.situation = situation;
+        self.arisen.clone()
+    }
+
+    /// `situation` arose at `at_us`: the first time counts.
+    fn arises(&mut self, situation: Situation, at_us: u64) {
+        if situation == self.situation && self.timeline.situation_us.is_none() {
+            self.timeline.situation_us = Some(at_us);
+            self.arisen.store(at_us, Ordering::Relaxed);
         }
     }
 
@@ -164,6 +199,7 @@ impl DriveEncoder {
 
     /// Flush the observer and the timeline at the end of the scenario.
     pub fn finish(&mut self, now_us: u64) {
+        self.timeline.end_us = now_us;
         let seen = &mut self.timeline.observations;
         self.observer.end(now_us, &mut |o| seen.push(o));
         self.flush_heard(u64::MAX);
@@ -231,8 +267,16 @@ impl Hooks for DriveEncoder {
 
     fn frame(&mut self, slave: &mut Slave, step: &Step) {
         let bytes = step.received.bytes.as_bytes();
-        self.answered = RequestFrame::decode(bytes).ok().map(|r| r.request.command());
-        let Some(command) = self.answered else { return };
+        let decoded = RequestFrame::decode(bytes).ok();
+        self.answered = decoded.map(|r| r.request.command());
+        let Some(request) = decoded else { return };
+        let command = request.request.command();
+        let at = step.received.last_us;
+        self.timeline.requests_log.push((at, request));
+        self.arises(Situation::Talked, at);
+        if at >= self.profile.user_settings_ms as u64 * 1000 {
+            self.arises(Situation::TalkedAfterWindows, at);
+        }
         let n = {
             let count = self.timeline.requests.entry(command.byte()).or_default();
             *count += 1;
@@ -243,6 +287,7 @@ impl Hooks for DriveEncoder {
             if let (Act::PositionFault(f), true) = (inj.act, inj.on == command && inj.nth == n) {
                 slave.inject_position_fault(f, true);
                 self.timeline.injected.push(i);
+                self.arises(Situation::Injected, step.received.last_us);
                 self.note(step.received.last_us, "!", format!("injected: {f:?} from now on"));
             }
         }
@@ -270,6 +315,7 @@ impl Hooks for DriveEncoder {
                 }
                 Act::Silence => {
                     self.timeline.injected.push(i);
+                    self.arises(Situation::Injected, planned.start_us);
                     self.note(planned.start_us, "!", "injected: no reply".into());
                     return None;
                 }
@@ -277,6 +323,7 @@ impl Hooks for DriveEncoder {
                     // The master cannot know: the observer is not told of this power-on.
                     slave.power_cycle(step.received.complete_us);
                     self.timeline.injected.push(i);
+                    self.arises(Situation::Injected, step.received.complete_us);
                     self.note(step.received.complete_us, "!", "injected: the encoder restarts".into());
                     return None;
                 }
@@ -296,6 +343,7 @@ impl Hooks for DriveEncoder {
                 }
             };
             self.timeline.injected.push(i);
+            self.arises(Situation::Injected, planned.start_us);
             self.note(planned.start_us, "!", what);
         }
         Some(planned)
@@ -304,16 +352,31 @@ impl Hooks for DriveEncoder {
     fn sent(&mut self, planned: &Planned, end_us: u64) {
         let start_us = planned.start_us;
         self.note(start_us, "S<", Hex(&planned.frame).to_string());
+        if planned.disturbed_us > 0 {
+            self.timeline.disturbed.push((start_us, planned.disturbed_us));
+            let ms = planned.disturbed_us as f64 / 1000.0;
+            self.note(start_us, "?", format!("the harness wrote this reply with an unplanned pause of {ms:.3} ms"));
+        }
         // A reply with a pause of the timeout inside is two transmissions to the master
         // (000:2.2.2): the first ends at the pause, and what follows is unsolicited; a
-        // master that talks after the pause is not at fault.
-        if let Some((before, _)) = planned.gap {
+        // master that talks after the pause is not at fault. A shorter pause does not end
+        // the reply: a master that talks then talks over it.
+        let timeout = planned.settings.timeout_us(self.profile.edition);
+        if let Some((before, _)) = planned.gap.filter(|(_, us)| *us >= timeout) {
             let first_end = start_us + before as u64 * planned.settings.char_time_us();
             self.observer.encoder_reply(start_us, first_end, None);
             return;
         }
         // The observer grades the master against the reply it got.
         let reply = ResponseFrame::decode(&planned.frame, self.answered.unwrap_or(CommandId::Unknown(0))).ok();
+        if let Some(r) = &reply {
+            if r.warning {
+                self.arises(Situation::WarningSent, start_us);
+            }
+            if let hiperface_model::response::Response::TypeLabel { type_code: 0xFF, .. } = r.response {
+                self.arises(Situation::TypeFfSent, start_us);
+            }
+        }
         self.observer.encoder_reply(start_us, end_us, reply.as_ref());
     }
 }

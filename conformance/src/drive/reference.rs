@@ -190,7 +190,7 @@ impl<L: Line> Run<'_, L> {
         }
     }
 
-    /// Encoder Reset, then the timeout plus the initialization time (000:T30), then the
+    /// Encoder Reset, then the timeout plus the initialization time (000:T29), then the
     /// start-up again; position reads stop after too many.
     fn reset(&mut self) -> Result<(), LineError> {
         if self.resets >= RESETS {

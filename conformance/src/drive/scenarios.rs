@@ -4,6 +4,8 @@
 
 use crate::certify::World;
 use hiperface_model::clause::{self, Clause};
+use hiperface_model::master::obligations::Rule;
+use hiperface_model::request::{Request, RequestFrame};
 use hiperface_model::settings::Baud;
 use hiperface_model::slave::inputs::{InitFault, PhysicalInputs, PositionFault};
 use hiperface_model::{CommandId, FaultCode, Profile};
@@ -35,13 +37,114 @@ pub struct Injection {
     pub act: Act,
 }
 
+/// What a scenario is about: the situation its plan or world creates. Until it has
+/// arisen nothing about it was seen, and the scenario is NOT-EXERCISED.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Situation {
+    /// The master talked to the encoder (its start-up).
+    Talked,
+    /// The master talked once the start-up windows had passed (the stored settings).
+    TalkedAfterWindows,
+    /// A reply carried the warning bit.
+    WarningSent,
+    /// The type label said FFh.
+    TypeFfSent,
+    /// The plan's injection took place.
+    Injected,
+}
+
+impl Situation {
+    /// What did not happen, for the certificate.
+    pub fn missing(self, s: &Scenario) -> String {
+        match self {
+            Situation::Talked => "the master never sent a request".into(),
+            Situation::TalkedAfterWindows => "the master sent no request after the start-up windows".into(),
+            Situation::WarningSent => "no reply with the warning bit went out: the master sent no request".into(),
+            Situation::TypeFfSent => "the master never read the type label (52h), so never saw type FFh".into(),
+            Situation::Injected => match s.plan.first() {
+                Some(i) => {
+                    format!("the master never sent request {} of {}, which the fault is injected on", i.nth, i.on)
+                }
+                None => "nothing was injected".into(),
+            },
+        }
+    }
+}
+
+/// The reaction a scenario expects once its situation has arisen, each from a
+/// recommendation of 000 (NON-STRICT when not seen, by the force of its clause).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Reaction {
+    /// The master goes on talking (polling resumes): 000:3.2.2.
+    GoesOn,
+    /// The same command again: "Retry command." (000:T74).
+    Retries,
+    /// The codes read out (50h) or the encoder reset (53h): 000:2.3.4.
+    ReadsCodes,
+    /// A SW reset of the encoder (53h): 000:T74, 000:3.3.4.
+    Resets,
+    /// The Extended Type Label read (4Ah on field FFh): 000:T19.
+    ReadsExtendedTypeLabel,
+}
+
+impl Reaction {
+    pub fn clause(self) -> Clause {
+        match self {
+            Reaction::GoesOn => clause::MASTER_CYCLIC.clause(),
+            Reaction::Retries | Reaction::Resets => clause::MASTER_FAULT_REACTION.clause(),
+            Reaction::ReadsCodes => clause::MASTER_WARNING.clause(),
+            Reaction::ReadsExtendedTypeLabel => clause::MASTER_EXTENDED_TYPE_LABEL.clause(),
+        }
+    }
+
+    /// The observer's rules that judge this reaction already once the master talks
+    /// on: where one of them was broken, "not seen" would say it twice.
+    pub fn judged_by(self) -> &'static [Rule] {
+        match self {
+            Reaction::GoesOn => &[Rule::NoCyclicRequest],
+            Reaction::Retries => &[Rule::NoRetry],
+            Reaction::ReadsCodes => &[Rule::WarningIgnored],
+            Reaction::Resets => &[Rule::NoResetAfterCriticalFault, Rule::UnboundedRetry],
+            Reaction::ReadsExtendedTypeLabel => &[Rule::ExtendedTypeLabelNotRead],
+        }
+    }
+
+    /// Whether `request` (after the situation) is the reaction; `on`: the command the
+    /// plan injects on.
+    pub fn seen_in(self, request: &RequestFrame, on: Option<CommandId>) -> bool {
+        let command = request.request.command();
+        match self {
+            Reaction::GoesOn => true,
+            Reaction::Retries => Some(command) == on,
+            Reaction::ReadsCodes => matches!(command, CommandId::ReadEncoderStatus | CommandId::EncoderReset),
+            Reaction::Resets => command == CommandId::EncoderReset,
+            Reaction::ReadsExtendedTypeLabel => matches!(request.request, Request::ReadData { field: 0xFF, .. }),
+        }
+    }
+
+    pub fn text(self) -> &'static str {
+        match self {
+            Reaction::GoesOn => "a request after it (polling goes on)",
+            Reaction::Retries => "the request retried",
+            Reaction::ReadsCodes => "the codes read out (50h) or a reset (53h)",
+            Reaction::Resets => "a SW reset (53h)",
+            Reaction::ReadsExtendedTypeLabel => "the Extended Type Label read (4Ah, field FFh)",
+        }
+    }
+}
+
+/// How long after its situation a scenario goes on at least, beyond the polling
+/// period: time for the reaction, and for the polling rule to see a silence.
+pub const REACTION_MARGIN_MS: u64 = 300;
+
 /// One scenario.
 #[derive(Debug, Clone, Copy)]
 pub struct Scenario {
     pub id: &'static str,
     pub title: &'static str,
     pub clauses: &'static [Clause],
-    /// How long the master is watched from power-on, ms.
+    /// How long the master is watched from power-on at least, ms; longer where the
+    /// situation arises late ([`Scenario::end_ms`]).
     pub duration_ms: u64,
     /// The encoder's world at power-on (inputs, start-up faults).
     pub world: fn(&Profile) -> World,
@@ -52,6 +155,8 @@ pub struct Scenario {
     /// The encoder of this scenario, made from the run's profile (e.g. one with type
     /// code FFh, or with stored settings other than the default).
     pub encoder: Option<fn(Profile) -> Profile>,
+    pub situation: Situation,
+    pub reaction: Reaction,
 }
 
 fn calm(_: &Profile) -> World {
@@ -85,7 +190,8 @@ fn broken_at_start(_: &Profile) -> World {
 const POSITION: CommandId = CommandId::ReadPosition;
 
 macro_rules! scenario {
-    ($id:literal, $title:literal, [$($clause:ident),*], $ms:expr, $world:expr, $plan:expr, $needs:expr) => {
+    ($id:literal, $title:literal, [$($clause:ident),*], $ms:expr, $world:expr, $plan:expr, $needs:expr,
+     $situation:ident => $reaction:ident) => {
         Scenario {
             id: $id,
             title: $title,
@@ -95,11 +201,21 @@ macro_rules! scenario {
             plan: $plan,
             needs: $needs,
             encoder: None,
+            situation: Situation::$situation,
+            reaction: Reaction::$reaction,
         }
     };
 }
 
 impl Scenario {
+    /// When the scenario ends, ms since power-on: its duration, or later when its
+    /// situation arose at `situation_ms`, so that the reaction and a polling period
+    /// after it are seen.
+    pub fn end_ms(&self, situation_ms: Option<u64>, polling_period_ms: u32) -> u64 {
+        let after = situation_ms.map_or(0, |t| t + polling_period_ms as u64 + REACTION_MARGIN_MS);
+        self.duration_ms.max(after)
+    }
+
     /// The scenario is about what happens from power-on: the start-up scenarios, and
     /// a critical fault found at start-up.
     pub fn from_power_on(&self) -> bool {
@@ -123,7 +239,8 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             calm,
             &[],
-            None
+            None,
+            Talked => GoesOn
         ),
         Scenario {
             encoder: Some(|_| hiperface_model::profiles::sks36()),
@@ -134,7 +251,8 @@ pub fn catalogue() -> Vec<Scenario> {
                 1500,
                 calm,
                 &[],
-                None
+                None,
+                TypeFfSent => ReadsExtendedTypeLabel
             )
         },
         Scenario {
@@ -146,7 +264,8 @@ pub fn catalogue() -> Vec<Scenario> {
                 2000,
                 calm,
                 &[],
-                None
+                None,
+                TalkedAfterWindows => GoesOn
             )
         },
         scenario!(
@@ -156,7 +275,8 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             hot,
             &[],
-            None
+            None,
+            WarningSent => ReadsCodes
         ),
         scenario!(
             "warning.four-codes",
@@ -165,7 +285,8 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             four_stacked,
             &[],
-            None
+            None,
+            WarningSent => ReadsCodes
         ),
         scenario!(
             "protocol.checksum-error",
@@ -174,7 +295,8 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             calm,
             &[Injection { on: POSITION, nth: 2, act: Act::Error(FaultCode::Checksum) }],
-            Some(POSITION)
+            Some(POSITION),
+            Injected => Retries
         ),
         scenario!(
             "protocol.wrong-length",
@@ -183,7 +305,8 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             calm,
             &[Injection { on: POSITION, nth: 2, act: Act::Error(FaultCode::WrongLength) }],
-            Some(POSITION)
+            Some(POSITION),
+            Injected => Retries
         ),
         scenario!(
             "protocol.parity",
@@ -192,7 +315,8 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             calm,
             &[Injection { on: POSITION, nth: 2, act: Act::Error(FaultCode::Parity) }],
-            Some(POSITION)
+            Some(POSITION),
+            Injected => Retries
         ),
         scenario!(
             "protocol.unknown-command",
@@ -201,7 +325,8 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             calm,
             &[Injection { on: POSITION, nth: 2, act: Act::Error(FaultCode::UnknownCommand) }],
-            Some(POSITION)
+            Some(POSITION),
+            Injected => Retries
         ),
         scenario!(
             "protocol.argument",
@@ -210,7 +335,8 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             calm,
             &[Injection { on: POSITION, nth: 2, act: Act::Error(FaultCode::WrongArgument) }],
-            Some(POSITION)
+            Some(POSITION),
+            Injected => Retries
         ),
         scenario!(
             "fault.multiturn-sync",
@@ -219,7 +345,8 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             calm,
             &[Injection { on: POSITION, nth: 2, act: Act::PositionFault(PositionFault::MultiturnSync) }],
-            Some(POSITION)
+            Some(POSITION),
+            Injected => GoesOn
         ),
         scenario!(
             "fault.unknown-code",
@@ -228,7 +355,8 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             calm,
             &[Injection { on: POSITION, nth: 2, act: Act::Error(FaultCode::Unknown(0x3A)) }],
-            Some(POSITION)
+            Some(POSITION),
+            Injected => GoesOn
         ),
         scenario!(
             "fault.singleturn-persistent",
@@ -237,7 +365,8 @@ pub fn catalogue() -> Vec<Scenario> {
             2500,
             calm,
             &[Injection { on: POSITION, nth: 2, act: Act::PositionFault(PositionFault::Singleturn) }],
-            Some(POSITION)
+            Some(POSITION),
+            Injected => Resets
         ),
         scenario!(
             "fault.critical-at-start",
@@ -246,7 +375,8 @@ pub fn catalogue() -> Vec<Scenario> {
             2000,
             broken_at_start,
             &[],
-            None
+            None,
+            WarningSent => Resets
         ),
         Scenario {
             encoder: Some(|_| hiperface_model::profiles::sks36()),
@@ -257,7 +387,8 @@ pub fn catalogue() -> Vec<Scenario> {
                 1500,
                 calm,
                 &[Injection { on: CommandId::ReadData, nth: 1, act: Act::Error(FaultCode::WrongFieldNumber) }],
-                Some(CommandId::ReadData)
+                Some(CommandId::ReadData),
+                Injected => GoesOn
             )
         },
         scenario!(
@@ -267,7 +398,8 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             calm,
             &[Injection { on: POSITION, nth: 2, act: Act::Silence }],
-            Some(POSITION)
+            Some(POSITION),
+            Injected => GoesOn
         ),
         scenario!(
             "reply.late",
@@ -276,7 +408,8 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             calm,
             &[Injection { on: POSITION, nth: 2, act: Act::LateMs(30) }],
-            Some(POSITION)
+            Some(POSITION),
+            Injected => GoesOn
         ),
         scenario!(
             "reply.corrupt",
@@ -285,7 +418,8 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             calm,
             &[Injection { on: POSITION, nth: 2, act: Act::CorruptChecksum }],
-            Some(POSITION)
+            Some(POSITION),
+            Injected => GoesOn
         ),
         scenario!(
             "reply.gap",
@@ -294,7 +428,18 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             calm,
             &[Injection { on: POSITION, nth: 2, act: Act::Gap { before: 3, us: 8_000 } }],
-            Some(POSITION)
+            Some(POSITION),
+            Injected => GoesOn
+        ),
+        scenario!(
+            "reply.gap-under-timeout",
+            "A pause of 4.5 ms (about four characters, under the 5.7 ms timeout) inside a reply: the master waits it out",
+            [MASTER_CYCLE, MASTER_PAUSE],
+            1500,
+            calm,
+            &[Injection { on: POSITION, nth: 2, act: Act::Gap { before: 2, us: 4_500 } }],
+            Some(POSITION),
+            Injected => GoesOn
         ),
         scenario!(
             "encoder.restart",
@@ -303,7 +448,8 @@ pub fn catalogue() -> Vec<Scenario> {
             2000,
             calm,
             &[Injection { on: POSITION, nth: 10, act: Act::Restart }],
-            Some(POSITION)
+            Some(POSITION),
+            Injected => GoesOn
         ),
         scenario!(
             "polling.long",
@@ -312,7 +458,8 @@ pub fn catalogue() -> Vec<Scenario> {
             5000,
             calm,
             &[],
-            None
+            None,
+            Talked => GoesOn
         ),
     ]
 }

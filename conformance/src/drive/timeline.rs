@@ -18,7 +18,7 @@ const CHAR_MS: f64 = 11.0 / 9.6;
 /// The whole certificate.
 pub fn html(r: &DriveReport, profile: &Profile) -> String {
     let mut s = String::new();
-    let verdict = if r.passed() { "PASSED" } else { "NOT PASSED" };
+    let verdict = r.outcome().label();
     let _ = write!(
         s,
         "<!doctype html><html><head><meta charset=\"utf-8\"><title>HIPERFACE master certificate</title>\

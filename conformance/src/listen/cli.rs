@@ -2,9 +2,10 @@
 //! exchange, a summary, and reports.
 
 use super::report::ListeningReport;
-use super::{Heard, HeardExchange, Listener, Options};
+use super::{HeardExchange, Listener, Options};
 use crate::capture::{self, Capture, Format, ReadOptions};
 use crate::profile_file;
+use crate::verdict::CaseVerdict;
 use hiperface_model::frame::Hex;
 use hiperface_model::settings::Baud;
 use hiperface_model::UartSettings;
@@ -161,13 +162,15 @@ pub fn conclude(
         channels: source.channels,
         assumptions: source.assumptions,
         verdict: listener.summary.worst(),
+        outcome: listener.summary.outcome().0,
+        incomplete: listener.summary.outcome().1,
         summary: listener.summary,
     };
     print_summary(&report);
     if let Some(dir) = report_dir {
         super::report::write_all(&report, dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     }
-    Ok(if report.verdict == Heard::Fail { ExitCode::from(1) } else { ExitCode::SUCCESS })
+    Ok(report.outcome.exit())
 }
 
 /// The line per exchange on standard output, coloured by verdict where standard
@@ -189,10 +192,10 @@ impl LiveView {
         let Some(out) = self.out.as_mut() else { return };
         use anstyle::AnsiColor;
         let colour = match h.verdict {
-            Heard::Pass => AnsiColor::Green,
-            Heard::Unknown => AnsiColor::Cyan,
-            Heard::NonStrict => AnsiColor::Yellow,
-            Heard::Fail => AnsiColor::Red,
+            CaseVerdict::Pass => AnsiColor::Green,
+            CaseVerdict::NonStrict => AnsiColor::Yellow,
+            CaseVerdict::Fail => AnsiColor::Red,
+            _ => AnsiColor::Cyan,
         };
         let style = anstyle::Style::new().fg_color(Some(colour.into()));
         let _ = writeln!(out, "{style}{}{style:#}", line(h));
@@ -226,9 +229,10 @@ fn print_summary(r: &ListeningReport) {
     let s = &r.summary;
     let counts: Vec<String> = s.verdicts.iter().map(|(k, v)| format!("{v} {k}")).collect();
     println!(
-        "{}: {} characters, {} exchanges ({}), {} frames not attributed, {} breaks",
+        "{}: {} characters ({} with a line error), {} exchanges ({}), {} frames not attributed, {} breaks",
         r.capture,
         s.characters,
+        s.flagged,
         s.exchanges,
         counts.join(", "),
         s.unattributed,
@@ -240,7 +244,11 @@ fn print_summary(r: &ListeningReport) {
     for a in &r.assumptions {
         println!("assumed: {a}");
     }
-    println!("verdict: {}", r.verdict.label());
+    println!("worst verdict heard: {}", r.verdict.label());
+    match &r.incomplete {
+        Some(why) => println!("{}: {why}", r.outcome.label()),
+        None => println!("{}", r.outcome.label()),
+    }
 }
 
 /// A tolerance given in ms, in µs.

@@ -39,7 +39,7 @@ pub mod monitor;
 pub mod report;
 mod summary;
 pub mod tap;
-pub use summary::{Heard, Summary};
+pub use summary::Summary;
 
 /// What the listener is told.
 #[derive(Debug, Clone)]
@@ -100,7 +100,7 @@ pub struct HeardExchange {
     pub reply: Option<Vec<u8>>,
     /// From the end of the request's timeout to the reply's first start bit, ms.
     pub response_ms: Option<f64>,
-    pub verdict: Heard,
+    pub verdict: CaseVerdict,
     pub findings: Vec<Finding>,
 }
 
@@ -162,6 +162,7 @@ impl Listener {
             }
         };
         self.summary.characters += 1;
+        self.summary.flagged += u64::from(fault.is_some());
         const MAX: usize = 4 * hiperface_model::frame::MAX_FRAME;
         let at = match self.frames.binary_search_by_key(&e.channel, |a| a.channel) {
             Ok(at) => at,
@@ -295,6 +296,7 @@ impl Listener {
 
     fn stray(&mut self, bytes: &[u8], start_us: u64, what: &str) {
         self.summary.unattributed += 1;
+        self.summary.unattributed_characters += bytes.len() as u64;
         self.summary.note(format!("{:.3} ms: {what} [{}]: not graded", start_us as f64 / 1000.0, Hex(bytes)));
     }
 
@@ -359,14 +361,14 @@ impl Listener {
             findings.push(if knowable {
                 f
             } else {
-                Finding::not_applicable(format!(
+                Finding::unknown(format!(
                     "not graded: {f}; the listener does not know the encoder's stored state or its address"
                 ))
             });
         }
         if let Some(r) = reply.as_ref().filter(|r| r.iter().any(|c| c.fault.is_some())) {
             let n = r.iter().filter(|c| c.fault.is_some()).count();
-            findings.push(Finding::not_applicable(format!(
+            findings.push(Finding::unknown(format!(
                 "{n} characters of the reply had a parity or framing error as captured: the line, the tap or the encoder"
             )));
         }
@@ -405,7 +407,7 @@ impl Listener {
             request,
             reply: observed,
             response_ms,
-            verdict: Heard::of(&findings),
+            verdict: findings.iter().fold(CaseVerdict::Pass, |v, f| v.worst(f.verdict())),
             findings,
         };
         self.summary.exchange(&heard);
@@ -511,18 +513,5 @@ fn knowable(d: &Deviation, request: &[u8]) -> bool {
         Deviation::Malformed(_) | Deviation::WarningWithoutCode => true,
         Deviation::WrongAddress { .. } => request.first() != Some(&0xFF),
         _ => false,
-    }
-}
-
-impl Heard {
-    fn of(findings: &[Finding]) -> Heard {
-        findings.iter().fold(Heard::Pass, |h, f| {
-            h.max(match f.verdict() {
-                CaseVerdict::Fail => Heard::Fail,
-                CaseVerdict::NonStrict => Heard::NonStrict,
-                CaseVerdict::NotApplicable | CaseVerdict::Error => Heard::Unknown,
-                CaseVerdict::Pass => Heard::Pass,
-            })
-        })
     }
 }

@@ -2,8 +2,9 @@
 //! junit.xml for CI (a test case per command heard and per master rule broken),
 //! listening.md and listening.html for people.
 
-use super::{Heard, Summary};
+use super::Summary;
 use crate::report::escape;
+use crate::verdict::{CaseVerdict, Outcome};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -18,7 +19,12 @@ pub struct ListeningReport {
     pub tolerance_us: u64,
     pub channels: Vec<String>,
     pub assumptions: Vec<String>,
-    pub verdict: Heard,
+    /// The worst verdict heard.
+    pub verdict: CaseVerdict,
+    /// What the run adds up to.
+    pub outcome: Outcome,
+    /// Why it is not PASSED, where that is not a FAIL.
+    pub incomplete: Option<String>,
     pub summary: Summary,
 }
 
@@ -27,13 +33,16 @@ pub fn markdown(r: &ListeningReport) -> String {
     let s = &r.summary;
     let mut m = String::new();
     let _ = writeln!(m, "# Listening report: {}\n", r.capture);
-    let _ = writeln!(m, "- Verdict: **{}**", r.verdict.label());
+    let _ = writeln!(m, "- Result: **{}**; worst verdict heard: {}", r.outcome.label(), r.verdict.label());
+    if let Some(why) = &r.incomplete {
+        let _ = writeln!(m, "- Not PASSED: {why}");
+    }
     let _ = writeln!(m, "- Format: {}; channels: {}", r.format, r.channels.join(", "));
     let _ = writeln!(m, "- Profile: {}; {} Bd; timing tolerance {} µs", r.profile, r.baud, r.tolerance_us);
     let _ = writeln!(
         m,
-        "- {} characters, {} exchanges, {} frames not attributed, {} breaks",
-        s.characters, s.exchanges, s.unattributed, s.breaks
+        "- {} characters ({} with a line error), {} exchanges, {} frames not attributed ({} characters), {} breaks",
+        s.characters, s.flagged, s.exchanges, s.unattributed, s.unattributed_characters, s.breaks
     );
     for (k, v) in &s.verdicts {
         let _ = writeln!(m, "  - {k}: {v}");
@@ -101,16 +110,16 @@ pub fn junit(r: &ListeningReport) -> String {
     let s = &r.summary;
     let mut slave = TestSuite::new(format!("slave heard on {}", r.capture));
     for (command, counts) in &s.per_command {
-        let n = |h: Heard| counts.get(h.label()).copied().unwrap_or(0);
-        let first = s.exchanges_kept.iter().find(|h| h.command == *command && h.verdict == Heard::Fail);
-        let status = if n(Heard::Fail) > 0 {
+        let n = |h: CaseVerdict| counts.get(h.label()).copied().unwrap_or(0);
+        let first = s.exchanges_kept.iter().find(|h| h.command == *command && h.verdict == CaseVerdict::Fail);
+        let status = if n(CaseVerdict::Fail) > 0 {
             let mut st = TestCaseStatus::non_success(NonSuccessKind::Failure);
-            st.set_message(format!("{} of {} exchanges FAIL", n(Heard::Fail), counts.values().sum::<u64>()));
+            st.set_message(format!("{} of {} exchanges FAIL", n(CaseVerdict::Fail), counts.values().sum::<u64>()));
             if let Some(h) = first {
                 st.set_description(super::cli::line(h));
             }
             st
-        } else if n(Heard::Pass) + n(Heard::NonStrict) == 0 {
+        } else if n(CaseVerdict::Pass) + n(CaseVerdict::NonStrict) == 0 {
             let mut st = TestCaseStatus::skipped();
             st.set_message("no exchange could be graded (UNKNOWN)");
             st
@@ -126,7 +135,7 @@ pub fn junit(r: &ListeningReport) -> String {
     let mut master = TestSuite::new(format!("master heard on {}", r.capture));
     for m in &s.master {
         let status = match m.first.verdict() {
-            crate::certify::CaseVerdict::Fail => {
+            CaseVerdict::Fail => {
                 let mut st = TestCaseStatus::non_success(NonSuccessKind::Failure);
                 st.set_message(format!("{} ({} times)", m.first, m.count));
                 st
@@ -155,8 +164,12 @@ pub fn html(r: &ListeningReport) -> String {
          .NON-STRICT{{color:#a60}}.UNKNOWN{{color:#066}}pre{{background:#f4f4f4;padding:.5em}}</style></head><body>",
         escape(&r.capture)
     );
-    let v = r.verdict.label();
-    let _ = write!(h, "<h1>HIPERFACE listening report: <span class=\"{v}\">{v}</span></h1><table>");
+    let (o, v) = (r.outcome.label(), r.verdict.label());
+    let _ = write!(h, "<h1>HIPERFACE listening report: {o}</h1>");
+    if let Some(why) = &r.incomplete {
+        let _ = write!(h, "<p>Not PASSED: {}</p>", escape(why));
+    }
+    let _ = write!(h, "<p>Worst verdict heard: <span class=\"{v}\">{v}</span></p><table>");
     let rows = [
         ("capture", r.capture.clone()),
         ("format", format!("{}; channels: {}", r.format, r.channels.join(", "))),

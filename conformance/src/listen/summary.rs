@@ -3,33 +3,11 @@
 //! whatever the capture's length (a cap on what is kept, counts for the rest).
 
 use super::HeardExchange;
-use crate::certify::{CaseVerdict, Finding};
+use crate::verdict::{CaseVerdict, Finding, Outcome};
 use hiperface_model::command::CommandId;
 use hiperface_model::master::obligations::Rule;
 use serde::Serialize;
 use std::collections::BTreeMap;
-
-/// An exchange's verdict as heard. UNKNOWN: the listener cannot tell (it does not see
-/// the encoder's stored state, or the capture is corrupted there), never a charge.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
-#[serde(rename_all = "SCREAMING-KEBAB-CASE")]
-pub enum Heard {
-    Pass,
-    Unknown,
-    NonStrict,
-    Fail,
-}
-
-impl Heard {
-    pub fn label(self) -> &'static str {
-        match self {
-            Heard::Pass => "PASS",
-            Heard::Unknown => "UNKNOWN",
-            Heard::NonStrict => "NON-STRICT",
-            Heard::Fail => "FAIL",
-        }
-    }
-}
 
 /// Exchanges kept for the report (the worst first ones); notes kept.
 const KEPT: usize = 1000;
@@ -57,6 +35,8 @@ pub struct MasterRule {
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct Summary {
     pub characters: u64,
+    /// Characters captured with a parity or framing error.
+    pub flagged: u64,
     pub breaks: u64,
     pub exchanges: u64,
     /// Exchanges per verdict.
@@ -66,6 +46,8 @@ pub struct Summary {
     pub per_command: BTreeMap<CommandId, BTreeMap<&'static str, u64>>,
     /// Frames neither a request nor a reply in its window (not graded).
     pub unattributed: u64,
+    /// The characters of those frames.
+    pub unattributed_characters: u64,
     pub master: Vec<MasterRule>,
     #[serde(serialize_with = "by_command_name")]
     pub response_times: BTreeMap<CommandId, Times>,
@@ -80,7 +62,7 @@ impl Summary {
         self.exchanges += 1;
         *self.verdicts.entry(h.verdict.label()).or_insert(0) += 1;
         *self.per_command.entry(h.command).or_default().entry(h.verdict.label()).or_insert(0) += 1;
-        if h.verdict != Heard::Pass && self.exchanges_kept.len() < KEPT {
+        if h.verdict != CaseVerdict::Pass && self.exchanges_kept.len() < KEPT {
             self.exchanges_kept.push(h.clone());
         }
     }
@@ -118,22 +100,52 @@ impl Summary {
     }
 
     /// The worst verdict of the slave's exchanges and the master's rules.
-    pub fn worst(&self) -> Heard {
-        let slave = [Heard::Fail, Heard::NonStrict, Heard::Unknown]
+    pub fn worst(&self) -> CaseVerdict {
+        let slave = CaseVerdict::ALL
             .into_iter()
-            .find(|h| self.verdicts.get(h.label()).is_some_and(|n| *n > 0))
-            .unwrap_or(Heard::Pass);
-        let master = self.master.iter().fold(Heard::Pass, |w, m| {
-            w.max(match m.first.verdict() {
-                CaseVerdict::Fail => Heard::Fail,
-                CaseVerdict::NonStrict => Heard::NonStrict,
-                _ => Heard::Pass,
-            })
-        });
-        slave.max(master)
+            .filter(|h| self.count(*h) > 0)
+            .fold(CaseVerdict::NotApplicable, CaseVerdict::worst);
+        self.master.iter().fold(slave, |w, m| w.worst(m.first.verdict()))
     }
 
-    pub fn count(&self, h: Heard) -> u64 {
+    /// What the listening run adds up to, and why where it is not PASSED: a FAIL
+    /// fails; a capture in which no exchange could be graded, or most of whose
+    /// characters could not be read (a line error, a break, a frame neither request
+    /// nor reply), is INCOMPLETE. UNKNOWN exchanges among graded ones are reported,
+    /// not held against the run: a listener never knows everything.
+    pub fn outcome(&self) -> (Outcome, Option<String>) {
+        if self.worst() == CaseVerdict::Fail {
+            return (Outcome::Failed, None);
+        }
+        let graded = self.count(CaseVerdict::Pass) + self.count(CaseVerdict::NonStrict);
+        let unread = self.flagged + self.unattributed_characters + self.breaks;
+        if graded == 0 {
+            let why = format!(
+                "nothing could be graded: {} characters, {} exchanges ({} UNKNOWN), {} frames not attributed, \
+                 {} characters with a line error, {} breaks",
+                self.characters,
+                self.exchanges,
+                self.count(CaseVerdict::Unknown),
+                self.unattributed,
+                self.flagged,
+                self.breaks
+            );
+            return (Outcome::Incomplete, Some(why));
+        }
+        if unread * 2 > self.characters + self.breaks {
+            let why = format!(
+                "most of the capture could not be read: {} of {} characters had a line error or were in frames \
+                 neither request nor reply, {} breaks",
+                self.flagged + self.unattributed_characters,
+                self.characters,
+                self.breaks
+            );
+            return (Outcome::Incomplete, Some(why));
+        }
+        (Outcome::Passed, None)
+    }
+
+    pub fn count(&self, h: CaseVerdict) -> u64 {
         self.verdicts.get(h.label()).copied().unwrap_or(0)
     }
 }

@@ -269,7 +269,8 @@ pub fn files(dir: &Path) -> Result<Vec<PathBuf>, LoadError> {
 }
 
 /// Verify every file of a directory: schema, checksums, agreement with the model.
-/// Returns the failing vectors (file, id, reason).
+/// Returns how many vectors were verified and the failing ones, one line each (file,
+/// id, every reason): a vector with two problems is one failing vector.
 pub fn verify_dir(dir: &Path) -> Result<(usize, Vec<String>), LoadError> {
     let mut count = 0;
     let mut failures = Vec::new();
@@ -279,14 +280,15 @@ pub fn verify_dir(dir: &Path) -> Result<(usize, Vec<String>), LoadError> {
         let mut seen = std::collections::BTreeSet::new();
         for v in &file.vectors {
             count += 1;
+            let mut problems = checksum_problems(v);
             if !seen.insert(v.id.clone()) {
-                failures.push(format!("{name}: {}: duplicate id", v.id));
-            }
-            for p in checksum_problems(v) {
-                failures.push(format!("{name}: {}: {p}", v.id));
+                problems.insert(0, "duplicate id".into());
             }
             if let Err(m) = replay(v) {
-                failures.push(format!("{name}: {m}"));
+                problems.push(m.error.to_string());
+            }
+            if !problems.is_empty() {
+                failures.push(format!("{name}: {}: {}", v.id, problems.join("; ")));
             }
         }
     }

@@ -53,12 +53,14 @@ DEFECTS = {
     "retries-forever": "retries a failing Read Position without bound and never resets",
     "no-reset-wait": "talks 20 ms after Encoder Reset",
     "no-retry": "answers a protocol error by moving on to another command",
-    "naive-poll": "opens the port and polls 42h at once, in a loop, nothing else",
+    "naive-poll": "waits out initialization, then polls 42h in a loop, nothing else (no status read)",
     "ignores-extended-type-label": "never reads the Extended Type Label of a type FFh encoder",
     "no-baud": "never sets its port's data rate (a pseudo-terminal stays at 38400 Bd)",
     "user-baud-early": "with --user-baud, talks at the user data rate from the start",
     "sparse-poll": "polls once every 1.5 s: faults go unseen for that long",
     "late-default": "waits out the default window, then talks at 9600 Bd whatever the encoder stores",
+    "receive-idle": "ends a reply after two character times of silence (a UART receive-idle interrupt) "
+                    "and sends its next request 6 ms later",
 }
 
 BAUD = {600: termios.B600, 1200: termios.B1200, 2400: termios.B2400, 4800: termios.B4800,
@@ -77,6 +79,9 @@ def xor(data):
 
 
 class Line:
+    # The silence that ends a reply: the timeout (2.2.2), or less for receive-idle.
+    reply_end_s = TIMEOUT_S + 0.002
+
     def __init__(self, path, baud):
         self.fd = os.open(path, os.O_RDWR | os.O_NOCTTY)
         tty.setraw(self.fd)
@@ -146,7 +151,7 @@ class Line:
                 last = now
             elif last is None and now > deadline:
                 break
-            elif last is not None and now - last > TIMEOUT_S + 0.002:
+            elif last is not None and now - last > self.reply_end_s:
                 break
             time.sleep(0.0005)
         self.idle_since = self.now()
@@ -169,9 +174,10 @@ class Master:
         # 2.2.2: a pause of at least the timeout after the last transmission. A reply
         # that came after it was given up is no answer to this request: discard it, and
         # pause after it too.
+        pause_s = 0.006 if self.defect == "receive-idle" else TIMEOUT_S + 0.001
         while True:
-            self.line.sleep_until(self.line.idle_since + TIMEOUT_S + 0.001)
-            if not self.line.discard_input():
+            self.line.sleep_until(self.line.idle_since + pause_s)
+            if self.defect == "receive-idle" or not self.line.discard_input():
                 break
             self.line.idle_since = self.line.now()
         if self.defect == "gap-in-request" and body[1] == 0x42:
@@ -296,8 +302,9 @@ class Master:
 
     def run(self):
         if self.defect == "naive-poll":
-            # Open the port and poll: no start-up, no status, no reaction to anything.
+            # Wait out initialization (2.4.1), then poll: no status, no reaction to anything.
             frame = bytes([ADDRESS, 0x42, xor([ADDRESS, 0x42])])
+            self.line.sleep_until(0.120)
             while True:
                 self.line.sleep_until(self.line.idle_since + TIMEOUT_S + 0.001)
                 self.line.write(frame)
@@ -332,7 +339,10 @@ def main():
             print(f"not a HIPERFACE data rate: {user_baud}", file=sys.stderr)
             return 2
     baud = None if defect == "no-baud" else 9600
-    Master(Line(port, baud), defect, poll_s, user_baud).run()
+    line = Line(port, baud)
+    if defect == "receive-idle":
+        line.reply_end_s = 2 * CHAR_S
+    Master(line, defect, poll_s, user_baud).run()
     return 0
 
 

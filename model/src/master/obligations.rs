@@ -48,7 +48,7 @@ pub enum Rule {
     /// A character during initialization after power-on. // 000:T9, 000:3.3.1
     DuringInitialization,
     /// A character before the timeout plus the initialization time after Encoder Reset.
-    /// // 000:T30
+    /// // 000:T29
     TooSoonAfterReset,
     /// A request while the encoder changes its settings (no UART communication).
     /// // 000:T9, 000:3.3.1

@@ -1,14 +1,14 @@
-//! Verdicts and findings. A finding is FAIL only when built from a normative clause
-//! that binds the device's edition ([`Finding::fail`]) or from an oracle grade (which
-//! holds the same guarantee); decisions of this project and third-party readings
-//! give NON-STRICT at most, and what the harness itself does not know is an ERROR
-//! or a note, never charged to the device.
+//! Findings and the result of one graded unit (a slave case, a master scenario). A
+//! finding is FAIL only when built from a normative clause that binds the device's
+//! edition ([`Finding::fail`]) or from an oracle grade (which holds the same
+//! guarantee); decisions of this project and third-party readings give NON-STRICT at
+//! most, and what the harness itself does not know is UNKNOWN, NOT-EXERCISED or
+//! ERROR, never charged to the device.
 
-use super::{CaseVerdict, Ctx, Needs};
-use crate::line::LineError;
+use super::CaseVerdict;
 use hiperface_model::clause::{Clause, Normative};
 use hiperface_model::oracle::Grade;
-use hiperface_model::{Edition, Profile};
+use hiperface_model::Edition;
 use serde::{Serialize, Serializer};
 
 fn clause_id<S: Serializer>(c: &Option<Clause>, s: S) -> Result<S::Ok, S::Error> {
@@ -54,6 +54,16 @@ impl Finding {
 
     pub fn non_strict(message: impl Into<String>, clause: impl Into<Clause>) -> Finding {
         Finding { verdict: CaseVerdict::NonStrict, message: message.into(), clause: Some(clause.into()) }
+    }
+
+    /// The situation the unit is about never arose: nothing about it was seen.
+    pub fn not_exercised(message: impl Into<String>) -> Finding {
+        Finding { verdict: CaseVerdict::NotExercised, message: message.into(), clause: None }
+    }
+
+    /// Heard, but the harness cannot tell whether it was right.
+    pub fn unknown(message: impl Into<String>) -> Finding {
+        Finding { verdict: CaseVerdict::Unknown, message: message.into(), clause: None }
     }
 
     /// The harness could not run (part of) the case.
@@ -139,13 +149,12 @@ pub struct CaseResult {
     pub exchanges: usize,
     pub wire: Vec<WireEntry>,
     pub duration_ms: f64,
+    /// How often the unit was run: more than once where the harness's own timing was
+    /// disturbed (a busy machine) and a run was repeated; this result is the last run's.
+    pub attempts: u32,
 }
 
 impl CaseResult {
-    pub fn new(case: &Case) -> CaseResult {
-        CaseResult::named(case.id, case.title, case.clauses)
-    }
-
     /// A result for any graded unit (a slave case, a master scenario).
     pub fn named(id: &'static str, title: &'static str, clauses: &[Clause]) -> CaseResult {
         CaseResult {
@@ -157,14 +166,19 @@ impl CaseResult {
             exchanges: 0,
             wire: Vec::new(),
             duration_ms: 0.0,
+            attempts: 1,
         }
     }
 
-    /// Record a finding; the case verdict is the worst of its findings.
+    /// Record a finding; the verdict is the worst of the findings: it only gets
+    /// worse (a FAIL or an ERROR is never replaced). NOT-APPLICABLE is the verdict of
+    /// a unit that never ran, so it is only taken as the first finding; after others
+    /// it is a note that changes nothing.
     pub fn push(&mut self, f: Finding) {
-        if f.verdict.rank() > self.verdict.rank() || f.verdict == CaseVerdict::NotApplicable {
-            self.verdict = f.verdict;
-        }
+        self.verdict = match f.verdict {
+            CaseVerdict::NotApplicable if self.findings.is_empty() => CaseVerdict::NotApplicable,
+            v => self.verdict.worst(v),
+        };
         self.findings.push(f);
     }
 
@@ -174,37 +188,39 @@ impl CaseResult {
     }
 }
 
-/// A case of the catalogue.
-pub struct Case {
-    pub id: &'static str,
-    pub title: &'static str,
-    pub clauses: &'static [Clause],
-    pub needs: Needs,
-    /// `Some(reason)` when the profile excludes the case.
-    pub applies: fn(&Profile) -> Option<&'static str>,
-    pub run: fn(&mut Ctx<'_>) -> Result<(), CaseError>,
-}
-
-/// Why a case stopped early.
-#[derive(Debug, thiserror::Error)]
-pub enum CaseError {
-    #[error("{0}")]
-    Line(#[from] LineError),
-    /// The case cannot go on (e.g. a precondition failed); already recorded.
-    #[error("{0}")]
-    Abort(String),
-    #[error("EEPROM write budget of {0} exhausted")]
-    Budget(u32),
-    #[error("the device has not answered any request: check the port, power, address and data rate")]
-    Silent,
-    #[error("interrupted")]
-    Interrupted,
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use hiperface_model::clause;
+
+    fn result() -> CaseResult {
+        CaseResult::named("x", "x", &[])
+    }
+
+    #[test]
+    fn a_result_only_gets_worse() {
+        // A master that exits mid-scenario, and then is found to have never sent the
+        // request the fault waits for: the ERROR stands.
+        let mut r = result();
+        r.push(Finding::error("the master exited"));
+        r.push(Finding::not_exercised("never sent a second Read Position"));
+        r.push(Finding::not_applicable("late note"));
+        assert_eq!(r.verdict, CaseVerdict::Error);
+        r.push(Finding::non_strict("x", clause::CHECK_ORDER));
+        assert_eq!(r.verdict, CaseVerdict::Error);
+        r.push(Finding::fail("x", clause::READ_VERSION, Edition::Current));
+        assert_eq!(r.verdict, CaseVerdict::Fail);
+        r.push(Finding::error("later"));
+        assert_eq!(r.verdict, CaseVerdict::Fail);
+        // NOT-APPLICABLE only for what never ran.
+        let mut r = result();
+        r.push(Finding::not_applicable("profile"));
+        assert_eq!(r.verdict, CaseVerdict::NotApplicable);
+        let mut r = result();
+        r.push(Finding::non_strict("x", clause::CHECK_ORDER));
+        r.push(Finding::not_applicable("after"));
+        assert_eq!(r.verdict, CaseVerdict::NonStrict);
+    }
 
     #[test]
     fn a_fail_binds_the_devices_edition_only() {

@@ -1,0 +1,100 @@
+#!/usr/bin/env bash
+# The same device gets the same verdicts on an idle and on a busy machine.
+#
+# Certifies each master (the reference master, HX-M conformant, HX-M with each defect
+# switch) and each slave (the simulator, HX-1) RUNS times on an idle machine and RUNS
+# times with three busy loops on the cores, and prints one line per run: the verdict
+# of every scenario or case, and how often a scenario was run again. Exits 1 when a
+# device's verdicts differ between any two of its runs.
+#
+#   RUNS=5 scripts/verdicts-under-load.sh                 # everything
+#   MASTERS="reference receive-idle" SLAVES="" RUNS=2 scripts/verdicts-under-load.sh
+#
+# The slave under test is protected from the load as a real device is (it runs with
+# `chrt -f`, a real-time priority): a peer the load starves is really late on the wire.
+# Not part of `cargo test`: it takes RUNS x 2 x about 45 s per device.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+RUNS=${RUNS:-5}
+MASTERS=${MASTERS:-"reference hx-m talks-during-init settings-window no-pause gap-in-request wrong-checksum \
+ignores-warning ignores-sync-fault retries-forever no-reset-wait no-retry ignores-extended-type-label no-baud \
+sparse-poll naive-poll late-default receive-idle"}
+SLAVES=${SLAVES:-"sim hx-1"}
+cargo build --release -q -p hiperface-conformance
+H=$PWD/target/release/hiperface
+OUT=target/verdicts-under-load
+rm -rf "$OUT"; mkdir -p "$OUT"
+
+busy() {  # start three busy loops; their PIDs in BUSY
+    BUSY=()
+    for _ in 1 2 3; do (while :; do :; done) & BUSY+=($!); done
+}
+calm() { for p in "${BUSY[@]:-}"; do kill "$p" 2>/dev/null || true; done; BUSY=(); }
+trap calm EXIT
+
+# One line: every unit's verdict, in order, and the units run more than once.
+vector() {
+    python3 - "$1" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+units = r.get("scenarios") or r.get("cases") or []
+v = " ".join(u["verdict"][:4] for u in units)
+again = [f'{u["id"]}x{u.get("attempts", 1)}' for u in units if u.get("attempts", 1) > 1]
+print(v + ("  | runs: " + ",".join(again) if again else ""))
+PY
+}
+
+master_exec() {
+    case "$1" in
+        reference) echo "$H master --port {port}" ;;
+        hx-m) echo "python3 $PWD/conformance/tests/independent/hx_master.py {port}" ;;
+        *) echo "python3 $PWD/conformance/tests/independent/hx_master.py {port} --defect $1" ;;
+    esac
+}
+
+certify_master() {  # name, report dir
+    local extra=()
+    [ "$1" = talks-during-init ] && extra=(--profile "$PWD/target/verdicts-under-load/long-init.toml")
+    "$H" certify master --exec "$(master_exec "$1")" --report "$2" "${extra[@]}" >/dev/null 2>&1 || true
+}
+
+certify_slave() {  # name, report dir
+    case "$1" in
+        sim) chrt -f 50 "$H" certify slave --port sim --report "$2" >/dev/null 2>&1 || true ;;
+        hx-1)
+            rm -f "$OUT/hx1.path"
+            (sleep 600 | chrt -f 50 python3 conformance/tests/independent/hx1_slave.py --pty > "$OUT/hx1.path") &
+            local hx=$!
+            for _ in $(seq 50); do [ -s "$OUT/hx1.path" ] && break; sleep 0.1; done
+            sleep 0.3
+            "$H" certify slave --port "$(head -1 "$OUT/hx1.path")" --profile conformance/tests/independent/hx1.toml \
+                --allow-writes --allow-counter-change --report "$2" >/dev/null 2>&1 || true
+            pkill -f hx1_slave.py 2>/dev/null || true; kill "$hx" 2>/dev/null || true
+            ;;
+    esac
+}
+
+# An encoder with a long initialization for talks-during-init (see tests/certify_master.rs).
+"$H" export-profile SRS50 | sed 's/^init_ms = .*/init_ms = 500/' > "$OUT/long-init.toml"
+
+status=0
+for kind in master slave; do
+    devices=$([ $kind = master ] && echo "$MASTERS" || echo "$SLAVES")
+    for d in $devices; do
+        : > "$OUT/$kind-$d.txt"
+        for load in idle busy; do
+            for i in $(seq "$RUNS"); do
+                [ $load = busy ] && busy
+                "certify_$kind" "$d" "$OUT/$kind-$d-$load-$i"
+                calm
+                printf '%-5s %s\n' "$load" "$(vector "$OUT/$kind-$d-$load-$i/report.json")" >> "$OUT/$kind-$d.txt"
+            done
+        done
+        distinct=$(cut -c7- "$OUT/$kind-$d.txt" | sed 's/  | runs:.*//' | sort -u | wc -l)
+        verdict=$([ "$distinct" = 1 ] && echo "same" || echo "DIFFERENT")
+        [ "$distinct" = 1 ] || status=1
+        echo "== $kind $d: $verdict verdicts in $((2 * RUNS)) runs"
+        cat "$OUT/$kind-$d.txt"
+    done
+done
+exit $status
