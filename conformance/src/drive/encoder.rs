@@ -2,7 +2,7 @@
 //! (`simulate::serve_with`), with a scenario's fault injections, and the observer of
 //! the master's obligations watching every character the master sends.
 
-use super::scenarios::{Act, Injection, Situation};
+use super::scenarios::{Act, Injection, Scenario, Situation};
 use crate::simulate::{Hooks, Planned};
 use crate::verdict::WireEntry;
 use hiperface_model::datalink::RxChar;
@@ -21,8 +21,6 @@ pub struct Timeline {
     pub observations: Vec<Observation>,
     /// Requests seen per command.
     pub requests: BTreeMap<u8, u32>,
-    /// Injections that took place (index into the plan).
-    pub injected: Vec<usize>,
     /// The master's well-formed requests as the encoder framed them: the end of the
     /// last character (µs), and the request.
     pub requests_log: Vec<(u64, RequestFrame)>,
@@ -122,13 +120,14 @@ pub struct DriveEncoder {
 pub const MAX_CHARACTERS: usize = 20_000;
 
 impl DriveEncoder {
+    /// `scenario`: its plan of faults, and the situation it is about.
     /// `power_on_seen`: the scenario starts at the master's power-on of the encoder
     /// (t = 0); otherwise the rules about power-on are not graded.
     /// `peer`: the pseudo-terminal's end the master uses, whose settings (its data
     /// rate) the harness reads; `None` on a real port, where they cannot be read.
     pub fn new(
         profile: Profile,
-        plan: &'static [Injection],
+        scenario: &Scenario,
         power_on_seen: bool,
         peer: Option<Box<dyn SerialPort>>,
     ) -> DriveEncoder {
@@ -138,7 +137,7 @@ impl DriveEncoder {
         }
         DriveEncoder {
             observer,
-            plan,
+            plan: scenario.plan,
             timeline: Timeline::default(),
             profile,
             answered: None,
@@ -147,16 +146,22 @@ impl DriveEncoder {
             peer_bps: None,
             listening: None,
             read_late_us: 0,
-            situation: Situation::Injected,
+            situation: scenario.situation,
             arisen: Arc::new(AtomicU64::new(u64::MAX)),
         }
     }
 
-    /// The scenario is about `situation`; returns where its time (µs) is published
-    /// once it arises (`u64::MAX` until then).
-    pub fn watch_for(&mut self, situation: Situation) -> Arc<AtomicU64> {
-        self.situation = situation;
+    /// Where the time (µs) the scenario's situation arose is published for the
+    /// serving loop (`u64::MAX` until then).
+    pub fn arisen(&self) -> Arc<AtomicU64> {
         self.arisen.clone()
+    }
+
+    /// An injection of the plan took place at `at_us`: on the timeline, and the
+    /// scenario's situation where that is an injection.
+    fn injected(&mut self, at_us: u64, what: String) {
+        self.arises(Situation::Injected, at_us);
+        self.note(at_us, "!", what);
     }
 
     /// `situation` arose at `at_us`: the first time counts.
@@ -283,12 +288,10 @@ impl Hooks for DriveEncoder {
             *count
         };
         // Position faults of the plan switch on at their request, before the reply.
-        for (i, inj) in self.plan.iter().enumerate() {
+        for inj in self.plan {
             if let (Act::PositionFault(f), true) = (inj.act, inj.on == command && inj.nth == n) {
                 slave.inject_position_fault(f, true);
-                self.timeline.injected.push(i);
-                self.arises(Situation::Injected, step.received.last_us);
-                self.note(step.received.last_us, "!", format!("injected: {f:?} from now on"));
+                self.injected(step.received.last_us, format!("injected: {f:?} from now on"));
             }
         }
     }
@@ -300,7 +303,7 @@ impl Hooks for DriveEncoder {
         let bytes = step.received.bytes.as_bytes();
         let command = self.answered;
         let n = command.and_then(|c| self.timeline.requests.get(&c.byte()).copied()).unwrap_or(0);
-        for (i, inj) in self.plan.iter().enumerate() {
+        for inj in self.plan {
             if Some(inj.on) != command || inj.nth != n {
                 continue;
             }
@@ -314,17 +317,13 @@ impl Hooks for DriveEncoder {
                     format!("injected: error reply {code}")
                 }
                 Act::Silence => {
-                    self.timeline.injected.push(i);
-                    self.arises(Situation::Injected, planned.start_us);
-                    self.note(planned.start_us, "!", "injected: no reply".into());
+                    self.injected(planned.start_us, "injected: no reply".into());
                     return None;
                 }
                 Act::Restart => {
                     // The master cannot know: the observer is not told of this power-on.
                     slave.power_cycle(step.received.complete_us);
-                    self.timeline.injected.push(i);
-                    self.arises(Situation::Injected, step.received.complete_us);
-                    self.note(step.received.complete_us, "!", "injected: the encoder restarts".into());
+                    self.injected(step.received.complete_us, "injected: the encoder restarts".into());
                     return None;
                 }
                 Act::LateMs(ms) => {
@@ -342,9 +341,7 @@ impl Hooks for DriveEncoder {
                     format!("injected: a gap of {us} µs inside the reply")
                 }
             };
-            self.timeline.injected.push(i);
-            self.arises(Situation::Injected, planned.start_us);
-            self.note(planned.start_us, "!", what);
+            self.injected(planned.start_us, what);
         }
         Some(planned)
     }

@@ -307,9 +307,9 @@ fn on_port(profile: Profile, scenario: &Scenario, drive: Drive, polling_period_m
             slave
         }
     };
-    let mut hooks = DriveEncoder::new(profile, scenario.plan, power_on == PowerOn::Prompt, None);
+    let mut hooks = DriveEncoder::new(profile, scenario, power_on == PowerOn::Prompt, None);
     hooks.set_polling_period_ms(polling_period_ms);
-    let arisen = hooks.watch_for(scenario.situation);
+    let arisen = hooks.arisen();
     let epoch = Instant::now();
     if power_on == PowerOn::Prompt {
         operator.switch_on(scenario.id);
@@ -343,9 +343,9 @@ fn run_scenario(profile: Profile, scenario: &Scenario, exec: &str, polling_perio
     // The master's settings are the pseudo-terminal's: the harness reads them through
     // its own end (on Linux both ends share them).
     let peer = encoder_end.try_clone().ok();
-    let mut hooks = DriveEncoder::new(profile, scenario.plan, true, peer);
+    let mut hooks = DriveEncoder::new(profile, scenario, true, peer);
     hooks.set_polling_period_ms(polling_period_ms);
-    let arisen = hooks.watch_for(scenario.situation);
+    let arisen = hooks.arisen();
     // Power-on is the master's start.
     let epoch = Instant::now();
     let mut master = match MasterProcess::start(exec, &path) {
@@ -425,7 +425,7 @@ fn finish(
     let disturbed = grade(result, hooks, scenario, by_operator);
     result.wire.append(&mut hooks.timeline.entries);
     for o in &hooks.timeline.observations {
-        result.wire.push(crate::certify::WireEntry {
+        result.wire.push(crate::verdict::WireEntry {
             t_us: o.at_us,
             direction: "×",
             bytes: format!("{} ({})", o.rule.text(), o.rule.clause()),

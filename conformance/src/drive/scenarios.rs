@@ -149,13 +149,12 @@ pub struct Scenario {
     /// The encoder's world at power-on (inputs, start-up faults).
     pub world: fn(&Profile) -> World,
     pub plan: &'static [Injection],
-    /// The request the plan waits for (its injection is void if the master never sends
-    /// it: the scenario is then not applicable, with the reason).
-    pub needs: Option<CommandId>,
     /// The encoder of this scenario, made from the run's profile (e.g. one with type
     /// code FFh, or with stored settings other than the default).
     pub encoder: Option<fn(Profile) -> Profile>,
+    /// What the scenario is about: until it arises, the scenario is NOT-EXERCISED.
     pub situation: Situation,
+    /// What a master should do once it has.
     pub reaction: Reaction,
 }
 
@@ -190,7 +189,7 @@ fn broken_at_start(_: &Profile) -> World {
 const POSITION: CommandId = CommandId::ReadPosition;
 
 macro_rules! scenario {
-    ($id:literal, $title:literal, [$($clause:ident),*], $ms:expr, $world:expr, $plan:expr, $needs:expr,
+    ($id:literal, $title:literal, [$($clause:ident),*], $ms:expr, $world:expr, $plan:expr,
      $situation:ident => $reaction:ident) => {
         Scenario {
             id: $id,
@@ -199,7 +198,6 @@ macro_rules! scenario {
             duration_ms: $ms,
             world: $world,
             plan: $plan,
-            needs: $needs,
             encoder: None,
             situation: Situation::$situation,
             reaction: Reaction::$reaction,
@@ -239,7 +237,6 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             calm,
             &[],
-            None,
             Talked => GoesOn
         ),
         Scenario {
@@ -251,7 +248,6 @@ pub fn catalogue() -> Vec<Scenario> {
                 1500,
                 calm,
                 &[],
-                None,
                 TypeFfSent => ReadsExtendedTypeLabel
             )
         },
@@ -264,7 +260,6 @@ pub fn catalogue() -> Vec<Scenario> {
                 2000,
                 calm,
                 &[],
-                None,
                 TalkedAfterWindows => GoesOn
             )
         },
@@ -275,7 +270,6 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             hot,
             &[],
-            None,
             WarningSent => ReadsCodes
         ),
         scenario!(
@@ -285,7 +279,6 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             four_stacked,
             &[],
-            None,
             WarningSent => ReadsCodes
         ),
         scenario!(
@@ -295,7 +288,6 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             calm,
             &[Injection { on: POSITION, nth: 2, act: Act::Error(FaultCode::Checksum) }],
-            Some(POSITION),
             Injected => Retries
         ),
         scenario!(
@@ -305,7 +297,6 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             calm,
             &[Injection { on: POSITION, nth: 2, act: Act::Error(FaultCode::WrongLength) }],
-            Some(POSITION),
             Injected => Retries
         ),
         scenario!(
@@ -315,7 +306,6 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             calm,
             &[Injection { on: POSITION, nth: 2, act: Act::Error(FaultCode::Parity) }],
-            Some(POSITION),
             Injected => Retries
         ),
         scenario!(
@@ -325,7 +315,6 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             calm,
             &[Injection { on: POSITION, nth: 2, act: Act::Error(FaultCode::UnknownCommand) }],
-            Some(POSITION),
             Injected => Retries
         ),
         scenario!(
@@ -335,7 +324,6 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             calm,
             &[Injection { on: POSITION, nth: 2, act: Act::Error(FaultCode::WrongArgument) }],
-            Some(POSITION),
             Injected => Retries
         ),
         scenario!(
@@ -345,7 +333,6 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             calm,
             &[Injection { on: POSITION, nth: 2, act: Act::PositionFault(PositionFault::MultiturnSync) }],
-            Some(POSITION),
             Injected => GoesOn
         ),
         scenario!(
@@ -355,7 +342,6 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             calm,
             &[Injection { on: POSITION, nth: 2, act: Act::Error(FaultCode::Unknown(0x3A)) }],
-            Some(POSITION),
             Injected => GoesOn
         ),
         scenario!(
@@ -365,7 +351,6 @@ pub fn catalogue() -> Vec<Scenario> {
             2500,
             calm,
             &[Injection { on: POSITION, nth: 2, act: Act::PositionFault(PositionFault::Singleturn) }],
-            Some(POSITION),
             Injected => Resets
         ),
         scenario!(
@@ -375,7 +360,6 @@ pub fn catalogue() -> Vec<Scenario> {
             2000,
             broken_at_start,
             &[],
-            None,
             WarningSent => Resets
         ),
         Scenario {
@@ -387,7 +371,6 @@ pub fn catalogue() -> Vec<Scenario> {
                 1500,
                 calm,
                 &[Injection { on: CommandId::ReadData, nth: 1, act: Act::Error(FaultCode::WrongFieldNumber) }],
-                Some(CommandId::ReadData),
                 Injected => GoesOn
             )
         },
@@ -398,7 +381,6 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             calm,
             &[Injection { on: POSITION, nth: 2, act: Act::Silence }],
-            Some(POSITION),
             Injected => GoesOn
         ),
         scenario!(
@@ -408,7 +390,6 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             calm,
             &[Injection { on: POSITION, nth: 2, act: Act::LateMs(30) }],
-            Some(POSITION),
             Injected => GoesOn
         ),
         scenario!(
@@ -418,7 +399,6 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             calm,
             &[Injection { on: POSITION, nth: 2, act: Act::CorruptChecksum }],
-            Some(POSITION),
             Injected => GoesOn
         ),
         scenario!(
@@ -428,7 +408,6 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             calm,
             &[Injection { on: POSITION, nth: 2, act: Act::Gap { before: 3, us: 8_000 } }],
-            Some(POSITION),
             Injected => GoesOn
         ),
         scenario!(
@@ -438,7 +417,6 @@ pub fn catalogue() -> Vec<Scenario> {
             1500,
             calm,
             &[Injection { on: POSITION, nth: 2, act: Act::Gap { before: 2, us: 4_500 } }],
-            Some(POSITION),
             Injected => GoesOn
         ),
         scenario!(
@@ -448,7 +426,6 @@ pub fn catalogue() -> Vec<Scenario> {
             2000,
             calm,
             &[Injection { on: POSITION, nth: 10, act: Act::Restart }],
-            Some(POSITION),
             Injected => GoesOn
         ),
         scenario!(
@@ -458,7 +435,6 @@ pub fn catalogue() -> Vec<Scenario> {
             5000,
             calm,
             &[],
-            None,
             Talked => GoesOn
         ),
     ]

@@ -4,8 +4,8 @@
 //! clause).
 
 use super::DriveReport;
-use crate::certify::CaseResult;
 use crate::report::escape;
+use crate::verdict::CaseResult;
 use hiperface_model::Profile;
 use std::fmt::Write as _;
 

@@ -145,13 +145,14 @@ pub struct Source {
 }
 
 /// End a listening run (`decode`, `monitor`): the summary on standard output, the
-/// reports, and the exit code (1 on a FAIL).
+/// reports, and the exit code of the run's outcome (0 PASSED, 1 FAILED, 3 INCOMPLETE).
 pub fn conclude(
     listener: Listener,
     source: Source,
     options: &Options,
     report_dir: Option<&std::path::Path>,
 ) -> Result<ExitCode, String> {
+    let (outcome, incomplete) = listener.summary.outcome();
     let report = ListeningReport {
         tool: format!("hiperface {}", env!("CARGO_PKG_VERSION")),
         capture: source.capture,
@@ -162,8 +163,8 @@ pub fn conclude(
         channels: source.channels,
         assumptions: source.assumptions,
         verdict: listener.summary.worst(),
-        outcome: listener.summary.outcome().0,
-        incomplete: listener.summary.outcome().1,
+        outcome,
+        incomplete,
         summary: listener.summary,
     };
     print_summary(&report);

@@ -20,9 +20,10 @@
 //! UNKNOWN with the oracle's reason, not as FAIL.
 
 use crate::capture::{Event, Mark, Role};
-use crate::certify::{timing, CaseVerdict, Finding, TimingMode};
+use crate::certify::{timing, TimingMode};
 use crate::exchange::Exchange;
 use crate::line::Window;
+use crate::verdict::{CaseVerdict, Finding};
 use hiperface_model::command::CommandId;
 use hiperface_model::datalink::{RxChar, UartFault};
 use hiperface_model::frame::Hex;
