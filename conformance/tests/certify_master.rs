@@ -481,7 +481,10 @@ fn with_an_operator_the_start_up_of_a_drive_on_a_port_is_graded() {
         };
         let report = drive::run_with(profiles::srs50(), &options, &mut operator, |_, _, _| {});
         drive::Operator::switch_off(&mut operator, "end");
-        assert_eq!(operator.switched_on, report.scenarios.len(), "one power-on per scenario");
+        // A scenario the harness ran again (it was disturbed) had a power-on per run.
+        let runs: u32 = report.scenarios.iter().map(|s| s.attempts).sum();
+        assert_eq!(operator.switched_on as u32, runs, "one power-on per scenario run");
+        assert!(operator.switched_on >= report.scenarios.len(), "at least one power-on per scenario");
         drop(encoder_end);
         report
     };
