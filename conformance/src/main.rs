@@ -66,14 +66,15 @@ enum Command {
     ExportProfile { profile: String },
     /// The reference master: start-up, cyclic Read Position, fault reaction (000:3.3).
     Master(drive::cli::MasterArgs),
-    /// Clause coverage: what cites each clause of the registry (exit 1 when a
-    /// normative clause is neither covered nor listed as unobservable).
     /// Grade a capture of a bus (a wire log, a logic analyzer's CSV, sigrok-cli's UART
-    /// decoder output) without talking: both sides, exit 1 on a FAIL.
+    /// decoder output) without talking: both sides; exit 1 on a FAIL, 3 when nothing
+    /// could be graded.
     Decode(hiperface_conformance::listen::cli::DecodeArgs),
     /// Listen to a live bus without talking (the port is opened read-only) and grade
     /// both sides as it goes; Ctrl-C ends the run with a summary and the reports.
     Monitor(hiperface_conformance::listen::monitor::MonitorArgs),
+    /// Clause coverage: what cites each clause of the registry (exit 1 when a
+    /// normative clause is neither covered nor listed as unobservable).
     Clauses {
         /// Only the normative clauses nothing covers.
         #[arg(long)]

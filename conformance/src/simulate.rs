@@ -48,6 +48,8 @@ pub trait Hooks {
     }
     /// A reply went out as planned, its last character ending at `end_us`.
     fn sent(&mut self, _planned: &Planned, _end_us: u64) {}
+    /// Whether the serving thread got the real-time priority it asked for.
+    fn real_time(&mut self, _granted: bool) {}
 }
 
 /// A reply as it will go on the wire.
@@ -64,15 +66,19 @@ pub struct Planned {
     /// when it really ends.
     pub paced: bool,
     /// Set when sent: the longest pause inside the reply that was not planned (the
-    /// harness wrote a character late), µs; 0 when none reached [`DISTURBED_US`].
+    /// harness wrote a character late), µs; 0 when none reached [`disturbed_from_us`].
     pub disturbed_us: u64,
 }
 
 /// An unplanned pause inside a paced reply this long or longer is a disturbance of
-/// the harness's own timing: half a character at 9600 Bd. A master that ends a reply
-/// on a short silence (a UART's receive-idle interrupt fires after one character time)
-/// may take it for the reply's end where the harness meant none.
-pub const DISTURBED_US: u64 = 570;
+/// the harness's own timing: half a character time at the reply's data rate (573 µs at
+/// 9600 Bd). A master that ends a reply on a short silence (a UART's receive-idle
+/// interrupt fires after one character time or more) may take a longer one for the
+/// reply's end where the harness meant none; half of the shortest such silence leaves
+/// room for the harness's own jitter.
+pub const fn disturbed_from_us(char_time_us: u64) -> u64 {
+    char_time_us / 2
+}
 
 /// Ask for a real-time scheduling priority for the calling thread (SCHED_FIFO), so
 /// that replies are paced on time on a busy machine. Where it is not permitted (no
@@ -103,8 +109,6 @@ pub fn serve(
 ) -> std::io::Result<()> {
     let mut slave = Slave::operational(profile);
     world.apply(&mut slave);
-    // A device's UART keeps time whatever the host does: be as punctual as permitted.
-    real_time_priority();
     let mut logger = Logger { log };
     serve_with(port, &mut slave, Instant::now(), &stop, &mut logger)
 }
@@ -137,6 +141,8 @@ pub fn serve_with(
     stop: &AtomicBool,
     hooks: &mut dyn Hooks,
 ) -> std::io::Result<()> {
+    // A device's UART keeps time whatever the host does: be as punctual as permitted.
+    hooks.real_time(real_time_priority());
     let now = |e: Instant| e.elapsed().as_micros() as u64;
     let mut buf = [0u8; 64];
     let mut rx_clock = crate::line::RxClock::default();
@@ -217,7 +223,7 @@ pub fn serve_with(
                         first = false;
                     } else {
                         let late = written - start;
-                        if late >= DISTURBED_US {
+                        if late >= disturbed_from_us(ct) {
                             p.disturbed_us = p.disturbed_us.max(late);
                         }
                         if late >= timeout && p.gap.is_none() {

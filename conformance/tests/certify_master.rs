@@ -4,25 +4,19 @@
 //! caught in the scenario it breaks, with its clause, and leaves a scenario it does not
 //! touch clean. Real time: each scenario runs its full duration.
 
+mod common;
+
 use hiperface_conformance::certify::{CaseResult, CaseVerdict};
 use hiperface_conformance::drive::{self, Attach, DriveReport, Options, PowerOn};
 use hiperface_conformance::verdict::Outcome;
 use hiperface_model::{profiles, Profile};
 use std::path::Path;
 
-fn python() -> Option<&'static str> {
-    let ok = std::process::Command::new("python3").arg("--version").output().is_ok_and(|o| o.status.success());
-    if !ok {
-        assert!(std::env::var_os("CI").is_none(), "python3 is required in CI (.ci/run installs it)");
-        eprintln!("SKIPPED: python3 is not installed");
-    }
-    ok.then_some("python3")
-}
-
-fn hx_master(defect: Option<&str>) -> Option<String> {
+/// HX-M's command line (the tests that use it are ignored where python3 is missing).
+fn hx_master(defect: Option<&str>) -> String {
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/independent/hx_master.py");
     let defect = defect.map_or(String::new(), |d| format!(" --defect {d}"));
-    python().map(|py| format!("{py} {} {{port}}{defect}", script.display()))
+    format!("python3 {} {{port}}{defect}", script.display())
 }
 
 fn certify(profile: Profile, exec: &str, scenarios: Option<&str>) -> DriveReport {
@@ -50,6 +44,7 @@ fn the_reference_master_passes_every_scenario() {
 }
 
 #[test]
+#[cfg_attr(not(has_ser2net), ignore = "ser2net is not installed (apt-get install ser2net)")]
 fn the_reference_master_passes_every_scenario_through_ser2net() {
     // The master talks TCP to a real serial device server (Debian's ser2net), which
     // relays to the encoder's pseudo-terminal: a drive behind a device server. The
@@ -57,11 +52,7 @@ fn the_reference_master_passes_every_scenario_through_ser2net() {
     // character delay and Nagle's algorithm the server would pass the characters on in
     // bursts further apart than the timeout, and the master would take a reply for
     // ended while it goes on (a device server for HIPERFACE is set up this way).
-    let Some(ser2net) = ["/usr/sbin/ser2net", "/usr/bin/ser2net"].into_iter().find(|p| Path::new(p).exists()) else {
-        assert!(std::env::var_os("CI").is_none(), "ser2net is required in CI (.ci/run installs it)");
-        eprintln!("SKIPPED: ser2net is not installed");
-        return;
-    };
+    let ser2net = common::ser2net_program();
     let tmp = tempfile::tempdir().unwrap();
     let port = std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port();
     let config = tmp.path().join("ser2net.yaml");
@@ -83,16 +74,18 @@ fn the_reference_master_passes_every_scenario_through_ser2net() {
 }
 
 #[test]
+#[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
 fn the_independent_master_passes_every_scenario() {
-    let Some(exec) = hx_master(None) else { return };
+    let exec = hx_master(None);
     assert_clean(&certify(profiles::srs50(), &exec, None));
 }
 
 #[test]
+#[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
 fn the_independent_master_set_for_user_settings_passes_the_user_settings_scenario() {
     // HX-M as a drive configured for 38400 Bd: it waits out the default window and
     // talks at the encoder's stored data rate, as 000:3.3.1 allows.
-    let Some(exec) = hx_master(None) else { return };
+    let exec = hx_master(None);
     let report = certify(profiles::srs50(), &format!("{exec} --user-baud 38400"), Some("startup.user-settings"));
     let s = &report.scenarios[0];
     assert_eq!(s.verdict, CaseVerdict::Pass, "{:#?}", s.findings);
@@ -235,14 +228,12 @@ const DEFECTS: &[Defect] = &[
 ];
 
 #[test]
+#[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
 fn every_defective_master_is_caught_where_it_breaks_a_rule() {
-    if python().is_none() {
-        return;
-    }
     let mut problems = Vec::new();
     let mut table = vec!["| defect | scenario | verdict there | clause | untouched scenario |".to_string()];
     for d in DEFECTS {
-        let Some(exec) = hx_master(Some(d.name)) else { return };
+        let exec = hx_master(Some(d.name));
         let mut profile = profiles::srs50();
         if d.name == "talks-during-init" {
             // An encoder whose data sheet gives a long initialization (longer than
@@ -279,24 +270,24 @@ fn every_defective_master_is_caught_where_it_breaks_a_rule() {
 }
 
 /// A master in Python for these tests: power-on at its start, 9600 8E1, then `body`.
-fn scripted_master(dir: &Path, body: &str) -> Option<String> {
-    let py = python()?;
+fn scripted_master(dir: &Path, body: &str) -> String {
     let script = dir.join("master.py");
     let head = "import os, sys, time, tty, termios\n\
                 fd = os.open(sys.argv[1], os.O_RDWR | os.O_NOCTTY); tty.setraw(fd)\n\
                 a = termios.tcgetattr(fd); a[2] |= termios.PARENB; a[4] = a[5] = termios.B9600\n\
                 termios.tcsetattr(fd, termios.TCSANOW, a)\n";
     std::fs::write(&script, format!("{head}{body}")).unwrap();
-    Some(format!("{py} {} {{port}}", script.display()))
+    format!("python3 {} {{port}}", script.display())
 }
 
 #[test]
+#[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
 fn a_master_that_sends_one_request_and_goes_silent_is_not_passed() {
     // It reads the type label once, then says nothing more: no fault the scenarios
     // inject ever meets it, and its start-up and warning reactions are never seen.
     let tmp = tempfile::tempdir().unwrap();
     let body = "time.sleep(0.3); os.write(fd, bytes([0x40, 0x52, 0x12])); time.sleep(1000)\n";
-    let Some(exec) = scripted_master(tmp.path(), body) else { return };
+    let exec = scripted_master(tmp.path(), body);
     let report = certify(profiles::srs50(), &exec, Some("startup.default,protocol.checksum-error,warning.one-code"));
     assert_eq!(report.outcome(), Outcome::Incomplete, "{:#?}", report.scenarios);
     let by_id = |id: &str| report.scenarios.iter().find(|s| s.id == id).unwrap();
@@ -315,13 +306,14 @@ fn a_master_that_sends_one_request_and_goes_silent_is_not_passed() {
 }
 
 #[test]
+#[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
 fn a_master_that_exits_mid_scenario_is_not_passed() {
     // It sends 50h, one 42h, and exits with status 3: the ERROR stands, whatever else
     // the scenario could not see (the second 42h its fault waits for never came).
     let tmp = tempfile::tempdir().unwrap();
     let body = "time.sleep(0.15); os.write(fd, bytes([0x40, 0x50, 0x10])); time.sleep(0.05)\n\
                 os.write(fd, bytes([0x40, 0x42, 0x02])); time.sleep(0.05); sys.exit(3)\n";
-    let Some(exec) = scripted_master(tmp.path(), body) else { return };
+    let exec = scripted_master(tmp.path(), body);
     let report = certify(profiles::srs50(), &exec, Some("protocol.checksum-error"));
     let s = &report.scenarios[0];
     assert_eq!(s.verdict, CaseVerdict::Error, "{:#?}", s.findings);

@@ -139,6 +139,7 @@ pub fn run(
                     report.aborted = Some(e.to_string());
                 }
             }
+
             // Restore what the case changed, also after a failure or Ctrl-C.
             if !gone && ctx.has_guards() {
                 match ctx.restore() {
@@ -147,6 +148,7 @@ pub fn run(
                 }
             }
             line_gone |= gone;
+            result.close_unobserved("the case");
         }
         result.duration_ms = case_start.elapsed().as_secs_f64() * 1000.0;
         progress(i + 1, selected.len(), &result);

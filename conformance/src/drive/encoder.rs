@@ -376,6 +376,10 @@ impl Hooks for DriveEncoder {
         }
         self.observer.encoder_reply(start_us, end_us, reply.as_ref());
     }
+
+    fn real_time(&mut self, granted: bool) {
+        self.timeline.real_time = granted;
+    }
 }
 
 #[cfg(test)]

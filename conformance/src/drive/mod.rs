@@ -400,10 +400,7 @@ fn serve_until(
 ) -> Result<std::io::Result<()>, ()> {
     let stop = AtomicBool::new(false);
     std::thread::scope(|scope| {
-        let server = scope.spawn(|| {
-            hooks.timeline.real_time = crate::simulate::real_time_priority();
-            serve_with(port, slave, epoch, &stop, hooks)
-        });
+        let server = scope.spawn(|| serve_with(port, slave, epoch, &stop, hooks));
         while Instant::now() < deadline() && !server.is_finished() && !done() {
             std::thread::sleep(Duration::from_millis(5));
         }

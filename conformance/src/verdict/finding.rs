@@ -182,6 +182,14 @@ impl CaseResult {
         self.findings.push(f);
     }
 
+    /// A PASS is earned by what was observed: a unit that ended with no exchange
+    /// graded (and without a finding saying why it did not apply) is NOT-EXERCISED.
+    pub fn close_unobserved(&mut self, what: &str) {
+        if self.exchanges == 0 && self.verdict == CaseVerdict::Pass {
+            self.push(Finding::not_exercised(format!("{what} ended without an exchange to grade")));
+        }
+    }
+
     /// The clause ids, comma-separated, for reports.
     pub fn clause_list(&self) -> String {
         self.clauses.iter().map(|c| c.id()).collect::<Vec<_>>().join(", ")
@@ -220,6 +228,22 @@ mod tests {
         r.push(Finding::non_strict("x", clause::CHECK_ORDER));
         r.push(Finding::not_applicable("after"));
         assert_eq!(r.verdict, CaseVerdict::NonStrict);
+    }
+
+    #[test]
+    fn nothing_observed_is_never_passed() {
+        let mut r = result();
+        r.close_unobserved("the case");
+        assert_eq!(r.verdict, CaseVerdict::NotExercised);
+        // What did not apply stays so; what was graded keeps its verdict.
+        let mut r = result();
+        r.push(Finding::not_applicable("profile"));
+        r.close_unobserved("the case");
+        assert_eq!(r.verdict, CaseVerdict::NotApplicable);
+        let mut r = result();
+        r.exchanges = 1;
+        r.close_unobserved("the case");
+        assert_eq!(r.verdict, CaseVerdict::Pass);
     }
 
     #[test]
