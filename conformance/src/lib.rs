@@ -8,6 +8,7 @@ pub mod clauses;
 pub mod demo;
 pub mod drive;
 pub mod exchange;
+pub mod interrupt;
 pub mod line;
 pub mod listen;
 pub mod port;

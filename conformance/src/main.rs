@@ -15,8 +15,6 @@ use hiperface_model::{Grading, Profile};
 use serialport::SerialPort as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::sync::atomic::AtomicBool;
-use std::sync::Arc;
 
 #[derive(Parser)]
 #[command(name = "hiperface", version, about = "HIPERFACE reference model and conformance suite")]
@@ -262,7 +260,7 @@ fn main() -> ExitCode {
         Command::Vectors { what } => vectors_command(what),
         Command::Decode(args) => hiperface_conformance::listen::cli::decode(&args).map_err(CliError),
         Command::Monitor(args) => {
-            let stop = interrupt_flag("\ninterrupted: the summary and the reports follow");
+            let stop = hiperface_conformance::interrupt::flag("\ninterrupted: the summary and the reports follow");
             hiperface_conformance::listen::monitor::monitor(&args, &stop).map_err(CliError)
         }
         Command::Clauses { uncovered, format } => print_clauses(uncovered, format),
@@ -299,12 +297,19 @@ fn certify_slave(what: CertifyWhat) -> Result<ExitCode, CliError> {
         return Err(CliError("not a slave certification".into()));
     };
     let profile = profile_file::resolve(&profile).map_err(CliError::from)?;
+    if let Some(dir) = &dir {
+        report::prepare_dir(dir).map_err(CliError)?;
+    }
     // Nothing selected is nothing graded: refused before the port is touched.
     if let Some(globs) = &cases {
         if certify::select(Some(globs)).is_empty() {
-            return Err(CliError(format!(
-                "no case matches `{globs}` (hiperface certify slave --port virtual lists them)"
-            )));
+            let mut groups: Vec<String> = certify::cases::catalogue()
+                .iter()
+                .map(|c| format!("{}.*", c.id.split('.').next().unwrap_or(c.id)))
+                .collect();
+            groups.sort();
+            groups.dedup();
+            return Err(CliError(format!("no case matches `{globs}` (the cases: {})", groups.join(", "))));
         }
     }
     let sim = port.is_model();
@@ -331,7 +336,9 @@ fn certify_slave(what: CertifyWhat) -> Result<ExitCode, CliError> {
         write_budget,
         cases,
         grading,
-        interrupt: Some(interrupt_flag("\ninterrupted: restoring and writing a partial report")),
+        interrupt: Some(hiperface_conformance::interrupt::flag(
+            "\ninterrupted: restoring and writing a partial report",
+        )),
         world,
         timing: timing.unwrap_or(default_timing),
     };
@@ -400,9 +407,15 @@ fn summarize(report: &certify::Report, profile: &Profile) {
     if let Some(a) = &report.aborted {
         println!("ABORTED: {a}");
     }
-    if !report.safety.restored() {
+    if report.safety.differs() {
         println!("CHECK THE DEVICE: the run may have left it changed (not a verdict on the device):");
         for c in report.safety.changed.iter().chain(&report.safety.bookkeeping) {
+            println!("  {c}");
+        }
+    }
+    if !report.safety.unverified.is_empty() {
+        println!("NOT VERIFIED: read before the run, not read back after it (not a verdict on the device):");
+        for c in &report.safety.unverified {
             println!("  {c}");
         }
     }
@@ -423,7 +436,7 @@ fn run_simulator(port: &str, profile: &str, log: bool, world: &certify::World) -
             .open()
             .map_err(|e| CliError(format!("cannot open {port}: {e}")))?
     };
-    let stop = Arc::new(AtomicBool::new(false));
+    let stop = hiperface_conformance::interrupt::flag("\ninterrupted: the simulator stops");
     let mut stderr = std::io::stderr();
     let log: Option<&mut dyn std::io::Write> = if log { Some(&mut stderr) } else { None };
     simulate::serve(port, profile, world, stop, log).map_err(CliError::from)?;
@@ -437,21 +450,6 @@ fn print_all(text: &str) -> Result<(), CliError> {
         Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(CliError::from(e)),
         _ => Ok(()),
     }
-}
-
-/// A flag set by Ctrl-C, which prints `message`: the run stops at its next look at
-/// the flag (a certification after the current exchange, restoring what the current
-/// case changed; a monitor at once) and writes its report.
-fn interrupt_flag(message: &'static str) -> Arc<AtomicBool> {
-    let flag = Arc::new(AtomicBool::new(false));
-    let f = flag.clone();
-    if let Err(e) = ctrlc::set_handler(move || {
-        eprintln!("{message}");
-        f.store(true, std::sync::atomic::Ordering::Relaxed);
-    }) {
-        eprintln!("warning: Ctrl-C is not handled: {e}");
-    }
-    flag
 }
 
 fn vectors_command(what: VectorsCommand) -> Result<ExitCode, CliError> {

@@ -7,6 +7,20 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 /// Write report.json, junit.xml, certificate.md and certificate.html into `dir`.
+/// Create the report directory `dir` and check that files can be written in it, before
+/// a run: a run's results are never found unwritable only after it.
+pub fn prepare_dir(dir: &Path) -> Result<(), String> {
+    let shown = dir.display();
+    if dir.exists() && !dir.is_dir() {
+        return Err(format!("--report {shown}: it exists and is not a directory"));
+    }
+    std::fs::create_dir_all(dir).map_err(|e| format!("--report {shown}: cannot create the directory: {e}"))?;
+    let probe = dir.join(".hiperface-write-check");
+    std::fs::write(&probe, b"").map_err(|e| format!("--report {shown}: cannot write in the directory: {e}"))?;
+    let _ = std::fs::remove_file(probe);
+    Ok(())
+}
+
 pub fn write_all(report: &Report, dir: &Path) -> std::io::Result<()> {
     std::fs::create_dir_all(dir)?;
     let json = serde_json::to_string_pretty(report).map_err(std::io::Error::other)?;
@@ -148,11 +162,14 @@ fn safety_lines(r: &Report) -> Vec<String> {
     let s = &r.safety;
     let mut out = vec![if s.restored() {
         "Restored: everything the device reports of its stored state reads as before the run, and the harness's record of what it cannot read agrees.".to_string()
-    } else {
+    } else if s.differs() {
         "**Check the device**: the run may have left it changed (not a verdict on the device; see below).".to_string()
+    } else {
+        "**Not verified**: what is listed below could not be read back after the run; nothing read back differs (not a verdict on the device).".to_string()
     }];
     out.extend(s.changed.iter().map(|c| format!("changed (read back from the device): {c}")));
     out.extend(s.bookkeeping.iter().map(|c| format!("changed by the harness's record (unreadable state): {c}")));
+    out.extend(s.unverified.iter().map(|c| format!("not verified: {c}")));
     out.extend(s.verified.iter().map(|c| format!("read back unchanged: {c}")));
     out.push(format!("EEPROM writes: {}; restores run by the harness: {}", s.eeprom_writes, s.restores_run));
     out.extend(s.notes.iter().cloned());

@@ -24,6 +24,7 @@ fn certify(profile: Profile, exec: &str, scenarios: Option<&str>) -> DriveReport
         attach: Attach::Exec(exec.into()),
         scenarios: scenarios.map(str::to_string),
         polling_period_ms: drive::POLLING_PERIOD_MS,
+        interrupt: None,
     };
     drive::run(profile, &options, |_, _, _| {})
 }
@@ -51,7 +52,10 @@ fn the_reference_master_passes_every_scenario_through_ser2net() {
     // encoder delivers a reply a character at a time, as a UART does: with its default
     // character delay and Nagle's algorithm the server would pass the characters on in
     // bursts further apart than the timeout, and the master would take a reply for
-    // ended while it goes on (a device server for HIPERFACE is set up this way).
+    // ended while it goes on (a device server for HIPERFACE is set up this way). The
+    // drive and the server are devices with processors of their own: where permitted
+    // they run at a real-time priority, so that a server starved by a busy test machine
+    // does not split a reply with a pause of the timeout (it did, under load).
     let ser2net = common::ser2net_program();
     let tmp = tempfile::tempdir().unwrap();
     let port = std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port();
@@ -61,9 +65,10 @@ fn the_reference_master_passes_every_scenario_through_ser2net() {
         &script,
         format!(
             "printf '%%YAML 1.1\\n---\\nconnection: &m\\n    accepter: tcp(nodelay),127.0.0.1,{port}\\n    enable: on\\n    options:\\n      chardelay: false\\n    connector: serialdev,%s,9600e81,local\\n' \"$1\" > {config}\n\
-             {ser2net} -n -d -c {config} >/dev/null 2>&1 &\n\
+             rt=; if chrt -f 1 true 2>/dev/null; then rt='chrt -f 50'; fi\n\
+             $rt {ser2net} -n -d -c {config} >/dev/null 2>&1 &\n\
              sleep 0.4\n\
-             exec {exe} master --port tcp://127.0.0.1:{port}\n",
+             exec $rt {exe} master --port tcp://127.0.0.1:{port}\n",
             config = config.display(),
             exe = env!("CARGO_BIN_EXE_hiperface"),
         ),
@@ -373,6 +378,64 @@ fn the_cli_writes_every_report_with_a_timeline() {
     let out = run(&["certify", "master", "--exec", "true", "--scenarios", "nothing.*"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("no scenario matches `nothing.*`"));
+    // A report directory that cannot be written: said before the run, with where.
+    let started = std::time::Instant::now();
+    let out = run(&["certify", "master", "--exec", "true", "--report", "/proc/version/report"]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("--report /proc/version/report: cannot create the directory"), "{stderr}");
+    assert!(started.elapsed() < std::time::Duration::from_secs(5), "refused before the run");
+    let file = tmp.path().join("a-file");
+    std::fs::write(&file, "").unwrap();
+    let out = run(&["certify", "master", "--exec", "true", "--report", file.to_str().unwrap()]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("exists and is not a directory"));
+    // A master that cannot be found: what the shell said is shown.
+    let out = run(&["certify", "master", "--exec", "nonexistent-master-cmd {port}", "--scenarios", "startup.default"]);
+    assert_eq!(out.status.code(), Some(3));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("exit status: 127") && stderr.contains("nonexistent-master-cmd: not found"), "{stderr}");
+}
+
+/// SIGINT or SIGTERM during a run: the master and what it started are stopped, the
+/// partial report is written, and the run is INCOMPLETE (exit 3).
+#[rstest::rstest]
+#[case::sigint("INT", "4321.25")]
+#[case::sigterm("TERM", "4321.75")]
+fn an_interrupted_run_stops_the_master_and_writes_its_partial_report(#[case] signal: &str, #[case] marker: &str) {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("report");
+    // A master that starts a child of its own and says nothing.
+    let master = format!("sh -c 'sleep {marker} & sleep {marker}; true' {{port}}");
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_hiperface"))
+        .args(["certify", "master", "--exec", &master, "--report"])
+        .arg(&dir)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let running = || {
+        let out = std::process::Command::new("pgrep").args(["-f", &format!("sleep {marker}")]).output().unwrap();
+        !out.stdout.is_empty()
+    };
+    let started = std::time::Instant::now();
+    while !running() && started.elapsed() < std::time::Duration::from_secs(20) {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    assert!(running(), "the master never started");
+    let sent = std::process::Command::new("kill").args([&format!("-{signal}"), &child.id().to_string()]).status();
+    assert!(sent.unwrap().success());
+    let signalled = std::time::Instant::now();
+    let out = child.wait_with_output().unwrap();
+    let text = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(signalled.elapsed() < std::time::Duration::from_secs(3), "{text}");
+    assert_eq!(out.status.code(), Some(3), "{text}");
+    assert!(text.contains("INCOMPLETE") && text.contains("interrupted"), "{text}");
+    assert!(!running(), "the master's child is still running");
+    let md = std::fs::read_to_string(dir.join("certificate.md")).unwrap();
+    assert!(md.contains("cut short by an interrupt") && md.contains("not run: the run was interrupted"), "{md}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    assert!(report["cut_short"].as_str().is_some_and(|c| c.contains("interrupted")), "{report}");
 }
 
 #[test]
@@ -396,6 +459,7 @@ fn a_drive_on_a_port_is_certified_without_seeing_its_power_on() {
         // Not 22h: the drive stops reading the position for good after it, as it should.
         scenarios: Some("startup.default,protocol.checksum-error,protocol.parity,reply.corrupt".into()),
         polling_period_ms: drive::POLLING_PERIOD_MS,
+        interrupt: None,
     };
     let report = drive::run(profile, &options, |_, _, _| {});
     // The drive ends when its line goes (the port closes under it).
@@ -470,6 +534,7 @@ fn with_an_operator_the_start_up_of_a_drive_on_a_port_is_graded() {
             attach: Attach::Port { path, power_on: PowerOn::Prompt },
             scenarios: Some(scenarios.into()),
             polling_period_ms: drive::POLLING_PERIOD_MS,
+            interrupt: None,
         };
         let report = drive::run_with(profiles::srs50(), &options, &mut operator, |_, _, _| {});
         drive::Operator::switch_off(&mut operator, "end");

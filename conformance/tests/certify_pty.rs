@@ -67,6 +67,9 @@ fn a_silent_device_stops_the_run_quickly_with_an_error() {
         report.cases.iter().all(|c| c.verdict != CaseVerdict::Fail),
         "nothing is blamed on a device that is not there"
     );
+    // Nothing could be read: not "restored", and no line said lost that was not.
+    assert!(!report.safety.restored() && !report.safety.differs(), "{:#?}", report.safety);
+    assert!(report.safety.unverified.iter().all(|u| !u.contains("lost")), "{:#?}", report.safety);
 }
 
 #[test]
@@ -87,8 +90,38 @@ fn the_port_gone_mid_run_leaves_a_partial_report() {
     assert_eq!(report.cases.len(), n, "every case is accounted for");
     assert!(report.cases[..4].iter().all(|c| c.verdict == CaseVerdict::Pass));
     assert!(report.cases[5..n].iter().all(|c| matches!(c.verdict, CaseVerdict::Error | CaseVerdict::NotApplicable)));
-    // The safety section says what the harness could not check, not a verdict.
-    assert!(report.safety.notes.iter().any(|n| n.contains("not read back")), "{:#?}", report.safety);
+    // The safety section says what the harness could not check, and why; not a verdict.
+    assert!(!report.safety.restored() && !report.safety.differs(), "{:#?}", report.safety);
+    assert!(report.safety.unverified.iter().any(|n| n.contains("not read back")), "{:#?}", report.safety);
+}
+
+/// Ctrl-C while the power-up window case waits (most of a second with nothing on the
+/// line): the case stops at once, the device is read back once it talks again, and the
+/// certificate says what is true: restored, the case cut short, the run INCOMPLETE.
+#[test]
+fn an_interrupt_in_a_power_up_window_stops_at_once_and_reads_the_device_back() {
+    let profile = profiles::srs50();
+    let (sim, port) = PtySimulator::start(profile).unwrap();
+    let line = SerialLine::from_port(port, sim.path.clone(), profile.settings, true).with_tolerance(GENEROUS_US);
+    let flag = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let options = Options { cases: Some("powerup.window".into()), interrupt: Some(flag.clone()), ..all_allowed() };
+    let setter = std::thread::spawn(move || {
+        std::thread::sleep(Duration::from_millis(500));
+        flag.store(true, std::sync::atomic::Ordering::Relaxed);
+        Instant::now()
+    });
+    let mut case_ended = None;
+    let report = certify::run(Box::new(line), profile, &options, |_, _, _| case_ended = Some(Instant::now()));
+    let interrupted_at = setter.join().unwrap();
+    let took = case_ended.unwrap().saturating_duration_since(interrupted_at);
+    // 50 ms steps; generous for a shared machine.
+    assert!(took < Duration::from_millis(400), "the case went on {took:?} after the interrupt");
+    let case = &report.cases[0];
+    assert_eq!(case.verdict, CaseVerdict::NotExercised, "{:#?}", case.findings);
+    assert!(case.findings.iter().any(|f| f.message().contains("cut short")), "{:#?}", case.findings);
+    assert_eq!(report.outcome(), hiperface_conformance::verdict::Outcome::Incomplete);
+    assert!(report.safety.restored(), "{:#?}", report.safety);
+    assert_eq!(report.safety.verified.len(), 4, "{:#?}", report.safety);
 }
 
 #[test]

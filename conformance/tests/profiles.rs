@@ -33,7 +33,13 @@ fn a_file_can_override_a_builtin() {
 
 #[rstest]
 #[case::unknown_field("name = \"x\"\n[timing]\ninit_ms = 100\nint_ms = 5\n", 4, "int_ms", "unknown field")]
-#[case::wrong_type("name = \"x\"\n\n[memory]\nuser_blocks = \"many\"\n", 4, "", "invalid type")]
+#[case::wrong_type("name = \"x\"\n\n[memory]\nuser_blocks = \"many\"\n", 4, "memory.user_blocks", "invalid type")]
+#[case::out_of_range(
+    "name = \"x\"\n[identity]\ntype_code = 0x1FF\n",
+    3,
+    "identity.type_code",
+    "a whole number from 0 to 255"
+)]
 #[case::bad_address(
     "name = \"x\"\n[interface]\nsettings = 0xE4\naddress = 0x60\n",
     4,
@@ -41,7 +47,8 @@ fn a_file_can_override_a_builtin() {
     "60h is not in 40h...5Fh"
 )]
 #[case::bad_settings("name = \"x\"\n[interface]\nsettings = 0xE7\n", 3, "interface.settings", "data rate bits 111")]
-#[case::init_too_long("name = \"x\"\n[timing]\n\ninit_ms = 300\n", 4, "timing.init_ms", "exceeds 200 ms")]
+#[case::init_too_long("name = \"x\"\n[timing]\n\ninit_ms = 300\n", 4, "timing.init_ms", "allows 1 to 200 ms")]
+#[case::init_zero("name = \"x\"\n[timing]\ninit_ms = 0\n", 3, "timing.init_ms", "allows 1 to 200 ms")]
 #[case::bad_command(
     "name = \"x\"\n[commands]\nsupported = [0x42, 0x45]\n",
     3,

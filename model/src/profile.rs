@@ -201,7 +201,7 @@ pub struct Profile {
 /// Why a profile is not usable. Each names the field at fault.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum ProfileError {
-    InitTooLong { init_ms: u16 },
+    InitOutOfRange { init_ms: u16 },
     WindowsOutOfOrder,
     UserMemoryExceedsTotal,
     EmptyRange,
@@ -218,7 +218,7 @@ impl ProfileError {
     /// The profile field at fault, as the TOML files spell it.
     pub const fn field(&self) -> &'static str {
         match self {
-            ProfileError::InitTooLong { .. } => "timing.init_ms",
+            ProfileError::InitOutOfRange { .. } => "timing.init_ms",
             ProfileError::WindowsOutOfOrder => "timing",
             ProfileError::UserMemoryExceedsTotal => "memory.user_blocks",
             ProfileError::EmptyRange | ProfileError::RangeTooLarge => "resolution",
@@ -236,8 +236,8 @@ impl ProfileError {
 impl fmt::Display for ProfileError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            ProfileError::InitTooLong { init_ms } => {
-                write!(f, "initialization of {init_ms} ms exceeds 200 ms (000:T9)")
+            ProfileError::InitOutOfRange { init_ms } => {
+                write!(f, "initialization of {init_ms} ms: 000:T9 allows 1 to 200 ms (100 ms nominal)")
             }
             ProfileError::WindowsOutOfOrder => {
                 f.write_str("need init_ms < default_window_ms <= user_settings_ms (000:T9)")
@@ -308,8 +308,10 @@ impl Profile {
 
     /// Check the profile's internal consistency.
     pub fn validate(&self) -> Result<(), ProfileError> {
-        if self.init_ms > 200 {
-            return Err(ProfileError::InitTooLong { init_ms: self.init_ms });
+        // 000:T9: "100 ms after power-on/reset ... shall not exceed 200 ms"; the state
+        // of no UART communication exists on every slave, so it is never 0.
+        if !(1..=200).contains(&self.init_ms) {
+            return Err(ProfileError::InitOutOfRange { init_ms: self.init_ms });
         }
         if !(self.init_ms < self.default_window_ms && self.default_window_ms <= self.user_settings_ms) {
             return Err(ProfileError::WindowsOutOfOrder);

@@ -62,9 +62,11 @@ fn check(edit: impl FnOnce(&mut Profile)) -> Result<(), ProfileError> {
 /// Each consistency rule at its limit: the limit itself is allowed.
 #[test]
 fn a_profile_is_refused_past_each_limit_and_not_at_it() {
-    // Initialization at most 200 ms (000:T9).
+    // Initialization from 1 to 200 ms (000:T9).
     assert_eq!(check(|p| p.init_ms = 200), Ok(()));
-    assert_eq!(check(|p| p.init_ms = 201), Err(ProfileError::InitTooLong { init_ms: 201 }));
+    assert_eq!(check(|p| p.init_ms = 1), Ok(()));
+    assert_eq!(check(|p| p.init_ms = 0), Err(ProfileError::InitOutOfRange { init_ms: 0 }));
+    assert_eq!(check(|p| p.init_ms = 201), Err(ProfileError::InitOutOfRange { init_ms: 201 }));
     // init < default window <= user settings.
     assert_eq!(check(|p| p.user_settings_ms = p.default_window_ms), Ok(()));
     assert_eq!(check(|p| p.user_settings_ms = p.default_window_ms - 1), Err(ProfileError::WindowsOutOfOrder));
@@ -118,7 +120,7 @@ fn a_profile_is_refused_past_each_limit_and_not_at_it() {
 #[test]
 fn a_profile_error_names_its_field_and_says_why() {
     let all = [
-        (ProfileError::InitTooLong { init_ms: 300 }, "timing.init_ms", "300 ms"),
+        (ProfileError::InitOutOfRange { init_ms: 300 }, "timing.init_ms", "300 ms"),
         (ProfileError::WindowsOutOfOrder, "timing", "000:T9"),
         (ProfileError::UserMemoryExceedsTotal, "memory.user_blocks", "user memory"),
         (ProfileError::EmptyRange, "resolution", "empty"),

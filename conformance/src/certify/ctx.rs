@@ -182,7 +182,7 @@ impl Ctx<'_> {
 
     /// Send a frame as it is (for malformed frames); grade the answer.
     pub fn send_frame(&mut self, frame: &[u8]) -> Result<Graded, CaseError> {
-        if !self.restoring && self.options.interrupt.as_ref().is_some_and(|f| f.load(Ordering::Relaxed)) {
+        if self.interrupted() {
             return Err(CaseError::Interrupted);
         }
         // Talk in the settings the slave listens with now (67h, reset, power-up windows).
@@ -281,10 +281,28 @@ impl Ctx<'_> {
         self.model.adopt_reply(&frame.response);
     }
 
-    /// Wait, with nothing on the line; anything that arrives is a FAIL.
+    /// An interrupt (Ctrl-C, SIGTERM) asks the case to stop; not while restoring.
+    fn interrupted(&self) -> bool {
+        !self.restoring && self.options.interrupt.as_ref().is_some_and(|f| f.load(Ordering::Relaxed))
+    }
+
+    /// Wait, with nothing on the line; anything that arrives is a FAIL. In steps of at
+    /// most 50 ms, so that an interrupt takes effect within one (a power-up window's
+    /// wait is most of a second).
     pub fn wait_ms(&mut self, ms: u64) -> Result<(), CaseError> {
+        const STEP_US: u64 = 50_000;
         let until = self.master.now_us() + ms * 1000;
-        let got = self.master.listen_until(until)?;
+        let mut got = Vec::new();
+        loop {
+            let now = self.master.now_us();
+            if now >= until {
+                break;
+            }
+            if self.interrupted() {
+                return Err(CaseError::Interrupted);
+            }
+            got.extend(self.master.listen_until(until.min(now + STEP_US))?);
+        }
         self.tally.physical_min_us += ms * 1000;
         if !got.is_empty() {
             let bytes: Vec<u8> = got.iter().map(|c| c.byte).collect();

@@ -114,7 +114,11 @@ pub fn run(
     let initial = model.nonvolatile().clone();
     let selected = select(options.cases.as_deref());
     let mut restores_run = 0usize;
-    let mut line_gone = false;
+    // Why the device's state cannot be read back after the run, if it cannot.
+    let mut not_read_back: Option<String> = None;
+    // An interrupt is the operator's, not the device's: what it cut short is
+    // NOT-EXERCISED, not an ERROR.
+    let mut interrupted = false;
     for (i, case) in selected.iter().enumerate() {
         let mut result = case.result();
         let case_start = Instant::now();
@@ -128,13 +132,19 @@ pub fn run(
         if let Some(reason) = excluded {
             result.push(Finding::not_applicable(reason));
         } else if let Some(why) = &report.aborted {
-            result.push(Finding::error(format!("not run: {why}")));
+            let why = format!("not run: {why}");
+            result.push(if interrupted { Finding::not_exercised(why) } else { Finding::error(why) });
         } else {
             let mut ctx = Ctx::new(&mut master, &mut model, &mut result, &mut tally, options);
             let outcome = (case.run)(&mut ctx);
             let gone = matches!(outcome, Err(CaseError::Line(LineError::Gone(_))) | Err(CaseError::Silent));
             if let Err(e) = &outcome {
-                ctx.push(Finding::error(e.to_string()));
+                interrupted |= matches!(e, CaseError::Interrupted);
+                ctx.push(if interrupted {
+                    Finding::not_exercised(format!("cut short: {e}"))
+                } else {
+                    Finding::error(e.to_string())
+                });
                 if !matches!(e, CaseError::Abort(_)) {
                     report.aborted = Some(e.to_string());
                 }
@@ -147,16 +157,21 @@ pub fn run(
                     Err(e) => ctx.note(format!("restoring failed: {e}")),
                 }
             }
-            line_gone |= gone;
+            if gone {
+                not_read_back = outcome.err().map(|e| e.to_string());
+            }
             result.close_unobserved("the case");
         }
         result.duration_ms = case_start.elapsed().as_secs_f64() * 1000.0;
         progress(i + 1, selected.len(), &result);
         report.cases.push(result);
     }
-    let after = (!line_gone).then(|| Snapshot::read(&mut master, &model, &mut tally));
-    report.safety =
-        Safety::compare(&before, after.as_ref(), &initial, model.nonvolatile(), options.allow_counter_change);
+    let after = match not_read_back {
+        None => Ok(Snapshot::read(&mut master, &model, &mut tally)),
+        Some(why) => Err(why),
+    };
+    let after = after.as_ref().map_err(String::as_str);
+    report.safety = Safety::compare(&before, after, &initial, model.nonvolatile(), options.allow_counter_change);
     report.safety.restores_run = restores_run;
     report.safety.eeprom_writes = model.eeprom_writes();
     report.safety.notes.append(&mut tally.notes);

@@ -15,9 +15,15 @@ use super::ctx::{physical_time_us, Tally};
 use crate::exchange::{sealed, Master};
 use crate::line::Line;
 use hiperface_model::response::{Response, ResponseFrame};
+use hiperface_model::slave::powerup::CommState;
 use hiperface_model::slave::NonVolatile;
 use hiperface_model::{CommandId, Slave};
 use serde::Serialize;
+
+/// How long past a power-up state change the model predicts the harness waits before
+/// reading the device back: the device's clock started when it saw the reset, a
+/// little off the harness's.
+const SETTLE_MARGIN_US: u64 = 20_000;
 
 /// What the device reports of its stored state; `None` where it did not answer.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -33,6 +39,23 @@ impl Snapshot {
     /// it listens with.
     pub(crate) fn read(master: &mut Master<Box<dyn Line>>, model: &Slave, tally: &mut Tally) -> Snapshot {
         let address = model.nonvolatile().address.byte();
+        // A run cut short in a power-up window (an interrupt during Encoder Reset's
+        // wait) leaves the device initializing or switching its settings: wait, as the
+        // model says, until it talks in its own settings again, so that it is read
+        // back rather than missed (000:3.3.1, Figure 16: at most two changes ahead).
+        for _ in 0..3 {
+            let now = master.now_us();
+            let settling = matches!(
+                model.state(now),
+                CommState::Initialization | CommState::DefaultCommunication | CommState::ChangeOfSettings
+            );
+            match model.next_deadline(now).filter(|_| settling) {
+                // Past the change by a margin: the device's clock is not the model's.
+                Some(t) if master.listen_until(t.max(now) + SETTLE_MARGIN_US).is_ok() => {}
+                Some(_) => return Snapshot::default(),
+                None => break,
+            }
+        }
         let now = master.now_us();
         if let Some(s) = model.listening_settings(now).filter(|s| *s != master.line.settings()) {
             if master.line.configure(s).is_err() {
@@ -85,6 +108,9 @@ pub struct Safety {
     pub changed: Vec<String>,
     /// Where the harness's record of unreadable state differs (its uncertainty).
     pub bookkeeping: Vec<String>,
+    /// What was read before the run and could not be read back after it, with why:
+    /// neither changed nor restored as far as the harness knows.
+    pub unverified: Vec<String>,
     /// Requests the harness ran to undo a case's changes the case did not undo itself.
     pub restores_run: usize,
     /// EEPROM writes, counted by the model in lockstep.
@@ -94,28 +120,39 @@ pub struct Safety {
 }
 
 impl Safety {
-    /// Nothing read back differs and the bookkeeping agrees.
+    /// Everything read before the run was read back unchanged, and the bookkeeping
+    /// agrees.
     pub fn restored(&self) -> bool {
-        self.changed.is_empty() && self.bookkeeping.is_empty()
+        self.changed.is_empty() && self.bookkeeping.is_empty() && self.unverified.is_empty()
     }
 
-    /// Compare the state before and after a run. `counter_may_change`: the operator
-    /// allowed cases that move the counter, which cannot be restored (000:T17, T18).
+    /// Something differs after the run (read back, or in the harness's record).
+    pub fn differs(&self) -> bool {
+        !self.changed.is_empty() || !self.bookkeeping.is_empty()
+    }
+
+    /// Compare the state before and after a run (`after`: why it was not read back, if
+    /// it was not). `counter_may_change`: the operator allowed cases that move the
+    /// counter, which cannot be restored (000:T17, T18).
     pub fn compare(
         before: &Snapshot,
-        after: Option<&Snapshot>,
+        after: Result<&Snapshot, &str>,
         model_before: &NonVolatile,
         model_after: &NonVolatile,
         counter_may_change: bool,
     ) -> Safety {
         let mut s = Safety::default();
         match after {
-            None => s.notes.push("The device's state was not read back after the run (the line was lost).".into()),
-            Some(after) if after.is_empty() && !before.is_empty() => s.changed.push(format!(
+            Err(why) => s.read_back(before, &Snapshot::default(), counter_may_change, why),
+            Ok(after) if after.is_empty() && !before.is_empty() => s.changed.push(format!(
                 "the device no longer answers at address {:02X}h in the settings it started with",
                 model_before.address.byte()
             )),
-            Some(after) => s.read_back(before, after, counter_may_change),
+            Ok(after) => s.read_back(before, after, counter_may_change, "no answer after the run"),
+        }
+        if s.verified.is_empty() && s.changed.is_empty() && s.unverified.is_empty() {
+            // A device that never answered: nothing is known, so nothing is "restored".
+            s.unverified.push("nothing of the device's stored state could be read, before or after the run".into());
         }
         let (a, b) = (model_before, model_after);
         if a.address != b.address {
@@ -147,14 +184,15 @@ impl Safety {
         s
     }
 
-    fn read_back(&mut self, before: &Snapshot, after: &Snapshot, counter_may_change: bool) {
+    /// `missing`: why an item read before is absent after.
+    fn read_back(&mut self, before: &Snapshot, after: &Snapshot, counter_may_change: bool, missing: &str) {
         let mut item = |name: &str, a: Option<String>, b: Option<String>, may_change: bool| match (a, b) {
             (Some(a), Some(b)) if a == b => self.verified.push(format!("{name}: {a}")),
             (Some(a), Some(b)) if may_change => {
                 self.notes.push(format!("{name}: {a} -> {b} (allowed by --allow-counter-change)"))
             }
             (Some(a), Some(b)) => self.changed.push(format!("{name}: {a} -> {b}")),
-            (Some(_), None) => self.notes.push(format!("{name}: read before the run, not after")),
+            (Some(a), None) => self.unverified.push(format!("{name}: {a} before the run, not read back ({missing})")),
             (None, _) => self.notes.push(format!("{name}: not readable")),
         };
         item(
@@ -189,17 +227,30 @@ mod tests {
     fn read_back_facts_and_bookkeeping_stay_apart() {
         let model = Slave::operational(profiles::srs50());
         let nv = model.nonvolatile().clone();
-        let s = Safety::compare(&snapshot(5), Some(&snapshot(5)), &nv, &nv, false);
+        let s = Safety::compare(&snapshot(5), Ok(&snapshot(5)), &nv, &nv, false);
         assert!(s.restored() && s.changed.is_empty() && s.verified.len() == 4, "{s:?}");
-        let s = Safety::compare(&snapshot(5), Some(&snapshot(6)), &nv, &nv, false);
+        let s = Safety::compare(&snapshot(5), Ok(&snapshot(6)), &nv, &nv, false);
         assert_eq!(s.changed, vec!["counter (46h): 5 -> 6".to_string()]);
-        let s = Safety::compare(&snapshot(5), Some(&snapshot(6)), &nv, &nv, true);
+        let s = Safety::compare(&snapshot(5), Ok(&snapshot(6)), &nv, &nv, true);
         assert!(s.restored(), "an allowed counter change is a note: {s:?}");
         let mut moved = nv.clone();
         moved.offset = 4660;
-        let s = Safety::compare(&snapshot(5), Some(&snapshot(5)), &nv, &moved, false);
+        let s = Safety::compare(&snapshot(5), Ok(&snapshot(5)), &nv, &moved, false);
         assert_eq!(s.bookkeeping, vec!["Set Position offset 0 -> 4660".to_string()]);
-        let s = Safety::compare(&snapshot(5), Some(&Snapshot::default()), &nv, &nv, false);
+        let s = Safety::compare(&snapshot(5), Ok(&Snapshot::default()), &nv, &nv, false);
         assert!(s.changed[0].contains("no longer answers at address 40h"), "{s:?}");
+        // Not read back: neither "restored" nor "changed", and why.
+        let s = Safety::compare(&snapshot(5), Err("the device stopped answering"), &nv, &nv, false);
+        assert!(!s.restored() && !s.differs(), "{s:?}");
+        assert_eq!(s.unverified.len(), 4, "{s:?}");
+        assert!(
+            s.unverified[3].contains("counter (46h): 5 before the run, not read back (the device stopped answering)")
+        );
+        let partly = Snapshot { counter: None, ..snapshot(5) };
+        let s = Safety::compare(&snapshot(5), Ok(&partly), &nv, &nv, false);
+        assert!(!s.restored() && s.verified.len() == 3 && s.unverified.len() == 1, "{s:?}");
+        // A device that never answered is not "restored".
+        let s = Safety::compare(&Snapshot::default(), Err("the device has not answered"), &nv, &nv, false);
+        assert!(!s.restored() && !s.differs() && s.unverified[0].contains("nothing"), "{s:?}");
     }
 }

@@ -65,11 +65,16 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<ExitCode, String> {
         (None, Some(path)) => Attach::Port { path: path.clone(), power_on: args.power_on },
         (None, None) => return Err("give the master with --exec or --port".into()),
     };
-    let options = Options { attach, scenarios: args.scenarios.clone(), polling_period_ms: args.polling_period_ms };
+    let interrupt = Some(crate::interrupt::flag("\ninterrupted: stopping the master, then the partial report"));
+    let options =
+        Options { attach, scenarios: args.scenarios.clone(), polling_period_ms: args.polling_period_ms, interrupt };
     if let Some(globs) = &args.scenarios {
         if super::scenarios::chosen(Some(globs)).is_empty() {
             return Err(format!("no scenario matches `{globs}`"));
         }
+    }
+    if let Some(dir) = &args.report {
+        crate::report::prepare_dir(dir)?;
     }
     eprintln!("certifying {} against an encoder of profile {}", options.attach, profile.name);
     let report = super::run(profile, &options, |i, n, r| {

@@ -380,6 +380,12 @@ impl Hooks for DriveEncoder {
     fn real_time(&mut self, granted: bool) {
         self.timeline.real_time = granted;
     }
+
+    /// When a request begins is graded (pauses, windows, initialization): the line is
+    /// watched every 500 µs, also when nothing is due.
+    fn idle_read_us(&self) -> u64 {
+        crate::simulate::READ_US
+    }
 }
 
 #[cfg(test)]

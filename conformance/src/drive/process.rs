@@ -10,11 +10,35 @@ use std::sync::{Arc, Mutex};
 /// Output kept per stream.
 const OUTPUT_CAP: usize = 16 * 1024;
 
+/// The process groups of the masters running now: a second interrupt, which ends the
+/// harness at once, stops them first (nothing is left running behind it).
+static RUNNING: Mutex<Vec<u32>> = Mutex::new(Vec::new());
+
+/// Stop every master still running, with whatever it started. For the path that ends
+/// the harness at once (a second Ctrl-C); a normal run stops each when its scenario ends.
+pub fn stop_all() {
+    let groups = RUNNING.lock().map(|g| g.clone()).unwrap_or_default();
+    for pid in groups {
+        kill_group(pid);
+    }
+}
+
+/// Kill a process group (its id is its leader's pid): children a master left behind go
+/// too. With the `kill` utility: no `unsafe` signal call here.
+fn kill_group(pid: u32) {
+    let _ = Command::new("kill")
+        .args(["-KILL", "--", &format!("-{pid}")])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status();
+}
+
 /// A running master.
 pub struct MasterProcess {
     child: Child,
     output: Arc<Mutex<Vec<u8>>>,
     readers: Vec<std::thread::JoinHandle<()>>,
+    reaped: bool,
 }
 
 impl MasterProcess {
@@ -31,6 +55,9 @@ impl MasterProcess {
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
             .spawn()?;
+        if let Ok(mut running) = RUNNING.lock() {
+            running.push(child.id());
+        }
         let output = Arc::new(Mutex::new(Vec::new()));
         let mut readers = Vec::new();
         let streams: [Option<Box<dyn Read + Send>>; 2] = [
@@ -52,7 +79,7 @@ impl MasterProcess {
                 }
             }));
         }
-        Ok(MasterProcess { child, output, readers })
+        Ok(MasterProcess { child, output, readers, reaped: false })
     }
 
     /// The exit status if the master has ended.
@@ -64,12 +91,7 @@ impl MasterProcess {
     /// return what it printed.
     pub fn stop(mut self) -> (Option<std::process::ExitStatus>, String) {
         let status = self.exited();
-        self.kill_group();
-        if status.is_none() {
-            // Still running at the end of the scenario: stopped by the harness.
-            let _ = self.child.kill();
-            let _ = self.child.wait();
-        }
+        self.reap();
         for r in self.readers.drain(..) {
             let _ = r.join();
         }
@@ -79,23 +101,26 @@ impl MasterProcess {
 }
 
 impl MasterProcess {
-    /// Kill the master's process group (its id is the master's pid): children it left
-    /// behind go too. With the `kill` utility: no `unsafe` signal call here.
-    fn kill_group(&self) {
-        let _ = Command::new("kill")
-            .args(["-KILL", "--", &format!("-{}", self.child.id())])
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .status();
+    /// Stop the master's whole process group (also after the master itself exited:
+    /// what it started may live on), and reap the master.
+    fn reap(&mut self) {
+        if std::mem::replace(&mut self.reaped, true) {
+            return;
+        }
+        let pid = self.child.id();
+        kill_group(pid);
+        if self.child.try_wait().ok().flatten().is_none() {
+            let _ = self.child.kill();
+        }
+        let _ = self.child.wait();
+        if let Ok(mut running) = RUNNING.lock() {
+            running.retain(|p| *p != pid);
+        }
     }
 }
 
 impl Drop for MasterProcess {
     fn drop(&mut self) {
-        if self.child.try_wait().ok().flatten().is_none() {
-            self.kill_group();
-            let _ = self.child.kill();
-            let _ = self.child.wait();
-        }
+        self.reap();
     }
 }

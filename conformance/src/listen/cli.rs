@@ -83,6 +83,9 @@ pub fn decode(args: &DecodeArgs) -> Result<ExitCode, String> {
         FormatArg::Csv => Some(Format::Csv),
         FormatArg::Sigrok => Some(Format::Sigrok),
     };
+    if let Some(dir) = &args.listening.report {
+        crate::report::prepare_dir(dir)?;
+    }
     let name = args.file.display().to_string();
     let (format, mut capture) = capture::open(input, format, read).map_err(|e| format!("{name}: {e}"))?;
     if let Some(vcd) = &args.vcd {

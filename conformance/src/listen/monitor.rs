@@ -47,6 +47,9 @@ fn lag_us(tap: &Tap, options: &Options) -> u64 {
 /// Listen until `stop` is set, the duration is over, or the port closes.
 pub fn monitor(args: &MonitorArgs, stop: &AtomicBool) -> Result<ExitCode, String> {
     let (profile, settings) = super::cli::bus(&args.listening.profile, args.listening.baud)?;
+    if let Some(dir) = &args.listening.report {
+        crate::report::prepare_dir(dir)?;
+    }
     let mut tap = Tap::open(&args.port, settings)?;
     let tolerance_us = args.tolerance_ms.map_or(tap.jitter_us, ms_to_us);
     let options = Options {

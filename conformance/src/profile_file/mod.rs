@@ -78,11 +78,16 @@ pub fn parse(text: &str, path: &Path) -> Result<Profile, ProfileLoadError> {
             message: e.message().to_string(),
         });
     }
-    let file: ProfileFile = toml::from_str(text).map_err(|e| ProfileLoadError::Invalid {
-        path: path.into(),
-        line: line_of(&e),
-        field: field_of(e.message()),
-        message: e.message().to_string(),
+    let file: ProfileFile = toml::from_str(text).map_err(|e| {
+        let line = line_of(&e);
+        ProfileLoadError::Invalid {
+            path: path.into(),
+            line,
+            // An unknown or missing field is named by the message; a bad value by
+            // the key on its line.
+            field: field_of(e.message()).unwrap_or_else(|| key_at(text, line)),
+            message: with_range(e.message()),
+        }
     })?;
     let mut p = match &file.base {
         Some(base) => profiles::builtin(base)
@@ -250,8 +255,36 @@ fn fixed<const N: usize>(s: &str) -> Option<[u8; N]> {
 }
 
 /// The field a serde message names (`unknown field `x``, `missing field `x``).
-fn field_of(message: &str) -> String {
-    message.split('`').nth(1).unwrap_or("").to_string()
+fn field_of(message: &str) -> Option<String> {
+    let named = message.starts_with("unknown field") || message.starts_with("missing field");
+    named.then(|| message.split('`').nth(1).unwrap_or("").to_string())
+}
+
+/// The dotted key written on 1-based `line` (`timing.init_ms`), with the table it is in.
+fn key_at(text: &str, line: usize) -> String {
+    let lines: Vec<&str> = text.lines().collect();
+    let key = lines.get(line.saturating_sub(1)).and_then(|l| l.split_once('=')).map(|(k, _)| k.trim());
+    let table = lines[..line.saturating_sub(1).min(lines.len())]
+        .iter()
+        .rev()
+        .map(|l| l.trim())
+        .find(|l| l.starts_with('['))
+        .map(|l| l.trim_matches(|c| c == '[' || c == ']').trim());
+    match (table, key) {
+        (Some(t), Some(k)) => format!("{t}.{k}"),
+        (None, Some(k)) => k.to_string(),
+        (Some(t), None) => t.to_string(),
+        (None, None) => String::new(),
+    }
+}
+
+/// serde's message, with the range an integer type allows spelled out.
+fn with_range(message: &str) -> String {
+    let ranges = [("u8", "0 to 255 (0xFF)"), ("u16", "0 to 65535"), ("u32", "0 to 4294967295"), ("i8", "-128 to 127")];
+    match ranges.iter().find(|(t, _)| message.ends_with(&format!("expected {t}"))) {
+        Some((_, range)) => format!("{message}: a whole number from {range}"),
+        None => message.to_string(),
+    }
 }
 
 /// The 1-based line where a dotted field (`timing.init_ms`, `analog`) is written,

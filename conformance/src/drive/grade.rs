@@ -1,0 +1,155 @@
+//! Grading one scenario run: whether its situation arose and its reaction followed,
+//! and each rule the master broke, with what the harness's own timing could explain
+//! kept from a FAIL.
+
+use super::encoder::{self, DriveEncoder, Timeline};
+use super::scenarios::Scenario;
+use crate::verdict::{CaseResult, Finding};
+use hiperface_model::master::obligations::{Observation, Rule};
+use hiperface_model::UartSettings;
+use std::time::Instant;
+
+/// The verdict, and the timeline with the broken rules on it. `by_operator`: the
+/// drive's power-on was the operator's, at the encoder's or later. Returns why the
+/// harness's own timing may have decided something, where it may have.
+pub(super) fn finish(
+    result: &mut CaseResult,
+    hooks: &mut DriveEncoder,
+    scenario: &Scenario,
+    started: Instant,
+    by_operator: bool,
+    cut_short: bool,
+) -> Option<String> {
+    if cut_short {
+        let at = hooks.timeline.end_us as f64 / 1000.0;
+        result.push(Finding::not_exercised(format!(
+            "cut short by an interrupt at {at:.0} ms: what the master did until then is graded, its reaction was not awaited"
+        )));
+    }
+    let disturbed = grade(result, hooks, scenario, by_operator, cut_short);
+    result.wire.append(&mut hooks.timeline.entries);
+    for o in &hooks.timeline.observations {
+        result.wire.push(crate::verdict::WireEntry {
+            t_us: o.at_us,
+            direction: "×",
+            bytes: format!("{} ({})", o.rule.text(), o.rule.clause()),
+        });
+    }
+    result.wire.sort_by_key(|w| w.t_us);
+    result.duration_ms = started.elapsed().as_secs_f64() * 1000.0;
+    disturbed
+}
+
+/// Whether the scenario's situation arose (else NOT-EXERCISED: nothing about it was
+/// seen), and whether the reaction it expects followed (else graded by the force of
+/// the reaction's clause, unless a rule of the observer already judged it).
+fn exercised(result: &mut CaseResult, timeline: &Timeline, scenario: &Scenario, edition: hiperface_model::Edition) {
+    let Some(at_us) = timeline.situation_us else {
+        result.push(Finding::not_exercised(format!("not exercised: {}", scenario.situation.missing(scenario))));
+        return;
+    };
+    let reaction = scenario.reaction;
+    let on = scenario.plan.first().map(|p| p.on);
+    let seen = timeline.requests_log.iter().any(|(t, r)| *t > at_us && reaction.seen_in(r, on));
+    let judged = timeline.observations.iter().any(|o| reaction.judged_by().contains(&o.rule));
+    if !seen && !judged {
+        let message = format!(
+            "the expected reaction, {}, was not seen in the {} ms after the situation arose at {:.3} ms",
+            reaction.text(),
+            timeline.end_us.saturating_sub(at_us) / 1000,
+            at_us as f64 / 1000.0
+        );
+        result.push(Finding::broken(reaction.clause(), message, edition));
+    }
+}
+
+/// The scenario's verdict from what the observer saw.
+fn grade(
+    result: &mut CaseResult,
+    hooks: &DriveEncoder,
+    scenario: &Scenario,
+    by_operator: bool,
+    cut_short: bool,
+) -> Option<String> {
+    let timeline = &hooks.timeline;
+    let edition = hooks.profile().edition;
+    if timeline.characters == 0 {
+        result.push(Finding::error("the master sent nothing: there is nothing to grade"));
+        return None;
+    }
+    if timeline.characters >= encoder::MAX_CHARACTERS {
+        result.push(Finding::error(format!("the master flooded the line ({} characters)", timeline.characters)));
+    }
+    if !cut_short {
+        exercised(result, timeline, scenario, edition);
+    }
+    // One finding per rule, with the count and the first observation that stands. An
+    // observation the harness's own timing may explain is not charged to the master:
+    // the rule is then NON-STRICT at most, with the reason. That is one the harness
+    // read late by as much as the rule was broken by, and anything after a reply the
+    // harness wrote with a pause it did not plan (the master may have heard the reply
+    // end there, and all it did after rests on that).
+    let timeout = UartSettings::DEFAULT.timeout_us(edition);
+    let disturbed_from = timeline.disturbed.first().map(|&(at, _)| at);
+    let unproven = |o: &Observation| -> Option<String> {
+        if let Some(late) = timeline.unproven(o, timeout, hooks.profile()) {
+            return Some(format!(
+                "the harness did not read the line for up to {:.1} ms around it (a busy machine): the timing is not proven",
+                late as f64 / 1000.0
+            ));
+        }
+        disturbed_from.filter(|&from| o.at_us >= from).map(|from| {
+            format!(
+                "the harness wrote its reply at {:.3} ms with a pause it did not plan (a busy machine): \
+                 what the master did after it is not proven",
+                from as f64 / 1000.0
+            )
+        })
+    };
+    let mut rules: Vec<Rule> = Vec::new();
+    for o in &timeline.observations {
+        if !rules.contains(&o.rule) {
+            rules.push(o.rule);
+        }
+    }
+    let mut any_unproven = None;
+    for rule in rules {
+        let all: Vec<&Observation> = timeline.observations.iter().filter(|o| o.rule == rule).collect();
+        let count = all.len();
+        let standing = all.iter().find(|o| unproven(o).is_none());
+        let shown = standing.or(all.first()).copied();
+        let Some(&Observation { at_us, measured_us: measured, data_rates: rates, .. }) = shown else { continue };
+        let figure = match (measured, rates) {
+            (Some(m), _) => format!(", {:.3} ms", m as f64 / 1000.0),
+            (None, Some(r)) => format!(", {} Bd, the encoder at {} Bd", r.master_bps, r.encoder_bps),
+            (None, None) => String::new(),
+        };
+        let times = if count > 1 { format!(" ({count} times)") } else { String::new() };
+        let message = format!("{} at {:.3} ms{figure}{times}", rule.text(), at_us as f64 / 1000.0);
+        let mut finding = Finding::broken(rule.clause(), message, edition);
+        if let (None, Some(why)) = (standing, shown.and_then(unproven)) {
+            finding = finding.softened(&why);
+            any_unproven.get_or_insert(why);
+        }
+        // A request in the settings-change window by the encoder's clock may be in the
+        // default window by the drive's, which powered on later.
+        result.push(match (rule, by_operator) {
+            (Rule::DuringSettingsChange, true) => {
+                finding.softened("the drive powered on when the operator switched it, perhaps after the encoder")
+            }
+            _ => finding,
+        });
+    }
+    // Why this run may not be the master's own: a disturbed reply, or a rule that only
+    // a late read broke.
+    let worst = timeline.disturbed.iter().map(|&(_, pause)| pause).max();
+    match (disturbed_from, worst) {
+        (Some(from), Some(pause)) => Some(format!(
+            "{} replies written with an unplanned pause (up to {:.3} ms), the first at {:.3} ms",
+            timeline.disturbed.len(),
+            pause as f64 / 1000.0,
+            from as f64 / 1000.0
+        )),
+        _ => any_unproven,
+    }
+}

@@ -1,0 +1,212 @@
+//! One scenario run against the master: a fresh encoder served on a fresh
+//! pseudo-terminal (the master started on it) or on the drive's port, until the
+//! scenario's end, the master's exit or an interrupt.
+
+use super::encoder::DriveEncoder;
+use super::grade::finish;
+use super::process::MasterProcess;
+use super::scenarios::Scenario;
+use super::{Operator, PowerOn};
+use crate::simulate::serve_with;
+use crate::verdict::{CaseResult, Finding};
+use hiperface_model::{Profile, Slave};
+use serialport::SerialPort;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+
+/// One run of one scenario.
+pub(super) struct ScenarioRun {
+    pub(super) result: CaseResult,
+    /// What the master printed.
+    pub(super) output: String,
+    /// From power-on to the scenario's end, ms.
+    pub(super) length_ms: u64,
+    /// Why the harness's timing may have decided something in this run.
+    pub(super) disturbed: Option<String>,
+    /// The encoder's thread ran at a real-time priority.
+    pub(super) real_time: bool,
+}
+
+impl ScenarioRun {
+    /// A run that ended before the encoder served (it could not start).
+    pub(super) fn early(result: CaseResult) -> ScenarioRun {
+        ScenarioRun { result, output: String::new(), length_ms: 0, disturbed: None, real_time: false }
+    }
+}
+
+pub(super) fn open_port(path: &str) -> Result<Box<dyn SerialPort>, String> {
+    serialport::new(path, 9600)
+        .data_bits(serialport::DataBits::Eight)
+        .parity(serialport::Parity::Even)
+        .stop_bits(serialport::StopBits::One)
+        .timeout(Duration::from_millis(1))
+        .open()
+        .map_err(|e| e.to_string())
+}
+
+/// A drive on a real port, and how its power-on is known.
+pub(super) struct Drive<'a> {
+    pub(super) port: &'a dyn SerialPort,
+    pub(super) power_on: PowerOn,
+    pub(super) operator: &'a mut dyn Operator,
+}
+
+/// One scenario with a drive on a real port: a fresh encoder served on the port.
+pub(super) fn on_port(
+    profile: Profile,
+    scenario: &Scenario,
+    drive: Drive,
+    polling_period_ms: u32,
+    interrupted: &dyn Fn() -> bool,
+) -> ScenarioRun {
+    let Drive { port, power_on, operator } = drive;
+    let started = Instant::now();
+    let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
+    if scenario.from_power_on() && power_on == PowerOn::Unseen {
+        result.push(Finding::not_applicable(
+            "the scenario starts at the drive's power-on, which the harness cannot see on this port (use --power-on prompt)",
+        ));
+        return ScenarioRun::early(result);
+    }
+    let port = match port.try_clone() {
+        Ok(p) => p,
+        Err(e) => {
+            result.push(Finding::error(format!("cannot use the port: {e}")));
+            return ScenarioRun::early(result);
+        }
+    };
+    let world = (scenario.world)(&profile);
+    let mut slave = match power_on {
+        PowerOn::Prompt => {
+            operator.switch_off(scenario.id);
+            // Whatever the drive sent while going off is not this scenario's.
+            let _ = port.clear(serialport::ClearBuffer::Input);
+            let mut slave = Slave::new(profile);
+            world.apply_at_power_on(&mut slave);
+            slave
+        }
+        PowerOn::Unseen => {
+            let mut slave = Slave::operational(profile);
+            world.apply(&mut slave);
+            slave
+        }
+    };
+    let mut hooks = DriveEncoder::new(profile, scenario, power_on == PowerOn::Prompt, None);
+    hooks.set_polling_period_ms(polling_period_ms);
+    let arisen = hooks.arisen();
+    let epoch = Instant::now();
+    if power_on == PowerOn::Prompt {
+        operator.switch_on(scenario.id);
+    }
+    let deadline = || epoch + Duration::from_millis(end_ms(scenario, &arisen, polling_period_ms));
+    match serve_until(port, &mut slave, &mut hooks, epoch, deadline, interrupted) {
+        Ok(Ok(())) => {}
+        Ok(Err(e)) => result.push(Finding::error(format!("the port failed: {e}"))),
+        Err(()) => result.push(Finding::error("the encoder thread panicked")),
+    }
+    hooks.finish(epoch.elapsed().as_micros() as u64);
+    let cut_short = interrupted();
+    let disturbed = finish(&mut result, &mut hooks, scenario, started, power_on == PowerOn::Prompt, cut_short);
+    let (length_ms, real_time) = (hooks.timeline.end_us / 1000, hooks.timeline.real_time);
+    ScenarioRun { result, output: String::new(), length_ms, disturbed, real_time }
+}
+
+/// One scenario: a fresh encoder on a fresh pseudo-terminal, the master started on it.
+pub(super) fn run_scenario(
+    profile: Profile,
+    scenario: &Scenario,
+    exec: &str,
+    polling_period_ms: u32,
+    interrupted: &dyn Fn() -> bool,
+) -> ScenarioRun {
+    let started = Instant::now();
+    let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
+    let (encoder_end, master_end) = match serialport::TTYPort::pair() {
+        Ok(pair) => pair,
+        Err(e) => {
+            result.push(Finding::error(format!("cannot create a pseudo-terminal pair: {e}")));
+            return ScenarioRun::early(result);
+        }
+    };
+    let path = master_end.name().unwrap_or_default();
+    let mut slave = Slave::new(profile);
+    (scenario.world)(&profile).apply_at_power_on(&mut slave);
+    // The master's settings are the pseudo-terminal's: the harness reads them through
+    // its own end (on Linux both ends share them).
+    let peer = encoder_end.try_clone().ok();
+    let mut hooks = DriveEncoder::new(profile, scenario, true, peer);
+    hooks.set_polling_period_ms(polling_period_ms);
+    let arisen = hooks.arisen();
+    // Power-on is the master's start.
+    let epoch = Instant::now();
+    let mut master = match MasterProcess::start(exec, &path) {
+        Ok(m) => m,
+        Err(e) => {
+            result.push(Finding::error(format!("cannot start the master `{exec}`: {e}")));
+            return ScenarioRun::early(result);
+        }
+    };
+    let deadline = || epoch + Duration::from_millis(end_ms(scenario, &arisen, polling_period_ms));
+    let mut exited = None;
+    let served = serve_until(Box::new(encoder_end), &mut slave, &mut hooks, epoch, deadline, || {
+        exited = master.exited();
+        exited.is_some() || interrupted()
+    });
+    let (status, output) = master.stop();
+    // The encoder has stopped before its line closes: nothing it writes is lost in a pipe.
+    drop(master_end);
+    let end_us = epoch.elapsed().as_micros() as u64;
+    hooks.finish(end_us);
+    match served {
+        Ok(Ok(())) => {}
+        Ok(Err(e)) => result.push(Finding::error(format!("the encoder's port failed: {e}"))),
+        Err(()) => result.push(Finding::error("the encoder thread panicked")),
+    }
+    if let Some(s) = exited.or(status).filter(|_| !interrupted()) {
+        let at = end_us as f64 / 1000.0;
+        // What it said last is most often why (a command not found, a usage error).
+        let said = last_lines(&output, 3);
+        let said = if said.is_empty() { String::new() } else { format!("; it printed: {said}") };
+        result
+            .push(Finding::error(format!("the master exited after {at:.0} ms ({s}) before the scenario ended{said}")));
+    }
+    let cut_short = interrupted();
+    let disturbed = finish(&mut result, &mut hooks, scenario, started, false, cut_short);
+    let (length_ms, real_time) = (hooks.timeline.end_us / 1000, hooks.timeline.real_time);
+    ScenarioRun { result, output, length_ms, disturbed, real_time }
+}
+
+/// The last `n` non-empty lines of `text`, joined with " / ".
+fn last_lines(text: &str, n: usize) -> String {
+    let lines: Vec<&str> = text.lines().map(str::trim).filter(|l| !l.is_empty()).collect();
+    lines[lines.len().saturating_sub(n)..].join(" / ")
+}
+
+/// When `scenario` ends (ms since power-on), with its situation as published so far.
+fn end_ms(scenario: &Scenario, arisen: &AtomicU64, polling_period_ms: u32) -> u64 {
+    let at_us = arisen.load(Ordering::Relaxed);
+    scenario.end_ms((at_us != u64::MAX).then_some(at_us / 1000), polling_period_ms)
+}
+
+/// Serve `slave` on `port` with `hooks` (time 0 at `epoch`) until `deadline()` (which
+/// may move later as the scenario's situation arises), the port goes, or `done()`
+/// (asked every 5 ms) says so; then stop the encoder. `Err(())` if the serving thread
+/// panicked.
+fn serve_until(
+    port: Box<dyn SerialPort>,
+    slave: &mut Slave,
+    hooks: &mut DriveEncoder,
+    epoch: Instant,
+    deadline: impl Fn() -> Instant,
+    mut done: impl FnMut() -> bool,
+) -> Result<std::io::Result<()>, ()> {
+    let stop = AtomicBool::new(false);
+    std::thread::scope(|scope| {
+        let server = scope.spawn(|| serve_with(port, slave, epoch, &stop, hooks));
+        while Instant::now() < deadline() && !server.is_finished() && !done() {
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        stop.store(true, Ordering::Relaxed);
+        server.join().map_err(drop)
+    })
+}
