@@ -29,6 +29,11 @@ pub struct Ser2net {
     _config: tempfile::TempDir,
 }
 
+/// Whether a process may be started at a real-time priority here (`chrt -f`).
+pub fn real_time_permitted() -> bool {
+    Command::new("chrt").args(["-f", "1", "true"]).status().is_ok_and(|s| s.success())
+}
+
 /// Where ser2net is. A test that needs it is ignored where the build found none
 /// (`build.rs`); run anyway, it stops here with the reason.
 pub fn ser2net_program() -> &'static str {
@@ -52,13 +57,18 @@ impl Ser2net {
             ),
         )
         .unwrap();
-        let server = Command::new(exe)
-            .args(["-n", "-d", "-c"])
-            .arg(&config)
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .unwrap();
+        // A device server is a device with a processor of its own: where permitted it
+        // runs at a real-time priority, so that a busy test machine does not delay its
+        // chunks by more than a reply's timing limit (it did, under load).
+        let mut command = if real_time_permitted() {
+            let mut c = Command::new("chrt");
+            c.args(["-f", "50", exe]);
+            c
+        } else {
+            Command::new(exe)
+        };
+        let server =
+            command.args(["-n", "-d", "-c"]).arg(&config).stdout(Stdio::null()).stderr(Stdio::null()).spawn().unwrap();
         Ser2net { _server: KillOnDrop(server), port, _config: dir }
     }
 
