@@ -29,17 +29,24 @@ ignores-warning ignores-sync-fault retries-forever no-reset-wait no-retry ignore
 sparse-poll naive-poll late-default receive-idle"}
 SLAVES=${SLAVES:-"sim hx-1"}
 
+# The runs of one device (lines "load vector  | runs: ..." on stdin): print them under
+# "== NAME: same|DIFFERENT verdicts in N runs"; status 1 when they differ.
+judge() {
+    local runs distinct
+    runs=$(cat)
+    distinct=$(echo "$runs" | cut -c7- | sed 's/  | runs:.*//' | sort -u | wc -l)
+    echo "== $1: $([ "$distinct" = 1 ] && echo same || echo DIFFERENT) verdicts in $(echo "$runs" | wc -l) runs"
+    echo "$runs"
+    [ "$distinct" = 1 ]
+}
+
 # Compare the runs of each device across result directories: same or DIFFERENT.
 if [ "${1:-}" = compare ]; then
     shift
     status=0
     for f in $(for d in "$@"; do ls "$d"/*.txt 2>/dev/null; done | xargs -n1 basename | sort -u); do
         [ "$f" = hx1.path ] && continue
-        all=$(for d in "$@"; do [ -f "$d/$f" ] && cat "$d/$f"; done)
-        distinct=$(echo "$all" | cut -c7- | sed 's/  | runs:.*//' | sort -u | wc -l)
-        [ "$distinct" = 1 ] || status=1
-        echo "== ${f%.txt}: $([ "$distinct" = 1 ] && echo same || echo DIFFERENT) verdicts in $(echo "$all" | wc -l) runs"
-        echo "$all"
+        for d in "$@"; do [ -f "$d/$f" ] && cat "$d/$f"; done | judge "${f%.txt}" || status=1
     done
     exit $status
 fi
@@ -122,11 +129,7 @@ for kind in master slave; do
                 printf '%-5s %s\n' "$load" "$(vector "$OUT/$kind-$d-$load-$i/report.json")" >> "$OUT/$kind-$d.txt"
             done
         done
-        distinct=$(cut -c7- "$OUT/$kind-$d.txt" | sed 's/  | runs:.*//' | sort -u | wc -l)
-        verdict=$([ "$distinct" = 1 ] && echo "same" || echo "DIFFERENT")
-        [ "$distinct" = 1 ] || status=1
-        echo "== $kind $d: $verdict verdicts in $(wc -l < "$OUT/$kind-$d.txt") runs"
-        cat "$OUT/$kind-$d.txt"
+        judge "$kind $d" < "$OUT/$kind-$d.txt" || status=1
     done
 done
 exit $status

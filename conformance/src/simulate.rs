@@ -156,9 +156,8 @@ pub fn serve_with(
     let now = |e: Instant| e.elapsed().as_micros() as u64;
     let mut buf = [0u8; 64];
     let mut rx_clock = crate::line::RxClock::default();
-    port.set_timeout(Duration::from_micros(READ_US)).map_err(std::io::Error::from)?;
     let mut port_settings = None;
-    // When the last read returned: a read returns at least every timeout (500 µs).
+    // When the last read returned: a read returns at least every timeout it is given.
     let mut read_us = now(epoch);
     // What the master sent while a reply went out, as it was read.
     let mut heard: Vec<Chunk> = Vec::new();
@@ -180,11 +179,7 @@ pub fn serve_with(
             let at = now(epoch);
             let idle = hooks.idle_read_us().max(READ_US);
             let wait_us = slave.next_deadline(at).map_or(idle, |d| d.saturating_sub(at).clamp(READ_US, idle));
-            port.set_timeout(Duration::from_micros(wait_us)).map_err(std::io::Error::from)?;
-            let watched = watch(port.as_mut(), epoch, &mut read_us, &mut buf, wait_us);
-            // Reads while a reply goes out are short again.
-            port.set_timeout(Duration::from_micros(READ_US)).map_err(std::io::Error::from)?;
-            match watched? {
+            match watch(port.as_mut(), epoch, &mut read_us, &mut buf, wait_us)? {
                 Some(chunk) => vec![chunk],
                 None => return Ok(()),
             }
@@ -271,8 +266,8 @@ struct Chunk {
     unwatched_us: u64,
 }
 
-/// One read of the line (at most its timeout, `timeout_us`); `None` when the other
-/// end has gone.
+/// One read of the line, waiting at most `timeout_us`; `None` when the other end has
+/// gone.
 fn watch(
     port: &mut dyn SerialPort,
     epoch: Instant,
@@ -280,6 +275,7 @@ fn watch(
     buf: &mut [u8],
     timeout_us: u64,
 ) -> std::io::Result<Option<Chunk>> {
+    port.set_timeout(Duration::from_micros(timeout_us)).map_err(std::io::Error::from)?;
     let result = port.read(buf);
     let at_us = epoch.elapsed().as_micros() as u64;
     let since = at_us.saturating_sub(*read_us);

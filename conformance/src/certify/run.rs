@@ -149,7 +149,6 @@ pub fn run(
                     report.aborted = Some(e.to_string());
                 }
             }
-
             // Restore what the case changed, also after a failure or Ctrl-C.
             if !gone && ctx.has_guards() {
                 match ctx.restore() {

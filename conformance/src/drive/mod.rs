@@ -195,56 +195,55 @@ pub fn run_with(
     let mut not_run = 0;
     for (i, scenario) in chosen.iter().enumerate() {
         let profile = scenario.encoder.map_or(profile, |make| make(profile));
-        if interrupted() {
+        let result = if interrupted() {
             // Not run: nothing about the master is known from it.
             let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
             result.push(Finding::not_exercised("not run: the run was interrupted"));
             not_run += 1;
-            progress(i + 1, n, &result);
-            *report.summary.entry(result.verdict.label().to_string()).or_default() += 1;
-            report.scenarios.push(result);
-            continue;
-        }
-        let mut attempt = 0;
-        let run = loop {
-            attempt += 1;
-            let run = match (&options.attach, &port) {
-                (Attach::Exec(exec), _) => {
-                    run_scenario(profile, scenario, exec, options.polling_period_ms, &interrupted)
-                }
-                (Attach::Port { power_on, .. }, Some(Ok(port))) => {
-                    let drive = Drive { port: port.as_ref(), power_on: *power_on, operator: &mut *operator };
-                    on_port(profile, scenario, drive, options.polling_period_ms, &interrupted)
-                }
-                (Attach::Port { path, .. }, _) => {
-                    let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
-                    let why = port.as_ref().and_then(|p| p.as_ref().err().cloned()).unwrap_or_default();
-                    result.push(Finding::error(format!("cannot open {path}: {why}")));
-                    ScenarioRun::early(result)
+            result
+        } else {
+            let mut attempt = 0;
+            let run = loop {
+                attempt += 1;
+                let run = match (&options.attach, &port) {
+                    (Attach::Exec(exec), _) => {
+                        run_scenario(profile, scenario, exec, options.polling_period_ms, &interrupted)
+                    }
+                    (Attach::Port { power_on, .. }, Some(Ok(port))) => {
+                        let drive = Drive { port: port.as_ref(), power_on: *power_on, operator: &mut *operator };
+                        on_port(profile, scenario, drive, options.polling_period_ms, &interrupted)
+                    }
+                    (Attach::Port { path, .. }, _) => {
+                        let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
+                        let why = port.as_ref().and_then(|p| p.as_ref().err().cloned()).unwrap_or_default();
+                        result.push(Finding::error(format!("cannot open {path}: {why}")));
+                        ScenarioRun::early(result)
+                    }
+                };
+                // The harness's own timing was disturbed: run the scenario again, so
+                // that the verdict rests on an undisturbed run where one can be had.
+                match &run.disturbed {
+                    Some(why) if attempt < MAX_ATTEMPTS && !interrupted() => {
+                        report.rerun_ms += run.length_ms as f64;
+                        report.notes_per_scenario.push(format!("{}: run again: {why}", scenario.id));
+                    }
+                    _ => break run,
                 }
             };
-            // The harness's own timing was disturbed: run the scenario again, so that
-            // the verdict rests on an undisturbed run where one can be had.
-            match &run.disturbed {
-                Some(why) if attempt < MAX_ATTEMPTS && !interrupted() => {
-                    report.rerun_ms += run.length_ms as f64;
-                    report.notes_per_scenario.push(format!("{}: run again: {why}", scenario.id));
-                }
-                _ => break run,
-            }
+            let ScenarioRun { mut result, output, length_ms, real_time, .. } = run;
+            result.attempts = attempt;
+            report.real_time_scenarios += usize::from(real_time);
+            report.needed_ms += length_ms as f64;
+            report.output.insert(scenario.id.to_string(), output);
+            result
         };
-        let ScenarioRun { mut result, output, length_ms, real_time, .. } = run;
-        result.attempts = attempt;
-        report.real_time_scenarios += usize::from(real_time);
-        report.needed_ms += length_ms as f64;
         progress(i + 1, n, &result);
         *report.summary.entry(result.verdict.label().to_string()).or_default() += 1;
-        report.output.insert(scenario.id.to_string(), output);
         report.scenarios.push(result);
     }
     report.wall_time_ms = started.elapsed().as_secs_f64() * 1000.0;
     if interrupted() {
-        let why = format!("interrupted (Ctrl-C or SIGTERM): {} of {n} scenarios run, the last cut short", n - not_run);
+        let why = format!("interrupted (Ctrl-C or SIGTERM) with {} of {n} scenarios run", n - not_run);
         report.notes.push(format!("The run was {why}: the master was stopped with everything it started."));
         report.cut_short = Some(why);
     }

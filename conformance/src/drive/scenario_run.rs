@@ -32,6 +32,21 @@ impl ScenarioRun {
     pub(super) fn early(result: CaseResult) -> ScenarioRun {
         ScenarioRun { result, output: String::new(), length_ms: 0, disturbed: None, real_time: false }
     }
+
+    /// A run the encoder served to its end: graded, with what the timeline measured.
+    fn graded(
+        mut result: CaseResult,
+        mut hooks: DriveEncoder,
+        scenario: &Scenario,
+        started: Instant,
+        by_operator: bool,
+        cut_short: bool,
+        output: String,
+    ) -> ScenarioRun {
+        let disturbed = finish(&mut result, &mut hooks, scenario, started, by_operator, cut_short);
+        let (length_ms, real_time) = (hooks.timeline.end_us / 1000, hooks.timeline.real_time);
+        ScenarioRun { result, output, length_ms, disturbed, real_time }
+    }
 }
 
 pub(super) fn open_port(path: &str) -> Result<Box<dyn SerialPort>, String> {
@@ -99,16 +114,13 @@ pub(super) fn on_port(
         operator.switch_on(scenario.id);
     }
     let deadline = || epoch + Duration::from_millis(end_ms(scenario, &arisen, polling_period_ms));
-    match serve_until(port, &mut slave, &mut hooks, epoch, deadline, interrupted) {
-        Ok(Ok(())) => {}
-        Ok(Err(e)) => result.push(Finding::error(format!("the port failed: {e}"))),
-        Err(()) => result.push(Finding::error("the encoder thread panicked")),
-    }
-    hooks.finish(epoch.elapsed().as_micros() as u64);
+    let served = serve_until(port, &mut slave, &mut hooks, epoch, deadline, interrupted);
     let cut_short = interrupted();
-    let disturbed = finish(&mut result, &mut hooks, scenario, started, power_on == PowerOn::Prompt, cut_short);
-    let (length_ms, real_time) = (hooks.timeline.end_us / 1000, hooks.timeline.real_time);
-    ScenarioRun { result, output: String::new(), length_ms, disturbed, real_time }
+    hooks.finish(epoch.elapsed().as_micros() as u64);
+    if let Some(f) = served_finding(served) {
+        result.push(f);
+    }
+    ScenarioRun::graded(result, hooks, scenario, started, power_on == PowerOn::Prompt, cut_short, String::new())
 }
 
 /// One scenario: a fresh encoder on a fresh pseudo-terminal, the master started on it.
@@ -152,17 +164,16 @@ pub(super) fn run_scenario(
         exited = master.exited();
         exited.is_some() || interrupted()
     });
+    let cut_short = interrupted();
     let (status, output) = master.stop();
     // The encoder has stopped before its line closes: nothing it writes is lost in a pipe.
     drop(master_end);
     let end_us = epoch.elapsed().as_micros() as u64;
     hooks.finish(end_us);
-    match served {
-        Ok(Ok(())) => {}
-        Ok(Err(e)) => result.push(Finding::error(format!("the encoder's port failed: {e}"))),
-        Err(()) => result.push(Finding::error("the encoder thread panicked")),
+    if let Some(f) = served_finding(served) {
+        result.push(f);
     }
-    if let Some(s) = exited.or(status).filter(|_| !interrupted()) {
+    if let Some(s) = exited.or(status).filter(|_| !cut_short) {
         let at = end_us as f64 / 1000.0;
         // What it said last is most often why (a command not found, a usage error).
         let said = last_lines(&output, 3);
@@ -170,10 +181,16 @@ pub(super) fn run_scenario(
         result
             .push(Finding::error(format!("the master exited after {at:.0} ms ({s}) before the scenario ended{said}")));
     }
-    let cut_short = interrupted();
-    let disturbed = finish(&mut result, &mut hooks, scenario, started, false, cut_short);
-    let (length_ms, real_time) = (hooks.timeline.end_us / 1000, hooks.timeline.real_time);
-    ScenarioRun { result, output, length_ms, disturbed, real_time }
+    ScenarioRun::graded(result, hooks, scenario, started, false, cut_short, output)
+}
+
+/// What ended the encoder's serving, where it was not the scenario's end.
+fn served_finding(served: Result<std::io::Result<()>, ()>) -> Option<Finding> {
+    match served {
+        Ok(Ok(())) => None,
+        Ok(Err(e)) => Some(Finding::error(format!("the encoder's port failed: {e}"))),
+        Err(()) => Some(Finding::error("the encoder thread panicked")),
+    }
 }
 
 /// The last `n` non-empty lines of `text`, joined with " / ".
