@@ -34,9 +34,24 @@ pub struct Exchange {
     pub trailing: Vec<RxChar>,
     pub settings: UartSettings,
     pub timeout_us: u64,
-    /// The longest the harness woke late from a timed wait during the exchange: its
-    /// own scheduling delay, which bounds how late it may have noticed a character.
+    /// The longest the harness woke late from a timed wait during the exchange, or
+    /// waited for a processor in it: its own scheduling delay, which bounds how late
+    /// it may have noticed a character or written its request. What it could explain
+    /// is never charged to the device.
     pub harness_late_us: u64,
+    /// How late a listener may have heard the request's end and the reply's start,
+    /// measured for each (zero where the harness took the stamps itself).
+    pub heard_late: HeardLate,
+}
+
+/// How late a listener may have heard the two instants a response time is measured
+/// between: a live tap's read that returned them after its reader had waited for a
+/// processor (see `crate::sched`). A request heard late ended earlier than stamped
+/// (the reply came later after it than measured); a reply heard late began earlier.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct HeardLate {
+    pub request_end_us: u64,
+    pub reply_start_us: u64,
 }
 
 impl Exchange {
@@ -150,6 +165,7 @@ impl<L: Line> Master<L> {
             settings,
             timeout_us: timeout,
             harness_late_us: self.line.take_lateness_us(),
+            heard_late: HeardLate::default(),
         })
     }
 

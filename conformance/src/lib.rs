@@ -14,6 +14,7 @@ pub mod listen;
 pub mod port;
 pub mod profile_file;
 pub mod report;
+pub mod sched;
 pub mod simulate;
 pub mod vectors;
 pub mod verdict;

@@ -90,20 +90,6 @@ pub const fn disturbed_from_us(char_time_us: u64) -> u64 {
     char_time_us / 2
 }
 
-/// Ask for a real-time scheduling priority for the calling thread (SCHED_FIFO), so
-/// that replies are paced on time on a busy machine. Where it is not permitted (no
-/// privilege, a container's limits) the thread stays as it was, and timing is still
-/// checked: correctness never depends on it. Returns whether it was granted.
-pub fn real_time_priority() -> bool {
-    use thread_priority::unix::{
-        set_thread_priority_and_policy, thread_native_id, RealtimeThreadSchedulePolicy, ThreadSchedulePolicy,
-    };
-    use thread_priority::ThreadPriority;
-    let policy = ThreadSchedulePolicy::Realtime(RealtimeThreadSchedulePolicy::Fifo);
-    let priority = ThreadPriority::Crossplatform(50u8.try_into().unwrap_or_default());
-    set_thread_priority_and_policy(thread_native_id(), priority, policy).is_ok()
-}
-
 /// The model as it is.
 pub struct Plain;
 impl Hooks for Plain {}
@@ -152,13 +138,12 @@ pub fn serve_with(
     hooks: &mut dyn Hooks,
 ) -> std::io::Result<()> {
     // A device's UART keeps time whatever the host does: be as punctual as permitted.
-    hooks.real_time(real_time_priority());
+    hooks.real_time(crate::sched::real_time_priority());
     let now = |e: Instant| e.elapsed().as_micros() as u64;
     let mut buf = [0u8; 64];
     let mut rx_clock = crate::line::RxClock::default();
     let mut port_settings = None;
-    // When the last read returned: a read returns at least every timeout it is given.
-    let mut read_us = now(epoch);
+    let mut watched = Watched { read_us: now(epoch), run_delay: crate::sched::RunDelay::of_this_thread() };
     // What the master sent while a reply went out, as it was read.
     let mut heard: Vec<Chunk> = Vec::new();
     while !stop.load(Ordering::Relaxed) {
@@ -179,7 +164,7 @@ pub fn serve_with(
             let at = now(epoch);
             let idle = hooks.idle_read_us().max(READ_US);
             let wait_us = slave.next_deadline(at).map_or(idle, |d| d.saturating_sub(at).clamp(READ_US, idle));
-            match watch(port.as_mut(), epoch, &mut read_us, &mut buf, wait_us)? {
+            match watch(port.as_mut(), epoch, &mut watched, &mut buf, wait_us)? {
                 Some(chunk) => vec![chunk],
                 None => return Ok(()),
             }
@@ -226,7 +211,7 @@ pub fn serve_with(
                 }
                 let runs: Vec<&[u8]> = if p.paced { part.chunks(1).collect() } else { vec![part] };
                 for run in runs {
-                    watch_until(port.as_mut(), epoch, start + ct, &mut read_us, &mut buf, &mut heard)?;
+                    watch_until(port.as_mut(), epoch, start + ct, &mut watched, &mut buf, &mut heard)?;
                     port.write_all(run)?;
                     port.flush()?;
                     // The run is complete as written: its characters began `ct` each before.
@@ -248,7 +233,7 @@ pub fn serve_with(
                     start = written + run.len() as u64 * ct;
                     index += run.len();
                 }
-                watch_until(port.as_mut(), epoch, start, &mut read_us, &mut buf, &mut heard)?;
+                watch_until(port.as_mut(), epoch, start, &mut watched, &mut buf, &mut heard)?;
                 start += pause;
             }
             hooks.sent(&p, start);
@@ -266,21 +251,33 @@ struct Chunk {
     unwatched_us: u64,
 }
 
+/// How punctually the line was read.
+struct Watched {
+    /// When the last read returned: a read returns at least every timeout it is given.
+    read_us: u64,
+    /// The reading thread's wait for a processor (a read woken late on a busy machine).
+    run_delay: crate::sched::RunDelay,
+}
+
 /// One read of the line, waiting at most `timeout_us`; `None` when the other end has
 /// gone.
 fn watch(
     port: &mut dyn SerialPort,
     epoch: Instant,
-    read_us: &mut u64,
+    watched: &mut Watched,
     buf: &mut [u8],
     timeout_us: u64,
 ) -> std::io::Result<Option<Chunk>> {
     port.set_timeout(Duration::from_micros(timeout_us)).map_err(std::io::Error::from)?;
     let result = port.read(buf);
     let at_us = epoch.elapsed().as_micros() as u64;
-    let since = at_us.saturating_sub(*read_us);
-    let unwatched_us = if since >= timeout_us + UNWATCHED_US { since } else { 0 };
-    *read_us = at_us;
+    let since = at_us.saturating_sub(watched.read_us);
+    // Unwatched: a read that returned well after its timeout, or one whose thread
+    // waited for a processor (what came may have waited as long).
+    let waited = watched.run_delay.take_us().unwrap_or(0);
+    let overdue = if since >= timeout_us + UNWATCHED_US { since } else { 0 };
+    let unwatched_us = overdue.max(if waited >= UNWATCHED_US { waited } else { 0 });
+    watched.read_us = at_us;
     let n = match result {
         Ok(0) => return Ok(None),
         Ok(n) => n,
@@ -297,7 +294,7 @@ fn watch_until(
     port: &mut dyn SerialPort,
     epoch: Instant,
     due_us: u64,
-    read_us: &mut u64,
+    watched: &mut Watched,
     buf: &mut [u8],
     heard: &mut Vec<Chunk>,
 ) -> std::io::Result<()> {
@@ -309,7 +306,7 @@ fn watch_until(
             std::thread::sleep(left);
             return Ok(());
         }
-        if let Some(chunk) = watch(port, epoch, read_us, buf, READ_US)?.filter(|c| !c.bytes.is_empty()) {
+        if let Some(chunk) = watch(port, epoch, watched, buf, READ_US)?.filter(|c| !c.bytes.is_empty()) {
             heard.push(chunk);
         }
     }

@@ -79,6 +79,46 @@ fn a_single_channel_csv_is_graded_like_the_wire_log() {
     assert_eq!(verdicts(&text), verdicts(&from_log), "{text}\n---\n{from_log}");
 }
 
+/// What a live tap on a busy machine heard (`monitor --capture`): the request of the
+/// 15 ms-late reply was read 11 ms late and stamped so, which made the reply look
+/// 4 ms after the timeout. With the lateness the monitor measured (its `Read Late`
+/// column) that exchange cannot be told: UNKNOWN, never PASS; a reply read late
+/// cannot hide an early one either. Without it, the same stamps would PASS.
+#[test]
+fn what_a_late_read_could_hide_is_unknown() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = wirelog(4, defective(15.0));
+    let csv = |late_request_ms: f64, column: bool| {
+        let mut csv = String::from("Time [s],Value,Parity Error,Framing Error,Read Late [s]\n");
+        for (n, l) in log.lines().enumerate() {
+            let w: Vec<&str> = l.split_whitespace().collect();
+            let t: f64 = w[0].parse().unwrap();
+            let bytes = &w[3..];
+            // The 4th request (line 7 of the log) was read late and stamped at its read.
+            let (t, late) = if n == 6 { (t + late_request_ms, late_request_ms) } else { (t, 0.0) };
+            let late = if column { format!("{:.6}", late / 1000.0) } else { String::new() };
+            let first_start = if w[2] == "M>" { t - CT * bytes.len() as f64 } else { t };
+            for (i, b) in bytes.iter().enumerate() {
+                csv += &format!("{:.6},0x{b},,,{late}\n", (first_start + CT * i as f64) / 1000.0);
+            }
+        }
+        let f = dir.path().join(format!("cap-{late_request_ms}-{column}.csv"));
+        std::fs::write(&f, csv).unwrap();
+        f
+    };
+    let (_, text) = decode(&csv(11.0, false), &[]);
+    assert_eq!(verdicts(&text)[3], "PASS", "without the lateness the stamps look on time: {text}");
+    let (code, text) = decode(&csv(11.0, true), &[]);
+    let v = verdicts(&text);
+    assert_eq!((v[3].as_str(), v[7].as_str()), ("UNKNOWN", "FAIL"), "{text}");
+    assert!(text.contains("cannot tell whether the reply was on time"), "{text}");
+    assert_eq!(v.iter().filter(|v| *v == "PASS").count(), 10, "{text}");
+    assert_eq!(code, 1, "{text}");
+    // Read only 1 ms late: the late reply is late whatever the truth.
+    let (_, text) = decode(&csv(1.0, true), &[]);
+    assert_eq!(verdicts(&text)[3], "FAIL", "{text}");
+}
+
 /// Session → VCD → sigrok-cli's UART decoder → `decode`: the same verdicts as the
 /// wire log's, a parity error seen as such, a break counted.
 #[test]

@@ -32,6 +32,13 @@ fn one_at_a_time() -> std::sync::MutexGuard<'static, ()> {
 /// late the replay itself was at worst (µs): a replay descheduled on a busy machine
 /// is not the session any more.
 fn replay(bus: &mut File, exchanges: &[Exchange]) -> u64 {
+    // A real bus is not slowed by the machine's load: the replay plays it at a
+    // real-time priority where permitted (its lateness is checked either way).
+    std::thread::scope(|s| s.spawn(|| replay_here(bus, exchanges)).join().unwrap())
+}
+
+fn replay_here(bus: &mut File, exchanges: &[Exchange]) -> u64 {
+    hiperface_conformance::sched::real_time_priority();
     let start = Instant::now() + Duration::from_millis(200);
     let at = |ms: f64| start + Duration::from_secs_f64(ms / 1000.0);
     let wait_until = |t: Instant| {
@@ -54,17 +61,30 @@ fn replay(bus: &mut File, exchanges: &[Exchange]) -> u64 {
 }
 
 /// Run `attempt` until the replay was faithful enough (written within 3 ms of its
-/// times: the response times are 2 ms, the tolerance 5 ms, the late reply 15 ms),
-/// at most 5 times.
-fn faithfully<T>(mut attempt: impl FnMut() -> (u64, T)) -> T {
+/// times: the response times are 2 ms, the tolerance 5 ms, the late reply 15 ms) and
+/// the monitor heard it punctually enough for the verdicts this test expects (its
+/// reads returned within 4.5 ms: the late reply stays late by more than the tolerance
+/// and the lateness; a monitor that read later says UNKNOWN where it could not tell,
+/// rightly, see `decode.rs`), at most 5 times. `attempt` answers both lateness
+/// figures, µs.
+fn faithfully<T>(mut attempt: impl FnMut() -> ((u64, u64), T)) -> T {
     for i in 1..=5 {
-        let (late_us, result) = attempt();
-        if late_us <= 3_000 {
+        let ((replay_us, monitor_us), result) = attempt();
+        if replay_us <= 3_000 && monitor_us <= 4_500 {
             return result;
         }
-        eprintln!("attempt {i}: the replay was {late_us} µs late (a busy machine): run again");
+        eprintln!(
+            "attempt {i}: the replay was {replay_us} µs late, the monitor's reads {monitor_us} µs (a busy machine): run again"
+        );
     }
     panic!("the replay was never on time: the machine is too busy for a real-time test");
+}
+
+/// How late the monitor says its reads returned characters at worst, µs.
+fn monitor_late_us(text: &str) -> u64 {
+    let figure = text.split("its reads returned characters at most ").nth(1).and_then(|t| t.split(" ms").next());
+    let ms: f64 = figure.and_then(|f| f.parse().ok()).unwrap_or_else(|| panic!("no read lateness in: {text}"));
+    (ms * 1000.0) as u64
 }
 
 fn spawn_monitor(port: &str, extra: &[&str]) -> Child {
@@ -142,7 +162,7 @@ fn a_replayed_session_is_graded_live_and_the_monitor_never_writes() {
         let sent = sent_to_bus(&mut bus);
         drop(bus); // the port closes: the monitor ends with its summary
         let (code, text) = finish(child, stderr);
-        (late, (code, text, sent))
+        ((late, monitor_late_us(&text)), (code, text, sent))
     });
     assert_eq!(sent, 0, "the monitor wrote to the bus");
     assert_eq!(code, 1, "{text}");
@@ -202,7 +222,7 @@ fn through_ser2net_until_ctrl_c() {
         let interrupted = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
         assert!(interrupted.success());
         let (code, text) = finish(child, stderr);
-        (late, Some((code, text, sent_to_bus(&mut bus))))
+        ((late, monitor_late_us(&text)), Some((code, text, sent_to_bus(&mut bus))))
     }) else {
         return;
     };

@@ -7,8 +7,10 @@
 //! `time [s]`, `start_time`, `timestamp`), the byte in hex (`value`, `data`;
 //! `0x40` or `40`), optionally the channel (`channel`, `name`) and error flags
 //! (`parity error`, `framing error`: any text but empty, `0` or `false`; `error`:
-//! text containing "parity" or "fram"). The time is the start of the character's
-//! start bit, as those exports stamp it; its stop bit ends a character time later.
+//! text containing "parity" or "fram"), and how late a live tap may have heard the
+//! character (`read late [s]`, what `hiperface monitor --capture` writes). The time
+//! is the start of the character's start bit, as those exports stamp it; its stop bit
+//! ends a character time later.
 
 use super::merge::Merge;
 use super::{Capture, Event, Input, Mark, ParseError, ReadOptions};
@@ -29,6 +31,7 @@ struct Columns {
     parity: Option<usize>,
     framing: Option<usize>,
     error: Option<usize>,
+    read_late: Option<usize>,
 }
 
 impl Columns {
@@ -47,6 +50,7 @@ impl Columns {
             parity: find(&["parity error"]),
             framing: find(&["framing error"]),
             error: find(&["error"]),
+            read_late: find(&["read late [s]", "read late"]),
         })
     }
 }
@@ -103,8 +107,18 @@ impl<'a> Reader<'a> {
             }
             None => return Err(ParseError::at(line, "more than 16 channels")),
         };
+        let late = c.read_late.and_then(|i| r.get(i)).map(str::trim).filter(|l| !l.is_empty());
+        let late_us = match late {
+            None => 0,
+            Some(l) => l
+                .parse::<f64>()
+                .ok()
+                .filter(|s| s.is_finite() && *s >= 0.0 && *s < 3600.0)
+                .map(|s| (s * 1e6).round() as u64)
+                .ok_or_else(|| ParseError::at(line, format!("read late `{l}`: expected seconds, a number ≥ 0")))?,
+        };
         let at_us = (seconds * 1e6).round() as u64 + self.options.char_time_us();
-        Ok(Event { at_us, channel: channel as u8, role: None, mark })
+        Ok(Event { at_us, channel: channel as u8, role: None, mark, late_us })
     }
 }
 
@@ -159,6 +173,16 @@ mod tests {
         let ev: Vec<Event> = ev.into_iter().map(Result::unwrap).collect();
         assert_eq!(ev[0].at_us, 1000 + 1146);
         assert_eq!(ev[1].mark, Mark::ParityError(0x42));
+    }
+
+    #[test]
+    fn the_monitors_capture_keeps_how_late_it_heard() {
+        let ev =
+            read("Time [s],Value,Parity Error,Framing Error,Read Late [s]\n0.001,0x40,,,0.011000\n0.002,0x42,,,\n");
+        let late: Vec<u64> = ev.into_iter().map(|e| e.unwrap().late_us).collect();
+        assert_eq!(late, vec![11_000, 0]);
+        let err = read("time,value,read late [s]\n0.001,0x40,-1\n").into_iter().find_map(Result::err).unwrap();
+        assert!(err.message.contains("read late `-1`"), "{err}");
     }
 
     #[test]

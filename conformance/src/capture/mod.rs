@@ -52,6 +52,10 @@ pub struct Event {
     /// Who sent it, where the format says (the project's wire logs do).
     pub role: Option<Role>,
     pub mark: Mark,
+    /// How much earlier than `at_us` it may have ended: a live tap's read that
+    /// returned it after the reader had waited for a processor, µs (0 where the
+    /// instrument stamped it).
+    pub late_us: u64,
 }
 
 /// A capture that cannot be read: where, and what was expected there.

@@ -126,11 +126,11 @@ impl<'a> Reader<'a> {
                 };
                 return Ok(None);
             }
-            "Break condition" => Event { at_us: end_us, channel: ch, role: None, mark: Mark::Break },
+            "Break condition" => Event { at_us: end_us, channel: ch, role: None, mark: Mark::Break, late_us: 0 },
             "Start bit" | "Stop bit" | "Parity bit" | "0" | "1" => return Ok(None),
             t => match super::hex_byte(t).filter(|_| t.len() == 2) {
                 // The data bits end where the parity bit begins: two bits to the stop bit's end.
-                Some(b) => Event { at_us: end_us + 2 * bit, channel: ch, role: None, mark: Mark::Byte(b) },
+                Some(b) => Event { at_us: end_us + 2 * bit, channel: ch, role: None, mark: Mark::Byte(b), late_us: 0 },
                 None => {
                     return Err(ParseError::at(
                         self.line,

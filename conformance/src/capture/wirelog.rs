@@ -181,7 +181,7 @@ impl<'a> Reader<'a> {
         let channel = role as u8;
         for (i, b) in bytes.iter().enumerate() {
             let at_us = first_end + i as u64 * step;
-            self.pending.push_back(Event { at_us, channel, role: Some(role), mark: Mark::Byte(*b) });
+            self.pending.push_back(Event { at_us, channel, role: Some(role), mark: Mark::Byte(*b), late_us: 0 });
         }
         self.last_us = first_end + (n - 1) * step;
         Ok(())

@@ -5,7 +5,13 @@
 //! tell whether a peer meant a write as the start or the end of a character, and a
 //! USB adapter passes bytes on late. A reply is early only if it is early under every
 //! reading, late only if it is late under every reading: the harness's uncertainty
-//! is never charged to the device.
+//! is never charged to the device. Differences within the line's tolerance are not
+//! graded.
+//!
+//! What the harness measured of its own lateness is different: it does not widen the
+//! readings a device may choose from, it blurs the measurement itself. Where it could
+//! explain a reply being late (or on time when it was early), the timing is UNKNOWN:
+//! neither FAIL, which it could explain, nor PASS, which was not observed.
 
 use super::{Finding, TimingMode};
 use crate::exchange::Exchange;
@@ -15,7 +21,8 @@ use hiperface_model::Edition;
 
 /// Grade the start of a reply of a device of `edition`. `tolerance_us`: the line's
 /// jitter; the harness's own scheduling delay measured in the exchange is added (it
-/// may have noticed the reply that much late, or written the request that much late).
+/// may have noticed the reply that much late, or written the request that much late),
+/// and so is how late a listener heard the two instants (`Exchange::heard_late`).
 pub fn grade(
     x: &Exchange,
     limits: ResponseLimit,
@@ -27,18 +34,42 @@ pub fn grade(
     if mode == TimingMode::Off {
         return Vec::new();
     }
-    let tol = (tolerance_us + x.harness_late_us) as i64;
+    let tol = tolerance_us as i64;
+    // How much later (after) and earlier (before) than measured the reply may truly
+    // have started relative to the request's timeout.
+    let after = x.heard_late.request_end_us as i64;
+    let before = (x.harness_late_us + x.heard_late.reply_start_us) as i64;
+    let limit = limits.max_ms as i64 * 1000;
+    let late_ms = |us: i64| us as f64 / 1000.0;
     let mut found = Vec::new();
-    if hi + tol < 0 {
+    if hi + tol + after < 0 {
         let msg = format!("reply started at least {} µs before the request's timeout elapsed", -hi);
         found.push(Finding::fail(msg, clause::FRAME_TIMING, edition));
-    } else if lo - tol > limits.max_ms as i64 * 1000 {
+    } else if lo - tol - before > limit {
         let msg = format!(
             "reply started at least {:.3} ms after the request's timeout; the limit is {} ms",
-            lo as f64 / 1000.0,
+            late_ms(lo),
             limits.max_ms
         );
         found.push(Finding::fail(msg, clause::COMMANDS, edition));
+    } else if lo - tol + after > limit {
+        let msg = format!(
+            "cannot tell whether the reply was on time: it started {:.3} ms after the request's timeout \
+             as measured, the limit is {} ms, and the harness's own lateness ({:.3} ms) could explain \
+             the difference either way",
+            late_ms(lo),
+            limits.max_ms,
+            late_ms(after.max(before))
+        );
+        found.push(Finding::unknown(msg));
+    } else if hi + tol - (x.heard_late.reply_start_us as i64) < 0 {
+        let msg = format!(
+            "cannot tell whether the reply waited for the request's timeout: the harness heard it {:.3} ms \
+             after the timeout but may have heard it up to {:.3} ms late",
+            late_ms(hi),
+            late_ms(x.heard_late.reply_start_us as i64)
+        );
+        found.push(Finding::unknown(msg));
     } else if let Some(strict) = limits.strict_ms.filter(|s| lo - tol > *s as i64 * 1000) {
         let msg = format!(
             "reply after at least {:.3} ms: within Table 10's limit, beyond Table 36's {strict} ms",
@@ -62,6 +93,7 @@ pub fn at_most_us(x: &Exchange) -> Option<i64> {
 mod tests {
     use super::*;
     use crate::certify::CaseVerdict;
+    use crate::exchange::HeardLate;
     use crate::line::Window;
     use hiperface_model::datalink::RxChar;
     use hiperface_model::UartSettings;
@@ -83,6 +115,7 @@ mod tests {
             settings: UartSettings::DEFAULT,
             timeout_us: TIMEOUT,
             harness_late_us: 0,
+            heard_late: Default::default(),
         }
     }
 
@@ -127,9 +160,69 @@ mod tests {
         assert_eq!(verdicts(&x, TimingMode::Lenient), vec![CaseVerdict::NonStrict]);
         assert_eq!(verdicts(&x, TimingMode::Off), vec![]);
         // The harness itself woke 3 ms late in that exchange: it may have noticed the
-        // reply that late, so the reply is not shown to be late.
+        // reply that late, so the reply is not shown to be late, nor on time.
         let x = Exchange { harness_late_us: 3_000, ..x };
+        assert_eq!(verdicts(&x, TimingMode::Strict), vec![CaseVerdict::Unknown]);
+    }
+
+    #[test]
+    fn what_the_harness_lateness_could_explain_is_unknown_not_pass_or_fail() {
+        // Measured 14 ms after the timeout (limit 10, tolerance 2): late as measured.
+        let end = Window::exact(100_000);
+        let s = 100_000 + TIMEOUT + 14_000;
+        let x = exchange(end, Window::exact(s));
+        assert_eq!(verdicts(&x, TimingMode::Strict), vec![CaseVerdict::Fail]);
+        // The harness woke 3 ms late in it: it may have noticed the reply that late.
+        let x = Exchange { harness_late_us: 3_000, ..x };
+        let f = grade(&x, LIMITS, 2_000, TimingMode::Strict, Edition::Current);
+        assert_eq!(f.iter().map(|f| f.verdict()).collect::<Vec<_>>(), vec![CaseVerdict::Unknown]);
+        assert!(f[0].message().contains("cannot tell"), "{}", f[0].message());
+    }
+
+    #[test]
+    fn a_request_heard_late_can_hide_a_late_reply() {
+        // A listener heard the reply 4 ms after the timeout (limit 10): on time as
+        // measured. Its read of the request came 11 ms late: the reply may have been
+        // 15 ms after it.
+        let end = Window::exact(100_000);
+        let x = exchange(end, Window::exact(100_000 + TIMEOUT + 4_000));
         assert_eq!(verdicts(&x, TimingMode::Strict), vec![]);
+        let heard_late = HeardLate { request_end_us: 11_000, reply_start_us: 0 };
+        let x = Exchange { heard_late, ..x };
+        assert_eq!(verdicts(&x, TimingMode::Strict), vec![CaseVerdict::Unknown]);
+        // Heard 1 ms late only: within the tolerance, on time whatever the truth.
+        let x = Exchange { heard_late: HeardLate { request_end_us: 1_000, reply_start_us: 0 }, ..x };
+        assert_eq!(verdicts(&x, TimingMode::Strict), vec![]);
+    }
+
+    #[test]
+    fn a_reply_heard_late_can_hide_an_early_one_and_a_late_one_stays_late() {
+        // Heard 1 ms after the timeout, but read 6 ms late: it may have come 5 ms early.
+        let end = Window::exact(100_000);
+        let x = exchange(end, Window::exact(100_000 + TIMEOUT + 1_000));
+        let late_read = HeardLate { request_end_us: 0, reply_start_us: 6_000 };
+        assert_eq!(
+            verdicts(&Exchange { heard_late: late_read, ..x.clone() }, TimingMode::Strict),
+            vec![CaseVerdict::Unknown]
+        );
+        // Heard 30 ms after the timeout and read 6 ms late: late whatever the truth.
+        let x = exchange(end, Window::exact(100_000 + TIMEOUT + 30_000));
+        assert_eq!(
+            verdicts(&Exchange { heard_late: late_read, ..x.clone() }, TimingMode::Strict),
+            vec![CaseVerdict::Fail]
+        );
+        // Heard 15 ms after (limit 10, tolerance 2) but read 6 ms late: it may have been 9.
+        let x = exchange(end, Window::exact(100_000 + TIMEOUT + 15_000));
+        assert_eq!(verdicts(&Exchange { heard_late: late_read, ..x }, TimingMode::Strict), vec![CaseVerdict::Unknown]);
+        // A request heard late cannot make an early reply on time: 8 ms early, the
+        // request heard 1 ms late, is early under every reading (tolerance 2).
+        let x = exchange(end, Window::exact(100_000 + TIMEOUT - 8_000));
+        let heard_late = HeardLate { request_end_us: 1_000, reply_start_us: 0 };
+        assert_eq!(verdicts(&Exchange { heard_late, ..x.clone() }, TimingMode::Strict), vec![CaseVerdict::Fail]);
+        // Heard 7 ms late, it may have been 1 ms early (within the tolerance) or 8:
+        // cannot tell.
+        let heard_late = HeardLate { request_end_us: 7_000, reply_start_us: 0 };
+        assert_eq!(verdicts(&Exchange { heard_late, ..x }, TimingMode::Strict), vec![CaseVerdict::Unknown]);
     }
 
     #[test]

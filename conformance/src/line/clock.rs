@@ -44,13 +44,15 @@ impl RxClock {
 
 /// The clock of a real-time line: µs since the line opened, sleeping until a time,
 /// receive stamps, the timing jitter graded with, and how late the harness itself
-/// woke up (its scheduling delay on a busy machine, measured on every timed wait).
+/// was (its scheduling delay on a busy machine: measured on every timed wait, and as
+/// the time it waited for a processor, which also covers a read woken late).
 #[derive(Debug, Clone)]
 pub struct RealTime {
     epoch: std::time::Instant,
     pub rx: RxClock,
     pub tolerance_us: u64,
     lateness_us: std::cell::Cell<u64>,
+    run_delay: std::cell::RefCell<crate::sched::RunDelay>,
 }
 
 impl RealTime {
@@ -60,6 +62,7 @@ impl RealTime {
             rx: RxClock::default(),
             tolerance_us,
             lateness_us: Default::default(),
+            run_delay: std::cell::RefCell::new(crate::sched::RunDelay::of_this_thread()),
         }
     }
 
@@ -81,9 +84,11 @@ impl RealTime {
         self.lateness_us.set(self.lateness_us.get().max(late));
     }
 
-    /// The longest scheduling delay seen since the last call.
+    /// The longest scheduling delay seen since the last call: the latest timed wait,
+    /// or all the time the harness waited for a processor since, if longer.
     pub fn take_lateness_us(&self) -> u64 {
-        self.lateness_us.replace(0)
+        let waited = self.run_delay.borrow_mut().take_us().unwrap_or(0);
+        self.lateness_us.replace(0).max(waited)
     }
 }
 

@@ -21,9 +21,10 @@
 
 use crate::capture::{Event, Mark, Role};
 use crate::certify::{timing, TimingMode};
-use crate::exchange::Exchange;
+use crate::exchange::{Exchange, HeardLate};
 use crate::line::Window;
 use crate::verdict::{CaseVerdict, Finding};
+use heard::Heard;
 use hiperface_model::command::CommandId;
 use hiperface_model::datalink::{RxChar, UartFault};
 use hiperface_model::frame::Hex;
@@ -36,6 +37,7 @@ use hiperface_model::{Grading, Profile, UartSettings};
 use serde::Serialize;
 
 pub mod cli;
+mod heard;
 pub mod monitor;
 pub mod report;
 mod summary;
@@ -62,12 +64,12 @@ struct Assembly {
     channel: u8,
     /// Who sends on it, where the capture says.
     role: Option<Role>,
-    chars: Vec<RxChar>,
+    heard: Heard,
 }
 
 /// A reply as heard: its characters, their bytes, and the frame they decode to.
 struct ReplyHeard {
-    chars: Vec<RxChar>,
+    heard: Heard,
     bytes: Vec<u8>,
     decoded: Option<ResponseFrame>,
 }
@@ -78,6 +80,8 @@ struct Open {
     bytes: Vec<u8>,
     start_us: u64,
     end_us: u64,
+    /// How late its last character may have been heard, µs.
+    end_late_us: u64,
     /// The last instant a reply may start and still be heard as this one's.
     window_end_us: u64,
 }
@@ -168,18 +172,15 @@ impl Listener {
         let at = match self.frames.binary_search_by_key(&e.channel, |a| a.channel) {
             Ok(at) => at,
             Err(at) => {
-                self.frames.insert(at, Assembly { channel: e.channel, role, chars: Vec::new() });
+                self.frames.insert(at, Assembly { channel: e.channel, role, heard: Heard::default() });
                 at
             }
         };
         let Some(a) = self.frames.get_mut(at) else { return };
         a.role = role;
-        if a.chars.capacity() == 0 {
-            a.chars.reserve(hiperface_model::frame::MAX_FRAME);
-        }
         // A frame longer than any valid one is cut: memory stays bounded.
-        if a.chars.len() < MAX {
-            a.chars.push(RxChar { byte, at_us: e.at_us, fault });
+        if a.heard.len() < MAX {
+            a.heard.push(RxChar { byte, at_us: e.at_us, fault }, e.late_us);
         }
     }
 
@@ -213,7 +214,7 @@ impl Listener {
             let due = self
                 .frames
                 .iter()
-                .filter_map(|a| Some((a.chars.first()?.at_us, a.chars.last()?.at_us, a.channel)))
+                .filter_map(|a| Some((a.heard.chars.first()?.at_us, a.heard.chars.last()?.at_us, a.channel)))
                 .filter(|(_, last, _)| last.saturating_add(self.timeout_us) <= now)
                 .min();
             let Some((_, _, ch)) = due else { break };
@@ -225,8 +226,9 @@ impl Listener {
             let reply_under_way = self
                 .frames
                 .iter()
-                .any(|a| a.chars.first().is_some_and(|c| c.at_us.saturating_sub(self.char_us) <= end));
-            if now > end && !reply_under_way {
+                .any(|a| a.heard.chars.first().is_some_and(|c| c.at_us.saturating_sub(self.char_us) <= end));
+            // A reply that starts at the window's end is heard a character later.
+            if now > end.saturating_add(self.char_us) && !reply_under_way {
                 let open = self.open.take();
                 if let Some(open) = open {
                     self.exchange(open, None, out);
@@ -249,45 +251,38 @@ impl Listener {
 
     fn close_channel(&mut self, ch: u8, out: &mut impl FnMut(&HeardExchange)) {
         let Some(a) = self.frames.iter_mut().find(|a| a.channel == ch) else { return };
-        let (role, chars) = (a.role, std::mem::take(&mut a.chars));
-        if !chars.is_empty() {
-            self.frame(role, chars, out);
+        let (role, heard) = (a.role, std::mem::take(&mut a.heard));
+        if !heard.is_empty() {
+            self.frame(role, heard, out);
         }
     }
 
     /// A complete frame: a request, a reply, or both run together.
-    fn frame(&mut self, role: Option<Role>, chars: Vec<RxChar>, out: &mut impl FnMut(&HeardExchange)) {
-        let start = chars.first().map_or(0, |c| c.at_us.saturating_sub(self.char_us));
-        let bytes = || -> Vec<u8> { chars.iter().map(|c| c.byte).collect() };
+    fn frame(&mut self, role: Option<Role>, heard: Heard, out: &mut impl FnMut(&HeardExchange)) {
+        let start = heard.chars.first().map_or(0, |c| c.at_us.saturating_sub(self.char_us));
         let in_window = self.open.as_ref().is_some_and(|o| start <= o.window_end_us);
         match role {
-            Some(Role::Master) => self.request(chars, out),
-            Some(Role::Slave) if in_window => self.reply(chars, out),
-            Some(Role::Slave) => self.stray(&bytes(), start, "a reply frame with no request open"),
-            None => self.unmarked(bytes(), chars, start, in_window, out),
+            Some(Role::Master) => self.request(heard, out),
+            Some(Role::Slave) if in_window => self.reply(heard, out),
+            Some(Role::Slave) => self.stray(&heard.bytes(), start, "a reply frame with no request open"),
+            None => self.unmarked(heard, start, in_window, out),
         }
     }
 
     /// A frame of a capture that does not say who sent it: told by its window and
     /// its structure.
-    fn unmarked(
-        &mut self,
-        bytes: Vec<u8>,
-        chars: Vec<RxChar>,
-        start: u64,
-        in_window: bool,
-        out: &mut impl FnMut(&HeardExchange),
-    ) {
+    fn unmarked(&mut self, heard: Heard, start: u64, in_window: bool, out: &mut impl FnMut(&HeardExchange)) {
+        let bytes = heard.bytes();
         let request = RequestFrame::decode(&bytes).is_ok();
         match () {
-            () if in_window && !request => self.reply(chars, out),
-            () if request => self.request(chars, out),
+            () if in_window && !request => self.reply(heard, out),
+            () if request => self.request(heard, out),
             () => match (2..bytes.len()).find(|n| RequestFrame::decode(&bytes[..*n]).is_ok()) {
                 // A request and a reply with less than the timeout between them.
                 Some(n) => {
-                    let mut chars = chars;
-                    let reply = chars.split_off(n);
-                    self.request(chars, out);
+                    let mut heard = heard;
+                    let reply = heard.split_off(n);
+                    self.request(heard, out);
                     self.reply(reply, out);
                 }
                 None => self.stray(&bytes, start, "a frame that is neither a request nor a reply in its window"),
@@ -301,36 +296,37 @@ impl Listener {
         self.summary.note(format!("{:.3} ms: {what} [{}]: not graded", start_us as f64 / 1000.0, Hex(bytes)));
     }
 
-    fn request(&mut self, chars: Vec<RxChar>, out: &mut impl FnMut(&HeardExchange)) {
+    fn request(&mut self, heard: Heard, out: &mut impl FnMut(&HeardExchange)) {
         if let Some(open) = self.open.take() {
             self.exchange(open, None, out);
         }
-        if let Some(first) = chars.first() {
+        if let Some(first) = heard.chars.first() {
             self.follow(first.at_us.saturating_sub(self.char_us));
         }
         let mut obs = Vec::new();
-        for c in &chars {
+        for c in &heard.chars {
             self.observer.master_char(*c, &mut |o| obs.push(o));
         }
         self.master_observations(obs);
-        let (Some(first), Some(last)) = (chars.first(), chars.last()) else { return };
-        let bytes: Vec<u8> = chars.iter().map(|c| c.byte).collect();
+        let (Some(first), Some(last)) = (heard.chars.first(), heard.chars.last()) else { return };
+        let bytes = heard.bytes();
         let command = bytes.get(1).map_or(CommandId::Unknown(0), |b| CommandId::decode(b & 0x7F));
         self.open = Some(Open {
             bytes,
             start_us: first.at_us.saturating_sub(self.char_us),
             end_us: last.at_us,
+            end_late_us: heard.last_late_us(),
             window_end_us: self.window_end(command, last.at_us),
         });
     }
 
-    fn reply(&mut self, chars: Vec<RxChar>, out: &mut impl FnMut(&HeardExchange)) {
+    fn reply(&mut self, heard: Heard, out: &mut impl FnMut(&HeardExchange)) {
         let Some(open) = self.open.take() else { return };
-        let (Some(first), Some(last)) = (chars.first(), chars.last()) else { return };
-        let bytes: Vec<u8> = chars.iter().map(|c| c.byte).collect();
+        let (Some(first), Some(last)) = (heard.chars.first(), heard.chars.last()) else { return };
+        let bytes = heard.bytes();
         let decoded = ResponseFrame::decode(&bytes, open.command()).ok();
         self.observer.encoder_reply(first.at_us.saturating_sub(self.char_us), last.at_us, decoded.as_ref());
-        self.exchange(open, Some(ReplyHeard { chars, bytes, decoded }), out);
+        self.exchange(open, Some(ReplyHeard { heard, bytes, decoded }), out);
     }
 
     /// Grade one exchange (its reply's characters and bytes, if one was heard): the
@@ -343,7 +339,7 @@ impl Listener {
         let timeout_us = self.shadow.timeout_us(open.end_us);
         let complete_us = open.end_us.saturating_add(timeout_us);
         let (reply, observed, decoded) = match reply {
-            Some(r) => (Some(r.chars), Some(r.bytes), r.decoded),
+            Some(r) => (Some(r.heard), Some(r.bytes), r.decoded),
             None => (None, None, None),
         };
         let mut before = self.shadow.clone();
@@ -367,8 +363,8 @@ impl Listener {
                 ))
             });
         }
-        if let Some(r) = reply.as_ref().filter(|r| r.iter().any(|c| c.fault.is_some())) {
-            let n = r.iter().filter(|c| c.fault.is_some()).count();
+        if let Some(r) = reply.as_ref().filter(|r| r.chars.iter().any(|c| c.fault.is_some())) {
+            let n = r.chars.iter().filter(|c| c.fault.is_some()).count();
             findings.push(Finding::unknown(format!(
                 "{n} characters of the reply had a parity or framing error as captured: the line, the tap or the encoder"
             )));
@@ -376,17 +372,19 @@ impl Listener {
         let mut response_ms = None;
         let mut request = open.bytes;
         if let (Some(r), Reply::Frame(_)) = (reply, expected.reply) {
+            let heard_late = HeardLate { request_end_us: open.end_late_us, reply_start_us: r.first_late_us() };
             let x = Exchange {
                 request,
                 stray: Vec::new(),
                 sent_start_us: open.start_us,
                 request_end: Window::exact(open.end_us),
-                reply_start: r.first().map(|c| Window::exact(c.at_us.saturating_sub(self.char_us))),
-                reply: r,
+                reply_start: r.chars.first().map(|c| Window::exact(c.at_us.saturating_sub(self.char_us))),
+                reply: r.chars,
                 trailing: Vec::new(),
                 settings: self.shadow.listening_settings(open.end_us).unwrap_or(self.options.settings),
                 timeout_us,
                 harness_late_us: 0,
+                heard_late,
             };
             let limits = self.options.profile.response_limit(command);
             findings.extend(timing::grade(&x, limits, self.options.tolerance_us, TimingMode::Strict, edition));

@@ -75,23 +75,40 @@ pub fn monitor(args: &MonitorArgs, stop: &AtomicBool) -> Result<ExitCode, String
     let mut marks = Marks::default();
     let mut heard = Vec::new();
     // A thread does nothing but read and note the arrival time, so that grading and
-    // printing never delay a timestamp.
-    let (tx, rx) = std::sync::mpsc::channel::<Result<(u64, Vec<u8>), String>>();
+    // printing never delay a timestamp; it says how late each read may have returned.
+    let (tx, rx) = std::sync::mpsc::channel::<Result<Chunk, String>>();
     let reading = AtomicBool::new(true);
-    let mut longest_gap_us = 0;
+    let mut reader_log = ReaderLog::default();
     let ended_by = std::thread::scope(|scope| {
         let reader = scope.spawn(|| {
+            let mut log = ReaderLog { real_time: crate::sched::real_time_priority(), ..ReaderLog::default() };
+            let mut run_delay = crate::sched::RunDelay::of_this_thread();
+            log.run_delay_counted = run_delay.available();
             let mut buf = [0u8; 4096];
             let mut last_us = now_us();
-            let mut longest = 0;
+            // The wait for a processor in a read that returned nothing: what came just
+            // after it returned waited that long too.
+            let mut quiet_wait_us = 0;
             while reading.load(Ordering::Relaxed) {
+                let call_us = now_us();
                 let got = tap.read(&mut buf);
                 let arrival = now_us();
-                longest = longest.max(arrival - last_us);
+                // What came may have waited since the last read returned (the reader
+                // was elsewhere), and for as long as the reader waited for a processor.
+                let waited_us = run_delay.take_us().unwrap_or(0);
+                let late_us = (call_us - last_us) + std::mem::replace(&mut quiet_wait_us, 0) + waited_us;
+                log.longest_gap_us = log.longest_gap_us.max(arrival - last_us);
                 last_us = arrival;
                 let sent = match got {
-                    Ok(Got::Bytes(n)) => tx.send(Ok((arrival, buf.get(..n).unwrap_or(&[]).to_vec()))),
-                    Ok(Got::Quiet) => Ok(()),
+                    Ok(Got::Bytes(n)) => {
+                        log.latest_read_us = log.latest_read_us.max(late_us);
+                        let bytes = buf.get(..n).unwrap_or(&[]).to_vec();
+                        tx.send(Ok(Chunk { arrival_us: arrival, late_us, bytes }))
+                    }
+                    Ok(Got::Quiet) => {
+                        quiet_wait_us = waited_us;
+                        Ok(())
+                    }
                     Ok(Got::Closed) => break,
                     Err(e) => tx.send(Err(format!("{}: {e}", tap.name))),
                 };
@@ -100,7 +117,7 @@ pub fn monitor(args: &MonitorArgs, stop: &AtomicBool) -> Result<ExitCode, String
                 }
             }
             drop(tx);
-            longest
+            log
         });
         let ended_by = loop {
             if stop.load(Ordering::Relaxed) {
@@ -110,15 +127,15 @@ pub fn monitor(args: &MonitorArgs, stop: &AtomicBool) -> Result<ExitCode, String
                 break Ok("the duration");
             }
             match rx.recv_timeout(std::time::Duration::from_millis(50)) {
-                Ok(Ok((arrival, bytes))) => {
+                Ok(Ok(Chunk { arrival_us, late_us, bytes })) => {
                     heard.clear();
                     for b in bytes {
                         marks.push(b, &mut |m| heard.push(m));
                     }
-                    let events = heard.iter().zip(stamps.chunk(heard.len(), arrival));
-                    let events = events.map(|(&mark, at_us)| Event { at_us, channel: 0, role: None, mark });
+                    let events = heard.iter().zip(stamps.chunk(heard.len(), arrival_us));
+                    let events = events.map(|(&mark, at_us)| Event { at_us, channel: 0, role: None, mark, late_us });
                     if let Some(c) = capture.as_mut() {
-                        let saved = events.clone().try_for_each(|e| c.write(e.at_us, e.mark));
+                        let saved = events.clone().try_for_each(|e| c.write(&e));
                         if let Err(e) = saved {
                             break Err(format!("{}: {e}", c.path.display()));
                         }
@@ -133,7 +150,7 @@ pub fn monitor(args: &MonitorArgs, stop: &AtomicBool) -> Result<ExitCode, String
             }
         };
         reading.store(false, Ordering::Relaxed);
-        longest_gap_us = reader.join().unwrap_or(0);
+        reader_log = reader.join().unwrap_or_default();
         ended_by
     })?;
     let end_us = now_us();
@@ -149,8 +166,9 @@ pub fn monitor(args: &MonitorArgs, stop: &AtomicBool) -> Result<ExitCode, String
         format!(
             "the run lasted {:.1} s and was ended by {ended_by}; the monitor read the port at least every {:.1} ms",
             end_us as f64 / 1e6,
-            longest_gap_us as f64 / 1000.0
+            reader_log.longest_gap_us as f64 / 1000.0
         ),
+        reader_log.describe(),
     ];
     assumptions.extend(tap.notes.iter().cloned());
     if let Some(c) = &capture {
@@ -158,6 +176,43 @@ pub fn monitor(args: &MonitorArgs, stop: &AtomicBool) -> Result<ExitCode, String
     }
     let source = Source { capture: tap.name.clone(), format: "live".into(), channels: vec!["bus".into()], assumptions };
     conclude(listener, source, &options, args.listening.report.as_deref())
+}
+
+/// What one read of the tap returned.
+struct Chunk {
+    arrival_us: u64,
+    /// How late the read may have returned it: how long the reader had not been in a
+    /// read before, and how long it waited for a processor since the read before.
+    late_us: u64,
+    bytes: Vec<u8>,
+}
+
+/// How punctual the reader was, for the report.
+#[derive(Debug, Default)]
+struct ReaderLog {
+    real_time: bool,
+    run_delay_counted: bool,
+    longest_gap_us: u64,
+    /// The latest any read that returned characters may have been, µs.
+    latest_read_us: u64,
+}
+
+impl ReaderLog {
+    fn describe(&self) -> String {
+        let priority = if self.real_time { "at a real-time priority" } else { "at a normal priority" };
+        if self.run_delay_counted {
+            format!(
+                "the reader ran {priority}; its reads returned characters at most {:.1} ms late (waiting for a \
+                 processor, measured); a reply's timing that this could change is UNKNOWN",
+                self.latest_read_us as f64 / 1000.0
+            )
+        } else {
+            format!(
+                "the reader ran {priority}; this kernel does not count how long a thread waits for a processor, \
+                 so a read that returned late on a busy machine is not seen"
+            )
+        }
+    }
 }
 
 /// The characters heard as a CSV capture (`decode` reads it): the start of each
@@ -173,18 +228,21 @@ impl CaptureFile {
     fn create(path: &std::path::Path, char_us: u64) -> Result<CaptureFile, String> {
         let f = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
         let mut out = std::io::BufWriter::new(f);
-        writeln!(out, "Time [s],Value,Parity Error,Framing Error").map_err(|e| format!("{}: {e}", path.display()))?;
+        writeln!(out, "Time [s],Value,Parity Error,Framing Error,Read Late [s]")
+            .map_err(|e| format!("{}: {e}", path.display()))?;
         Ok(CaptureFile { path: path.to_path_buf(), out, char_us })
     }
 
-    fn write(&mut self, at_us: u64, mark: Mark) -> std::io::Result<()> {
-        let start = at_us.saturating_sub(self.char_us);
-        let (value, parity, framing) = match mark {
+    fn write(&mut self, e: &Event) -> std::io::Result<()> {
+        let start = e.at_us.saturating_sub(self.char_us);
+        let (value, parity, framing) = match e.mark {
             Mark::Byte(b) => (b, "", ""),
             Mark::ParityError(b) => (b, "1", ""),
             Mark::FramingError(b) => (b, "", "1"),
             Mark::Break => (0, "", "1"),
         };
-        writeln!(self.out, "{}.{:06},0x{value:02X},{parity},{framing}", start / 1_000_000, start % 1_000_000)
+        let (s, us) = (start / 1_000_000, start % 1_000_000);
+        let late = format!("{}.{:06}", e.late_us / 1_000_000, e.late_us % 1_000_000);
+        writeln!(self.out, "{s}.{us:06},0x{value:02X},{parity},{framing},{late}")
     }
 }

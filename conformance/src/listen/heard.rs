@@ -1,0 +1,67 @@
+//! The characters of one frame as the listener heard them, with how late each may
+//! have been heard: a live tap's read that returned it after its reader had waited
+//! for a processor (see `crate::sched`). A capture file's times are its instrument's:
+//! heard on time.
+
+use hiperface_model::datalink::RxChar;
+
+#[derive(Debug, Default)]
+pub(super) struct Heard {
+    pub chars: Vec<RxChar>,
+    late_us: Vec<u64>,
+}
+
+impl Heard {
+    pub fn push(&mut self, c: RxChar, late_us: u64) {
+        if self.chars.capacity() == 0 {
+            self.chars.reserve(hiperface_model::frame::MAX_FRAME);
+        }
+        self.chars.push(c);
+        self.late_us.push(late_us);
+    }
+
+    pub fn len(&self) -> usize {
+        self.chars.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.chars.is_empty()
+    }
+
+    pub fn bytes(&self) -> Vec<u8> {
+        self.chars.iter().map(|c| c.byte).collect()
+    }
+
+    /// The characters from `n` on; these keep the first `n`.
+    pub fn split_off(&mut self, n: usize) -> Heard {
+        let n = n.min(self.chars.len());
+        Heard { chars: self.chars.split_off(n), late_us: self.late_us.split_off(n) }
+    }
+
+    /// How late the first character may have been heard, µs.
+    pub fn first_late_us(&self) -> u64 {
+        self.late_us.first().copied().unwrap_or(0)
+    }
+
+    /// How late the last character may have been heard, µs.
+    pub fn last_late_us(&self) -> u64 {
+        self.late_us.last().copied().unwrap_or(0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_split_keeps_each_characters_lateness() {
+        let mut h = Heard::default();
+        for (i, late) in [0u64, 0, 9_000, 4_000].into_iter().enumerate() {
+            h.push(RxChar::ok(0x40 + i as u8, 1_000 * i as u64), late);
+        }
+        let reply = h.split_off(2);
+        assert_eq!((h.bytes(), h.first_late_us(), h.last_late_us()), (vec![0x40, 0x41], 0, 0));
+        assert_eq!((reply.bytes(), reply.first_late_us(), reply.last_late_us()), (vec![0x42, 0x43], 9_000, 4_000));
+        assert_eq!(Heard::default().split_off(3).len(), 0);
+    }
+}

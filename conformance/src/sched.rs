@@ -1,0 +1,135 @@
+//! The harness's own scheduling on a shared machine: asking to be punctual, and
+//! knowing how punctual it was.
+//!
+//! A thread that waits for a processor notices whatever happened meanwhile late: a
+//! character that arrived while it waited is stamped when it finally runs. Linux
+//! counts that wait for every thread (its *run delay*, delay accounting in
+//! `/proc/thread-self/schedstat`), which makes the harness's lateness a measurement
+//! instead of a guess: a read that returned a character after the reader waited 11 ms
+//! for a processor may have got it 11 ms after it came. On a pseudo-terminal with
+//! three busy loops on two cores, what a reader's stamps lost (up to 6 ms) was its own
+//! run delay to within 0.2 ms (docs/design.md, "The harness's own lateness").
+
+use std::fs::File;
+use std::os::unix::fs::FileExt;
+
+/// Ask for a real-time scheduling priority for the calling thread (SCHED_FIFO), so
+/// that replies are paced on time on a busy machine. Where it is not permitted (no
+/// privilege, a container's limits) the thread stays as it was, and timing is still
+/// checked: correctness never depends on it. Returns whether it was granted.
+pub fn real_time_priority() -> bool {
+    use thread_priority::unix::{
+        set_thread_priority_and_policy, thread_native_id, RealtimeThreadSchedulePolicy, ThreadSchedulePolicy,
+    };
+    use thread_priority::ThreadPriority;
+    let policy = ThreadSchedulePolicy::Realtime(RealtimeThreadSchedulePolicy::Fifo);
+    let priority = ThreadPriority::Crossplatform(50u8.try_into().unwrap_or_default());
+    set_thread_priority_and_policy(thread_native_id(), priority, policy).is_ok()
+}
+
+/// The run delay of one thread: how long it has been runnable but not running.
+/// Open it on the thread it measures (each thread has its own).
+#[derive(Debug)]
+pub struct RunDelay {
+    file: Option<File>,
+    /// The thread it measures (a `RunDelay` moved to another thread reopens).
+    thread: i32,
+    last_us: Option<u64>,
+}
+
+/// A copy measures the thread it is used on, from zero.
+impl Clone for RunDelay {
+    fn clone(&self) -> RunDelay {
+        RunDelay::of_this_thread()
+    }
+}
+
+impl RunDelay {
+    /// The calling thread's run delay; `available()` says whether the kernel counts it.
+    pub fn of_this_thread() -> RunDelay {
+        let mut r = RunDelay { file: None, thread: 0, last_us: None };
+        r.reopen();
+        r
+    }
+
+    fn reopen(&mut self) {
+        self.thread = nix::unistd::gettid().as_raw();
+        self.file = File::open("/proc/thread-self/schedstat").ok();
+        self.last_us = None;
+        // A kernel booted without delay accounting shows zeros: not a measurement.
+        if self.total_us().is_none() {
+            self.file = None;
+        }
+    }
+
+    /// Whether this kernel counts run delays (Linux with delay accounting).
+    pub fn available(&self) -> bool {
+        self.file.is_some()
+    }
+
+    /// The thread's run delay since it started, µs; `None` where it is not counted.
+    fn total_us(&mut self) -> Option<u64> {
+        if self.thread != nix::unistd::gettid().as_raw() {
+            self.reopen();
+        }
+        let mut buf = [0u8; 96];
+        let n = self.file.as_ref()?.read_at(&mut buf, 0).ok()?;
+        parse_schedstat(buf.get(..n)?)
+    }
+
+    /// The run delay since the last call (since opening, the first time), µs; `None`
+    /// where it is not counted.
+    pub fn take_us(&mut self) -> Option<u64> {
+        let total = self.total_us()?;
+        let since = self.last_us.map_or(0, |last| total.saturating_sub(last));
+        self.last_us = Some(total);
+        Some(since)
+    }
+}
+
+/// `/proc/<pid>/schedstat`: time on a processor, time waiting for one (ns), and the
+/// number of time slices. The wait in µs, or `None` for all zeros (no accounting) or
+/// text that is not three numbers.
+fn parse_schedstat(text: &[u8]) -> Option<u64> {
+    let text = std::str::from_utf8(text).ok()?;
+    let mut fields = text.split_ascii_whitespace().map(|f| f.parse::<u64>().ok());
+    let (ran, waited, slices) = (fields.next()??, fields.next()??, fields.next()??);
+    (ran != 0 || waited != 0 || slices != 0).then_some(waited / 1000)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_wait_is_the_second_field() {
+        assert_eq!(parse_schedstat(b"289285 7000500 12\n"), Some(7000));
+        assert_eq!(parse_schedstat(b"0 0 0\n"), None);
+        assert_eq!(parse_schedstat(b"12 x 3\n"), None);
+        assert_eq!(parse_schedstat(b"12 3"), None);
+    }
+
+    /// On this Linux machine the kernel counts run delays, and a thread that never
+    /// gives up its processor still reads a plausible, non-decreasing figure.
+    #[test]
+    #[cfg(target_os = "linux")]
+    fn a_threads_run_delay_is_read_and_grows() {
+        let mut r = RunDelay::of_this_thread();
+        if !r.available() {
+            eprintln!("this kernel does not count run delays (no delay accounting)");
+            return;
+        }
+        assert_eq!(r.take_us(), Some(0));
+        let later = r.take_us();
+        assert!(later.is_some_and(|us| us < 60_000_000), "{later:?}");
+        // Moved to another thread, it measures that thread.
+        let here = r.thread;
+        let there = std::thread::spawn(move || {
+            let first = r.take_us();
+            (r.thread, first)
+        });
+        let (there, first) = there.join().unwrap();
+        assert_ne!(there, here);
+        assert_eq!(first, Some(0), "a reopened measure starts from zero");
+    }
+}
