@@ -104,9 +104,14 @@ impl<L: Line> Master<L> {
         // 000:2.2.2: the end of a transmission is a pause of at least the timeout.
         // Never more than a frame's time ahead of now, whatever a babbling line reported.
         let now = self.line.now_us();
-        let ready = (self.idle_since_us + timeout).min(now + MAX_FRAME as u64 * ct + timeout);
+        let mut ready = (self.idle_since_us + timeout).min(now + MAX_FRAME as u64 * ct + timeout);
         let mut stray = Vec::new();
         while let Some(c) = self.line.recv(ready)? {
+            // Someone is talking: the line is free a timeout after its last character
+            // (000:2.2.2). A line that never stops is waited out for two frames' worth.
+            if stray.len() < 2 * MAX_FRAME {
+                ready = ready.max(c.at_us + timeout);
+            }
             stray.push(c);
         }
         self.line.wait_until(ready)?;
@@ -116,6 +121,7 @@ impl<L: Line> Master<L> {
         let complete = sent.end.shifted(timeout);
         let deadline = complete.latest_us + listen_ms as u64 * 1000 + ct + self.line.tolerance_us() + timeout;
         let mut reply = Vec::new();
+        let mut trailing = Vec::new();
         let mut link = DataLink::new(timeout);
         if let Some(first) = self.line.recv(deadline)? {
             link.receive(first);
@@ -124,6 +130,11 @@ impl<L: Line> Master<L> {
             // elapses; a device that never stops talking is cut off after two frames' worth.
             while let Some(until) = link.deadline().filter(|_| reply.len() < 2 * MAX_FRAME) {
                 match self.line.recv(until.saturating_sub(1))? {
+                    // Read late, after the pause that ends the reply: what follows it.
+                    Some(c) if c.at_us >= until => {
+                        trailing.push(c);
+                        break;
+                    }
                     Some(c) => {
                         link.receive(c);
                         reply.push(c);
@@ -132,7 +143,7 @@ impl<L: Line> Master<L> {
                 }
             }
         }
-        let mut end = reply.last().map_or(complete.latest_us.max(self.line.now_us()), |c| c.at_us);
+        let mut end = trailing.last().or(reply.last()).map_or(complete.latest_us.max(self.line.now_us()), |c| c.at_us);
         // The pause before the next request belongs to this exchange: whatever arrives
         // in it is this exchange's (000:2.2.2: a transmission ends with a pause of at
         // least the timeout), not unsolicited traffic before the next one.
@@ -142,7 +153,6 @@ impl<L: Line> Master<L> {
         let bytes: Vec<u8> = reply.iter().map(|c| c.byte).collect();
         let cut = !bytes.is_empty() && (bytes.len() < 3 || !checksum::is_valid(&bytes));
         let pause = if cut { timeout.max(listen_ms as u64 * 1000) } else { timeout };
-        let mut trailing = Vec::new();
         while trailing.len() < 2 * MAX_FRAME {
             match self.line.recv(end + pause)? {
                 Some(c) => {
@@ -181,5 +191,88 @@ impl<L: Line> Master<L> {
 
     pub fn now_us(&mut self) -> u64 {
         self.line.now_us()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::line::{LineKind, Sent};
+    use std::collections::VecDeque;
+
+    const CT: u64 = 1_146;
+
+    /// A line in virtual time that plays given characters and notes when the master
+    /// began each request.
+    struct Scripted {
+        now: u64,
+        inbound: VecDeque<RxChar>,
+        sent_at: Vec<u64>,
+    }
+
+    impl Line for Scripted {
+        fn now_us(&mut self) -> u64 {
+            self.now
+        }
+        fn send(&mut self, bytes: &[u8]) -> Result<Sent, LineError> {
+            self.sent_at.push(self.now);
+            self.now += bytes.len() as u64 * CT;
+            Ok(Sent { end: Window::exact(self.now) })
+        }
+        fn recv(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError> {
+            match self.inbound.front() {
+                Some(c) if c.at_us <= until_us => {
+                    self.now = self.now.max(c.at_us);
+                    Ok(self.inbound.pop_front())
+                }
+                _ => {
+                    self.now = self.now.max(until_us);
+                    Ok(None)
+                }
+            }
+        }
+        fn start_of(&self, ch: &RxChar) -> Window {
+            Window::exact(ch.at_us - CT)
+        }
+        fn wait_until(&mut self, t_us: u64) -> Result<(), LineError> {
+            self.now = self.now.max(t_us);
+            Ok(())
+        }
+        fn configure(&mut self, _: UartSettings) -> Result<(), LineError> {
+            Ok(())
+        }
+        fn settings(&self) -> UartSettings {
+            UartSettings::DEFAULT
+        }
+        fn kind(&self) -> LineKind {
+            LineKind::Virtual
+        }
+        fn describe(&self) -> String {
+            "scripted".into()
+        }
+    }
+
+    fn line(chars: impl IntoIterator<Item = u64>) -> Master<Scripted> {
+        let inbound = chars.into_iter().map(|at| RxChar::ok(0x40, at)).collect();
+        Master::new(Scripted { now: 0, inbound, sent_at: Vec::new() }, Edition::Current)
+    }
+
+    #[test]
+    fn a_request_waits_until_the_line_has_been_quiet_for_the_timeout() {
+        // Someone talks from 3 ms on: the request goes a timeout after the last
+        // character (000:2.2.2), not a timeout after the line was last known idle.
+        let mut m = line([3_000, 3_000 + CT, 3_000 + 2 * CT]);
+        let timeout = m.timeout_us();
+        let x = m.exchange(&sealed(&[0x40, 0x42]), 10).unwrap();
+        assert_eq!(x.stray.len(), 3);
+        assert_eq!(m.line.sent_at, vec![3_000 + 2 * CT + timeout]);
+    }
+
+    #[test]
+    fn a_line_that_never_stops_is_waited_out_for_two_frames_only() {
+        let mut m = line((0..1_000).map(|i| 1_000 + i * CT));
+        m.exchange(&sealed(&[0x40, 0x42]), 10).unwrap();
+        let waited = m.line.sent_at.first().copied().unwrap_or(u64::MAX);
+        assert!(waited <= 1_000 + (2 * MAX_FRAME as u64 + 1) * CT + m.timeout_us(), "{waited}");
     }
 }

@@ -359,6 +359,9 @@ fn certify_slave(what: CertifyWhat) -> Result<ExitCode, CliError> {
     });
     let report = certify::run(line, profile, &options, |i, n, r| {
         let mut text = format!("[{i:>2}/{n}] {:<16} {}", r.verdict.label(), r.id);
+        if r.attempts > 1 {
+            text.push_str(&format!(" ({} runs: the harness was disturbed)", r.attempts));
+        }
         for f in r.findings.iter().filter(|f| matches!(f.verdict(), CaseVerdict::Fail | CaseVerdict::Error)) {
             text.push_str(&format!("\n          {f}"));
         }
@@ -403,6 +406,9 @@ fn summarize(report: &certify::Report, profile: &Profile) {
         );
     } else {
         println!("wall time {:.0} ms; nothing was exchanged", report.wall_time_ms);
+    }
+    for c in &report.rerun_cases {
+        println!("re-run: {c}: the harness's own lateness left a verdict untold");
     }
     if let Some(a) = &report.aborted {
         println!("ABORTED: {a}");

@@ -3,8 +3,9 @@
 
 use hiperface_conformance::certify::{self, CaseVerdict, Options, Report};
 use hiperface_conformance::line::virtual_line::{SlaveDevice, VirtualLine};
+use hiperface_conformance::line::{Line, LineError, LineKind, Sent, Window};
 use hiperface_model::datalink::RxChar;
-use hiperface_model::{checksum, profiles, Edition, Frame, Response, ResponseFrame, Slave, Step};
+use hiperface_model::{checksum, profiles, Edition, Frame, Response, ResponseFrame, Slave, Step, UartSettings};
 
 /// A defect: a function that may rewrite a step's transmission, plus timing quirks.
 struct Defective {
@@ -303,4 +304,76 @@ fn a_real_device_with_data_fields_is_adopted_not_failed() {
     let exact = Options { allow_writes: true, ..Options::default() };
     let r = certify::run(Box::new(VirtualLine::new(used())), profiles::srs50(), &exact, |_, _, _| {});
     assert_eq!(verdict(&r, "fields.status"), CaseVerdict::Fail);
+}
+
+/// A line on which the harness says it was late (as on a busy machine) in its first
+/// `disturbed` Read Position exchanges.
+struct LateHarness<L: Line> {
+    line: L,
+    late_us: u64,
+    disturbed: usize,
+    read_positions: usize,
+}
+
+impl<L: Line> Line for LateHarness<L> {
+    fn now_us(&mut self) -> u64 {
+        self.line.now_us()
+    }
+    fn send(&mut self, bytes: &[u8]) -> Result<Sent, LineError> {
+        self.read_positions += usize::from(bytes.get(1) == Some(&0x42));
+        self.line.send(bytes)
+    }
+    fn recv(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError> {
+        self.line.recv(until_us)
+    }
+    fn start_of(&self, ch: &RxChar) -> Window {
+        self.line.start_of(ch)
+    }
+    fn wait_until(&mut self, t_us: u64) -> Result<(), LineError> {
+        self.line.wait_until(t_us)
+    }
+    fn configure(&mut self, settings: UartSettings) -> Result<(), LineError> {
+        self.line.configure(settings)
+    }
+    fn settings(&self) -> UartSettings {
+        self.line.settings()
+    }
+    fn take_lateness_us(&mut self) -> u64 {
+        if (1..=self.disturbed).contains(&self.read_positions) {
+            self.late_us
+        } else {
+            0
+        }
+    }
+    fn kind(&self) -> LineKind {
+        self.line.kind()
+    }
+    fn describe(&self) -> String {
+        self.line.describe()
+    }
+}
+
+/// A reply 12 ms late (Read Position allows 10) is FAIL; where the harness says it
+/// was 5 ms late itself, that could explain it: not FAIL, not PASS, and the case is
+/// run again; an undisturbed run then decides, as on an idle machine.
+#[test]
+fn a_case_the_harness_was_too_late_to_judge_is_run_again() {
+    let run = |disturbed: usize| {
+        let mut d = Defective::new(keep);
+        d.delay_us = 12_000;
+        let line = LateHarness { line: VirtualLine::new(d), late_us: 5_000, disturbed, read_positions: 0 };
+        let options = Options { cases: Some("position.read".into()), ..Options::default() };
+        let r = certify::run(Box::new(line), profiles::srs50(), &options, |_, _, _| {});
+        r.cases.into_iter().next().unwrap()
+    };
+    let idle = run(0);
+    assert_eq!((idle.verdict, idle.attempts), (CaseVerdict::Fail, 1), "{idle:#?}");
+    // Disturbed in the first run's Read Position exchanges only.
+    let once = run(idle.exchanges);
+    assert_eq!((once.verdict, once.attempts), (CaseVerdict::Fail, 2), "{once:#?}");
+    assert_eq!(once.findings, idle.findings);
+    // Disturbed in every run: it stays untold after three runs.
+    let always = run(usize::MAX);
+    assert_eq!((always.verdict, always.attempts), (CaseVerdict::Unknown, 3), "{always:#?}");
+    assert!(always.findings.iter().any(|f| f.message().contains("cannot tell")), "{always:#?}");
 }

@@ -50,6 +50,15 @@ pub(crate) fn physical_time_us(x: &Exchange, max_ms: u16) -> u64 {
     }
 }
 
+/// Whether the pause before an exchange's trailing characters could be the harness's
+/// own lateness: as read it is at least the timeout, but less without the time the
+/// harness may have noticed them late.
+fn pause_explained_by_lateness(x: &Exchange) -> bool {
+    let (Some(last), Some(next)) = (x.reply.last(), x.trailing.first()) else { return false };
+    let pause = next.at_us.saturating_sub(x.settings.char_time_us()).saturating_sub(last.at_us);
+    pause.saturating_sub(x.harness_late_us) < x.timeout_us
+}
+
 /// The frame of `request` to the address byte `address`.
 fn frame(address: u8, request: Request) -> Vec<u8> {
     RequestFrame::new(AddressByte::decode(address), request).encode().as_bytes().to_vec()
@@ -79,6 +88,9 @@ pub struct Ctx<'a> {
     guards: Vec<(u64, Vec<u8>)>, // (id, whole frame)
     next_guard: u64,
     restoring: bool,
+    /// A verdict of this case could not be told for the harness's own lateness: the
+    /// runner runs it again.
+    disturbed: bool,
 }
 
 impl<'a> Ctx<'a> {
@@ -99,6 +111,7 @@ impl<'a> Ctx<'a> {
             guards: Vec::new(),
             next_guard: 0,
             restoring: false,
+            disturbed: false,
         }
     }
 }
@@ -146,6 +159,11 @@ impl Ctx<'_> {
     /// The case restored by itself: drop the guard.
     pub fn release(&mut self, guard: Guard) {
         self.guards.retain(|(id, _)| *id != guard.0);
+    }
+
+    /// Whether the harness's own lateness left a verdict of this case untold.
+    pub(crate) fn disturbed(&self) -> bool {
+        self.disturbed
     }
 
     pub(crate) fn has_guards(&self) -> bool {
@@ -235,6 +253,15 @@ impl Ctx<'_> {
             found.push(if x.reply.is_empty() {
                 let msg = format!("{} characters [{}] arrived after the reply window", bytes.len(), Hex(&bytes));
                 Finding::fail(msg, clause::NO_UNSOLICITED, edition)
+            } else if pause_explained_by_lateness(&x) {
+                self.disturbed = true;
+                Finding::unknown(format!(
+                    "cannot tell whether the reply had a pause of the timeout inside: {} more characters [{}] \
+                     came after one as read, but the harness itself was up to {:.3} ms late",
+                    bytes.len(),
+                    Hex(&bytes),
+                    x.harness_late_us as f64 / 1000.0
+                ))
             } else {
                 let msg = format!(
                     "the reply went on after a pause of at least the timeout: {} more characters [{}]",
@@ -246,7 +273,10 @@ impl Ctx<'_> {
         }
         if matches!(expected.reply, Reply::Frame(_)) {
             let tol = self.master.line.tolerance_us();
-            found.extend(timing::grade(&x, limits, tol, self.options.timing, edition));
+            let timing = timing::grade(&x, limits, tol, self.options.timing, edition);
+            // Timing is UNKNOWN only where the harness's lateness could explain it.
+            self.disturbed |= timing.iter().any(|f| f.verdict() == CaseVerdict::Unknown);
+            found.extend(timing);
         }
         // The exchange's verdict is the worst of its findings, as the case's is.
         let verdict = found.iter().fold(graded, |v, f| v.worst(f.verdict()));
@@ -323,5 +353,37 @@ impl Ctx<'_> {
 
     pub fn allow_counter_change(&self) -> bool {
         self.options.allow_counter_change
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::exchange::HeardLate;
+    use crate::line::Window;
+    use hiperface_model::datalink::RxChar;
+    use hiperface_model::UartSettings;
+
+    #[test]
+    fn a_pause_in_a_reply_is_charged_only_beyond_the_harness_lateness() {
+        let ct = UartSettings::DEFAULT.char_time_us();
+        let timeout = UartSettings::DEFAULT.timeout_us(hiperface_model::Edition::Current);
+        // The reply's last character ended at 10 ms; the next began a timeout + 0.5 ms later.
+        let x = |harness_late_us| Exchange {
+            request: vec![0x40, 0x42, 0x02],
+            stray: Vec::new(),
+            sent_start_us: 0,
+            request_end: Window::exact(2_000),
+            reply: vec![RxChar::ok(0x40, 10_000)],
+            reply_start: Some(Window::exact(10_000 - ct)),
+            trailing: vec![RxChar::ok(0x42, 10_000 + timeout + 500 + ct)],
+            settings: UartSettings::DEFAULT,
+            timeout_us: timeout,
+            harness_late_us,
+            heard_late: HeardLate::default(),
+        };
+        assert!(!pause_explained_by_lateness(&x(0)));
+        assert!(!pause_explained_by_lateness(&x(400)));
+        assert!(pause_explained_by_lateness(&x(600)));
     }
 }

@@ -49,7 +49,13 @@ pub struct Report {
     pub notes: Vec<String>,
     /// Set when the run stopped early (port gone, Ctrl-C): the report is partial.
     pub aborted: Option<String>,
+    /// Cases run again because the harness's own lateness left a verdict untold, with
+    /// the run that was disturbed.
+    pub rerun_cases: Vec<String>,
 }
+
+/// Runs of one case at most, when the harness's own timing was disturbed.
+const MAX_ATTEMPTS: u32 = 3;
 
 impl Report {
     fn empty(profile: &Profile, line: &str, options: &Options) -> Report {
@@ -73,6 +79,7 @@ impl Report {
             physical_minimum_ms: 0.0,
             notes: Vec::new(),
             aborted: None,
+            rerun_cases: Vec::new(),
         }
     }
 
@@ -135,31 +142,45 @@ pub fn run(
             let why = format!("not run: {why}");
             result.push(if interrupted { Finding::not_exercised(why) } else { Finding::error(why) });
         } else {
-            let mut ctx = Ctx::new(&mut master, &mut model, &mut result, &mut tally, options);
-            let outcome = (case.run)(&mut ctx);
-            let gone = matches!(outcome, Err(CaseError::Line(LineError::Gone(_))) | Err(CaseError::Silent));
-            if let Err(e) = &outcome {
-                interrupted |= matches!(e, CaseError::Interrupted);
-                ctx.push(if interrupted {
-                    Finding::not_exercised(format!("cut short: {e}"))
-                } else {
-                    Finding::error(e.to_string())
-                });
-                if !matches!(e, CaseError::Abort(_)) {
-                    report.aborted = Some(e.to_string());
+            for attempt in 1..=MAX_ATTEMPTS {
+                if attempt > 1 {
+                    result = case.result();
                 }
-            }
-            // Restore what the case changed, also after a failure or Ctrl-C.
-            if !gone && ctx.has_guards() {
-                match ctx.restore() {
-                    Ok(n) => restores_run += n,
-                    Err(e) => ctx.note(format!("restoring failed: {e}")),
+                let mut ctx = Ctx::new(&mut master, &mut model, &mut result, &mut tally, options);
+                let outcome = (case.run)(&mut ctx);
+                let gone = matches!(outcome, Err(CaseError::Line(LineError::Gone(_))) | Err(CaseError::Silent));
+                if let Err(e) = &outcome {
+                    interrupted |= matches!(e, CaseError::Interrupted);
+                    ctx.push(if interrupted {
+                        Finding::not_exercised(format!("cut short: {e}"))
+                    } else {
+                        Finding::error(e.to_string())
+                    });
+                    if !matches!(e, CaseError::Abort(_)) {
+                        report.aborted = Some(e.to_string());
+                    }
                 }
+                // Restore what the case changed, also after a failure or Ctrl-C.
+                if !gone && ctx.has_guards() {
+                    match ctx.restore() {
+                        Ok(n) => restores_run += n,
+                        Err(e) => ctx.note(format!("restoring failed: {e}")),
+                    }
+                }
+                let disturbed = ctx.disturbed();
+                if gone {
+                    not_read_back = outcome.as_ref().err().map(|e| e.to_string());
+                }
+                result.close_unobserved("the case");
+                result.attempts = attempt;
+                // The harness's own lateness left a verdict untold: run the case again,
+                // as a master scenario is, so that the same device gets the same
+                // verdicts on a busy machine as on an idle one.
+                if !disturbed || outcome.is_err() || attempt == MAX_ATTEMPTS {
+                    break;
+                }
+                report.rerun_cases.push(format!("{} (run {attempt} of at most {MAX_ATTEMPTS})", case.id));
             }
-            if gone {
-                not_read_back = outcome.err().map(|e| e.to_string());
-            }
-            result.close_unobserved("the case");
         }
         result.duration_ms = case_start.elapsed().as_secs_f64() * 1000.0;
         progress(i + 1, selected.len(), &result);

@@ -115,6 +115,12 @@ pub fn reference_master(args: &MasterArgs) -> Result<ExitCode, String> {
     let _simulator = opened.simulator;
     let mut master = Master::new(opened.line, profile.edition);
     let options = reference::Options { poll_ms: args.poll_ms, duration_ms: args.duration_ms };
+    // A drive's master runs on a processor of its own: be as punctual as permitted (a
+    // starved master talks over replies it was too late to hear). Timing does not
+    // depend on it.
+    if !crate::sched::real_time_priority() {
+        eprintln!("note: no real-time priority (not permitted here): on a busy machine requests may be late");
+    }
     let mut console = |line: &str| println!("{line}");
     match reference::run(&mut master, profile, options, &mut console) {
         Ok(()) => Ok(ExitCode::SUCCESS),

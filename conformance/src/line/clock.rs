@@ -93,8 +93,10 @@ impl RealTime {
 }
 
 /// Wait for one byte until `until_us` on the line's clock, in slices of at most
-/// 20 ms: `read_within` waits up to the given time and answers `None` on a timeout
-/// (whose lateness is recorded, see [`RealTime::take_lateness_us`]).
+/// 20 ms: `read_within` waits up to the given time (zero: only takes a byte already
+/// there) and answers `None` on a timeout (whose lateness is recorded, see
+/// [`RealTime::take_lateness_us`]). Past `until_us` it still takes a byte that is
+/// already there: a harness that ran late must not call silence what came in time.
 pub fn read_until(
     time: &RealTime,
     until_us: u64,
@@ -103,7 +105,7 @@ pub fn read_until(
     loop {
         let t = time.now_us();
         if t > until_us {
-            return Ok(None);
+            return Ok(read_within(std::time::Duration::ZERO)?.map(|b| (b, time.now_us())));
         }
         let slice = (until_us - t).clamp(100, 20_000);
         match read_within(std::time::Duration::from_micros(slice))? {
@@ -151,6 +153,32 @@ mod tests {
         .unwrap();
         // A program stamps the write's arrival; a UART player three characters later.
         assert!(end.earliest_us <= at && end.latest_us >= at + 3 * 2_000, "{end:?} {at}");
+    }
+
+    #[test]
+    fn a_harness_that_runs_late_still_takes_what_came_in_time() {
+        // The deadline has passed when the harness looks (it was descheduled): the
+        // byte already there is taken, with one look that does not wait.
+        let time = RealTime::new(0);
+        let mut waits = Vec::new();
+        let got = read_until(&time, 0, |wait| {
+            waits.push(wait);
+            Ok(Some(0x40))
+        })
+        .unwrap();
+        assert_eq!(got.map(|(b, _)| b), Some(0x40));
+        assert_eq!(waits, vec![std::time::Duration::ZERO]);
+        // Nothing there: silence, after that one look.
+        let mut looks = 0;
+        assert_eq!(
+            read_until(&time, 0, |_| Ok({
+                looks += 1;
+                None
+            }))
+            .unwrap(),
+            None
+        );
+        assert_eq!(looks, 1);
     }
 
     #[test]

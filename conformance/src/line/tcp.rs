@@ -60,7 +60,11 @@ impl Line for TcpLine {
         let time = &self.time;
         let (stream, address) = (&mut self.stream, &self.address);
         let got = clock::read_until(time, until_us, |wait| {
-            stream.set_read_timeout(Some(wait))?;
+            // A zero timeout is refused by a socket: look without waiting instead.
+            stream.set_nonblocking(wait.is_zero())?;
+            if !wait.is_zero() {
+                stream.set_read_timeout(Some(wait))?;
+            }
             let mut b = [0u8; 1];
             match stream.read(&mut b) {
                 Ok(1) => Ok(Some(b[0])),
