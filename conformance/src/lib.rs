@@ -18,3 +18,4 @@ pub mod sched;
 pub mod simulate;
 pub mod vectors;
 pub mod verdict;
+pub mod world;

@@ -4,10 +4,12 @@
 //! itself is in the library (`certify`, `port`, `vectors`, `simulate`).
 
 use clap::{Parser, Subcommand, ValueEnum};
-use hiperface_conformance::certify::{self, CaseVerdict, Options, TimingMode};
+use hiperface_conformance::certify::{self, CaseVerdict, Options};
 use hiperface_conformance::line::LineKind;
 use hiperface_conformance::port::{self, PortSpec};
 use hiperface_conformance::simulate;
+use hiperface_conformance::verdict::timing::TimingMode;
+use hiperface_conformance::world::World;
 use hiperface_conformance::{demo, drive, profile_file, report};
 use hiperface_model::command::COMMAND_TABLE;
 use hiperface_model::slave::inputs::{InitFault, PhysicalInputs};
@@ -153,7 +155,7 @@ struct WorldArgs {
 }
 
 impl WorldArgs {
-    fn world(&self) -> certify::World {
+    fn world(&self) -> World {
         let mut inputs = PhysicalInputs::default();
         let custom = self.temperature.is_some() || self.position.is_some();
         if let Some(t) = self.temperature {
@@ -162,7 +164,7 @@ impl WorldArgs {
         if let Some(p) = self.position {
             inputs.position = p;
         }
-        certify::World { inputs: custom.then_some(inputs), init_faults: self.init_faults.clone() }
+        World { inputs: custom.then_some(inputs), init_faults: self.init_faults.clone() }
     }
 }
 
@@ -314,7 +316,7 @@ fn certify_slave(what: CertifyWhat) -> Result<ExitCode, CliError> {
     }
     let sim = port.is_model();
     let grading = grading.unwrap_or(if sim { Grading::Exact } else { Grading::Range });
-    let world = if sim { world.world() } else { certify::World::default() };
+    let world = if sim { world.world() } else { World::default() };
     let opened = match port::open_for_slave(&port, profile, &world, tolerance_ms.map(|ms| ms * 1000)) {
         Ok(o) => o,
         Err(e) => {
@@ -428,7 +430,7 @@ fn summarize(report: &certify::Report, profile: &Profile) {
     println!("{}", report.outcome().label());
 }
 
-fn run_simulator(port: &str, profile: &str, log: bool, world: &certify::World) -> Result<ExitCode, CliError> {
+fn run_simulator(port: &str, profile: &str, log: bool, world: &World) -> Result<ExitCode, CliError> {
     let profile = profile_file::resolve(profile).map_err(CliError::from)?;
     let port: Box<dyn serialport::SerialPort> = if port == "pty" {
         let (sim_end, other) =

@@ -1,13 +1,14 @@
 //! What `--port` names, and opening it as a line: the reference model in virtual
 //! time or on a pseudo-terminal, a serial port, or a serial device server over TCP.
 
-use crate::certify::{TimingMode, World};
 use crate::line::adapter::STRICT_LIMIT_US;
 use crate::line::serial::SerialLine;
 use crate::line::tcp::TcpLine;
 use crate::line::virtual_line::VirtualLine;
 use crate::line::{Line, LineError};
 use crate::simulate::PtySimulator;
+use crate::verdict::timing::TimingMode;
+use crate::world::World;
 use hiperface_model::{Profile, UartSettings};
 use std::fmt;
 use std::str::FromStr;

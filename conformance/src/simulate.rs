@@ -4,7 +4,7 @@
 //! are clocked one character time apart, and a reply is written whole when its first
 //! character would be complete.
 
-use crate::certify::World;
+use crate::world::World;
 use hiperface_model::datalink::RxChar;
 use hiperface_model::{Hex, Profile, Slave, Step, UartSettings};
 use serialport::SerialPort;

@@ -4,7 +4,6 @@
 //! - [`cases`]: the catalogue;
 //! - [`ctx`]: what a case sees (the master, the model in lockstep, findings, guards);
 //! - [`case`]: a case of the catalogue (verdicts and findings are `crate::verdict`'s);
-//! - [`timing`]: reply timing against the windows the line can vouch for;
 //! - [`identity`]: what the device says of itself, for the certificate;
 //! - [`safety`]: whether the run left the device as it found it;
 //! - [`run`]: the runner and the report.
@@ -15,16 +14,17 @@ pub mod ctx;
 pub mod identity;
 pub mod run;
 pub mod safety;
-pub mod timing;
 
-pub use crate::verdict::{CaseResult, CaseVerdict, Finding, Outcome, WireEntry};
+pub use crate::verdict::timing::{self, TimingMode};
+pub use crate::verdict::{glob_match, CaseResult, CaseVerdict, Finding, Outcome, WireEntry};
+pub use crate::world::World;
 pub use case::{Case, CaseError};
 pub use ctx::{Ctx, Graded, Guard};
 pub use identity::Identity;
 pub use run::{run, select, Report, TimingStats};
 pub use safety::Safety;
 
-use hiperface_model::{Grading, Slave};
+use hiperface_model::Grading;
 use serde::Serialize;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
@@ -60,48 +60,6 @@ pub struct Options {
     pub timing: TimingMode,
 }
 
-/// How reply timing is graded (`--timing`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, clap::ValueEnum)]
-#[serde(rename_all = "kebab-case")]
-pub enum TimingMode {
-    /// A reply outside its window FAILs.
-    Strict,
-    /// A reply outside its window is NON-STRICT, with the measured figure: for lines
-    /// whose latency the harness cannot bound (e.g. an adapter's latency timer).
-    Lenient,
-    /// Timing is measured and reported, not graded.
-    Off,
-}
-
-/// The device's physical inputs and the faults it found at start-up.
-#[derive(Debug, Clone, Default)]
-pub struct World {
-    pub inputs: Option<hiperface_model::slave::inputs::PhysicalInputs>,
-    pub init_faults: Vec<hiperface_model::slave::inputs::InitFault>,
-}
-
-impl World {
-    /// As [`World::apply`] for a model just powered on at t = 0 whose power-up is
-    /// timed (a master is certified from power-on): the start-up faults are found, the
-    /// windows still to come.
-    pub fn apply_at_power_on(&self, model: &mut Slave) {
-        if let Some(inputs) = self.inputs {
-            model.set_inputs(inputs);
-        }
-        model.power_up_with(self.init_faults.iter().copied(), false);
-    }
-
-    /// Bring a model into this world: inputs set, start-up faults found.
-    pub fn apply(&self, model: &mut Slave) {
-        if let Some(inputs) = self.inputs {
-            model.set_inputs(inputs);
-        }
-        if !self.init_faults.is_empty() {
-            model.power_up_with(self.init_faults.iter().copied(), true);
-        }
-    }
-}
-
 impl Default for Options {
     fn default() -> Self {
         Options {
@@ -115,18 +73,4 @@ impl Default for Options {
             timing: TimingMode::Strict,
         }
     }
-}
-
-/// `*` and `?` glob matching for `--cases`.
-pub fn glob_match(pattern: &str, text: &str) -> bool {
-    fn go(p: &[u8], t: &[u8]) -> bool {
-        match (p.first(), t.first()) {
-            (None, None) => true,
-            (Some(b'*'), _) => go(&p[1..], t) || (!t.is_empty() && go(p, &t[1..])),
-            (Some(b'?'), Some(_)) => go(&p[1..], &t[1..]),
-            (Some(a), Some(b)) if a == b => go(&p[1..], &t[1..]),
-            _ => false,
-        }
-    }
-    pattern.split(',').any(|p| go(p.trim().as_bytes(), text.as_bytes()))
 }

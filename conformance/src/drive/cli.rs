@@ -2,11 +2,11 @@
 //! `hiperface certify master` and `hiperface master`.
 
 use super::{reference, Attach, DriveReport, Options, PowerOn};
-use crate::certify::World;
 use crate::exchange::Master;
 use crate::port::{self, PortSpec};
 use crate::profile_file;
 use crate::verdict::CaseVerdict;
+use crate::world::World;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 

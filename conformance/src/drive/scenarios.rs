@@ -2,7 +2,7 @@
 //! Every scenario is graded by the master's obligations (`model::master::obligations`);
 //! its plan makes one situation happen so that the master's reaction can be seen.
 
-use crate::certify::World;
+use crate::world::World;
 use hiperface_model::clause::{self, Clause};
 use hiperface_model::master::obligations::Rule;
 use hiperface_model::request::{Request, RequestFrame};
@@ -237,7 +237,7 @@ impl Scenario {
 /// The scenarios whose id matches `globs` (`*`, `?`, comma-separated; all without),
 /// in run order.
 pub fn chosen(globs: Option<&str>) -> Vec<Scenario> {
-    catalogue().into_iter().filter(|s| globs.is_none_or(|g| crate::certify::glob_match(g, s.id))).collect()
+    catalogue().into_iter().filter(|s| globs.is_none_or(|g| crate::verdict::glob_match(g, s.id))).collect()
 }
 
 /// Every scenario, in run order.

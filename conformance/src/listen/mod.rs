@@ -20,9 +20,9 @@
 //! UNKNOWN with the oracle's reason, not as FAIL.
 
 use crate::capture::{Event, Mark, Role};
-use crate::certify::{timing, TimingMode};
 use crate::exchange::{Exchange, HeardLate};
 use crate::line::Window;
+use crate::verdict::timing::{self, TimingMode};
 use crate::verdict::{CaseVerdict, Finding};
 use heard::Heard;
 use hiperface_model::command::CommandId;

@@ -4,13 +4,17 @@
 //! - [`CaseVerdict`]: the verdict of one graded unit (a slave case, a master scenario,
 //!   an exchange heard), and the rule that a result only gets worse as findings come;
 //! - [`Finding`], [`CaseResult`]: what a unit found, and its result;
-//! - [`Outcome`]: what a whole run adds up to, and its exit code.
+//! - [`Outcome`]: what a whole run adds up to, and its exit code;
+//! - [`timing`]: a reply's timing against the windows the line can vouch for (the
+//!   slave certification and the listener grade with it);
+//! - [`glob_match`]: which units `--cases` and `--scenarios` select.
 //!
 //! A verdict is earned: PASS only for what was observed. A unit that never met its
 //! situation is NOT-EXERCISED, what the harness cannot tell is UNKNOWN, and a run with
 //! either (or with nothing graded at all) is INCOMPLETE, never PASSED.
 
 mod finding;
+pub mod timing;
 
 pub use finding::{CaseResult, Finding, WireEntry};
 
@@ -171,9 +175,35 @@ pub const EXIT_USAGE: u8 = 2;
 /// The exit code of an INCOMPLETE run.
 pub const EXIT_INCOMPLETE: u8 = 3;
 
+/// `*` and `?` glob matching, comma-separated alternatives: which units `--cases`
+/// and `--scenarios` select.
+pub fn glob_match(pattern: &str, text: &str) -> bool {
+    fn go(p: &[u8], t: &[u8]) -> bool {
+        match (p.first(), t.first()) {
+            (None, None) => true,
+            (Some(b'*'), _) => go(&p[1..], t) || (!t.is_empty() && go(p, &t[1..])),
+            (Some(b'?'), Some(_)) => go(&p[1..], &t[1..]),
+            (Some(a), Some(b)) if a == b => go(&p[1..], &t[1..]),
+            _ => false,
+        }
+    }
+    pattern.split(',').any(|p| go(p.trim().as_bytes(), text.as_bytes()))
+}
+
 #[cfg(test)]
 mod tests {
     use super::CaseVerdict::*;
+
+    #[test]
+    fn a_pattern_selects_by_glob_with_alternatives() {
+        use super::glob_match;
+        assert!(glob_match("position.*", "position.read"));
+        assert!(glob_match("reply.?ap", "reply.gap"));
+        assert!(glob_match("fault.*, reply.gap", "reply.gap"));
+        assert!(!glob_match("position.*", "powerup.window"));
+        assert!(!glob_match("reply.gap", "reply.gap-under-timeout"));
+        assert!(glob_match("*", ""));
+    }
     use super::*;
 
     #[test]

@@ -13,11 +13,25 @@
 //! explain a reply being late (or on time when it was early), the timing is UNKNOWN:
 //! neither FAIL, which it could explain, nor PASS, which was not observed.
 
-use super::{Finding, TimingMode};
+use super::Finding;
 use crate::exchange::Exchange;
 use hiperface_model::clause;
 use hiperface_model::command::ResponseLimit;
 use hiperface_model::Edition;
+use serde::Serialize;
+
+/// How reply timing is graded (`--timing`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum TimingMode {
+    /// A reply outside its window FAILs.
+    Strict,
+    /// A reply outside its window is NON-STRICT, with the measured figure: for lines
+    /// whose latency the harness cannot bound (e.g. an adapter's latency timer).
+    Lenient,
+    /// Timing is measured and reported, not graded.
+    Off,
+}
 
 /// Grade the start of a reply of a device of `edition`. `tolerance_us`: the line's
 /// jitter; the harness's own scheduling delay measured in the exchange is added (it
@@ -92,9 +106,9 @@ pub fn at_most_us(x: &Exchange) -> Option<i64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::certify::CaseVerdict;
     use crate::exchange::HeardLate;
     use crate::line::Window;
+    use crate::verdict::CaseVerdict;
     use hiperface_model::datalink::RxChar;
     use hiperface_model::UartSettings;
 
