@@ -7,7 +7,7 @@ use hiperface_model::{profiles, Slave};
 fn main() {
     let profile = profiles::builtin(&std::env::args().nth(1).unwrap_or_else(|| "SRS50".into())).expect("profile");
     let line = VirtualLine::new(Slave::operational(profile));
-    let options = Options { allow_writes: true, allow_counter_change: true, ..Options::default() };
+    let options = Options::all_allowed();
     let r = certify::run(Box::new(line), profile, &options, |_, _, _| {});
     print!("{}", report::markdown(&r));
 }

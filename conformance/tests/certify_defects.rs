@@ -97,7 +97,7 @@ impl SlaveDevice for Defective {
 }
 
 fn certify(device: Defective) -> Report {
-    let options = Options { allow_writes: true, allow_counter_change: true, ..Options::default() };
+    let options = Options::all_allowed();
     certify::run(Box::new(VirtualLine::new(device)), profiles::srs50(), &options, |_, _, _| {})
 }
 
@@ -259,8 +259,7 @@ fn stack_not_deduplicated() {
         world.apply(&mut d.model);
         d
     };
-    let options =
-        Options { allow_writes: true, allow_counter_change: true, world: world.clone(), ..Options::default() };
+    let options = Options { world: world.clone(), ..Options::all_allowed() };
     let r = certify::run(Box::new(VirtualLine::new(conforming)), profiles::srs50(), &options, |_, _, _| {});
     assert!(
         r.outcome().passed(),

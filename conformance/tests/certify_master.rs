@@ -13,10 +13,13 @@ use hiperface_model::{profiles, Profile};
 use std::path::Path;
 
 /// HX-M's command line (the tests that use it are ignored where python3 is missing).
+/// A drive's firmware has a processor of its own: where permitted the master under
+/// test runs at a real-time priority, so that a busy test machine does not make it
+/// late on the wire (a master that is really late is rightly FAILed).
 fn hx_master(defect: Option<&str>) -> String {
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/independent/hx_master.py");
     let defect = defect.map_or(String::new(), |d| format!(" --defect {d}"));
-    format!("python3 {} {{port}}{defect}", script.display())
+    format!("{}python3 {} {{port}}{defect}", common::real_time_prefix(), script.display())
 }
 
 fn certify(profile: Profile, exec: &str, scenarios: Option<&str>) -> DriveReport {
@@ -58,19 +61,22 @@ fn the_reference_master_passes_every_scenario_through_ser2net() {
     // does not split a reply with a pause of the timeout (it did, under load).
     let ser2net = common::ser2net_program();
     let tmp = tempfile::tempdir().unwrap();
-    let port = std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port();
-    let config = tmp.path().join("ser2net.yaml");
+    let port = common::free_port();
+    let (template, config) = (tmp.path().join("ser2net.yaml.in"), tmp.path().join("ser2net.yaml"));
+    // The encoder's pseudo-terminal is known when the command runs: its first argument.
+    std::fs::write(&template, common::ser2net_yaml("m", port, "@PTY@")).unwrap();
     let script = tmp.path().join("run.sh");
     std::fs::write(
         &script,
         format!(
-            "printf '%%YAML 1.1\\n---\\nconnection: &m\\n    accepter: tcp(nodelay),127.0.0.1,{port}\\n    enable: on\\n    options:\\n      chardelay: false\\n    connector: serialdev,%s,9600e81,local\\n' \"$1\" > {config}\n\
+            "sed \"s|@PTY@|$1|\" {template} > {config}\n\
              {rt}{ser2net} -n -d -c {config} >/dev/null 2>&1 &\n\
              sleep 0.4\n\
              exec {rt}{exe} master --port tcp://127.0.0.1:{port}\n",
+            template = template.display(),
             config = config.display(),
             exe = env!("CARGO_BIN_EXE_hiperface"),
-            rt = if common::real_time_permitted() { "chrt -f 50 " } else { "" },
+            rt = common::real_time_prefix(),
         ),
     )
     .unwrap();
@@ -282,7 +288,7 @@ fn scripted_master(dir: &Path, body: &str) -> String {
                 a = termios.tcgetattr(fd); a[2] |= termios.PARENB; a[4] = a[5] = termios.B9600\n\
                 termios.tcsetattr(fd, termios.TCSANOW, a)\n";
     std::fs::write(&script, format!("{head}{body}")).unwrap();
-    format!("python3 {} {{port}}", script.display())
+    format!("{}python3 {} {{port}}", common::real_time_prefix(), script.display())
 }
 
 #[test]
@@ -449,6 +455,7 @@ fn a_drive_on_a_port_is_certified_without_seeing_its_power_on() {
     let path = encoder_end.name().unwrap();
     let profile = profiles::srs50();
     let drive = std::thread::spawn(move || {
+        hiperface_conformance::sched::real_time_priority();
         let line = SerialLine::from_port(Box::new(drive_end), "drive".into(), profile.settings, true);
         let mut master = Master::new(line, profile.edition);
         let options = drive::reference::Options { poll_ms: 20, duration_ms: Some(5_500) };
@@ -503,6 +510,7 @@ impl drive::Operator for ScriptedOperator {
         let mut port = self.drive_end.try_clone_native().unwrap();
         let (delay, talks_at_once) = (self.delay, self.talks_at_once);
         self.running = Some(std::thread::spawn(move || {
+            hiperface_conformance::sched::real_time_priority();
             std::thread::sleep(delay);
             if talks_at_once {
                 port.write_all(&[0x40, 0x50, 0x10]).unwrap();

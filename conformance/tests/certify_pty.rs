@@ -13,10 +13,6 @@ use std::time::{Duration, Instant};
 
 const GENEROUS_US: u64 = 25_000;
 
-fn all_allowed() -> Options {
-    Options { allow_writes: true, allow_counter_change: true, ..Options::default() }
-}
-
 #[test]
 fn the_whole_catalogue_passes_against_the_simulator_over_a_pty() {
     // TTK70 with every optional command: 67h switches the data rate on the PTY too.
@@ -26,7 +22,7 @@ fn the_whole_catalogue_passes_against_the_simulator_over_a_pty() {
     // Real time on a shared CI machine: generous timing bounds (exact timing is
     // checked in virtual time, tests/certify_defects.rs).
     let line = SerialLine::from_port(port, sim.path.clone(), profile.settings, true).with_tolerance(GENEROUS_US);
-    let report = certify::run(Box::new(line), profile, &all_allowed(), |_, _, _| {});
+    let report = certify::run(Box::new(line), profile, &Options::all_allowed(), |_, _, _| {});
     let failed: Vec<_> =
         report.cases.iter().filter(|c| !matches!(c.verdict, CaseVerdict::Pass | CaseVerdict::NotApplicable)).collect();
     assert!(failed.is_empty(), "{failed:#?}");
@@ -57,7 +53,7 @@ fn a_silent_device_stops_the_run_quickly_with_an_error() {
     let (_silent_end, port) = serialport::TTYPort::pair().unwrap();
     let line = SerialLine::from_port(Box::new(port), "silent".into(), UartSettings::DEFAULT, true);
     let started = Instant::now();
-    let report = certify::run(Box::new(line), profiles::srs50(), &all_allowed(), |_, _, _| {});
+    let report = certify::run(Box::new(line), profiles::srs50(), &Options::all_allowed(), |_, _, _| {});
     assert!(started.elapsed() < Duration::from_secs(10), "must not hang");
     // Nothing was observed: INCOMPLETE, not a verdict on the device.
     assert_eq!(report.outcome(), hiperface_conformance::verdict::Outcome::Incomplete);
@@ -79,7 +75,7 @@ fn the_port_gone_mid_run_leaves_a_partial_report() {
     let line = SerialLine::from_port(port, sim.path.clone(), profile.settings, true).with_tolerance(GENEROUS_US);
     let mut sim = Some(sim);
     let started = Instant::now();
-    let report = certify::run(Box::new(line), profile, &all_allowed(), |i, _, _| {
+    let report = certify::run(Box::new(line), profile, &Options::all_allowed(), |i, _, _| {
         if i == 4 {
             sim.take(); // the simulator and its end of the pseudo-terminal go away
         }
@@ -104,7 +100,8 @@ fn an_interrupt_in_a_power_up_window_stops_at_once_and_reads_the_device_back() {
     let (sim, port) = PtySimulator::start(profile).unwrap();
     let line = SerialLine::from_port(port, sim.path.clone(), profile.settings, true).with_tolerance(GENEROUS_US);
     let flag = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
-    let options = Options { cases: Some("powerup.window".into()), interrupt: Some(flag.clone()), ..all_allowed() };
+    let options =
+        Options { cases: Some("powerup.window".into()), interrupt: Some(flag.clone()), ..Options::all_allowed() };
     let setter = std::thread::spawn(move || {
         std::thread::sleep(Duration::from_millis(500));
         flag.store(true, std::sync::atomic::Ordering::Relaxed);

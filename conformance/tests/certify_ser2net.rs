@@ -15,7 +15,7 @@ fn the_catalogue_passes_through_ser2net() {
     let server = common::Ser2net::bridge(&sim.path, "sim");
     // Real time on a shared CI machine: generous timing bounds.
     let line = server.connect().with_tolerance(25_000);
-    let options = Options { allow_writes: true, allow_counter_change: true, ..Options::default() };
+    let options = Options::all_allowed();
     let report = certify::run(Box::new(line), profile, &options, |_, _, _| {});
     let bad: Vec<_> =
         report.cases.iter().filter(|c| !matches!(c.verdict, CaseVerdict::Pass | CaseVerdict::NotApplicable)).collect();

@@ -4,15 +4,11 @@ use hiperface_conformance::certify::{self, CaseVerdict, Options};
 use hiperface_conformance::line::virtual_line::VirtualLine;
 use hiperface_model::{profiles, Slave};
 
-fn all_allowed() -> Options {
-    Options { allow_writes: true, allow_counter_change: true, ..Options::default() }
-}
-
 #[test]
 fn the_reference_model_passes_every_case_in_virtual_time() {
     for (name, make) in profiles::BUILTIN {
         let line = VirtualLine::new(Slave::operational(make()));
-        let report = certify::run(Box::new(line), make(), &all_allowed(), |_, _, _| {});
+        let report = certify::run(Box::new(line), make(), &Options::all_allowed(), |_, _, _| {});
         for c in &report.cases {
             assert!(
                 matches!(c.verdict, CaseVerdict::Pass | CaseVerdict::NotApplicable),
@@ -38,7 +34,8 @@ pub fn every_command() -> hiperface_model::Profile {
 #[test]
 fn every_case_runs_and_passes_on_a_profile_with_every_command() {
     let p = every_command();
-    let report = certify::run(Box::new(VirtualLine::new(Slave::operational(p))), p, &all_allowed(), |_, _, _| {});
+    let report =
+        certify::run(Box::new(VirtualLine::new(Slave::operational(p))), p, &Options::all_allowed(), |_, _, _| {});
     for c in &report.cases {
         let legacy_only = c.id.starts_with("legacy.");
         let expected = if legacy_only { CaseVerdict::NotApplicable } else { CaseVerdict::Pass };

@@ -19,7 +19,7 @@ use hiperface_model::Grading;
 
 /// What a user runs: every case, writes and counter allowed, a black box.
 fn options() -> Options {
-    Options { allow_writes: true, allow_counter_change: true, grading: Grading::Range, ..Options::default() }
+    Options { grading: Grading::Range, ..Options::all_allowed() }
 }
 
 /// Certify over the pseudo-terminal, opened as `certify slave --port <path>` opens it

@@ -71,6 +71,12 @@ const ROW_OF: [u8; 64] = {
 };
 
 impl CommandId {
+    /// The command a frame is about, request or reply: its second byte without the
+    /// error bit (000:T6); `Unknown(0)` for a frame too short to have one.
+    pub fn of_frame(frame: &[u8]) -> CommandId {
+        frame.get(1).map_or(CommandId::Unknown(0), |b| CommandId::decode(b & !CommandByte::ERROR_BIT))
+    }
+
     /// This command's row of the command table; `None` for unknown commands.
     pub fn spec(self) -> Option<&'static CommandSpec> {
         if matches!(self, CommandId::Unknown(_)) {
@@ -421,6 +427,15 @@ mod tests {
             assert_eq!(id.spec(), COMMAND_TABLE.iter().find(|s| s.id == id), "{b:02X}");
         }
         assert_eq!(CommandId::Unknown(0x42).spec(), None);
+    }
+
+    #[test]
+    fn a_frames_command_ignores_the_error_bit() {
+        assert_eq!(CommandId::of_frame(&[0x40, 0x42, 0x02]), CommandId::ReadPosition);
+        assert_eq!(CommandId::of_frame(&[0x40, 0xD2, 0x00]), CommandId::ReadTypeLabel);
+        assert_eq!(CommandId::of_frame(&[0x40, 0x3F]), CommandId::decode(0x3F));
+        assert_eq!(CommandId::of_frame(&[0x40]), CommandId::Unknown(0));
+        assert_eq!(CommandId::of_frame(&[]), CommandId::Unknown(0));
     }
 
     #[test]

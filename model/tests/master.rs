@@ -10,6 +10,9 @@ use hiperface_model::master::sync::{self, Correction, FineAngle};
 use hiperface_model::slave::inputs::PhysicalInputs;
 use hiperface_model::{profiles, Slave};
 
+mod common;
+use common::sealed;
+
 /// 000 Table 72 as printed: A(n-1) B(n-1) A(n) B(n) Counter.
 const TABLE_72: &str = "
 0 0 0 0 No action
@@ -240,8 +243,7 @@ fn a_phase_shift_breaks_synchronisation_unless_compensated() {
     let mut req = vec![0x40, 0x43];
     req.extend_from_slice(&(preset as u32).to_be_bytes());
     req.push(0x55);
-    req.push(hiperface_model::checksum::xor(&req));
-    slave.handle_frame(&req, 0);
+    slave.handle_frame(&sealed(&req), 0);
     let fine = FineAngle { value: 0, bits: 16 }; // the signals say quadrant 0
     let absolute = slave.position();
     assert_eq!(sync::init_counter(absolute, fine), None, "quadrant 2 vs 0: invalid");

@@ -5,7 +5,10 @@
 use hiperface_model::datalink::RxChar;
 use hiperface_model::master::obligations::{Observation, Observer, Rule, REACTION_REQUESTS, RETRY_BOUND};
 use hiperface_model::response::{Response, ResponseFrame};
-use hiperface_model::{checksum, profiles, FaultCode, Profile};
+use hiperface_model::{profiles, FaultCode, Profile};
+
+mod common;
+use common::sealed;
 
 const CT: u64 = 1146; // 9600 Bd, 11 bits
 const TIMEOUT: u64 = 5730;
@@ -44,9 +47,7 @@ impl Bus {
     }
 
     fn send(&mut self, body: &[u8]) -> &mut Bus {
-        let mut frame = body.to_vec();
-        frame.push(checksum::xor(body));
-        self.send_raw(&frame, &[])
+        self.send_raw(&sealed(body), &[])
     }
 
     /// The encoder answers after the timeout (+300 µs), and the master waits for the

@@ -1,14 +1,11 @@
 //! Properties of the model's behaviour (proptest).
 
 use hiperface_model::slave::inputs::PhysicalInputs;
-use hiperface_model::{checksum, profiles, Reply, Response, ResponseFrame, Slave};
+use hiperface_model::{profiles, Reply, Response, ResponseFrame, Slave};
 use proptest::prelude::*;
 
-fn sealed(body: &[u8]) -> Vec<u8> {
-    let mut v = body.to_vec();
-    v.push(checksum::xor(body));
-    v
-}
+mod common;
+use common::sealed;
 
 fn response(s: &mut Slave, body: &[u8]) -> Option<ResponseFrame> {
     match s.handle_frame(&sealed(body), 0).reply {

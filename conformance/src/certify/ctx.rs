@@ -208,7 +208,7 @@ impl Ctx<'_> {
         if let Some(s) = self.model.listening_settings(now).filter(|s| *s != self.master.line.settings()) {
             self.master.line.configure(s)?;
         }
-        let command = frame.get(1).map(|b| CommandId::decode(b & 0x7F));
+        let command = (frame.len() > 1).then(|| CommandId::of_frame(frame));
         let limits = self.model.profile().response_limit(command.unwrap_or(CommandId::Unknown(0)));
         let before = self.model.clone();
         // Where the model expects a reply, listen well past the limit so that a late

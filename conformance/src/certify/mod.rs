@@ -60,6 +60,14 @@ pub struct Options {
     pub timing: TimingMode,
 }
 
+impl Options {
+    /// Every case: EEPROM writes (restored) and counter changes (not restorable)
+    /// allowed, as for a device on the bench, a simulator or a test.
+    pub fn all_allowed() -> Options {
+        Options { allow_writes: true, allow_counter_change: true, ..Options::default() }
+    }
+}
+
 impl Default for Options {
     fn default() -> Self {
         Options {

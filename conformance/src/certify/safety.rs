@@ -64,7 +64,7 @@ impl Snapshot {
         }
         let mut ask = |body: &[u8]| -> Option<Response> {
             let frame = sealed(body);
-            let command = CommandId::decode(body.get(1)? & 0x7F);
+            let command = CommandId::of_frame(body);
             let x = master.exchange(&frame, 30).ok()?;
             tally.physical_min_us += physical_time_us(&x, 30);
             let reply = x.reply_bytes()?;

@@ -343,6 +343,16 @@ impl Hooks for DriveEncoder {
             };
             self.injected(planned.start_us, what);
         }
+        // A request read late (the harness was not scheduled) is answered late by as
+        // much: to the master the reply comes later than the encoder meant, and a
+        // master that gave up and talks again meets it. As with an unplanned pause.
+        let ct = planned.settings.char_time_us();
+        let last = step.received.last_us;
+        let first = last.saturating_sub(bytes.len().saturating_sub(1) as u64 * ct);
+        let late = self.timeline.late_in(first, last);
+        if late >= crate::simulate::disturbed_from_us(ct) {
+            planned.disturbed_us = planned.disturbed_us.max(late);
+        }
         Some(planned)
     }
 
@@ -352,7 +362,8 @@ impl Hooks for DriveEncoder {
         if planned.disturbed_us > 0 {
             self.timeline.disturbed.push((start_us, planned.disturbed_us));
             let ms = planned.disturbed_us as f64 / 1000.0;
-            self.note(start_us, "?", format!("the harness wrote this reply with an unplanned pause of {ms:.3} ms"));
+            let what = "an unplanned pause in it, or its request read late";
+            self.note(start_us, "?", format!("the harness was {ms:.3} ms late with this reply ({what})"));
         }
         // A reply with a pause of the timeout inside is two transmissions to the master
         // (000:2.2.2): the first ends at the pause, and what follows is unsolicited; a
@@ -427,5 +438,41 @@ mod tests {
         assert_eq!(t.unproven(&gap, timeout, &p), Some(4_000));
         // Rules about order, not time, always stand.
         assert_eq!(t.unproven(&observation(Rule::StatusNotRead, 200_000, 0), timeout, &p), None);
+    }
+
+    /// Seen under load: a Read Position read 36 ms late was answered 36 ms late; the
+    /// master (rightly) gave up, asked again and met the reply. That reply is disturbed.
+    #[test]
+    fn a_reply_to_a_request_read_late_is_disturbed() {
+        use crate::simulate::{Hooks, Planned};
+        let p = hiperface_model::profiles::srs50();
+        let scenario = crate::drive::scenarios::catalogue().into_iter().next().unwrap();
+        let reply_disturbance = |read_late_us| {
+            let mut encoder = DriveEncoder::new(p, &scenario, false, None);
+            let mut slave = Slave::operational(p);
+            let ct = UartSettings::DEFAULT.char_time_us();
+            encoder.read(read_late_us);
+            let mut steps = Vec::new();
+            for (i, b) in [0x40, 0x42, 0x02].into_iter().enumerate() {
+                let ch = RxChar::ok(b, 100_000 + i as u64 * ct);
+                encoder.received(ch, Some(UartSettings::DEFAULT));
+                steps.extend(slave.receive(ch));
+            }
+            steps.extend(slave.poll(200_000));
+            let step = steps.into_iter().find(|s| s.transmission.is_some()).unwrap();
+            encoder.frame(&mut slave, &step);
+            let tx = step.transmission.clone().unwrap();
+            let planned = Planned {
+                frame: tx.frame.as_bytes().to_vec(),
+                start_us: tx.earliest_start_us,
+                settings: tx.settings,
+                gap: None,
+                paced: false,
+                disturbed_us: 0,
+            };
+            encoder.reply(&mut slave, &step, planned).map(|p| p.disturbed_us)
+        };
+        assert_eq!(reply_disturbance(0), Some(0));
+        assert_eq!(reply_disturbance(36_000), Some(36_000));
     }
 }

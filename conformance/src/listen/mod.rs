@@ -88,7 +88,7 @@ struct Open {
 
 impl Open {
     fn command(&self) -> CommandId {
-        self.bytes.get(1).map_or(CommandId::Unknown(0), |b| CommandId::decode(b & 0x7F))
+        CommandId::of_frame(&self.bytes)
     }
 }
 
@@ -310,7 +310,7 @@ impl Listener {
         self.master_observations(obs);
         let (Some(first), Some(last)) = (heard.chars.first(), heard.chars.last()) else { return };
         let bytes = heard.bytes();
-        let command = bytes.get(1).map_or(CommandId::Unknown(0), |b| CommandId::decode(b & 0x7F));
+        let command = CommandId::of_frame(&bytes);
         self.open = Some(Open {
             bytes,
             start_us: first.at_us.saturating_sub(self.char_us),

@@ -43,20 +43,40 @@ pub fn ser2net_program() -> &'static str {
         .expect("ser2net is not installed (apt-get install ser2net)")
 }
 
+/// `chrt -f 50 ` where a process may be started at a real-time priority, else nothing:
+/// the prefix for a command line of a device with a processor of its own.
+pub fn real_time_prefix() -> &'static str {
+    if real_time_permitted() {
+        "chrt -f 50 "
+    } else {
+        ""
+    }
+}
+
+/// A ser2net configuration relaying TCP `port` to `device` at 9600 8E1, as a serial
+/// device server for HIPERFACE is set up: no character delay and no Nagle's
+/// algorithm, so that characters are passed on as they come (with them the server
+/// passes a reply on in bursts further apart than the timeout).
+pub fn ser2net_yaml(name: &str, port: u16, device: &str) -> String {
+    format!(
+        "%YAML 1.1\n---\nconnection: &{name}\n    accepter: tcp(nodelay),127.0.0.1,{port}\n    enable: on\n    \
+         options:\n      chardelay: false\n    connector: serialdev,{device},9600e81,local\n"
+    )
+}
+
+/// A free TCP port on 127.0.0.1.
+pub fn free_port() -> u16 {
+    std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port()
+}
+
 impl Ser2net {
     /// Start one for `pty_path` at 9600 8E1.
     pub fn bridge(pty_path: &str, name: &str) -> Ser2net {
         let exe = ser2net_program();
-        let port = std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port();
+        let port = free_port();
         let dir = tempfile::tempdir().unwrap();
         let config = dir.path().join("ser2net.yaml");
-        std::fs::write(
-            &config,
-            format!(
-                "%YAML 1.1\n---\nconnection: &{name}\n    accepter: tcp,127.0.0.1,{port}\n    enable: on\n    connector: serialdev,{pty_path},9600e81,local\n"
-            ),
-        )
-        .unwrap();
+        std::fs::write(&config, ser2net_yaml(name, port, pty_path)).unwrap();
         // A device server is a device with a processor of its own: where permitted it
         // runs at a real-time priority, so that a busy test machine does not delay its
         // chunks by more than a reply's timing limit (it did, under load).

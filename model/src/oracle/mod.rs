@@ -133,7 +133,7 @@ impl Oracle {
         observed: Option<&[u8]>,
     ) -> Grade {
         let edition = before.profile().edition;
-        let command = request.get(1).map(|b| CommandId::decode(b & 0x7F)).unwrap_or(CommandId::Unknown(0));
+        let command = CommandId::of_frame(request);
         let expected_frame = match (expected.reply, observed) {
             (Reply::Silent(_), None) => return Grade::pass(expected.clause),
             (Reply::Silent(_), Some(_)) => {

@@ -338,8 +338,7 @@ impl Slave {
         };
         let transmission = match (outcome.reply, settings) {
             (Reply::Frame(rf), Some(settings)) => {
-                let command =
-                    frame.bytes.as_bytes().get(1).map_or(CommandId::Unknown(0), |b| CommandId::decode(b & 0x7F));
+                let command = CommandId::of_frame(frame.bytes.as_bytes());
                 let max_ms = self.profile.response_limit(command).max_ms;
                 Some(Transmission {
                     frame: rf.encode(),
