@@ -461,7 +461,7 @@ mod tests {
             steps.extend(slave.poll(200_000));
             let step = steps.into_iter().find(|s| s.transmission.is_some()).unwrap();
             encoder.frame(&mut slave, &step);
-            let tx = step.transmission.clone().unwrap();
+            let tx = step.transmission.unwrap();
             let planned = Planned {
                 frame: tx.frame.as_bytes().to_vec(),
                 start_us: tx.earliest_start_us,
