@@ -43,6 +43,7 @@ fn assert_clean(report: &DriveReport) {
 
 #[test]
 fn the_reference_master_passes_every_scenario() {
+    let _one = common::one_at_a_time();
     let exec = format!("{} master --port {{port}}", env!("CARGO_BIN_EXE_hiperface"));
     assert_clean(&certify(profiles::srs50(), &exec, None));
 }
@@ -50,6 +51,7 @@ fn the_reference_master_passes_every_scenario() {
 #[test]
 #[cfg_attr(not(has_ser2net), ignore = "ser2net is not installed (apt-get install ser2net)")]
 fn the_reference_master_passes_every_scenario_through_ser2net() {
+    let _one = common::one_at_a_time();
     // The master talks TCP to a real serial device server (Debian's ser2net), which
     // relays to the encoder's pseudo-terminal: a drive behind a device server. The
     // encoder delivers a reply a character at a time, as a UART does: with its default
@@ -87,6 +89,7 @@ fn the_reference_master_passes_every_scenario_through_ser2net() {
 #[test]
 #[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
 fn the_independent_master_passes_every_scenario() {
+    let _one = common::one_at_a_time();
     let exec = hx_master(None);
     assert_clean(&certify(profiles::srs50(), &exec, None));
 }
@@ -94,6 +97,7 @@ fn the_independent_master_passes_every_scenario() {
 #[test]
 #[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
 fn the_independent_master_set_for_user_settings_passes_the_user_settings_scenario() {
+    let _one = common::one_at_a_time();
     // HX-M as a drive configured for 38400 Bd: it waits out the default window and
     // talks at the encoder's stored data rate, as 000:3.3.1 allows.
     let exec = hx_master(None);
@@ -241,6 +245,7 @@ const DEFECTS: &[Defect] = &[
 #[test]
 #[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
 fn every_defective_master_is_caught_where_it_breaks_a_rule() {
+    let _one = common::one_at_a_time();
     let mut problems = Vec::new();
     let mut table = vec!["| defect | scenario | verdict there | clause | untouched scenario |".to_string()];
     for d in DEFECTS {
@@ -294,6 +299,7 @@ fn scripted_master(dir: &Path, body: &str) -> String {
 #[test]
 #[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
 fn a_master_that_sends_one_request_and_goes_silent_is_not_passed() {
+    let _one = common::one_at_a_time();
     // It reads the type label once, then says nothing more: no fault the scenarios
     // inject ever meets it, and its start-up and warning reactions are never seen.
     let tmp = tempfile::tempdir().unwrap();
@@ -319,6 +325,7 @@ fn a_master_that_sends_one_request_and_goes_silent_is_not_passed() {
 #[test]
 #[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
 fn a_master_that_exits_mid_scenario_is_not_passed() {
+    let _one = common::one_at_a_time();
     // It sends 50h, one 42h, and exits with status 3: the ERROR stands, whatever else
     // the scenario could not see (the second 42h its fault waits for never came).
     let tmp = tempfile::tempdir().unwrap();
@@ -343,6 +350,7 @@ fn a_master_that_exits_mid_scenario_is_not_passed() {
 
 #[test]
 fn a_master_that_exits_or_cannot_start_ends_in_an_error_not_a_hang() {
+    let _one = common::one_at_a_time();
     let report = certify(profiles::srs50(), "sh -c 'exit 3'", Some("startup.default"));
     let s = &report.scenarios[0];
     assert_eq!(s.verdict, CaseVerdict::Error, "{:#?}", s.findings);
@@ -354,6 +362,7 @@ fn a_master_that_exits_or_cannot_start_ends_in_an_error_not_a_hang() {
 
 #[test]
 fn the_cli_writes_every_report_with_a_timeline() {
+    let _one = common::one_at_a_time();
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path().join("report");
     let exe = env!("CARGO_BIN_EXE_hiperface");
@@ -408,6 +417,7 @@ fn the_cli_writes_every_report_with_a_timeline() {
 #[case::sigint("INT", "4321.25")]
 #[case::sigterm("TERM", "4321.75")]
 fn an_interrupted_run_stops_the_master_and_writes_its_partial_report(#[case] signal: &str, #[case] marker: &str) {
+    let _one = common::one_at_a_time();
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path().join("report");
     // A master that starts a child of its own and says nothing.
@@ -446,6 +456,7 @@ fn an_interrupted_run_stops_the_master_and_writes_its_partial_report(#[case] sig
 
 #[test]
 fn a_drive_on_a_port_is_certified_without_seeing_its_power_on() {
+    let _one = common::one_at_a_time();
     use hiperface_conformance::exchange::Master;
     use hiperface_conformance::line::serial::SerialLine;
     use serialport::SerialPort as _;
@@ -530,6 +541,7 @@ impl drive::Operator for ScriptedOperator {
 
 #[test]
 fn with_an_operator_the_start_up_of_a_drive_on_a_port_is_graded() {
+    let _one = common::one_at_a_time();
     use serialport::SerialPort as _;
     let run = |delay_ms: u64, talks_at_once: bool, scenarios: &str| {
         let (drive_end, encoder_end) = serialport::TTYPort::pair().unwrap();

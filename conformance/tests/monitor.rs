@@ -18,14 +18,6 @@ use std::time::{Duration, Instant};
 
 const BIN: &str = env!("CARGO_BIN_EXE_hiperface");
 
-/// One test at a time: a child spawned by one test would inherit the other's
-/// pseudo-terminal, and that end would not close when the test drops it.
-static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
-
-fn one_at_a_time() -> std::sync::MutexGuard<'static, ()> {
-    SERIAL.lock().unwrap_or_else(|e| e.into_inner())
-}
-
 /// Write each frame whole when its last character has ended, as a UART receiver
 /// delivers it (sleeping, not spinning: a sleeper is woken promptly on a busy
 /// machine, a spinner is preempted). Answers how
@@ -147,7 +139,7 @@ fn sent_to_bus(bus: &mut File) -> usize {
 
 #[test]
 fn a_replayed_session_is_graded_live_and_the_monitor_never_writes() {
-    let _one = one_at_a_time();
+    let _one = common::one_at_a_time();
     let dir = tempfile::tempdir().unwrap();
     let report = dir.path().join("r");
     let capture = dir.path().join("heard.csv");
@@ -186,7 +178,7 @@ fn a_replayed_session_is_graded_live_and_the_monitor_never_writes() {
 
 #[test]
 fn the_tap_is_opened_read_only() {
-    let _one = one_at_a_time();
+    let _one = common::one_at_a_time();
     let (_bus, path, _tap_end) = pty();
     let tap = Tap::open(&PortSpec::Path(path.clone()), UartSettings::DEFAULT).unwrap();
     assert!(!tap.file_is_writable(), "{path} was opened for writing");
@@ -204,7 +196,7 @@ fn the_tap_is_opened_read_only() {
 #[test]
 #[cfg_attr(not(has_ser2net), ignore = "ser2net is not installed (apt-get install ser2net)")]
 fn through_ser2net_until_ctrl_c() {
-    let _one = one_at_a_time();
+    let _one = common::one_at_a_time();
     let dir = tempfile::tempdir().unwrap();
     let report = dir.path().join("r");
     let Some((code, text, sent)) = faithfully(|| {

@@ -11,6 +11,16 @@ use hiperface_model::UartSettings;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
+/// One real-time test at a time in a test binary: a bench certifies one device at a
+/// time, and on a two-core machine parallel certifications (each with real-time
+/// threads: the encoder, the master under test) starve one another's timing; and a
+/// child spawned by one test would inherit another's pseudo-terminal, whose end would
+/// then not close when that test drops it.
+pub fn one_at_a_time() -> std::sync::MutexGuard<'static, ()> {
+    static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    SERIAL.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 /// A child process, killed when dropped.
 pub struct KillOnDrop(pub Child);
 
