@@ -409,7 +409,7 @@ fn summarize(report: &certify::Report, profile: &Profile) {
     } else {
         println!("wall time {:.0} ms; nothing was exchanged", report.wall_time_ms);
     }
-    for c in &report.rerun_cases {
+    for c in report.rerun_cases() {
         println!("re-run: {c}: the harness's own lateness left a verdict untold");
     }
     if let Some(a) = &report.aborted {

@@ -362,17 +362,21 @@ fn a_case_the_harness_was_too_late_to_judge_is_run_again() {
         d.delay_us = 12_000;
         let line = LateHarness { line: VirtualLine::new(d), late_us: 5_000, disturbed, read_positions: 0 };
         let options = Options { cases: Some("position.read".into()), ..Options::default() };
-        let r = certify::run(Box::new(line), profiles::srs50(), &options, |_, _, _| {});
-        r.cases.into_iter().next().unwrap()
+        certify::run(Box::new(line), profiles::srs50(), &options, |_, _, _| {})
     };
+    let case = |r: Report| r.cases.into_iter().next().unwrap();
     let idle = run(0);
+    assert!(idle.rerun_cases().is_empty());
+    let idle = case(idle);
     assert_eq!((idle.verdict, idle.attempts), (CaseVerdict::Fail, 1), "{idle:#?}");
     // Disturbed in the first run's Read Position exchanges only.
     let once = run(idle.exchanges);
+    assert_eq!(once.rerun_cases(), vec!["position.read (2 runs)"]);
+    let once = case(once);
     assert_eq!((once.verdict, once.attempts), (CaseVerdict::Fail, 2), "{once:#?}");
     assert_eq!(once.findings, idle.findings);
     // Disturbed in every run: it stays untold after three runs.
-    let always = run(usize::MAX);
+    let always = case(run(usize::MAX));
     assert_eq!((always.verdict, always.attempts), (CaseVerdict::Unknown, 3), "{always:#?}");
     assert!(always.findings.iter().any(|f| f.message().contains("cannot tell")), "{always:#?}");
 }

@@ -7,6 +7,7 @@ use super::{cases, glob_match, Case, CaseError, CaseResult, Ctx, Finding, Identi
 use super::{Safety, TimingMode};
 use crate::exchange::Master;
 use crate::line::{Line, LineError, LineKind};
+use crate::verdict::MAX_ATTEMPTS;
 use hiperface_model::{CommandId, Grading, Profile, Slave};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -49,13 +50,7 @@ pub struct Report {
     pub notes: Vec<String>,
     /// Set when the run stopped early (port gone, Ctrl-C): the report is partial.
     pub aborted: Option<String>,
-    /// Cases run again because the harness's own lateness left a verdict untold, with
-    /// the run that was disturbed.
-    pub rerun_cases: Vec<String>,
 }
-
-/// Runs of one case at most, when the harness's own timing was disturbed.
-const MAX_ATTEMPTS: u32 = 3;
 
 impl Report {
     fn empty(profile: &Profile, line: &str, options: &Options) -> Report {
@@ -79,7 +74,6 @@ impl Report {
             physical_minimum_ms: 0.0,
             notes: Vec::new(),
             aborted: None,
-            rerun_cases: Vec::new(),
         }
     }
 
@@ -93,6 +87,12 @@ impl Report {
     /// operator's information, not a verdict on the device.)
     pub fn outcome(&self) -> Outcome {
         Outcome::of(self.cases.iter().map(|c| c.verdict), self.aborted.is_none())
+    }
+
+    /// The cases run again because the harness's own lateness left a verdict untold:
+    /// "id (N runs)".
+    pub fn rerun_cases(&self) -> Vec<String> {
+        self.cases.iter().filter(|c| c.attempts > 1).map(|c| format!("{} ({} runs)", c.id, c.attempts)).collect()
     }
 }
 
@@ -179,7 +179,6 @@ pub fn run(
                 if !disturbed || outcome.is_err() || attempt == MAX_ATTEMPTS {
                     break;
                 }
-                report.rerun_cases.push(format!("{} (run {attempt} of at most {MAX_ATTEMPTS})", case.id));
             }
         }
         result.duration_ms = case_start.elapsed().as_secs_f64() * 1000.0;

@@ -14,7 +14,7 @@ mod scenario_run;
 pub mod scenarios;
 pub mod timeline;
 
-use crate::verdict::{CaseResult, Finding, Outcome};
+use crate::verdict::{CaseResult, Finding, Outcome, MAX_ATTEMPTS};
 pub use hiperface_model::master::obligations::POLLING_PERIOD_MS;
 use hiperface_model::Profile;
 use scenario_run::{on_port, open_port, run_scenario, Drive, ScenarioRun};
@@ -116,9 +116,6 @@ pub struct DriveReport {
     /// Why the run ended before its last scenario (an interrupt), if it did.
     pub cut_short: Option<String>,
 }
-
-/// How often a scenario is run at most when the harness's own timing was disturbed.
-pub const MAX_ATTEMPTS: u32 = 3;
 
 impl DriveReport {
     /// PASSED only when every scenario was run, exercised and graded, none FAILed.

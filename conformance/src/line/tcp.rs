@@ -60,13 +60,19 @@ impl Line for TcpLine {
         let time = &self.time;
         let (stream, address) = (&mut self.stream, &self.address);
         let got = clock::read_until(time, until_us, |wait| {
-            // A zero timeout is refused by a socket: look without waiting instead.
-            stream.set_nonblocking(wait.is_zero())?;
-            if !wait.is_zero() {
-                stream.set_read_timeout(Some(wait))?;
-            }
             let mut b = [0u8; 1];
-            match stream.read(&mut b) {
+            let read = if wait.is_zero() {
+                // A zero timeout is refused by a socket: look without waiting instead,
+                // and block again for the reads that wait.
+                stream.set_nonblocking(true)?;
+                let read = stream.read(&mut b);
+                stream.set_nonblocking(false)?;
+                read
+            } else {
+                stream.set_read_timeout(Some(wait))?;
+                stream.read(&mut b)
+            };
+            match read {
                 Ok(1) => Ok(Some(b[0])),
                 Ok(_) => Err(LineError::Gone(format!("tcp://{address} closed the connection"))),
                 Err(e) if matches!(e.kind(), ErrorKind::TimedOut | ErrorKind::WouldBlock | ErrorKind::Interrupted) => {

@@ -175,6 +175,10 @@ pub const EXIT_USAGE: u8 = 2;
 /// The exit code of an INCOMPLETE run.
 pub const EXIT_INCOMPLETE: u8 = 3;
 
+/// How often a unit (a slave case, a master scenario) is run at most when the
+/// harness's own timing was disturbed; its result is its last run's.
+pub const MAX_ATTEMPTS: u32 = 3;
+
 /// `*` and `?` glob matching, comma-separated alternatives: which units `--cases`
 /// and `--scenarios` select.
 pub fn glob_match(pattern: &str, text: &str) -> bool {
