@@ -1,0 +1,325 @@
+//! What a master must and should do on the line, graded from what it sends: the oracle
+//! for certifying a drive. // 000:2.2, 000:2.2.2, 000:2.3, 000:T9, 000:T30, 000:3.3.1,
+//! 000:3.3.4
+//!
+//! The [`Observer`] is told what the encoder does (power-on, each reply it sends) and
+//! sees every character the master sends, stamped at the end of its stop bit. It
+//! frames the master's characters by the pause the master leaves on the line
+//! (`framing`), and reports an [`Observation`] for every rule the master breaks
+//! (`rule`): timing where a frame begins (here), form where it ends (`framing`), and
+//! the reactions a request shows (`reaction`). Sans-IO and allocation-free: the
+//! caller passes a sink for the observations.
+//!
+//! A frame that is no request is held until the next frame or the line has been quiet
+//! for a while: two fragments that make one request are a gap inside it (000:2.2.2),
+//! one frame that splits into two requests is a missing pause, anything else is a
+//! malformed frame.
+
+use crate::address::SlaveAddress;
+use crate::command::CommandId;
+use crate::datalink::RxChar;
+use crate::fault::{self, FaultCode};
+use crate::master::fault_reaction;
+use crate::profile::Profile;
+use crate::request::RequestFrame;
+use crate::response::{Response, ResponseFrame};
+use crate::settings::{Edition, UartSettings};
+
+mod framing;
+mod reaction;
+mod rule;
+
+use framing::{Framer, Held};
+use reaction::{Pending, StackRead};
+pub use rule::{DataRates, Observation, Rule, POLLING_PERIOD_MS, REACTION_REQUESTS, RETRY_BOUND};
+
+/// The observer of one master. See the module documentation.
+#[derive(Debug, Clone)]
+pub struct Observer {
+    profile: Profile,
+    settings: UartSettings,
+    /// The encoder's address: the profile's until told otherwise (55h).
+    address: SlaveAddress,
+    framer: Framer,
+    held: Option<Held>,
+    /// Power-on, or the end of the last Encoder Reset's timeout.
+    started_us: Option<u64>,
+    after_reset: bool,
+    /// A request arrived in the default window (the encoder keeps default settings).
+    kept_default: bool,
+    /// The end of the last reply, µs.
+    reply_end_us: Option<u64>,
+    reply_start_us: Option<u64>,
+    /// The last reply started after its window closed: a master that talks over it
+    /// had given up waiting, as it may.
+    reply_late: bool,
+    /// Until when the last request's reply window is open (no reply seen yet).
+    window_until_us: Option<u64>,
+    status_read: bool,
+    status_reported: bool,
+    warning_left: Option<u8>,
+    pending: Pending,
+    last_request: Option<(RequestFrame, u8)>,
+    /// The command of the last frame, if it was a request: what a reply answers.
+    answered: Option<CommandId>,
+    warning_reported: bool,
+    sync_fault: bool,
+    unknown_code: bool,
+    /// The type label said FFh and field FFh has not been read since.
+    label_pending: bool,
+    stack_read: StackRead,
+    polling_period_us: u64,
+    /// When the master's last frame began, and whether the gap after it was reported.
+    last_frame_us: Option<u64>,
+    gap_reported: bool,
+}
+
+impl Observer {
+    /// An observer of a master talking to an encoder of `profile`, in its default
+    /// settings at first.
+    pub fn new(profile: Profile) -> Observer {
+        Observer {
+            profile,
+            settings: UartSettings::DEFAULT,
+            address: profile.address,
+            framer: Framer::new(),
+            held: None,
+            started_us: None,
+            after_reset: false,
+            kept_default: false,
+            reply_end_us: None,
+            reply_start_us: None,
+            reply_late: false,
+            window_until_us: None,
+            status_read: false,
+            status_reported: false,
+            warning_left: None,
+            pending: Pending::Nothing,
+            last_request: None,
+            answered: None,
+            warning_reported: false,
+            sync_fault: false,
+            unknown_code: false,
+            label_pending: false,
+            stack_read: StackRead::EMPTY,
+            polling_period_us: POLLING_PERIOD_MS as u64 * 1000,
+            last_frame_us: None,
+            gap_reported: false,
+        }
+    }
+
+    /// The application's polling period, instead of [`POLLING_PERIOD_MS`].
+    pub fn set_polling_period_ms(&mut self, ms: u32) {
+        self.polling_period_us = ms as u64 * 1000;
+    }
+
+    /// The observation ends at `now_us`: a gap in the polling that is still open counts.
+    pub fn end(&mut self, now_us: u64, out: &mut impl FnMut(Observation)) {
+        self.poll(now_us, out);
+        self.polling_gap(now_us, out);
+    }
+
+    /// Report once a gap since the last frame longer than the polling period.
+    fn polling_gap(&mut self, now_us: u64, out: &mut impl FnMut(Observation)) {
+        let Some(last) = self.last_frame_us else { return };
+        let gap = now_us.saturating_sub(last);
+        if gap > self.polling_period_us && !self.gap_reported {
+            self.gap_reported = true;
+            out(Observation {
+                rule: Rule::NoCyclicRequest,
+                at_us: last,
+                measured_us: Some(gap),
+                command: None,
+                data_rates: None,
+            });
+        }
+    }
+
+    fn timeout_us(&self) -> u64 {
+        self.settings.timeout_us(self.profile.edition)
+    }
+
+    fn char_time_us(&self) -> u64 {
+        self.settings.char_time_us()
+    }
+
+    /// The encoder was powered on at `at_us`.
+    pub fn power_on(&mut self, at_us: u64) {
+        self.started_us = Some(at_us);
+        self.last_frame_us = None;
+        self.after_reset = false;
+        self.kept_default = false;
+        self.status_read = false;
+        self.status_reported = false;
+        self.label_pending = false;
+        self.settings = UartSettings::DEFAULT;
+        self.clear_reactions();
+    }
+
+    fn clear_reactions(&mut self) {
+        self.warning_left = None;
+        self.warning_reported = false;
+        self.pending = Pending::Nothing;
+        self.sync_fault = false;
+        self.unknown_code = false;
+        self.window_until_us = None;
+        self.stack_read = StackRead::EMPTY;
+    }
+
+    /// The encoder listens at `settings` from now on (its power-up windows, 57h and a
+    /// reset, 67h): the timeout that frames the master's characters follows them.
+    pub fn encoder_listens(&mut self, settings: UartSettings) {
+        self.settings = settings;
+    }
+
+    /// The encoder answers at `address` from now on (it accepted a Set Encoder
+    /// Address, 55h): the reply window is kept for requests to it. // 000:T30
+    pub fn encoder_at(&mut self, address: SlaveAddress) {
+        self.address = address;
+    }
+
+    /// A frame of the master began at `at_us`, sent at `master_bps` as far as the
+    /// harness can see it (a pseudo-terminal's settings), while the encoder listened at
+    /// the settings last given to [`Observer::encoder_listens`]. // 000:3.3.1
+    pub fn master_data_rate(&mut self, at_us: u64, master_bps: u32, out: &mut impl FnMut(Observation)) {
+        let encoder_bps = self.settings.baud.bits_per_second();
+        if master_bps != encoder_bps {
+            out(Observation {
+                rule: Rule::DataRate,
+                at_us,
+                measured_us: None,
+                command: None,
+                data_rates: Some(DataRates { master_bps, encoder_bps }),
+            });
+        }
+    }
+
+    /// The encoder sent a reply from `start_us` to `end_us` (end of the last stop bit):
+    /// `reply` as it decodes, `None` for a reply the master cannot read (a corrupted
+    /// one injected on purpose).
+    pub fn encoder_reply(&mut self, start_us: u64, end_us: u64, reply: Option<&ResponseFrame>) {
+        self.reply_late = self.window_until_us.is_some_and(|until| start_us > until);
+        self.reply_start_us = Some(start_us);
+        self.reply_end_us = Some(end_us);
+        self.window_until_us = None;
+        let Some(reply) = reply else { return };
+        if let Response::TypeLabel { type_code: 0xFF, .. } = reply.response {
+            self.label_pending = true;
+        }
+        let asked = self.answered;
+        if reply.warning && self.warning_left.is_none() && !self.warning_reported {
+            self.warning_left = Some(REACTION_REQUESTS);
+        }
+        let code = match reply.response {
+            Response::Error(code) => Some(code),
+            Response::EncoderStatus(code) if code != FaultCode::NoFault => Some(code),
+            _ => None,
+        };
+        let Some(code) = code else {
+            if !matches!(self.pending, Pending::Reset { .. }) {
+                self.pending = Pending::Nothing;
+            }
+            return;
+        };
+        // Codes read from the stack are judged together: 06h read with a companion code
+        // has the row of the pair (000:T74 "06h + 08h").
+        if let Response::EncoderStatus(_) = reply.response {
+            self.stack_read.push(code);
+            let reactions = || fault_reaction::stack_reactions(self.stack_read.codes());
+            if reactions().any(|(_, r)| !r.known) {
+                self.unknown_code = true;
+            }
+            if code.byte() == 0x22 {
+                self.sync_fault = true;
+            }
+            let reset = reactions().any(|(_, r)| r.is_reset());
+            self.pending = match (self.pending, reset) {
+                (Pending::Reset { left }, true) => Pending::Reset { left },
+                (_, true) => Pending::Reset { left: REACTION_REQUESTS },
+                (Pending::Reset { .. }, false) => Pending::Nothing,
+                (other, false) => other,
+            };
+            return;
+        }
+        let reaction = fault_reaction::reaction(code, fault::runtime_group(code));
+        self.pending = match code.byte() {
+            0x22 => {
+                self.sync_fault = true;
+                Pending::Nothing
+            }
+            _ if !reaction.known => {
+                self.unknown_code = true;
+                Pending::Nothing
+            }
+            // "Retry command." (protocol errors 09h-0Dh), "Retry command. If error
+            // persists, SW reset of Slave." (many position and other faults). // 000:T74
+            _ if reaction.is_retry() => asked.map_or(Pending::Nothing, Pending::Retry),
+            _ => Pending::Nothing,
+        };
+    }
+
+    /// Time has reached `now_us` with no character from the master: a frame in
+    /// progress completes once its timeout has elapsed.
+    pub fn poll(&mut self, now_us: u64, out: &mut impl FnMut(Observation)) {
+        if let Some(last) = self.framer.last_us() {
+            if now_us >= last + self.timeout_us() {
+                self.complete(out);
+            }
+        }
+        // A held fragment with nothing after it for long: it was malformed on its own.
+        if let Some(h) = &self.held {
+            let quiet = h.framer.last_us().unwrap_or(0) + 4 * self.timeout_us();
+            if self.framer.bytes.is_empty() && now_us >= quiet {
+                self.release_held(out);
+            }
+        }
+    }
+
+    /// A character from the master.
+    pub fn master_char(&mut self, ch: RxChar, out: &mut impl FnMut(Observation)) {
+        let start = ch.at_us.saturating_sub(self.char_time_us());
+        if let Some(last) = self.framer.last_us() {
+            if start >= last + self.timeout_us() {
+                self.complete(out);
+            }
+        }
+        if self.framer.bytes.is_empty() {
+            self.frame_starts(start, out);
+        }
+        self.framer.push(ch.byte, ch.at_us);
+    }
+
+    /// Timing rules, checked where a frame begins.
+    fn frame_starts(&mut self, start: u64, out: &mut impl FnMut(Observation)) {
+        self.polling_gap(start, out);
+        self.last_frame_us = Some(start);
+        self.gap_reported = false;
+        let mut report =
+            |rule, measured_us| out(Observation { rule, at_us: start, measured_us, command: None, data_rates: None });
+        if let Some(t0) = self.started_us {
+            let init = self.profile.init_ms as u64 * 1000;
+            let since = start.saturating_sub(t0);
+            if start < t0 + init {
+                let rule = if self.after_reset { Rule::TooSoonAfterReset } else { Rule::DuringInitialization };
+                report(rule, Some(since));
+            } else if self.profile.edition == Edition::Current
+                && !self.kept_default
+                && since >= self.profile.default_window_ms as u64 * 1000
+                && since < self.profile.user_settings_ms as u64 * 1000
+            {
+                report(Rule::DuringSettingsChange, Some(since));
+            }
+        }
+        match (self.reply_start_us, self.reply_end_us, self.window_until_us) {
+            (Some(s), Some(e), _) if start >= s && start < e && !self.reply_late => {
+                report(Rule::TalksOverReply, Some(start - s))
+            }
+            (_, _, Some(until)) if start < until => report(Rule::ReplyWindow, Some(until - start)),
+            _ => {}
+        }
+    }
+
+    fn address(&self) -> SlaveAddress {
+        self.address
+    }
+}
