@@ -1,7 +1,7 @@
 //! Print the Markdown certificate of the reference model in virtual time.
 use hiperface_conformance::certify::{self, Options};
 use hiperface_conformance::line::virtual_line::VirtualLine;
-use hiperface_conformance::report;
+use hiperface_conformance::report::Reports;
 use hiperface_model::{profiles, Slave};
 
 fn main() {
@@ -9,5 +9,5 @@ fn main() {
     let line = VirtualLine::new(Slave::operational(profile));
     let options = Options::all_allowed();
     let r = certify::run(Box::new(line), profile, &options, |_, _, _| {});
-    print!("{}", report::markdown(&r));
+    print!("{}", r.markdown());
 }

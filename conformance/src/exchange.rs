@@ -78,17 +78,19 @@ impl Exchange {
     }
 }
 
-/// The master on a line.
-pub struct Master<L: Line> {
+/// The harness in the bus master's seat on a line: it sends requests and frames the
+/// replies. (Not the drive-side model, `hiperface_model::master`, nor the reference
+/// master command, `drive::reference`.)
+pub struct BusMaster<L: Line> {
     pub line: L,
     edition: Edition,
     /// End of the last activity on the line; the next request waits a timeout after it.
     idle_since_us: u64,
 }
 
-impl<L: Line> Master<L> {
-    pub fn new(line: L, edition: Edition) -> Master<L> {
-        Master { line, edition, idle_since_us: 0 }
+impl<L: Line> BusMaster<L> {
+    pub fn new(line: L, edition: Edition) -> BusMaster<L> {
+        BusMaster { line, edition, idle_since_us: 0 }
     }
 
     pub fn timeout_us(&self) -> u64 {
@@ -252,9 +254,9 @@ mod tests {
         }
     }
 
-    fn line(chars: impl IntoIterator<Item = u64>) -> Master<Scripted> {
+    fn line(chars: impl IntoIterator<Item = u64>) -> BusMaster<Scripted> {
         let inbound = chars.into_iter().map(|at| RxChar::ok(0x40, at)).collect();
-        Master::new(Scripted { now: 0, inbound, sent_at: Vec::new() }, Edition::Current)
+        BusMaster::new(Scripted { now: 0, inbound, sent_at: Vec::new() }, Edition::Current)
     }
 
     #[test]

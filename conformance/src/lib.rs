@@ -2,6 +2,7 @@
 //! master on a serial line, slave certification with the model's oracle in
 //! lockstep, reports, and the simulator serving the model as a virtual encoder.
 
+pub mod args;
 pub mod capture;
 pub mod certify;
 pub mod clauses;

@@ -152,7 +152,7 @@ pub fn serve_with(
         let listening = slave.listening_settings(now(epoch));
         if hooks.sets_port() && listening.is_some() && listening != port_settings {
             if let Some(s) = listening {
-                apply_settings(port.as_mut(), s)?;
+                crate::line::serial::apply_settings(port.as_mut(), s).map_err(std::io::Error::from)?;
             }
             port_settings = listening;
         }
@@ -310,17 +310,6 @@ fn watch_until(
             heard.push(chunk);
         }
     }
-}
-
-fn apply_settings(port: &mut dyn SerialPort, s: UartSettings) -> std::io::Result<()> {
-    use hiperface_model::settings::Parity as P;
-    let parity = match s.parity {
-        P::None => serialport::Parity::None,
-        P::Even => serialport::Parity::Even,
-        P::Odd => serialport::Parity::Odd,
-    };
-    port.set_baud_rate(s.baud.bits_per_second()).map_err(std::io::Error::from)?;
-    port.set_parity(parity).map_err(std::io::Error::from)
 }
 
 /// A pseudo-terminal pair with the simulator on one end, served by a thread until

@@ -457,7 +457,7 @@ fn an_interrupted_run_stops_the_master_and_writes_its_partial_report(#[case] sig
 #[test]
 fn a_drive_on_a_port_is_certified_without_seeing_its_power_on() {
     let _one = common::one_at_a_time();
-    use hiperface_conformance::exchange::Master;
+    use hiperface_conformance::exchange::BusMaster;
     use hiperface_conformance::line::serial::SerialLine;
     use serialport::SerialPort as _;
     // A "drive" on the other end of a serial line: the reference master, running on
@@ -468,11 +468,11 @@ fn a_drive_on_a_port_is_certified_without_seeing_its_power_on() {
     let drive = std::thread::spawn(move || {
         hiperface_conformance::sched::real_time_priority();
         let line = SerialLine::from_port(Box::new(drive_end), "drive".into(), profile.settings, true);
-        let mut master = Master::new(line, profile.edition);
+        let mut master = BusMaster::new(line, profile.edition);
         // It runs until its line goes (below); a cap keeps a broken test from hanging.
         // (A fixed 5.5 s ended it before the last scenario when a busy machine made
         // the harness run scenarios again.)
-        let options = drive::reference::Options { poll_ms: 20, duration_ms: Some(120_000) };
+        let options = drive::reference::Options { polling_period_ms: 20, duration_ms: Some(120_000) };
         drive::reference::run(&mut master, profile, options, &mut |_: &str| {})
     });
     let options = Options {
@@ -517,7 +517,7 @@ impl drive::Operator for ScriptedOperator {
     }
 
     fn switch_on(&mut self, _scenario: &str) {
-        use hiperface_conformance::exchange::Master;
+        use hiperface_conformance::exchange::BusMaster;
         use hiperface_conformance::line::serial::SerialLine;
         use std::io::Write as _;
         self.switched_on += 1;
@@ -531,9 +531,9 @@ impl drive::Operator for ScriptedOperator {
             }
             let profile = profiles::srs50();
             let line = SerialLine::from_port(Box::new(port), "drive".into(), profile.settings, true);
-            let mut master = Master::new(line, profile.edition);
+            let mut master = BusMaster::new(line, profile.edition);
             // Off before the scenario's 1500 ms end: the next switch_off finds it off.
-            let options = drive::reference::Options { poll_ms: 20, duration_ms: Some(1_300) };
+            let options = drive::reference::Options { polling_period_ms: 20, duration_ms: Some(1_300) };
             let _ = drive::reference::run(&mut master, profile, options, &mut |_: &str| {});
         }));
     }

@@ -10,7 +10,7 @@
 mod common;
 
 use common::hx1::{profile, Hx1};
-use hiperface_conformance::exchange::{sealed, Master};
+use hiperface_conformance::exchange::{sealed, BusMaster};
 use hiperface_conformance::line::serial::SerialLine;
 use hiperface_model::oracle::Verdict;
 use hiperface_model::{Grading, Hex, Oracle, Reply, Slave, UartSettings};
@@ -117,7 +117,7 @@ fn disagreement(steps: &[Step], args: &[&str]) -> Option<String> {
     let hx1 = Hx1::start(args);
     let line = SerialLine::open(&hx1.path, UartSettings::DEFAULT).expect("HX-1's pseudo-terminal");
     let profile = profile();
-    let mut master = Master::new(line, profile.edition);
+    let mut master = BusMaster::new(line, profile.edition);
     let mut model = Slave::operational(profile);
     let oracle = Oracle::new(Grading::Range);
     let mut log = Vec::new();

@@ -55,3 +55,70 @@ fn the_list_covers_every_subcommand() {
         }
     }
 }
+
+fn run(args: &[&str]) -> (i32, String) {
+    let out = Command::new(BIN).args(args).env("NO_COLOR", "1").output().unwrap();
+    let text = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    (out.status.code().unwrap_or(-1), text)
+}
+
+/// Every flag in milliseconds takes a decimal and refuses what is no duration, the
+/// same way in every subcommand (`certify slave --tolerance-ms` took only integers).
+#[rstest::rstest]
+#[case(&["certify", "slave", "--port", "virtual", "--tolerance-ms"])]
+#[case(&["decode", "capture.log", "--tolerance-ms"])]
+#[case(&["monitor", "--port", "/nonexistent", "--tolerance-ms"])]
+#[case(&["monitor", "--port", "/nonexistent", "--duration-ms"])]
+#[case(&["certify", "master", "--exec", "true", "--polling-period-ms"])]
+#[case(&["master", "--port", "virtual", "--polling-period-ms"])]
+fn a_flag_in_milliseconds_refuses_a_negative_number(#[case] args: &[&str]) {
+    let flag = args.last().unwrap();
+    let with_value = format!("{flag}=-1");
+    let (code, text) = run(&[&args[..args.len() - 1], &[with_value.as_str()]].concat());
+    assert_eq!(code, 2, "{args:?}: {text}");
+    assert!(text.contains("invalid value '-1'"), "{args:?}: {text}");
+}
+
+#[test]
+fn a_tolerance_in_milliseconds_takes_a_decimal() {
+    let (code, text) =
+        run(&["certify", "slave", "--port", "virtual", "--cases", "protocol.checksum", "--tolerance-ms", "2.5"]);
+    assert_eq!(code, 0, "{text}");
+    assert!(text.contains("PASSED"), "{text}");
+}
+
+/// Renamed flags keep their old name for one release (README, "The command line").
+#[test]
+fn the_old_flag_names_still_work() {
+    // `master --poll-ms` is `--polling-period-ms`: the reference master on the model in
+    // virtual time, for 400 ms of line time.
+    let (code, text) = run(&["master", "--port", "virtual", "--poll-ms", "50", "--duration-ms", "400"]);
+    assert_eq!(code, 0, "{text}");
+    assert!(text.contains("position"), "{text}");
+    // `monitor --duration-s` still counts seconds, and is one flag with `--duration-ms`.
+    let (code, text) = run(&["monitor", "--port", "/nonexistent", "--duration-s", "1"]);
+    assert_eq!(code, 2, "{text}");
+    assert!(!text.contains("unexpected argument"), "{text}");
+    let (code, text) = run(&["monitor", "--port", "/nonexistent", "--duration-s", "1", "--duration-ms", "5"]);
+    assert_eq!(code, 2, "{text}");
+    assert!(text.contains("cannot be used with"), "{text}");
+    // `clauses --format md` is `--format markdown`.
+    let (_, md) = run(&["clauses", "--format", "md"]);
+    let (_, markdown) = run(&["clauses", "--format", "markdown"]);
+    assert!(md.starts_with('#') || md.starts_with('|'), "{md}");
+    assert_eq!(md, markdown);
+}
+
+/// A `--port` every subcommand parses the same way; one it cannot serve is refused
+/// before anything runs, saying what it takes.
+#[rstest::rstest]
+#[case(&["simulate", "--port", "tcp://localhost:1"], "the simulator serves a port of its own")]
+#[case(&["simulate", "--port", "sim"], "the simulator serves a port of its own")]
+#[case(&["certify", "master", "--port", "sim"], "served on a serial port by path")]
+#[case(&["certify", "master", "--port", "ftp://x"], "only tcp:// is spoken")]
+#[case(&["certify", "slave", "--port", "pty"], "give its path")]
+fn a_port_a_command_cannot_serve_is_refused_with_why(#[case] args: &[&str], #[case] why: &str) {
+    let (code, text) = run(args);
+    assert_eq!(code, 2, "{args:?}: {text}");
+    assert!(text.contains(why), "{args:?}: {text}");
+}

@@ -4,7 +4,7 @@
 
 use super::timing;
 use super::{CaseError, CaseResult, CaseVerdict, Finding, Identity, Options, WireEntry};
-use crate::exchange::{sealed, Exchange, Master};
+use crate::exchange::{sealed, BusMaster, Exchange};
 use crate::line::Line;
 use hiperface_model::address::AddressByte;
 use hiperface_model::clause::{self, Normative};
@@ -77,7 +77,7 @@ pub struct Graded {
 }
 
 pub struct Ctx<'a> {
-    master: &'a mut Master<Box<dyn Line>>,
+    master: &'a mut BusMaster<Box<dyn Line>>,
     pub model: &'a mut Slave,
     oracle: Oracle,
     result: &'a mut CaseResult,
@@ -95,7 +95,7 @@ pub struct Ctx<'a> {
 
 impl<'a> Ctx<'a> {
     pub(crate) fn new(
-        master: &'a mut Master<Box<dyn Line>>,
+        master: &'a mut BusMaster<Box<dyn Line>>,
         model: &'a mut Slave,
         result: &'a mut CaseResult,
         tally: &'a mut Tally,
@@ -217,7 +217,7 @@ impl Ctx<'_> {
             + frame.len() as u64 * self.master.line.settings().char_time_us()
             + self.master.timeout_us();
         let expects_reply = matches!(before.clone().handle_frame(frame, estimate).reply, Reply::Frame(_));
-        let listen_ms = if expects_reply { (3 * limits.max_ms).max(limits.max_ms + 100) } else { limits.max_ms };
+        let listen_ms = if expects_reply { timing::reply_awaited_ms(limits) } else { limits.max_ms };
         let x = self.master.exchange(frame, listen_ms)?;
         let expected = self.model.handle_frame(frame, x.complete_us());
         if self.model.eeprom_writes() > self.options.write_budget {

@@ -10,6 +10,7 @@
 
 mod case;
 pub mod cases;
+pub mod cli;
 pub mod ctx;
 pub mod identity;
 pub mod run;

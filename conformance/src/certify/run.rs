@@ -5,7 +5,7 @@ use super::ctx::Tally;
 use super::safety::Snapshot;
 use super::{cases, glob_match, Case, CaseError, CaseResult, Ctx, Finding, Identity, Needs, Options, Outcome};
 use super::{Safety, TimingMode};
-use crate::exchange::Master;
+use crate::exchange::BusMaster;
 use crate::line::{Line, LineError, LineKind};
 use crate::verdict::MAX_ATTEMPTS;
 use hiperface_model::{CommandId, Grading, Profile, Slave};
@@ -108,7 +108,7 @@ pub fn run(
     report.line_kind = Some(line.kind());
     report.line_notes = line.notes();
     report.tolerance_us = line.tolerance_us();
-    let mut master = Master::new(line, profile.edition);
+    let mut master = BusMaster::new(line, profile.edition);
     let mut model = Slave::operational(profile);
     options.world.apply(&mut model);
     let mut tally = Tally::default();

@@ -12,7 +12,7 @@
 //! operator's safety information, printed apart from the verdicts.
 
 use super::ctx::{physical_time_us, Tally};
-use crate::exchange::{sealed, Master};
+use crate::exchange::{sealed, BusMaster};
 use crate::line::Line;
 use hiperface_model::response::{Response, ResponseFrame};
 use hiperface_model::slave::powerup::CommState;
@@ -37,7 +37,7 @@ pub struct Snapshot {
 impl Snapshot {
     /// Read it, ungraded, from the slave at `address`, in the settings the model says
     /// it listens with.
-    pub(crate) fn read(master: &mut Master<Box<dyn Line>>, model: &Slave, tally: &mut Tally) -> Snapshot {
+    pub(crate) fn read(master: &mut BusMaster<Box<dyn Line>>, model: &Slave, tally: &mut Tally) -> Snapshot {
         let address = model.nonvolatile().address.byte();
         // A run cut short in a power-up window (an interrupt during Encoder Reset's
         // wait) leaves the device initializing or switching its settings: wait, as the

@@ -1,13 +1,13 @@
 //! The command line of master certification and of the reference master:
 //! `hiperface certify master` and `hiperface master`.
 
-use super::{reference, Attach, DriveReport, Options, PowerOn};
-use crate::exchange::Master;
+use super::{reference, Attach, Options, PowerOn};
+use crate::exchange::BusMaster;
 use crate::port::{self, PortSpec};
 use crate::profile_file;
 use crate::verdict::CaseVerdict;
 use crate::world::World;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 /// `hiperface certify master`.
@@ -20,7 +20,7 @@ pub struct CertifyMasterArgs {
     /// A drive on a serial port (e.g. a USB-RS-485 adapter wired to the drive's encoder
     /// connector): the harness serves the port as the encoder.
     #[arg(long)]
-    pub port: Option<String>,
+    pub port: Option<PortSpec>,
     /// With `--port`: how the harness learns the drive's power-on.
     #[arg(long, value_enum, default_value = "unseen")]
     pub power_on: PowerOn,
@@ -50,8 +50,9 @@ pub struct MasterArgs {
     #[arg(long, default_value = "SRS50")]
     pub profile: String,
     /// Period of Read Position, ms.
-    #[arg(long, default_value_t = 20)]
-    pub poll_ms: u64,
+    // `--poll-ms`: the old name, kept for one release (README, "The command line").
+    #[arg(long, alias = "poll-ms", default_value_t = 20, value_parser = clap::value_parser!(u32).range(1..))]
+    pub polling_period_ms: u32,
     /// Stop after this many ms (default: run until the port fails or Ctrl-C).
     #[arg(long)]
     pub duration_ms: Option<u64>,
@@ -62,7 +63,13 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<ExitCode, String> {
     let profile = profile_file::resolve(&args.profile).map_err(|e| e.to_string())?;
     let attach = match (&args.exec, &args.port) {
         (Some(exec), _) => Attach::Exec(exec.clone()),
-        (None, Some(path)) => Attach::Port { path: path.clone(), power_on: args.power_on },
+        (None, Some(PortSpec::Path(path))) => Attach::Port { path: path.clone(), power_on: args.power_on },
+        (None, Some(other)) => {
+            return Err(format!(
+                "`--port {other}`: the drive is served on a serial port by path (a pseudo-terminal \
+                 path works); to certify a master program give it with --exec"
+            ))
+        }
         (None, None) => return Err("give the master with --exec or --port".into()),
     };
     let interrupt = Some(crate::interrupt::flag("\ninterrupted: stopping the master, then the partial report"));
@@ -101,7 +108,9 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<ExitCode, String> {
         (report.wall_time_ms - report.rerun_ms) / report.needed_ms.max(1.0)
     );
     if let Some(dir) = &args.report {
-        write_all(&report, &profile, dir).map_err(|e| format!("cannot write the report to {}: {e}", dir.display()))?;
+        let certificate = crate::report::master::MasterCertificate { report: &report, profile: &profile };
+        crate::report::write_all(&certificate, dir)
+            .map_err(|e| format!("cannot write the report to {}: {e}", dir.display()))?;
         eprintln!("reports written to {}", dir.display());
     }
     println!("{}", report.outcome().label());
@@ -113,8 +122,9 @@ pub fn reference_master(args: &MasterArgs) -> Result<ExitCode, String> {
     let profile = profile_file::resolve(&args.profile).map_err(|e| e.to_string())?;
     let opened = port::open_for_slave(&args.port, profile, &World::default(), None).map_err(|e| e.to_string())?;
     let _simulator = opened.simulator;
-    let mut master = Master::new(opened.line, profile.edition);
-    let options = reference::Options { poll_ms: args.poll_ms, duration_ms: args.duration_ms };
+    let mut master = BusMaster::new(opened.line, profile.edition);
+    let options =
+        reference::Options { polling_period_ms: u64::from(args.polling_period_ms), duration_ms: args.duration_ms };
     // A drive's master runs on a processor of its own: be as punctual as permitted (a
     // starved master talks over replies it was too late to hear). Timing does not
     // depend on it.
@@ -126,44 +136,4 @@ pub fn reference_master(args: &MasterArgs) -> Result<ExitCode, String> {
         Ok(()) => Ok(ExitCode::SUCCESS),
         Err(e) => Err(format!("the line failed: {e}")),
     }
-}
-
-/// report.json, junit.xml, certificate.md and certificate.html (with the SVG
-/// timelines) of a master certification.
-pub fn write_all(report: &DriveReport, profile: &hiperface_model::Profile, dir: &Path) -> std::io::Result<()> {
-    std::fs::create_dir_all(dir)?;
-    let json = serde_json::to_string_pretty(report).map_err(std::io::Error::other)?;
-    std::fs::write(dir.join("report.json"), json + "\n")?;
-    let suite = format!("hiperface certify master ({})", report.master);
-    std::fs::write(dir.join("junit.xml"), crate::report::junit_suite(suite, &report.scenarios))?;
-    std::fs::write(dir.join("certificate.html"), super::timeline::html(report, profile))?;
-    std::fs::write(dir.join("certificate.md"), markdown(report))
-}
-
-/// The certificate: verdicts, findings with their clauses, and each scenario's timeline
-/// (the master's requests `M>`, the encoder's replies `S<`, the injected faults `!`,
-/// and the broken rules `×` on one time axis).
-pub fn markdown(r: &DriveReport) -> String {
-    let mut s = format!("# HIPERFACE master certificate\n\n| | |\n|---|---|\n| master | `{}` |\n", r.master);
-    s += &format!("| encoder profile | {} ({} edition) |\n| tool | {} |\n", r.profile, r.edition, r.tool);
-    let summary: Vec<String> = r.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
-    s += &format!("| result | {} — {} |\n\n", r.outcome().label(), summary.join(", "));
-    for n in &r.notes {
-        s += &format!("Note: {n}\n\n");
-    }
-    for n in &r.notes_per_scenario {
-        s += &format!("Run again: {n}\n\n");
-    }
-    s += "| scenario | verdict | runs | clauses |\n|---|---|---|---|\n";
-    for c in &r.scenarios {
-        s += &format!("| `{}` {} | {} | {} | {} |\n", c.id, c.title, c.verdict.label(), c.attempts, c.clause_list());
-    }
-    for c in &r.scenarios {
-        s += &format!("\n## {} — {}\n\n{}\n\n", c.id, c.title, c.verdict.label());
-        for f in &c.findings {
-            s += &format!("- {} {f}\n", f.verdict().label());
-        }
-        s += &format!("\n```\n{}```\n", crate::report::wire_text(c));
-    }
-    s
 }

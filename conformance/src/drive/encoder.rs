@@ -1,6 +1,9 @@
 //! The encoder a master is certified against: the model served in real time
 //! (`simulate::serve_with`), with a scenario's fault injections, and the observer of
 //! the master's obligations watching every character the master sends.
+//!
+//! Past 400 lines for a reason: the serving hooks and the observer they feed are one
+//! loop, read together; its tests are kept beside it.
 
 use super::scenarios::{Act, Injection, Scenario, Situation};
 use crate::simulate::{Hooks, Planned};

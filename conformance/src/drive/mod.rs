@@ -10,6 +10,7 @@ pub mod encoder;
 mod grade;
 pub mod process;
 pub mod reference;
+pub mod scenario;
 mod scenario_run;
 pub mod scenarios;
 pub mod timeline;

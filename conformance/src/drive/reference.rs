@@ -3,7 +3,7 @@
 //! what `certify master` is checked against (every scenario PASS, no NON-STRICT), and
 //! a bench tool: on a real encoder it prints the identity and the position.
 
-use crate::exchange::Master;
+use crate::exchange::BusMaster;
 use crate::line::{Line, LineError};
 use hiperface_model::fault;
 use hiperface_model::master::fault_reaction::{self, Reaction};
@@ -14,7 +14,7 @@ use hiperface_model::{CommandId, FaultCode, Profile, Request, RequestFrame};
 #[derive(Debug, Clone, Copy)]
 pub struct Options {
     /// Period of Read Position, ms.
-    pub poll_ms: u64,
+    pub polling_period_ms: u64,
     /// Stop after this long (line time), ms; `None`: until the line fails.
     pub duration_ms: Option<u64>,
 }
@@ -42,7 +42,7 @@ enum Outcome {
 }
 
 struct Run<'a, L: Line> {
-    master: &'a mut Master<L>,
+    master: &'a mut BusMaster<L>,
     profile: Profile,
     console: &'a mut dyn Console,
     resets: u32,
@@ -52,7 +52,7 @@ struct Run<'a, L: Line> {
 
 /// Run the reference master on `master`'s line (opened at power-on of the encoder).
 pub fn run<L: Line>(
-    master: &mut Master<L>,
+    master: &mut BusMaster<L>,
     profile: Profile,
     options: Options,
     console: &mut dyn Console,
@@ -71,7 +71,7 @@ pub fn run<L: Line>(
             continue;
         }
         run.cycle()?;
-        let next = run.master.now_us() + options.poll_ms * 1000;
+        let next = run.master.now_us() + options.polling_period_ms * 1000;
         run.master.line.wait_until(next)?;
     }
 }

@@ -49,14 +49,9 @@ impl ScenarioRun {
     }
 }
 
+/// The drive's port at the encoder's delivery settings (000:T7, 9600 8E1).
 pub(super) fn open_port(path: &str) -> Result<Box<dyn SerialPort>, String> {
-    serialport::new(path, 9600)
-        .data_bits(serialport::DataBits::Eight)
-        .parity(serialport::Parity::Even)
-        .stop_bits(serialport::StopBits::One)
-        .timeout(Duration::from_millis(1))
-        .open()
-        .map_err(|e| e.to_string())
+    crate::line::serial::open_port(path, hiperface_model::UartSettings::DEFAULT).map_err(|e| e.to_string())
 }
 
 /// A drive on a real port, and how its power-on is known.

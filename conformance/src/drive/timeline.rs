@@ -1,9 +1,7 @@
-//! The certificate of a master as HTML, with one SVG timeline per scenario: the
-//! encoder's state-machine phases, the master's requests, the encoder's replies, the
-//! injected faults and the broken rules on one time axis (hover for the bytes and the
-//! clause).
+//! One SVG timeline per scenario of a master's certificate: the encoder's
+//! state-machine phases, the master's requests, the encoder's replies, the injected
+//! faults and the broken rules on one time axis (hover for the bytes and the clause).
 
-use super::DriveReport;
 use crate::report::escape;
 use crate::verdict::CaseResult;
 use hiperface_model::Profile;
@@ -14,49 +12,6 @@ const LEFT: f64 = 80.0;
 const ROW: f64 = 22.0;
 /// A character at 9600 Bd, for the width of a frame, ms.
 const CHAR_MS: f64 = 11.0 / 9.6;
-
-/// The whole certificate.
-pub fn html(r: &DriveReport, profile: &Profile) -> String {
-    let mut s = String::new();
-    let verdict = r.outcome().label();
-    let _ = write!(
-        s,
-        "<!doctype html><html><head><meta charset=\"utf-8\"><title>HIPERFACE master certificate</title>\
-         <style>body{{font-family:sans-serif;max-width:75em;margin:2em auto}}table{{border-collapse:collapse}}\
-         td,th{{border:1px solid #ccc;padding:.2em .5em;text-align:left}}.PASS{{color:#070}}.FAIL{{color:#b00;font-weight:bold}}\
-         .NON-STRICT{{color:#a60}}.ERROR{{color:#b0b}}svg{{border:1px solid #ddd}}</style></head><body>\
-         <h1>HIPERFACE master certificate: {verdict}</h1><table><tr><th>master</th><td><code>{}</code></td></tr>\
-         <tr><th>encoder profile</th><td>{} ({} edition)</td></tr><tr><th>tool</th><td>{}</td></tr></table>",
-        escape(&r.master),
-        escape(&r.profile),
-        escape(&r.edition),
-        escape(&r.tool)
-    );
-    s += "<h2>Scenarios</h2><table><tr><th>scenario</th><th>verdict</th><th>clauses</th></tr>";
-    for c in &r.scenarios {
-        let v = c.verdict.label();
-        let _ = write!(
-            s,
-            "<tr><td><a href=\"#{id}\">{id}</a> {}</td><td class=\"{v}\">{v}</td><td>{}</td></tr>",
-            escape(c.title),
-            escape(&c.clause_list()),
-            id = c.id
-        );
-    }
-    s += "</table>";
-    for c in &r.scenarios {
-        let v = c.verdict.label();
-        let _ = write!(s, "<h2 id=\"{}\">{} — {}</h2><p class=\"{v}\">{v}</p><ul>", c.id, c.id, escape(c.title));
-        for f in &c.findings {
-            let fv = f.verdict().label();
-            let _ = write!(s, "<li class=\"{fv}\">{fv} {}</li>", escape(&f.to_string()));
-        }
-        s += "</ul>";
-        s += &svg(c, profile);
-    }
-    s += "</body></html>\n";
-    s
-}
 
 /// One scenario's timeline.
 pub fn svg(c: &CaseResult, profile: &Profile) -> String {

@@ -38,6 +38,28 @@ fn parity(s: UartSettings) -> Parity {
     }
 }
 
+/// Open a serial port or pseudo-terminal by path at `settings` (eight data bits, one
+/// stop bit, no flow control: 000:T7), each read waiting at most 1 ms. The one place a
+/// port is opened for writing: the harness as master ([`SerialLine`]), as encoder
+/// (`certify master --port`) and the simulator. (`monitor` opens its tap read-only,
+/// which needs termios itself: `listen/tap.rs`.)
+pub fn open_port(path: &str, settings: UartSettings) -> Result<Box<dyn SerialPort>, LineError> {
+    serialport::new(path, settings.baud.bits_per_second())
+        .data_bits(DataBits::Eight)
+        .stop_bits(StopBits::One)
+        .parity(parity(settings))
+        .flow_control(FlowControl::None)
+        .timeout(Duration::from_millis(1))
+        .open()
+        .map_err(|e| LineError::Open { port: path.to_string(), reason: e.to_string() })
+}
+
+/// Change an open port's data rate and parity (57h, 67h).
+pub fn apply_settings(port: &mut dyn SerialPort, settings: UartSettings) -> Result<(), serialport::Error> {
+    port.set_baud_rate(settings.baud.bits_per_second())?;
+    port.set_parity(parity(settings))
+}
+
 /// Whether a path names a pseudo-terminal (Linux `/dev/pts/N`, BSD-style `ptyXY`/`ttypN`).
 pub fn is_pseudo_terminal(path: &str) -> bool {
     path.starts_with("/dev/pts/") || path.contains("pty")
@@ -47,14 +69,7 @@ impl SerialLine {
     /// Open a port by path with the given settings. On a USB adapter with a latency
     /// timer, lower it to 1 ms for the run where permitted.
     pub fn open(path: &str, settings: UartSettings) -> Result<SerialLine, LineError> {
-        let port = serialport::new(path, settings.baud.bits_per_second())
-            .data_bits(DataBits::Eight)
-            .stop_bits(StopBits::One)
-            .parity(parity(settings))
-            .flow_control(FlowControl::None)
-            .timeout(Duration::from_millis(1))
-            .open()
-            .map_err(|e| LineError::Open { port: path.to_string(), reason: e.to_string() })?;
+        let port = open_port(path, settings)?;
         let pseudo_terminal = is_pseudo_terminal(path);
         let mut line = SerialLine::from_port(port, path.to_string(), settings, pseudo_terminal);
         if !pseudo_terminal {
@@ -171,9 +186,8 @@ impl Line for SerialLine {
 
     fn configure(&mut self, settings: UartSettings) -> Result<(), LineError> {
         if !self.pseudo_terminal {
-            let err = |e: serialport::Error| LineError::Settings { settings, reason: e.to_string() };
-            self.port.set_baud_rate(settings.baud.bits_per_second()).map_err(err)?;
-            self.port.set_parity(parity(settings)).map_err(err)?;
+            apply_settings(self.port.as_mut(), settings)
+                .map_err(|e| LineError::Settings { settings, reason: e.to_string() })?;
         }
         self.settings = settings;
         Ok(())

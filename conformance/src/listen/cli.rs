@@ -1,12 +1,11 @@
 //! `hiperface decode`: the listener over a capture file, with a live line per
 //! exchange, a summary, and reports.
 
-use super::report::ListeningReport;
-use super::{HeardExchange, Listener, Options};
+use super::{HeardExchange, Listener, ListeningReport, Options, Summary};
+use crate::args::{ms_to_us, parse_ms};
 use crate::capture::{self, Capture, Format, ReadOptions};
 use crate::profile_file;
 use crate::verdict::CaseVerdict;
-use hiperface_model::frame::Hex;
 use hiperface_model::settings::Baud;
 use hiperface_model::UartSettings;
 use std::io::{BufReader, Write};
@@ -33,7 +32,7 @@ pub struct DecodeArgs {
     pub samplerate: Option<u64>,
     /// The capture's timing uncertainty, ms (default: a certify report's own
     /// tolerance, else one bit time).
-    #[arg(long)]
+    #[arg(long, value_parser = parse_ms)]
     pub tolerance_ms: Option<f64>,
     /// The channel the master talks on (`uart-1`, a CSV channel name), where the
     /// capture has one channel per direction.
@@ -172,7 +171,7 @@ pub fn conclude(
     };
     print_summary(&report);
     if let Some(dir) = report_dir {
-        super::report::write_all(&report, dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        crate::report::write_all(&report, dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     }
     Ok(report.outcome.exit())
 }
@@ -202,7 +201,7 @@ impl LiveView {
             _ => AnsiColor::Cyan,
         };
         let style = anstyle::Style::new().fg_color(Some(colour.into()));
-        let _ = writeln!(out, "{style}{}{style:#}", line(h));
+        let _ = writeln!(out, "{style}{h}{style:#}");
         if self.live {
             let _ = out.flush();
         }
@@ -215,18 +214,6 @@ impl Drop for LiveView {
             let _ = out.flush();
         }
     }
-}
-
-/// One exchange as a line: time, command, bytes, response time, verdict.
-pub fn line(h: &HeardExchange) -> String {
-    let reply = h.reply.as_deref().map_or("(silence)".to_string(), |b| Hex(b).to_string());
-    let rt = h.response_ms.map_or(String::new(), |t| format!(" +{t:.3} ms"));
-    let mut s =
-        format!("{:>12.3} ms  {:<10} {}  M> {}  S< {reply}{rt}", h.t_ms, h.verdict.label(), h.command, Hex(&h.request));
-    for f in &h.findings {
-        s.push_str(&format!("\n{:>27} {f}", f.verdict().label()));
-    }
-    s
 }
 
 fn print_summary(r: &ListeningReport) {
@@ -255,11 +242,6 @@ fn print_summary(r: &ListeningReport) {
     }
 }
 
-/// A tolerance given in ms, in µs.
-pub fn ms_to_us(ms: f64) -> u64 {
-    (ms * 1000.0).round().max(0.0) as u64
-}
-
 /// The profile and the bus's settings at `baud` (000:T7).
 pub fn bus(profile: &str, baud: u32) -> Result<(hiperface_model::Profile, UartSettings), String> {
     let profile = profile_file::resolve(profile).map_err(|e| e.to_string())?;
@@ -279,4 +261,51 @@ fn write_vcd(capture: &mut dyn capture::Capture, path: &std::path::Path, baud: u
     capture::vcd::write(events.into_iter(), &capture.channels(), baud, &mut w)
         .and_then(|()| w.flush())
         .map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// Read a whole capture and listen to it, without printing, the reader on a thread
+/// of its own as `decode` does: what the throughput benchmark and the tests run.
+/// `format`: `None` detects it.
+pub fn listen_to(
+    input: &[u8],
+    format: Option<crate::capture::Format>,
+    read: crate::capture::ReadOptions,
+    options: Options,
+) -> Result<Summary, crate::capture::ParseError> {
+    let (_, capture) = crate::capture::open(Box::new(input), format, read)?;
+    std::thread::scope(|s| listen_all(crate::capture::prefetch(s, capture), options))
+}
+
+fn listen_all(
+    capture: impl Iterator<Item = Result<crate::capture::Event, crate::capture::ParseError>>,
+    options: Options,
+) -> Result<Summary, crate::capture::ParseError> {
+    let mut listener = Listener::new(options);
+    let mut last_us = 0;
+    for e in capture {
+        let e = e?;
+        last_us = e.at_us;
+        listener.feed(e, &mut |_| {});
+    }
+    listener.finish(last_us, &mut |_| {});
+    Ok(listener.summary)
+}
+
+/// The fuzz targets' entry (fuzz/fuzz_targets/capture_*.rs) and their corpus replay:
+/// any bytes as a capture of `format` (9600 Bd, sigrok at 1 MHz) through its reader
+/// and the listener, on one thread. An error for bad input is fine; a panic or a
+/// hang is not.
+pub fn fuzz_capture(format: crate::capture::Format, input: &[u8]) {
+    let profile = hiperface_model::profiles::srs50();
+    let options = Options {
+        profile,
+        settings: UartSettings::DEFAULT,
+        tolerance_us: 1_000,
+        master_channel: None,
+        polling_period_ms: hiperface_model::master::obligations::POLLING_PERIOD_MS,
+    };
+    let read = crate::capture::ReadOptions { baud: 9600, samplerate_hz: Some(1_000_000) };
+    if let Ok((_, capture)) = crate::capture::open(Box::new(input), Some(format), read) {
+        let _ = listen_all(capture, options);
+    }
 }

@@ -1,9 +1,16 @@
-//! The characters of one frame as the listener heard them, with how late each may
+//! What the listener heard: one exchange graded ([`HeardExchange`]), and the
+//! characters of one frame as the listener heard them, with how late each may
 //! have been heard: a live tap's read that returned it after its reader had waited
 //! for a processor (see `crate::sched`). A capture file's times are its instrument's:
 //! heard on time.
 
+use super::summary;
+use crate::verdict::{CaseVerdict, Finding};
+use hiperface_model::command::CommandId;
 use hiperface_model::datalink::RxChar;
+use hiperface_model::frame::Hex;
+use serde::Serialize;
+use std::fmt;
 
 #[derive(Debug, Default)]
 pub(super) struct Heard {
@@ -46,6 +53,44 @@ impl Heard {
     /// How late the last character may have been heard, µs.
     pub fn last_late_us(&self) -> u64 {
         self.late_us.last().copied().unwrap_or(0)
+    }
+}
+
+/// One exchange as heard: what the live view prints and the report counts.
+#[derive(Debug, Clone, Serialize)]
+pub struct HeardExchange {
+    /// End of the request, ms from the capture's start.
+    pub t_ms: f64,
+    #[serde(serialize_with = "summary::command_name")]
+    pub command: CommandId,
+    #[serde(serialize_with = "summary::hex")]
+    pub request: Vec<u8>,
+    #[serde(serialize_with = "summary::hex_or_silence")]
+    pub reply: Option<Vec<u8>>,
+    /// From the end of the request's timeout to the reply's first start bit, ms.
+    pub response_ms: Option<f64>,
+    pub verdict: CaseVerdict,
+    pub findings: Vec<Finding>,
+}
+
+/// One exchange as a line: time, command, bytes, response time, verdict, and a line
+/// per finding (the live view, the reports).
+impl fmt::Display for HeardExchange {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let reply = self.reply.as_deref().map_or("(silence)".to_string(), |b| Hex(b).to_string());
+        let rt = self.response_ms.map_or(String::new(), |t| format!(" +{t:.3} ms"));
+        write!(
+            f,
+            "{:>12.3} ms  {:<10} {}  M> {}  S< {reply}{rt}",
+            self.t_ms,
+            self.verdict.label(),
+            self.command,
+            Hex(&self.request)
+        )?;
+        for finding in &self.findings {
+            write!(f, "\n{:>27} {finding}", finding.verdict().label())?;
+        }
+        Ok(())
     }
 }
 

@@ -20,29 +20,28 @@
 //! UNKNOWN with the oracle's reason, not as FAIL.
 
 use crate::capture::{Event, Mark, Role};
-use crate::exchange::{Exchange, HeardLate};
-use crate::line::Window;
-use crate::verdict::timing::{self, TimingMode};
-use crate::verdict::{CaseVerdict, Finding};
+use crate::verdict::timing;
+use crate::verdict::{CaseVerdict, Finding, Outcome};
 use heard::Heard;
+pub use heard::HeardExchange;
 use hiperface_model::command::CommandId;
-use hiperface_model::datalink::{RxChar, UartFault};
+use hiperface_model::datalink::{DataLink, RxChar, UartFault};
 use hiperface_model::frame::Hex;
 use hiperface_model::master::obligations::{Observation, Observer};
-use hiperface_model::oracle::{Deviation, Oracle};
+use hiperface_model::oracle::Oracle;
 use hiperface_model::request::RequestFrame;
 use hiperface_model::response::ResponseFrame;
-use hiperface_model::slave::{Reply, Slave};
+use hiperface_model::slave::Slave;
 use hiperface_model::{Grading, Profile, UartSettings};
-use serde::Serialize;
 
 pub mod cli;
+mod grade;
 mod heard;
 pub mod monitor;
-pub mod report;
 mod summary;
 pub mod tap;
-pub use summary::Summary;
+pub use cli::{fuzz_capture, listen_to};
+pub use summary::{Summary, BUCKETS_MS};
 
 /// What the listener is told.
 #[derive(Debug, Clone)]
@@ -58,12 +57,14 @@ pub struct Options {
     pub polling_period_ms: u32,
 }
 
-/// The frame being assembled on one channel.
+/// The frame being assembled on one channel: the model's data link decides where it
+/// ends (000:2.2.2), `heard` keeps its characters with how late each was heard.
 #[derive(Debug)]
 struct Assembly {
     channel: u8,
     /// Who sends on it, where the capture says.
     role: Option<Role>,
+    link: DataLink,
     heard: Heard,
 }
 
@@ -90,23 +91,6 @@ impl Open {
     fn command(&self) -> CommandId {
         CommandId::of_frame(&self.bytes)
     }
-}
-
-/// One exchange as heard: what the live view prints and the report counts.
-#[derive(Debug, Clone, Serialize)]
-pub struct HeardExchange {
-    /// End of the request, ms from the capture's start.
-    pub t_ms: f64,
-    #[serde(serialize_with = "summary::command_name")]
-    pub command: CommandId,
-    #[serde(serialize_with = "summary::hex")]
-    pub request: Vec<u8>,
-    #[serde(serialize_with = "summary::hex_or_silence")]
-    pub reply: Option<Vec<u8>>,
-    /// From the end of the request's timeout to the reply's first start bit, ms.
-    pub response_ms: Option<f64>,
-    pub verdict: CaseVerdict,
-    pub findings: Vec<Finding>,
 }
 
 /// The listener.
@@ -172,15 +156,20 @@ impl Listener {
         let at = match self.frames.binary_search_by_key(&e.channel, |a| a.channel) {
             Ok(at) => at,
             Err(at) => {
-                self.frames.insert(at, Assembly { channel: e.channel, role, heard: Heard::default() });
+                let link = DataLink::new(self.timeout_us);
+                self.frames.insert(at, Assembly { channel: e.channel, role, link, heard: Heard::default() });
                 at
             }
         };
         let Some(a) = self.frames.get_mut(at) else { return };
         a.role = role;
+        let ch = RxChar { byte, at_us: e.at_us, fault };
+        // `advance` to this instant closed the frame this character comes too late for,
+        // so the data link completes none here.
+        let _ = a.link.receive(ch);
         // A frame longer than any valid one is cut: memory stays bounded.
         if a.heard.len() < MAX {
-            a.heard.push(RxChar { byte, at_us: e.at_us, fault }, e.late_us);
+            a.heard.push(ch, e.late_us);
         }
     }
 
@@ -214,10 +203,10 @@ impl Listener {
             let due = self
                 .frames
                 .iter()
-                .filter_map(|a| Some((a.heard.chars.first()?.at_us, a.heard.chars.last()?.at_us, a.channel)))
-                .filter(|(_, last, _)| last.saturating_add(self.timeout_us) <= now)
+                .filter(|a| a.link.deadline().is_some_and(|complete| complete <= now))
+                .filter_map(|a| Some((a.heard.chars.first()?.at_us, a.channel)))
                 .min();
-            let Some((_, _, ch)) = due else { break };
+            let Some((_, ch)) = due else { break };
             self.close_channel(ch, out);
         }
         if let Some(open) = &self.open {
@@ -242,15 +231,15 @@ impl Listener {
     }
 
     /// The last instant a reply to a request of `command` that ended at `end_us` may
-    /// start and still be heard as its reply: well past the command's limit, so that
-    /// a late reply is measured, not lost.
+    /// start and still be heard as its reply (`timing::reply_awaited_ms`).
     fn window_end(&self, command: CommandId, end_us: u64) -> u64 {
-        let limit_us = self.options.profile.response_limit(command).max_ms as u64 * 1000;
-        end_us.saturating_add(self.timeout_us + 3 * limit_us + self.options.tolerance_us)
+        let awaited_us = timing::reply_awaited_ms(self.options.profile.response_limit(command)) as u64 * 1000;
+        end_us.saturating_add(self.timeout_us + awaited_us + self.options.tolerance_us)
     }
 
     fn close_channel(&mut self, ch: u8, out: &mut impl FnMut(&HeardExchange)) {
         let Some(a) = self.frames.iter_mut().find(|a| a.channel == ch) else { return };
+        a.link.clear();
         let (role, heard) = (a.role, std::mem::take(&mut a.heard));
         if !heard.is_empty() {
             self.frame(role, heard, out);
@@ -329,90 +318,6 @@ impl Listener {
         self.exchange(open, Some(ReplyHeard { heard, bytes, decoded }), out);
     }
 
-    /// Grade one exchange (its reply's characters and bytes, if one was heard): the
-    /// reply's form and timing, and its content where the listener can know it.
-    fn exchange(&mut self, open: Open, reply: Option<ReplyHeard>, out: &mut impl FnMut(&HeardExchange)) {
-        let edition = self.options.profile.edition;
-        let command = open.command();
-        // The timeout the encoder framed the request with (its settings may have changed
-        // since the capture began: 57h and a reset). // 000:T28/settings
-        let timeout_us = self.shadow.timeout_us(open.end_us);
-        let complete_us = open.end_us.saturating_add(timeout_us);
-        let (reply, observed, decoded) = match reply {
-            Some(r) => (Some(r.heard), Some(r.bytes), r.decoded),
-            None => (None, None, None),
-        };
-        let mut before = self.shadow.clone();
-        let mut expected = self.shadow.handle_frame(&open.bytes, complete_us);
-        if let Some(code0) = accepted_code0(&open.bytes, &expected, decoded.as_ref()) {
-            // The encoder took a Code0 the model refused: the listener does not know
-            // the codes, so that one is the encoder's. // 000:T26
-            before.adopt_access_code(0, code0);
-            self.shadow = before.clone();
-            expected = self.shadow.handle_frame(&open.bytes, complete_us);
-        }
-        let grade = self.oracle.grade(&before, &open.bytes, complete_us, &expected, observed.as_deref());
-        let mut findings = Vec::new();
-        if let Some(f) = Finding::graded(&grade, &open.bytes) {
-            let knowable = grade.deviation().is_some_and(|d| knowable(&d, &open.bytes));
-            findings.push(if knowable {
-                f
-            } else {
-                Finding::unknown(format!(
-                    "not graded: {f}; the listener does not know the encoder's stored state or its address"
-                ))
-            });
-        }
-        if let Some(r) = reply.as_ref().filter(|r| r.chars.iter().any(|c| c.fault.is_some())) {
-            let n = r.chars.iter().filter(|c| c.fault.is_some()).count();
-            findings.push(Finding::unknown(format!(
-                "{n} characters of the reply had a parity or framing error as captured: the line, the tap or the encoder"
-            )));
-        }
-        let mut response_ms = None;
-        let mut request = open.bytes;
-        if let (Some(r), Reply::Frame(_)) = (reply, expected.reply) {
-            let heard_late = HeardLate { request_end_us: open.end_late_us, reply_start_us: r.first_late_us() };
-            let x = Exchange {
-                request,
-                stray: Vec::new(),
-                sent_start_us: open.start_us,
-                request_end: Window::exact(open.end_us),
-                reply_start: r.chars.first().map(|c| Window::exact(c.at_us.saturating_sub(self.char_us))),
-                reply: r.chars,
-                trailing: Vec::new(),
-                settings: self.shadow.listening_settings(open.end_us).unwrap_or(self.options.settings),
-                timeout_us,
-                harness_late_us: 0,
-                heard_late,
-            };
-            let limits = self.options.profile.response_limit(command);
-            findings.extend(timing::grade(&x, limits, self.options.tolerance_us, TimingMode::Strict, edition));
-            if let Some(t) = timing::at_most_us(&x) {
-                response_ms = Some(t as f64 / 1000.0);
-                self.summary.response_time(command, t);
-            }
-            request = x.request;
-        }
-        // What a well-formed reply tells of the encoder's world (as `certify` does on a
-        // real device).
-        if let (Some(frame), true) = (decoded, findings.is_empty()) {
-            self.shadow.adopt_reply(&frame.response);
-        }
-        self.follow(complete_us);
-        let heard = HeardExchange {
-            t_ms: open.end_us as f64 / 1000.0,
-            command,
-            request,
-            reply: observed,
-            response_ms,
-            verdict: findings.iter().fold(CaseVerdict::Pass, |v, f| v.worst(f.verdict())),
-            findings,
-        };
-        self.summary.exchange(&heard);
-        out(&heard);
-    }
-
     /// What the encoder accepted moves where it answers (55h) and, after a reset, how
     /// it listens (57h): the master's rules follow it at `at_us`. // 000:T30, 000:T32
     fn follow(&mut self, at_us: u64) {
@@ -440,77 +345,22 @@ impl Listener {
     }
 }
 
-/// Read a whole capture and listen to it, without printing, the reader on a thread
-/// of its own as `decode` does: what the throughput benchmark and the tests run.
-/// `format`: `None` detects it.
-pub fn listen_to(
-    input: &[u8],
-    format: Option<crate::capture::Format>,
-    read: crate::capture::ReadOptions,
-    options: Options,
-) -> Result<Summary, crate::capture::ParseError> {
-    let (_, capture) = crate::capture::open(Box::new(input), format, read)?;
-    std::thread::scope(|s| listen_all(crate::capture::prefetch(s, capture), options))
-}
-
-fn listen_all(
-    capture: impl Iterator<Item = Result<crate::capture::Event, crate::capture::ParseError>>,
-    options: Options,
-) -> Result<Summary, crate::capture::ParseError> {
-    let mut listener = Listener::new(options);
-    let mut last_us = 0;
-    for e in capture {
-        let e = e?;
-        last_us = e.at_us;
-        listener.feed(e, &mut |_| {});
-    }
-    listener.finish(last_us, &mut |_| {});
-    Ok(listener.summary)
-}
-
-/// The fuzz targets' entry (fuzz/fuzz_targets/capture_*.rs) and their corpus replay:
-/// any bytes as a capture of `format` (9600 Bd, sigrok at 1 MHz) through its reader
-/// and the listener, on one thread. An error for bad input is fine; a panic or a
-/// hang is not.
-pub fn fuzz_capture(format: crate::capture::Format, input: &[u8]) {
-    let profile = hiperface_model::profiles::srs50();
-    let options = Options {
-        profile,
-        settings: UartSettings::DEFAULT,
-        tolerance_us: 1_000,
-        master_channel: None,
-        polling_period_ms: hiperface_model::master::obligations::POLLING_PERIOD_MS,
-    };
-    let read = crate::capture::ReadOptions { baud: 9600, samplerate_hz: Some(1_000_000) };
-    if let Ok((_, capture)) = crate::capture::open(Box::new(input), Some(format), read) {
-        let _ = listen_all(capture, options);
-    }
-}
-
-/// The Code0 of a request the model refused for its access code and the encoder
-/// accepted (a reply of the command's own form, not an error).
-fn accepted_code0(
-    request: &[u8],
-    expected: &hiperface_model::slave::Outcome,
-    heard: Option<&ResponseFrame>,
-) -> Option<u8> {
-    use hiperface_model::response::Response;
-    use hiperface_model::FaultCode::WrongAccessCode;
-    let refused = match expected.reply {
-        Reply::Frame(f) => f.response == Response::Error(WrongAccessCode) || expected.also.contains(WrongAccessCode),
-        Reply::Silent(_) => false,
-    };
-    let accepted = heard.is_some_and(|h| !matches!(h.response, Response::Error(_)));
-    let code0 = RequestFrame::decode(request).ok().and_then(|r| r.request.code0());
-    code0.filter(|_| refused && accepted)
-}
-
-/// A deviation the listener can see whatever the encoder's stored state: the reply's
-/// form, its address echo to a request that named one, a warning bit with "no fault".
-fn knowable(d: &Deviation, request: &[u8]) -> bool {
-    match d {
-        Deviation::Malformed(_) | Deviation::WarningWithoutCode => true,
-        Deviation::WrongAddress { .. } => request.first() != Some(&0xFF),
-        _ => false,
-    }
+/// The report of a listening run.
+#[derive(Debug, serde::Serialize)]
+pub struct ListeningReport {
+    pub tool: String,
+    pub capture: String,
+    pub format: String,
+    pub profile: String,
+    pub baud: u32,
+    pub tolerance_us: u64,
+    pub channels: Vec<String>,
+    pub assumptions: Vec<String>,
+    /// The worst verdict heard.
+    pub verdict: CaseVerdict,
+    /// What the run adds up to.
+    pub outcome: Outcome,
+    /// Why it is not PASSED, where that is not a FAIL.
+    pub incomplete: Option<String>,
+    pub summary: Summary,
 }

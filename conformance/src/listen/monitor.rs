@@ -1,10 +1,11 @@
 //! `hiperface monitor`: the listener on a live bus, through a port it cannot write
 //! ([`super::tap`]). A line per exchange as it closes, a summary when the run ends
-//! (Ctrl-C, `--duration-s`, or the port closing), and the reports.
+//! (Ctrl-C, `--duration-ms`, or the port closing), and the reports.
 
-use super::cli::{conclude, ms_to_us, ListeningArgs, LiveView, Source};
+use super::cli::{conclude, ListeningArgs, LiveView, Source};
 use super::tap::{Got, Marks, Stamps, Tap};
 use super::{Listener, Options};
+use crate::args::{ms_to_us, parse_ms};
 use crate::capture::{Event, Mark};
 use crate::port::PortSpec;
 use std::io::Write;
@@ -23,10 +24,13 @@ pub struct MonitorArgs {
     /// Timing jitter allowed before a reply's timing is graded, ms (default: the
     /// port's: 2 on a pseudo-terminal or serial port, 4 over TCP, a USB adapter's
     /// latency timer when that is longer).
-    #[arg(long)]
+    #[arg(long, value_parser = parse_ms)]
     pub tolerance_ms: Option<f64>,
-    /// Stop after this many seconds (default: at Ctrl-C, or when the port closes).
-    #[arg(long)]
+    /// Stop after this many ms (default: at Ctrl-C, or when the port closes).
+    #[arg(long, value_parser = parse_ms)]
+    pub duration_ms: Option<f64>,
+    /// The same in seconds: the old name, a hidden alias of one release.
+    #[arg(long, hide = true, value_parser = parse_ms, conflicts_with = "duration_ms")]
     pub duration_s: Option<f64>,
     /// Also write every character heard, with its time, as a CSV capture that
     /// `hiperface decode` reads (nothing heard is lost).
@@ -69,7 +73,7 @@ pub fn monitor(args: &MonitorArgs, stop: &AtomicBool) -> Result<ExitCode, String
     let mut print = |h: &super::HeardExchange| view.print(h);
     let epoch = Instant::now();
     let now_us = || epoch.elapsed().as_micros() as u64;
-    let until_us = args.duration_s.map(|s| ms_to_us(s * 1000.0));
+    let until_us = args.duration_ms.or(args.duration_s.map(|s| s * 1000.0)).map(ms_to_us);
     let lag = lag_us(&tap, &options);
     let mut stamps = Stamps::new(settings.char_time_us());
     let mut marks = Marks::default();

@@ -2,34 +2,33 @@
 //! junit.xml for CI (a test case per command heard and per master rule broken),
 //! listening.md and listening.html for people.
 
-use super::Summary;
-use crate::report::escape;
-use crate::verdict::{CaseVerdict, Outcome};
+use super::{escape, page_head, Reports};
+use crate::listen::ListeningReport;
+use crate::verdict::CaseVerdict;
 use std::fmt::Write as _;
-use std::path::Path;
 
-/// The report of a listening run.
-#[derive(Debug, serde::Serialize)]
-pub struct ListeningReport {
-    pub tool: String,
-    pub capture: String,
-    pub format: String,
-    pub profile: String,
-    pub baud: u32,
-    pub tolerance_us: u64,
-    pub channels: Vec<String>,
-    pub assumptions: Vec<String>,
-    /// The worst verdict heard.
-    pub verdict: CaseVerdict,
-    /// What the run adds up to.
-    pub outcome: Outcome,
-    /// Why it is not PASSED, where that is not a FAIL.
-    pub incomplete: Option<String>,
-    pub summary: Summary,
+impl Reports for ListeningReport {
+    const CERTIFICATE: &'static str = "listening";
+
+    fn json(&self) -> serde_json::Result<String> {
+        serde_json::to_string_pretty(self)
+    }
+
+    fn junit(&self) -> String {
+        junit(self)
+    }
+
+    fn markdown(&self) -> String {
+        markdown(self)
+    }
+
+    fn html(&self) -> String {
+        html(self)
+    }
 }
 
 /// The report for people.
-pub fn markdown(r: &ListeningReport) -> String {
+fn markdown(r: &ListeningReport) -> String {
     let s = &r.summary;
     let mut m = String::new();
     let _ = writeln!(m, "# Listening report: {}\n", r.capture);
@@ -61,7 +60,7 @@ pub fn markdown(r: &ListeningReport) -> String {
         }
     }
     let _ = writeln!(m, "\n## Response times per command (ms)\n");
-    let head: Vec<String> = super::summary::BUCKETS_MS.iter().map(|b| format!("≤{b}")).collect();
+    let head: Vec<String> = crate::listen::BUCKETS_MS.iter().map(|b| format!("≤{b}")).collect();
     let _ = writeln!(m, "| command | n | min | mean | max | {} | more |", head.join(" | "));
     let _ = writeln!(m, "|---|---|---|---|---|{}---|", "---|".repeat(head.len()));
     for (c, t) in &s.response_times {
@@ -79,7 +78,7 @@ pub fn markdown(r: &ListeningReport) -> String {
     if !s.exchanges_kept.is_empty() {
         let _ = writeln!(m, "\n## Exchanges not PASS (the first {})\n\n```", s.exchanges_kept.len());
         for h in &s.exchanges_kept {
-            let _ = writeln!(m, "{}", super::cli::line(h));
+            let _ = writeln!(m, "{h}");
         }
         let _ = writeln!(m, "```");
     }
@@ -92,20 +91,10 @@ pub fn markdown(r: &ListeningReport) -> String {
     m
 }
 
-/// report.json, junit.xml, listening.md and listening.html into `dir`.
-pub fn write_all(r: &ListeningReport, dir: &Path) -> std::io::Result<()> {
-    std::fs::create_dir_all(dir)?;
-    let json = serde_json::to_string_pretty(r).map_err(std::io::Error::other)?;
-    std::fs::write(dir.join("report.json"), json + "\n")?;
-    std::fs::write(dir.join("junit.xml"), junit(r))?;
-    std::fs::write(dir.join("listening.html"), html(r))?;
-    std::fs::write(dir.join("listening.md"), markdown(r))
-}
-
 /// Suite "slave": a case per command heard, failed when one of its exchanges FAILed,
 /// skipped when none could be graded (all UNKNOWN). Suite "master": a case per rule
 /// the master broke, failed where the rule is normative.
-pub fn junit(r: &ListeningReport) -> String {
+fn junit(r: &ListeningReport) -> String {
     use quick_junit::{NonSuccessKind, Report, TestCase, TestCaseStatus, TestSuite};
     let s = &r.summary;
     let mut slave = TestSuite::new(format!("slave heard on {}", r.capture));
@@ -116,7 +105,7 @@ pub fn junit(r: &ListeningReport) -> String {
             let mut st = TestCaseStatus::non_success(NonSuccessKind::Failure);
             st.set_message(format!("{} of {} exchanges FAIL", n(CaseVerdict::Fail), counts.values().sum::<u64>()));
             if let Some(h) = first {
-                st.set_description(super::cli::line(h));
+                st.set_description(h.to_string());
             }
             st
         } else if n(CaseVerdict::Pass) + n(CaseVerdict::NonStrict) == 0 {
@@ -153,17 +142,10 @@ pub fn junit(r: &ListeningReport) -> String {
 }
 
 /// The report for people, as a page.
-pub fn html(r: &ListeningReport) -> String {
+fn html(r: &ListeningReport) -> String {
     let s = &r.summary;
     let mut h = String::new();
-    let _ = write!(
-        h,
-        "<!doctype html><html><head><meta charset=\"utf-8\"><title>HIPERFACE listening report: {}</title>\
-         <style>body{{font-family:sans-serif;max-width:70em;margin:2em auto}}table{{border-collapse:collapse}}\
-         td,th{{border:1px solid #ccc;padding:.2em .5em;text-align:left}}.PASS{{color:#070}}.FAIL{{color:#b00;font-weight:bold}}\
-         .NON-STRICT{{color:#a60}}.UNKNOWN{{color:#066}}pre{{background:#f4f4f4;padding:.5em}}</style></head><body>",
-        escape(&r.capture)
-    );
+    h.push_str(&page_head(&format!("HIPERFACE listening report: {}", r.capture)));
     let (o, v) = (r.outcome.label(), r.verdict.label());
     let _ = write!(h, "<h1>HIPERFACE listening report: {o}</h1>");
     if let Some(why) = &r.incomplete {
@@ -208,7 +190,7 @@ pub fn html(r: &ListeningReport) -> String {
         h.push_str("</table>");
     }
     h.push_str("<h2>Response times per command (ms)</h2><table><tr><th>command</th><th>n</th><th>min</th><th>mean</th><th>max</th>");
-    for b in super::summary::BUCKETS_MS {
+    for b in crate::listen::BUCKETS_MS {
         let _ = write!(h, "<th>≤{b}</th>");
     }
     h.push_str("<th>more</th></tr>");
@@ -231,7 +213,7 @@ pub fn html(r: &ListeningReport) -> String {
     if !s.exchanges_kept.is_empty() {
         let _ = write!(h, "<h2>Exchanges not PASS (the first {})</h2><pre>", s.exchanges_kept.len());
         for x in &s.exchanges_kept {
-            let _ = writeln!(h, "<span class=\"{}\">{}</span>", x.verdict.label(), escape(&super::cli::line(x)));
+            let _ = writeln!(h, "<span class=\"{}\">{}</span>", x.verdict.label(), escape(&x.to_string()));
         }
         h.push_str("</pre>");
     }

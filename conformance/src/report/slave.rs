@@ -1,85 +1,33 @@
-//! Reports of a certification run: JSON and JUnit XML for CI, a Markdown and an HTML
-//! certificate for people. The wire log is included for every failing case.
+//! The certificate of a slave (`certify slave`): its header (what was certified,
+//! how), the cases with their clauses and findings, the wire log of every failing
+//! case, the safety section and the response times.
 
+use super::{escape, junit_suite, page_head, wire_text, Reports};
 use crate::certify::{Report, TimingMode};
 use crate::verdict::CaseVerdict;
 use std::fmt::Write as _;
-use std::path::Path;
 
-/// Write report.json, junit.xml, certificate.md and certificate.html into `dir`.
-/// Create the report directory `dir` and check that files can be written in it, before
-/// a run: a run's results are never found unwritable only after it.
-pub fn prepare_dir(dir: &Path) -> Result<(), String> {
-    let shown = dir.display();
-    if dir.exists() && !dir.is_dir() {
-        return Err(format!("--report {shown}: it exists and is not a directory"));
+impl Reports for Report {
+    const CERTIFICATE: &'static str = "certificate";
+
+    fn json(&self) -> serde_json::Result<String> {
+        serde_json::to_string_pretty(self)
     }
-    std::fs::create_dir_all(dir).map_err(|e| format!("--report {shown}: cannot create the directory: {e}"))?;
-    let probe = dir.join(".hiperface-write-check");
-    std::fs::write(&probe, b"").map_err(|e| format!("--report {shown}: cannot write in the directory: {e}"))?;
-    let _ = std::fs::remove_file(probe);
-    Ok(())
-}
 
-pub fn write_all(report: &Report, dir: &Path) -> std::io::Result<()> {
-    std::fs::create_dir_all(dir)?;
-    let json = serde_json::to_string_pretty(report).map_err(std::io::Error::other)?;
-    std::fs::write(dir.join("report.json"), json)?;
-    std::fs::write(dir.join("junit.xml"), junit(report))?;
-    let md = markdown(report);
-    std::fs::write(dir.join("certificate.md"), &md)?;
-    std::fs::write(dir.join("certificate.html"), html(report))?;
-    Ok(())
-}
-
-pub fn junit(report: &Report) -> String {
-    junit_suite(format!("hiperface certify slave ({})", report.profile), &report.cases)
-}
-
-/// One JUnit suite of cases (slave cases or master scenarios).
-pub fn junit_suite(name: String, cases: &[crate::certify::CaseResult]) -> String {
-    use quick_junit::{NonSuccessKind, Report as JReport, TestCase, TestCaseStatus, TestSuite};
-    let mut suite = TestSuite::new(name);
-    for c in cases {
-        let detail: String = c.findings.iter().map(|f| format!("[{}] {f}\n", f.verdict().label())).collect();
-        let status = match c.verdict {
-            CaseVerdict::Pass | CaseVerdict::NonStrict => TestCaseStatus::success(),
-            CaseVerdict::NotApplicable => {
-                let mut s = TestCaseStatus::skipped();
-                s.set_message(detail.trim().to_string());
-                s
-            }
-            CaseVerdict::Fail => {
-                let mut s = TestCaseStatus::non_success(NonSuccessKind::Failure);
-                s.set_message(detail.trim().to_string());
-                s.set_description(wire_text(c));
-                s
-            }
-            // Not observed: neither a pass nor the device's failure (INCOMPLETE).
-            CaseVerdict::Error | CaseVerdict::NotExercised | CaseVerdict::Unknown => {
-                let mut s = TestCaseStatus::non_success(NonSuccessKind::Error);
-                s.set_message(format!("{}: {}", c.verdict.label(), detail.trim()));
-                s
-            }
-        };
-        let mut t = TestCase::new(c.id, status);
-        t.set_classname(format!("hiperface.{}", c.id.split('.').next().unwrap_or("case")));
-        t.set_time(std::time::Duration::from_secs_f64(c.duration_ms / 1000.0));
-        if c.verdict == CaseVerdict::NonStrict {
-            t.set_system_out(detail);
-        }
-        suite.add_test_case(t);
+    fn junit(&self) -> String {
+        junit_suite(format!("hiperface certify slave ({})", self.profile), &self.cases)
     }
-    let mut r = JReport::new("hiperface");
-    r.add_test_suite(suite);
-    r.to_string().unwrap_or_else(|e| format!("<!-- cannot serialise: {e} -->"))
+
+    fn markdown(&self) -> String {
+        markdown(self)
+    }
+
+    fn html(&self) -> String {
+        html(self)
+    }
 }
 
-pub(crate) fn wire_text(c: &crate::certify::CaseResult) -> String {
-    c.wire.iter().map(|w| format!("{:>12.3} ms  {}  {}\n", w.t_us as f64 / 1000.0, w.direction, w.bytes)).collect()
-}
-
-pub fn markdown(r: &Report) -> String {
+fn markdown(r: &Report) -> String {
     let mut s = String::new();
     let verdict = r.outcome().label();
     let _ = writeln!(s, "# HIPERFACE slave certificate: {verdict}\n");
@@ -181,20 +129,9 @@ fn safety_lines(r: &Report) -> Vec<String> {
     out
 }
 
-pub(crate) fn escape(t: &str) -> String {
-    t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
-}
-
-pub fn html(r: &Report) -> String {
+fn html(r: &Report) -> String {
     let mut s = String::new();
-    let _ = write!(
-        s,
-        "<!doctype html><html><head><meta charset=\"utf-8\"><title>HIPERFACE certificate: {}</title>\
-         <style>body{{font-family:sans-serif;max-width:70em;margin:2em auto}}table{{border-collapse:collapse}}\
-         td,th{{border:1px solid #ccc;padding:.2em .5em;text-align:left}}.PASS{{color:#070}}.FAIL{{color:#b00;font-weight:bold}}\
-         .NON-STRICT{{color:#a60}}.ERROR{{color:#b0b}}pre{{background:#f4f4f4;padding:.5em}}</style></head><body>",
-        escape(&r.profile)
-    );
+    s.push_str(&page_head(&format!("HIPERFACE certificate: {}", r.profile)));
     let verdict = r.outcome().label();
     let _ = write!(s, "<h1>HIPERFACE slave certificate: {verdict}</h1><table>");
     let rows = header(r);

@@ -2,7 +2,7 @@
 //! produce, per edition; every step of the check order with its acceptable
 //! alternatives; broadcast; the warning bit; the error stack; memory exhaustion; the
 //! power-up windows as timed sequences. Every generated family is in this one file
-//! (about 400 lines) so that the vector ids are named in one place.
+//! (past 400 lines for this reason) so that the vector ids are named in one place.
 
 use super::fixtures::{provoke, valid_request, with_field_0, Provocation};
 use super::{hex, parse_hex, prepare, Expected, Flag, Inputs, Setup, Vector, VectorFile, VectorStep};

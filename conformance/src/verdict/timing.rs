@@ -33,6 +33,14 @@ pub enum TimingMode {
     Off,
 }
 
+/// How long after a request's timeout a reply is awaited, ms, where one is expected:
+/// well past the command's limit, so that a late reply is measured and graded rather
+/// than lost (three times the limit, at least 100 ms past it). The one window of the
+/// harness as master (`certify slave`) and of the listener (`decode`, `monitor`).
+pub fn reply_awaited_ms(limit: ResponseLimit) -> u16 {
+    limit.max_ms.saturating_mul(3).max(limit.max_ms.saturating_add(100))
+}
+
 /// Grade the start of a reply of a device of `edition`. `tolerance_us`: the line's
 /// jitter; the harness's own scheduling delay measured in the exchange is added (it
 /// may have noticed the reply that much late, or written the request that much late),

@@ -1,0 +1,205 @@
+//! The command line of slave certification: `hiperface certify slave`.
+
+use crate::args::{ms_to_us, parse_ms, WorldArgs};
+use crate::line::LineKind;
+use crate::port::{self, PortSpec};
+use crate::verdict::timing::TimingMode;
+use crate::verdict::CaseVerdict;
+use crate::world::World;
+use crate::{profile_file, report};
+use hiperface_model::{Grading, Profile};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use super::Options;
+
+/// `hiperface certify slave`: act as master against a slave (encoder).
+#[derive(clap::Args, Debug, Clone)]
+pub struct CertifySlaveArgs {
+    /// `sim` (the reference model on an in-process pseudo-terminal, real time),
+    /// `virtual` (the reference model in-process, virtual time), a serial port path,
+    /// or `tcp://host:port` (a serial device server such as ser2net).
+    #[arg(long)]
+    pub port: PortSpec,
+    /// The device's profile: a built-in name or a TOML file.
+    #[arg(long, default_value = "SRS50")]
+    pub profile: String,
+    /// Allow EEPROM writes (each case restores what it changes). Implied by `--port sim`.
+    #[arg(long)]
+    pub allow_writes: bool,
+    /// Allow changing the counter, which cannot be restored. Implied by `--port sim`.
+    #[arg(long)]
+    pub allow_counter_change: bool,
+    /// Cap on EEPROM writes in the run.
+    #[arg(long, default_value_t = 200)]
+    pub write_budget: u32,
+    /// Run only cases whose id matches (glob with `*` and `?`, comma-separated).
+    #[arg(long)]
+    pub cases: Option<String>,
+    /// Write report.json, junit.xml, certificate.md and certificate.html here.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
+    /// How values of the physical world are graded: `exact` or `range` (default: exact
+    /// for `sim` and `virtual`, by range otherwise).
+    #[arg(long)]
+    pub grading: Option<Grading>,
+    /// Timing jitter allowed before a reply's start is graded, ms (default: 2 on a
+    /// serial port or pseudo-terminal, 4 over TCP).
+    #[arg(long, value_parser = parse_ms)]
+    pub tolerance_ms: Option<f64>,
+    /// How reply timing is graded: strict (FAIL outside the window), lenient
+    /// (NON-STRICT, with the figure), off (reported only). Default: strict, lenient
+    /// through a USB adapter whose latency timer could not be lowered.
+    #[arg(long, value_enum)]
+    pub timing: Option<TimingMode>,
+    /// The simulated encoder's world (with `--port sim` or `virtual`).
+    #[command(flatten)]
+    pub world: WorldArgs,
+}
+
+/// Certify the slave; exit code 0 when it passed, 1 when it failed, 3 when incomplete.
+/// Run policy lives here, where tests reach it: the grading and the writes a model
+/// port implies, nothing selected refused before the port is touched, and a partial
+/// report when the port cannot be opened.
+pub fn certify_slave(args: CertifySlaveArgs) -> Result<ExitCode, String> {
+    let CertifySlaveArgs {
+        port,
+        profile,
+        allow_writes,
+        allow_counter_change,
+        write_budget,
+        cases,
+        report: dir,
+        grading,
+        tolerance_ms,
+        timing,
+        world,
+    } = args;
+    let profile = profile_file::resolve(&profile).map_err(|e| e.to_string())?;
+    if let Some(dir) = &dir {
+        report::prepare_dir(dir)?;
+    }
+    // Nothing selected is nothing graded: refused before the port is touched.
+    if let Some(globs) = &cases {
+        if super::select(Some(globs)).is_empty() {
+            let mut groups: Vec<String> = super::cases::catalogue()
+                .iter()
+                .map(|c| format!("{}.*", c.id.split('.').next().unwrap_or(c.id)))
+                .collect();
+            groups.sort();
+            groups.dedup();
+            return Err(format!("no case matches `{globs}` (the cases: {})", groups.join(", ")));
+        }
+    }
+    let sim = port.is_model();
+    let grading = grading.unwrap_or(if sim { Grading::Exact } else { Grading::Range });
+    let world = if sim { world.world() } else { World::default() };
+    let opened = match port::open_for_slave(&port, profile, &world, tolerance_ms.map(ms_to_us)) {
+        Ok(o) => o,
+        Err(e) => {
+            if let Some(dir) = &dir {
+                let options = Options { grading, timing: timing.unwrap_or(TimingMode::Strict), ..Options::default() };
+                let partial =
+                    super::Report::aborted_before_start(&profile, &port.to_string(), &options, &e.to_string());
+                if report::write_all(&partial, dir).is_ok() {
+                    eprintln!("partial report written to {}", dir.display());
+                }
+            }
+            return Err(e.to_string());
+        }
+    };
+    let (default_timing, timing_reason) = opened.default_timing;
+    let options = Options {
+        allow_writes: allow_writes || sim,
+        allow_counter_change: allow_counter_change || sim,
+        write_budget,
+        cases,
+        grading,
+        interrupt: Some(crate::interrupt::flag("\ninterrupted: restoring and writing a partial report")),
+        world,
+        timing: timing.unwrap_or(default_timing),
+    };
+    if let (None, Some(reason)) = (timing, &timing_reason) {
+        eprintln!("note: {reason}");
+    }
+    // Keep the simulator alive for the whole run.
+    let simulator = opened.simulator;
+    let line = opened.line;
+    eprintln!("certifying {} on {}", profile.name, line.describe());
+    // A progress bar on a terminal; plain lines in logs.
+    let bar = std::io::IsTerminal::is_terminal(&std::io::stderr()).then(|| {
+        let b = indicatif::ProgressBar::new(super::cases::catalogue().len() as u64);
+        if let Ok(style) = indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}") {
+            b.set_style(style);
+        }
+        b
+    });
+    let report = super::run(line, profile, &options, |i, n, r| {
+        let mut text = format!("[{i:>2}/{n}] {:<16} {}", r.verdict.label(), r.id);
+        if r.attempts > 1 {
+            text.push_str(&format!(" ({} runs: the harness was disturbed)", r.attempts));
+        }
+        for f in r.findings.iter().filter(|f| matches!(f.verdict(), CaseVerdict::Fail | CaseVerdict::Error)) {
+            text.push_str(&format!("\n          {f}"));
+        }
+        match &bar {
+            Some(b) => {
+                b.set_length(n as u64);
+                b.set_position(i as u64);
+                b.set_message(r.id);
+                b.println(text);
+            }
+            None => eprintln!("{text}"),
+        }
+    });
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    drop(simulator);
+    summarize(&report, &profile);
+    if let Some(dir) = dir {
+        report::write_all(&report, &dir).map_err(|e| format!("cannot write the report to {}: {e}", dir.display()))?;
+        eprintln!("reports written to {}", dir.display());
+    }
+    Ok(report.outcome().exit())
+}
+
+fn summarize(report: &super::Report, profile: &Profile) {
+    let summary: Vec<String> = report.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
+    println!("{}: {}", profile.name, summary.join(", "));
+    if report.line_kind == Some(LineKind::Virtual) {
+        println!(
+            "virtual time: {:.0} ms of line time run in {:.1} ms; EEPROM writes {}",
+            report.physical_minimum_ms, report.wall_time_ms, report.safety.eeprom_writes
+        );
+    } else if report.physical_minimum_ms > 0.0 {
+        println!(
+            "wall time {:.0} ms; physical minimum from the wire log {:.0} ms (ratio {:.2}); EEPROM writes {}",
+            report.wall_time_ms,
+            report.physical_minimum_ms,
+            report.wall_time_ms / report.physical_minimum_ms,
+            report.safety.eeprom_writes
+        );
+    } else {
+        println!("wall time {:.0} ms; nothing was exchanged", report.wall_time_ms);
+    }
+    for c in report.rerun_cases() {
+        println!("re-run: {c}: the harness's own lateness left a verdict untold");
+    }
+    if let Some(a) = &report.aborted {
+        println!("ABORTED: {a}");
+    }
+    if report.safety.differs() {
+        println!("CHECK THE DEVICE: the run may have left it changed (not a verdict on the device):");
+        for c in report.safety.changed.iter().chain(&report.safety.bookkeeping) {
+            println!("  {c}");
+        }
+    }
+    if !report.safety.unverified.is_empty() {
+        println!("NOT VERIFIED: read before the run, not read back after it (not a verdict on the device):");
+        for c in &report.safety.unverified {
+            println!("  {c}");
+        }
+    }
+    println!("{}", report.outcome().label());
+}

@@ -1,0 +1,175 @@
+//! What a scenario of master certification is: the encoder's acts on the master's
+//! requests, when they happen, the situation they make, and the reaction a master
+//! should show. The catalogue itself is `scenarios.rs`.
+
+use crate::world::World;
+use hiperface_model::clause::{self, Clause};
+use hiperface_model::master::obligations::Rule;
+use hiperface_model::request::Request;
+use hiperface_model::request::RequestFrame;
+use hiperface_model::slave::inputs::PositionFault;
+use hiperface_model::{CommandId, FaultCode, Profile};
+
+/// What the encoder does to one request.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Act {
+    /// Answer with this error code instead.
+    Error(FaultCode),
+    /// No reply at all.
+    Silence,
+    /// Start the reply this much after its earliest start (past the limit of 000:T10).
+    LateMs(u16),
+    /// A reply whose checksum is wrong.
+    CorruptChecksum,
+    /// A pause inside the reply before character `before`.
+    Gap { before: usize, us: u64 },
+    /// From this request on the encoder has this position fault.
+    PositionFault(PositionFault),
+    /// The encoder restarts (a brown-out): no reply, initialization, default settings.
+    Restart,
+}
+
+/// The `nth` request (1, 2, ...) of command `on` gets `act`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Injection {
+    pub on: CommandId,
+    pub nth: u32,
+    pub act: Act,
+}
+
+/// What a scenario is about: the situation its plan or world creates. Until it has
+/// arisen nothing about it was seen, and the scenario is NOT-EXERCISED.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Situation {
+    /// The master talked to the encoder (its start-up).
+    Talked,
+    /// The master talked once the start-up windows had passed (the stored settings).
+    TalkedAfterWindows,
+    /// A reply carried the warning bit.
+    WarningSent,
+    /// The type label said FFh.
+    TypeFfSent,
+    /// The plan's injection took place.
+    Injected,
+}
+
+impl Situation {
+    /// What did not happen, for the certificate.
+    pub fn missing(self, s: &Scenario) -> String {
+        match self {
+            Situation::Talked => "the master never sent a request".into(),
+            Situation::TalkedAfterWindows => "the master sent no request after the start-up windows".into(),
+            Situation::WarningSent => "no reply with the warning bit went out: the master sent no request".into(),
+            Situation::TypeFfSent => "the master never read the type label (52h), so never saw type FFh".into(),
+            Situation::Injected => match s.plan.first() {
+                Some(i) => {
+                    format!("the master never sent request {} of {}, which the fault is injected on", i.nth, i.on)
+                }
+                None => "nothing was injected".into(),
+            },
+        }
+    }
+}
+
+/// The reaction a scenario expects once its situation has arisen, each from a
+/// recommendation of 000 (NON-STRICT when not seen, by the force of its clause).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Reaction {
+    /// The master goes on talking (polling resumes): 000:3.2.2.
+    GoesOn,
+    /// The same command again: "Retry command." (000:T74).
+    Retries,
+    /// The codes read out (50h) or the encoder reset (53h): 000:2.3.4.
+    ReadsCodes,
+    /// A SW reset of the encoder (53h): 000:T74, 000:3.3.4.
+    Resets,
+    /// The Extended Type Label read (4Ah on field FFh): 000:T19.
+    ReadsExtendedTypeLabel,
+}
+
+impl Reaction {
+    pub fn clause(self) -> Clause {
+        match self {
+            Reaction::GoesOn => clause::MASTER_CYCLIC.clause(),
+            Reaction::Retries | Reaction::Resets => clause::MASTER_FAULT_REACTION.clause(),
+            Reaction::ReadsCodes => clause::MASTER_WARNING.clause(),
+            Reaction::ReadsExtendedTypeLabel => clause::MASTER_EXTENDED_TYPE_LABEL.clause(),
+        }
+    }
+
+    /// The observer's rules that judge this reaction already once the master talks
+    /// on: where one of them was broken, "not seen" would say it twice.
+    pub fn judged_by(self) -> &'static [Rule] {
+        match self {
+            Reaction::GoesOn => &[Rule::NoCyclicRequest],
+            Reaction::Retries => &[Rule::NoRetry],
+            Reaction::ReadsCodes => &[Rule::WarningIgnored],
+            Reaction::Resets => &[Rule::NoResetAfterCriticalFault, Rule::UnboundedRetry],
+            Reaction::ReadsExtendedTypeLabel => &[Rule::ExtendedTypeLabelNotRead],
+        }
+    }
+
+    /// Whether `request` (after the situation) is the reaction; `on`: the command the
+    /// plan injects on.
+    pub fn seen_in(self, request: &RequestFrame, on: Option<CommandId>) -> bool {
+        let command = request.request.command();
+        match self {
+            Reaction::GoesOn => true,
+            Reaction::Retries => Some(command) == on,
+            Reaction::ReadsCodes => matches!(command, CommandId::ReadEncoderStatus | CommandId::EncoderReset),
+            Reaction::Resets => command == CommandId::EncoderReset,
+            Reaction::ReadsExtendedTypeLabel => matches!(request.request, Request::ReadData { field: 0xFF, .. }),
+        }
+    }
+
+    pub fn text(self) -> &'static str {
+        match self {
+            Reaction::GoesOn => "a request after it (polling goes on)",
+            Reaction::Retries => "the request retried",
+            Reaction::ReadsCodes => "the codes read out (50h) or a reset (53h)",
+            Reaction::Resets => "a SW reset (53h)",
+            Reaction::ReadsExtendedTypeLabel => "the Extended Type Label read (4Ah, field FFh)",
+        }
+    }
+}
+
+/// How long after its situation a scenario goes on at least, beyond the polling
+/// period: time for the reaction, and for the polling rule to see a silence.
+pub const REACTION_MARGIN_MS: u64 = 300;
+
+/// One scenario.
+#[derive(Debug, Clone, Copy)]
+pub struct Scenario {
+    pub id: &'static str,
+    pub title: &'static str,
+    pub clauses: &'static [Clause],
+    /// How long the master is watched from power-on at least, ms; longer where the
+    /// situation arises late ([`Scenario::end_ms`]).
+    pub duration_ms: u64,
+    /// The encoder's world at power-on (inputs, start-up faults).
+    pub world: fn(&Profile) -> World,
+    pub plan: &'static [Injection],
+    /// The encoder of this scenario, made from the run's profile (e.g. one with type
+    /// code FFh, or with stored settings other than the default).
+    pub encoder: Option<fn(Profile) -> Profile>,
+    /// What the scenario is about: until it arises, the scenario is NOT-EXERCISED.
+    pub situation: Situation,
+    /// What a master should do once it has.
+    pub reaction: Reaction,
+}
+
+impl Scenario {
+    /// When the scenario ends, ms since power-on: its duration, or later when its
+    /// situation arose at `situation_ms`, so that the reaction and a polling period
+    /// after it are seen.
+    pub fn end_ms(&self, situation_ms: Option<u64>, polling_period_ms: u32) -> u64 {
+        let after = situation_ms.map_or(0, |t| t + polling_period_ms as u64 + REACTION_MARGIN_MS);
+        self.duration_ms.max(after)
+    }
+
+    /// The scenario is about what happens from power-on: the start-up scenarios, and
+    /// a critical fault found at start-up.
+    pub fn from_power_on(&self) -> bool {
+        self.id.starts_with("startup.") || self.id == "fault.critical-at-start"
+    }
+}

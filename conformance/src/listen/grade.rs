@@ -1,0 +1,126 @@
+//! Grading one exchange the listener heard: the reply's form and timing, and its
+//! content where a listener can know it (it does not know the encoder's stored state).
+
+use super::{HeardExchange, Listener, Open, ReplyHeard};
+use crate::exchange::{Exchange, HeardLate};
+use crate::line::Window;
+use crate::verdict::timing::{self, TimingMode};
+use crate::verdict::{CaseVerdict, Finding};
+use hiperface_model::oracle::Deviation;
+use hiperface_model::request::RequestFrame;
+use hiperface_model::response::ResponseFrame;
+use hiperface_model::slave::Reply;
+
+impl Listener {
+    /// Grade one exchange (its reply's characters and bytes, if one was heard): the
+    /// reply's form and timing, and its content where the listener can know it.
+    pub(super) fn exchange(&mut self, open: Open, reply: Option<ReplyHeard>, out: &mut impl FnMut(&HeardExchange)) {
+        let edition = self.options.profile.edition;
+        let command = open.command();
+        // The timeout the encoder framed the request with (its settings may have changed
+        // since the capture began: 57h and a reset). // 000:T28/settings
+        let timeout_us = self.shadow.timeout_us(open.end_us);
+        let complete_us = open.end_us.saturating_add(timeout_us);
+        let (reply, observed, decoded) = match reply {
+            Some(r) => (Some(r.heard), Some(r.bytes), r.decoded),
+            None => (None, None, None),
+        };
+        let mut before = self.shadow.clone();
+        let mut expected = self.shadow.handle_frame(&open.bytes, complete_us);
+        if let Some(code0) = accepted_code0(&open.bytes, &expected, decoded.as_ref()) {
+            // The encoder took a Code0 the model refused: the listener does not know
+            // the codes, so that one is the encoder's. // 000:T26
+            before.adopt_access_code(0, code0);
+            self.shadow = before.clone();
+            expected = self.shadow.handle_frame(&open.bytes, complete_us);
+        }
+        let grade = self.oracle.grade(&before, &open.bytes, complete_us, &expected, observed.as_deref());
+        let mut findings = Vec::new();
+        if let Some(f) = Finding::graded(&grade, &open.bytes) {
+            let knowable = grade.deviation().is_some_and(|d| knowable(&d, &open.bytes));
+            findings.push(if knowable {
+                f
+            } else {
+                Finding::unknown(format!(
+                    "not graded: {f}; the listener does not know the encoder's stored state or its address"
+                ))
+            });
+        }
+        if let Some(r) = reply.as_ref().filter(|r| r.chars.iter().any(|c| c.fault.is_some())) {
+            let n = r.chars.iter().filter(|c| c.fault.is_some()).count();
+            findings.push(Finding::unknown(format!(
+                "{n} characters of the reply had a parity or framing error as captured: the line, the tap or the encoder"
+            )));
+        }
+        let mut response_ms = None;
+        let mut request = open.bytes;
+        if let (Some(r), Reply::Frame(_)) = (reply, expected.reply) {
+            let heard_late = HeardLate { request_end_us: open.end_late_us, reply_start_us: r.first_late_us() };
+            let x = Exchange {
+                request,
+                stray: Vec::new(),
+                sent_start_us: open.start_us,
+                request_end: Window::exact(open.end_us),
+                reply_start: r.chars.first().map(|c| Window::exact(c.at_us.saturating_sub(self.char_us))),
+                reply: r.chars,
+                trailing: Vec::new(),
+                settings: self.shadow.listening_settings(open.end_us).unwrap_or(self.options.settings),
+                timeout_us,
+                harness_late_us: 0,
+                heard_late,
+            };
+            let limits = self.options.profile.response_limit(command);
+            findings.extend(timing::grade(&x, limits, self.options.tolerance_us, TimingMode::Strict, edition));
+            if let Some(t) = timing::at_most_us(&x) {
+                response_ms = Some(t as f64 / 1000.0);
+                self.summary.response_time(command, t);
+            }
+            request = x.request;
+        }
+        // What a well-formed reply tells of the encoder's world (as `certify` does on a
+        // real device).
+        if let (Some(frame), true) = (decoded, findings.is_empty()) {
+            self.shadow.adopt_reply(&frame.response);
+        }
+        self.follow(complete_us);
+        let heard = HeardExchange {
+            t_ms: open.end_us as f64 / 1000.0,
+            command,
+            request,
+            reply: observed,
+            response_ms,
+            verdict: findings.iter().fold(CaseVerdict::Pass, |v, f| v.worst(f.verdict())),
+            findings,
+        };
+        self.summary.exchange(&heard);
+        out(&heard);
+    }
+}
+
+/// The Code0 of a request the model refused for its access code and the encoder
+/// accepted (a reply of the command's own form, not an error).
+fn accepted_code0(
+    request: &[u8],
+    expected: &hiperface_model::slave::Outcome,
+    heard: Option<&ResponseFrame>,
+) -> Option<u8> {
+    use hiperface_model::response::Response;
+    use hiperface_model::FaultCode::WrongAccessCode;
+    let refused = match expected.reply {
+        Reply::Frame(f) => f.response == Response::Error(WrongAccessCode) || expected.also.contains(WrongAccessCode),
+        Reply::Silent(_) => false,
+    };
+    let accepted = heard.is_some_and(|h| !matches!(h.response, Response::Error(_)));
+    let code0 = RequestFrame::decode(request).ok().and_then(|r| r.request.code0());
+    code0.filter(|_| refused && accepted)
+}
+
+/// A deviation the listener can see whatever the encoder's stored state: the reply's
+/// form, its address echo to a request that named one, a warning bit with "no fault".
+fn knowable(d: &Deviation, request: &[u8]) -> bool {
+    match d {
+        Deviation::Malformed(_) | Deviation::WarningWithoutCode => true,
+        Deviation::WrongAddress { .. } => request.first() != Some(&0xFF),
+        _ => false,
+    }
+}
