@@ -4,7 +4,7 @@
 
 use crate::targets;
 use hiperface_model::command::CommandByte;
-use hiperface_model::slave::stack::ErrorStack;
+use hiperface_model::slave::stack::{ErrorStack, STACK_DEPTH};
 use hiperface_model::{profile::StackOrder, profiles, FaultCode, RequestFrame, Slave};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestRunner};
@@ -89,8 +89,9 @@ pub fn stack_invariants(ops: &[u8]) -> bool {
                 s.pop(StackOrder::OldestFirst);
             }
         }
-        let e: Vec<_> = s.entries().collect();
-        if e.len() > 4 || (0..e.len()).any(|i| e[i + 1..].contains(&e[i])) {
+        // At most four entries, each present once (no allocation: Kani checks this too).
+        let repeated = s.entries().enumerate().any(|(i, a)| s.entries().skip(i + 1).any(|b| b == a));
+        if s.len() > STACK_DEPTH || s.entries().count() != s.len() || repeated {
             return false;
         }
     }

@@ -46,35 +46,45 @@ fn fault(f: Option<u8>) -> Option<UartFault> {
 pub fn datalink(timeout_us: u16, chars: &[TimedChar]) {
     let timeout = timeout_us.max(1) as u64;
     let mut link = DataLink::new(timeout);
-    let mut t = 0u64;
-    let mut frames: Vec<(usize, u64, u64)> = Vec::new(); // (chars, first, last)
-    let mut fed = 0;
-    for c in chars {
-        t += c.gap_us as u64;
-        if let Some(f) = link.receive(RxChar { byte: c.byte, at_us: t, fault: fault(c.fault) }) {
-            frames.push((f.char_count, f.first_us, f.last_us));
-        }
-        fed += 1;
-    }
-    if let Some(f) = link.poll(u64::MAX) {
-        frames.push((f.char_count, f.first_us, f.last_us));
-    }
-    assert_eq!(frames.iter().map(|f| f.0).sum::<usize>(), fed, "characters lost or duplicated");
-    for w in frames.windows(2) {
-        assert!(w[1].1 - w[0].2 >= timeout, "frames split by less than the timeout");
-    }
-    // Within a frame every gap is below the timeout: rebuild and check.
-    let mut t = 0u64;
-    let mut prev: Option<u64> = None;
-    let mut splits = 0;
+    // Checked as the frames come, with nothing kept but counts (no allocation, so that
+    // Kani checks the same function): every character in exactly one frame, frames
+    // apart by at least the timeout, and as many frames as gaps of the timeout + 1.
+    let mut seen = Frames { timeout, chars: 0, count: 0, last_us: None };
+    let (mut t, mut prev, mut splits) = (0u64, None::<u64>, 0usize);
     for c in chars {
         t += c.gap_us as u64;
         if prev.is_some_and(|p| t - p >= timeout) {
             splits += 1;
         }
         prev = Some(t);
+        if let Some(f) = link.receive(RxChar { byte: c.byte, at_us: t, fault: fault(c.fault) }) {
+            seen.add(&f);
+        }
     }
-    assert_eq!(frames.len(), if chars.is_empty() { 0 } else { splits + 1 });
+    if let Some(f) = link.poll(u64::MAX) {
+        seen.add(&f);
+    }
+    assert_eq!(seen.chars, chars.len(), "characters lost or duplicated");
+    assert_eq!(seen.count, if chars.is_empty() { 0 } else { splits + 1 });
+}
+
+/// What [`datalink`] has seen of the frames so far.
+struct Frames {
+    timeout: u64,
+    chars: usize,
+    count: usize,
+    last_us: Option<u64>,
+}
+
+impl Frames {
+    fn add(&mut self, f: &hiperface_model::datalink::ReceivedFrame) {
+        if let Some(last) = self.last_us {
+            assert!(f.first_us - last >= self.timeout, "frames split by less than the timeout");
+        }
+        self.chars += f.char_count;
+        self.count += 1;
+        self.last_us = Some(f.last_us);
+    }
 }
 
 #[derive(Debug, Arbitrary)]

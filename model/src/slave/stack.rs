@@ -18,7 +18,9 @@ impl ErrorStack {
     }
 
     pub fn entries(&self) -> impl Iterator<Item = FaultCode> + '_ {
-        self.entries[..self.len as usize].iter().map(|b| FaultCode::decode(*b))
+        // Over the whole array, taking `len`: a loop of at most STACK_DEPTH steps, which
+        // a bounded model checker sees without knowing that `len` stays <= 4.
+        self.entries.iter().take(self.len as usize).map(|b| FaultCode::decode(*b))
     }
 
     pub const fn len(&self) -> usize {
