@@ -17,6 +17,8 @@ pub struct Property {
     /// The domain `cargo test` checks.
     pub domain: &'static str,
     pub exhaustive: bool,
+    /// The Kani harness that proves the same property (`lib.rs`), where one does.
+    pub harness: Option<&'static str>,
     /// Cases checked, or a counterexample.
     pub run: fn() -> Result<u64, String>,
 }
@@ -209,6 +211,7 @@ pub const PROPERTIES: &[Property] = &[
         claim: "a frame with its checksum XORs to 0; every single-bit flip is detected (000:2.3.3)",
         domain: "every 2-byte body x every bit of the 3-byte frame (1 572 864)",
         exhaustive: true,
+        harness: Some("checksum"),
         run: || exhaust((0..=0xFFFFu32).flat_map(|b| (0..24).map(move |bit| (b, bit))), |(b, bit)| crate::checksum_detects_single_bit_flips([(*b >> 8) as u8, *b as u8], *bit)),
     },
     Property {
@@ -216,6 +219,7 @@ pub const PROPERTIES: &[Property] = &[
         claim: "address bytes round-trip; slave addresses are exactly 40h...5Fh (000:T5)",
         domain: "all 256 bytes",
         exhaustive: true,
+        harness: Some("address_codec"),
         run: || exhaust(0..=255u8, |b| crate::address_codec_round_trips(*b)),
     },
     Property {
@@ -223,6 +227,7 @@ pub const PROPERTIES: &[Property] = &[
         claim: "command bytes round-trip; bit 6 clear is refused (000:T6)",
         domain: "all 256 bytes",
         exhaustive: true,
+        harness: Some("command_byte_codec"),
         run: || exhaust(0..=255u8, |b| command_byte_round_trips(*b)),
     },
     Property {
@@ -230,6 +235,7 @@ pub const PROPERTIES: &[Property] = &[
         claim: "the settings byte decodes exactly when defined and round-trips (000:T28)",
         domain: "all 256 bytes",
         exhaustive: true,
+        harness: Some("settings_codec"),
         run: || exhaust(0..=255u8, |b| crate::settings_codec_round_trips(*b)),
     },
     Property {
@@ -237,6 +243,7 @@ pub const PROPERTIES: &[Property] = &[
         claim: "the request decoder never panics; decoded frames re-encode identically",
         domain: "every frame of 0 to 3 bytes (16 843 009)",
         exhaustive: true,
+        harness: Some("request_decoder"),
         run: || {
             let short = (0..=0xFFu32).map(|a| vec![a as u8]).chain((0..=0xFFFFu32).map(|x| vec![(x >> 8) as u8, x as u8]));
             let three = (0..=0xFF_FFFFu32).map(|x| vec![(x >> 16) as u8, (x >> 8) as u8, x as u8]);
@@ -248,6 +255,7 @@ pub const PROPERTIES: &[Property] = &[
         claim: "request and response decoders never panic and round-trip on any bytes",
         domain: "20 000 byte strings of 0..140 bytes (proptest)",
         exhaustive: false,
+        harness: Some("response_decoder"),
         run: || sample(prop::collection::vec(any::<u8>(), 0..140), 20_000, |d| decoders_are_total(d)),
     },
     Property {
@@ -255,6 +263,7 @@ pub const PROPERTIES: &[Property] = &[
         claim: "a well-formed request of every command decodes and re-encodes identically",
         domain: "23 commands x 20 000 sampled argument bytes (proptest)",
         exhaustive: false,
+        harness: Some("request_round_trip"),
         run: || sample((any::<u8>(), prop::collection::vec(any::<u8>(), 1..140)), 20_000, |(c, d)| request_round_trips(*c, d)),
     },
     Property {
@@ -262,6 +271,7 @@ pub const PROPERTIES: &[Property] = &[
         claim: "the data link frames any character sequence, never merges characters a timeout apart, loses none (000:2.2.2)",
         domain: "5 000 sequences of up to 64 characters with any gaps (proptest)",
         exhaustive: false,
+        harness: Some("datalink"),
         run: datalink_link_check,
     },
     Property {
@@ -269,6 +279,7 @@ pub const PROPERTIES: &[Property] = &[
         claim: "the slave's step never panics for any frame of up to 3 bytes in reachable states; invariants hold",
         domain: "every 3-byte frame to 40h x 8 reachable states, with and without a UART fault",
         exhaustive: true,
+        harness: Some("slave_step"),
         run: slave_step,
     },
     Property {
@@ -276,6 +287,7 @@ pub const PROPERTIES: &[Property] = &[
         claim: "at most 4 entries, no duplicates, for any push/pop sequence (000:T27)",
         domain: "every sequence of up to 7 operations over 5 codes and pop (335 923)",
         exhaustive: true,
+        harness: Some("stack"),
         run: || exhaust((0..=7u32).flat_map(|len| (0..6u32.pow(len)).map(move |x| (0..len).map(|i| ((x / 6u32.pow(i)) % 6) as u8).collect::<Vec<_>>())), |ops| stack_invariants(ops)),
     },
     Property {
@@ -283,6 +295,7 @@ pub const PROPERTIES: &[Property] = &[
         claim: "free + allocated = total and field numbers contiguous after any create/resize/delete sequence (DESIGN:fields)",
         domain: "every sequence of up to 5 requests over 6 (9 331)",
         exhaustive: true,
+        harness: None,
         run: || exhaust((0..=5u32).flat_map(|len| (0..6u32.pow(len)).map(move |x| (0..len).map(|i| ((x / 6u32.pow(i)) % 6) as u8).collect::<Vec<_>>())), |ops| memory_is_conserved(ops)),
     },
     Property {
@@ -290,6 +303,7 @@ pub const PROPERTIES: &[Property] = &[
         claim: "the quadrature step equals 000 Table 72",
         domain: "the 16 rows",
         exhaustive: true,
+        harness: Some("quadrature_table"),
         run: || exhaust(0..16u8, |r| crate::quadrature_equals_table_72(*r)),
     },
     Property {
@@ -297,6 +311,7 @@ pub const PROPERTIES: &[Property] = &[
         claim: "the synchronisation correction equals 000:3.2.5's table",
         domain: "the 16 rows",
         exhaustive: true,
+        harness: Some("sync_table"),
         run: || exhaust((0..16u8).map(|x| (x >> 2, x & 3)), |(f, a)| crate::sync_equals_table(*f, *a)),
     },
     Property {
@@ -304,6 +319,7 @@ pub const PROPERTIES: &[Property] = &[
         claim: "octant transformation and retransformation are sound for every sign combination (000:3.2.4)",
         domain: "sin, cos in -1024..=1024 (4 198 401)",
         exhaustive: true,
+        harness: Some("octants"),
         run: || exhaust((-1024..=1024i32).flat_map(|s| (-1024..=1024i32).map(move |c| (s, c))), |(s, c)| crate::octant_transformation_is_sound(*s, *c)),
     },
 ];
