@@ -100,6 +100,16 @@ impl<L: Line> BusMaster<L> {
     /// Send `request` and collect the reply. `listen_ms` bounds the wait for the
     /// first character (after the request's timeout), with the line's tolerance.
     pub fn exchange(&mut self, request: &[u8], listen_ms: u16) -> Result<Exchange, LineError> {
+        self.exchange_sent(request, listen_ms, false)
+    }
+
+    /// [`BusMaster::exchange`] with the request sent with the wrong parity (see
+    /// [`Line::send_with_wrong_parity`]).
+    pub fn exchange_with_wrong_parity(&mut self, request: &[u8], listen_ms: u16) -> Result<Exchange, LineError> {
+        self.exchange_sent(request, listen_ms, true)
+    }
+
+    fn exchange_sent(&mut self, request: &[u8], listen_ms: u16, wrong_parity: bool) -> Result<Exchange, LineError> {
         let settings = self.line.settings();
         let timeout = self.timeout_us();
         let ct = settings.char_time_us();
@@ -119,7 +129,7 @@ impl<L: Line> BusMaster<L> {
         self.line.wait_until(ready)?;
         let sent_start_us = self.line.now_us();
         self.line.take_lateness_us();
-        let sent = self.line.send(request)?;
+        let sent = if wrong_parity { self.line.send_with_wrong_parity(request)? } else { self.line.send(request)? };
         let complete = sent.end.shifted(timeout);
         let deadline = complete.latest_us + listen_ms as u64 * 1000 + ct + self.line.tolerance_us() + timeout;
         let mut reply = Vec::new();

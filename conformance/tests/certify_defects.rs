@@ -81,6 +81,9 @@ impl SlaveDevice for Defective {
     fn next_deadline(&self, now_us: u64) -> Option<u64> {
         self.model.next_deadline(now_us)
     }
+    fn listening_settings(&self, now_us: u64) -> Option<hiperface_model::UartSettings> {
+        self.model.listening_settings(now_us)
+    }
     fn reply_delay_us(&self) -> u64 {
         self.delay_us
     }
@@ -170,6 +173,24 @@ fn off_by_one_in_data_field_bounds() {
     }));
     assert_fails(&r, &["fields.lifecycle"]);
     assert_eq!(verdict(&r, "position.read"), CaseVerdict::Pass);
+}
+
+/// A slave whose UART drops parity errors (or that checks no parity): it answers a
+/// request with a parity error as if nothing were wrong. The unmodified wrapper above
+/// passes `protocol.parity` on the same line.
+#[test]
+fn parity_errors_ignored() {
+    let mut d = Defective::new(keep);
+    d.incoming = |c, _, _| RxChar { fault: None, ..c };
+    let r = certify(d);
+    assert_fails(&r, &["protocol.parity"]);
+    let f = &r.cases.iter().find(|c| c.id == "protocol.parity").unwrap().findings[0];
+    assert_eq!(f.clause_id(), "000:T47", "{}", f.message());
+    // Only the parity case: every other request had no fault to drop.
+    let failed: Vec<_> = r.cases.iter().filter(|c| c.verdict == CaseVerdict::Fail).map(|c| c.id).collect();
+    assert_eq!(failed, ["protocol.parity"]);
+    // The conformant model passes it on the same line.
+    assert_eq!(verdict(&certify(Defective::new(keep)), "protocol.parity"), CaseVerdict::Pass);
 }
 
 #[test]

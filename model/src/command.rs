@@ -52,6 +52,7 @@ macro_rules! command_table {
                 master_data: $m,
                 slave_data: $s,
                 errors: $errors,
+                listed: FaultBits::of($errors),
                 memory: Memory::$memory,
                 optional: matches!(Need::$need, Need::Optional),
                 editions: Editions::$ed,
@@ -147,6 +148,31 @@ impl DataLength {
     }
 }
 
+/// A set of fault codes (all below 40h, 000:T11), one bit each.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct FaultBits(u64);
+
+impl FaultBits {
+    /// The set of `codes`; a code of 40h or above (none is defined) is left out.
+    pub const fn of(codes: &[FaultCode]) -> FaultBits {
+        let mut bits = 0u64;
+        let mut i = 0;
+        while i < codes.len() {
+            let b = codes[i].byte();
+            if b < 64 {
+                bits |= 1 << b;
+            }
+            i += 1;
+        }
+        FaultBits(bits)
+    }
+
+    pub const fn contains(self, code: FaultCode) -> bool {
+        let b = code.byte();
+        b < 64 && self.0 & (1 << b) != 0
+    }
+}
+
 /// Which editions define a command.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Editions {
@@ -194,6 +220,8 @@ pub struct CommandSpec {
     pub slave_data: DataLength,
     /// Error codes the table lists for the command (without 09h-0Ch, common to all).
     pub errors: &'static [FaultCode],
+    /// The same codes as a set, built at compile time, for [`CommandSpec::lists`].
+    pub listed: FaultBits,
     /// Whether a successful execution writes the EEPROM.
     pub memory: Memory,
     pub optional: bool,
@@ -202,6 +230,13 @@ pub struct CommandSpec {
 }
 
 impl CommandSpec {
+    /// Whether the command's table lists `code` among its errors: one bit test (no
+    /// loop over the list, which a bounded model checker could not bound when it does
+    /// not know the command).
+    pub const fn lists(&self, code: FaultCode) -> bool {
+        self.listed.contains(code)
+    }
+
     /// Whether the command writes non-volatile memory (DESIGN: safety on real devices).
     pub const fn writes_eeprom(&self) -> bool {
         matches!(self.memory, Memory::WritesEeprom)
@@ -387,6 +422,19 @@ impl CommandSet {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_set_of_listed_errors_is_the_list() {
+        for spec in COMMAND_TABLE {
+            for b in 0..=255u8 {
+                let code = FaultCode::decode(b);
+                assert_eq!(spec.lists(code), spec.errors.contains(&code), "{} {b:02X}h", spec.name);
+            }
+        }
+        // Not vacuous: a listed code and one that is not.
+        let set_position = CommandId::SetPosition.spec().map(|s| (s.lists(I2cBus), s.lists(CounterOverflow)));
+        assert_eq!(set_position, Some((true, false)));
+    }
 
     #[test]
     fn table_10_commands_and_response_times() {

@@ -299,7 +299,9 @@ impl Profile {
     }
 
     pub fn supports_baud(&self, baud: Baud) -> bool {
-        Baud::ALL.iter().zip(self.baud_rates).any(|(b, ok)| *b == baud && ok)
+        // `baud_rates` is in the order of `Baud::ALL`, which is the enum's order: one
+        // index, no search (a bounded model checker need not unwind one).
+        self.baud_rates.get(baud as usize).copied().unwrap_or(false)
     }
 
     pub fn analog_channel(&self, selector: u8) -> Option<AnalogChannel> {

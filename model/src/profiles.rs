@@ -19,10 +19,13 @@ const TEMPERATURE: AnalogChannel =
 const LEGACY_TEMPERATURE: AnalogChannel =
     AnalogChannel { selector: 0xF0, source: AnalogSource::Temperature, encoding: AnalogEncoding::Celsius2048 };
 
+/// `s` in `N` bytes, padded with 00h or cut. One copy, no loop: a bounded model
+/// checker builds every profile in its harnesses.
 fn padded<const N: usize>(s: &str) -> [u8; N] {
     let mut a = [0u8; N];
-    for (d, b) in a.iter_mut().zip(s.bytes()) {
-        *d = b;
+    let n = s.len().min(N);
+    if let (Some(to), Some(from)) = (a.get_mut(..n), s.as_bytes().get(..n)) {
+        to.copy_from_slice(from);
     }
     a
 }
@@ -207,6 +210,13 @@ pub fn builtin(name: &str) -> Option<Profile> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn padded_pads_and_cuts() {
+        assert_eq!(padded::<4>("ab"), *b"ab\0\0");
+        assert_eq!(padded::<3>("abcd"), *b"abc");
+        assert_eq!(padded::<0>("x"), [0u8; 0]);
+    }
 
     #[test]
     fn every_builtin_profile_is_valid_and_named() {

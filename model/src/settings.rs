@@ -64,7 +64,7 @@ impl Baud {
     }
 
     pub fn from_bits_per_second(bps: u32) -> Option<Baud> {
-        Baud::ALL.into_iter().find(|b| b.bits_per_second() == bps)
+        Baud::ALL.iter().copied().find(|b| b.bits_per_second() == bps)
     }
 }
 
@@ -125,6 +125,18 @@ pub struct UartSettings {
 }
 
 impl UartSettings {
+    /// The same settings with the other parity rule (even for odd, odd for even):
+    /// every character sent in them arrives with a parity error at a receiver in
+    /// these. `None` without parity, where no parity error can be made. // 000:T47
+    pub const fn with_wrong_parity(self) -> Option<UartSettings> {
+        let parity = match self.parity {
+            Parity::Even => Parity::Odd,
+            Parity::Odd => Parity::Even,
+            Parity::None => return None,
+        };
+        Some(UartSettings { parity, ..self })
+    }
+
     /// E4h: 9600 Bd, 8 data bits, even parity, 5*11 timeout, standard slave. // 000:T28
     pub const DEFAULT: UartSettings =
         UartSettings { baud: Baud::B9600, parity: Parity::Even, timeout: TimeoutSelect::Long, bus: BusMode::Standard };
@@ -236,6 +248,22 @@ impl fmt::Display for UartSettings {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn baud_all_is_in_the_order_of_the_enum() {
+        for (i, b) in Baud::ALL.iter().enumerate() {
+            assert_eq!(*b as usize, i, "{b:?}");
+        }
+    }
+
+    #[test]
+    fn the_wrong_parity_is_the_other_rule() {
+        let even = UartSettings::DEFAULT;
+        let odd = UartSettings { parity: Parity::Odd, ..even };
+        assert_eq!(even.with_wrong_parity(), Some(odd));
+        assert_eq!(odd.with_wrong_parity(), Some(even));
+        assert_eq!(UartSettings { parity: Parity::None, ..even }.with_wrong_parity(), None);
+    }
 
     #[test]
     fn strict_decoder_accepts_exactly_the_defined_bytes() {

@@ -1,7 +1,8 @@
 //! The command line of slave certification: `hiperface certify slave`.
 
 use crate::args::{ms_to_us, parse_ms, WorldArgs};
-use crate::line::LineKind;
+use crate::line::echo::{EchoLine, EchoMode};
+use crate::line::{Line, LineKind};
 use crate::port::{self, PortSpec};
 use crate::verdict::timing::TimingMode;
 use crate::verdict::CaseVerdict;
@@ -52,6 +53,12 @@ pub struct CertifySlaveArgs {
     /// through a USB adapter whose latency timer could not be lowered.
     #[arg(long, value_enum)]
     pub timing: Option<TimingMode>,
+    /// Whether the line returns the harness's own requests (a two-wire RS-485
+    /// adapter whose receiver stays on): `auto` finds out at the first request and
+    /// takes the echo off the line; `on` always expects it; `off` reports an echo as a
+    /// line fault.
+    #[arg(long, value_enum, default_value_t = EchoMode::Auto)]
+    pub echo: EchoMode,
     /// The simulated encoder's world (with `--port sim` or `virtual`).
     #[command(flatten)]
     pub world: WorldArgs,
@@ -73,6 +80,7 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<ExitCode, String> {
         grading,
         tolerance_ms,
         timing,
+        echo,
         world,
     } = args;
     let profile = profile_file::resolve(&profile).map_err(|e| e.to_string())?;
@@ -124,7 +132,7 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<ExitCode, String> {
     }
     // Keep the simulator alive for the whole run.
     let simulator = opened.simulator;
-    let line = opened.line;
+    let line: Box<dyn Line> = Box::new(EchoLine::new(opened.line, echo));
     eprintln!("certifying {} on {}", profile.name, line.describe());
     // A progress bar on a terminal; plain lines in logs.
     let bar = std::io::IsTerminal::is_terminal(&std::io::stderr()).then(|| {

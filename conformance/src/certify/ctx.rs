@@ -200,6 +200,17 @@ impl Ctx<'_> {
 
     /// Send a frame as it is (for malformed frames); grade the answer.
     pub fn send_frame(&mut self, frame: &[u8]) -> Result<Graded, CaseError> {
+        self.transmit(frame, false)
+    }
+
+    /// Send a frame with the wrong parity on every character; grade the answer, which
+    /// must be the one to a UART fault (000:T47). The line must carry parity
+    /// ([`Ctx::line_carries_parity`]).
+    pub fn send_with_wrong_parity(&mut self, frame: &[u8]) -> Result<Graded, CaseError> {
+        self.transmit(frame, true)
+    }
+
+    fn transmit(&mut self, frame: &[u8], wrong_parity: bool) -> Result<Graded, CaseError> {
         if self.interrupted() {
             return Err(CaseError::Interrupted);
         }
@@ -216,10 +227,21 @@ impl Ctx<'_> {
         let estimate = self.master.now_us()
             + frame.len() as u64 * self.master.line.settings().char_time_us()
             + self.master.timeout_us();
-        let expects_reply = matches!(before.clone().handle_frame(frame, estimate).reply, Reply::Frame(_));
+        let handle = |s: &mut Slave, at_us| {
+            if wrong_parity {
+                s.handle_faulty_frame(frame, at_us)
+            } else {
+                s.handle_frame(frame, at_us)
+            }
+        };
+        let expects_reply = matches!(handle(&mut before.clone(), estimate).reply, Reply::Frame(_));
         let listen_ms = if expects_reply { timing::reply_awaited_ms(limits) } else { limits.max_ms };
-        let x = self.master.exchange(frame, listen_ms)?;
-        let expected = self.model.handle_frame(frame, x.complete_us());
+        let x = if wrong_parity {
+            self.master.exchange_with_wrong_parity(frame, listen_ms)?
+        } else {
+            self.master.exchange(frame, listen_ms)?
+        };
+        let expected = handle(self.model, x.complete_us());
         if self.model.eeprom_writes() > self.options.write_budget {
             return Err(CaseError::Budget(self.options.write_budget));
         }
@@ -349,6 +371,11 @@ impl Ctx<'_> {
     /// Whether the line can follow the device to another data rate (67h).
     pub fn line_can_change_settings(&self) -> bool {
         self.master.line.can_change_settings()
+    }
+
+    /// Whether a parity error can be sent on the line; `Err` says why not.
+    pub fn line_carries_parity(&self) -> Result<(), &'static str> {
+        self.master.line.carries_parity()
     }
 
     pub fn allow_counter_change(&self) -> bool {

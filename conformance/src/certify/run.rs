@@ -33,6 +33,8 @@ pub struct Report {
     pub line_kind: Option<LineKind>,
     /// Facts about the line that bear on timing verdicts (an adapter's latency timer).
     pub line_notes: Vec<String>,
+    /// What the run found of the line's echo (`--echo`), and the mode it ran in.
+    pub echo: Option<(crate::line::echo::Echo, crate::line::echo::EchoMode)>,
     pub timing: TimingMode,
     /// Jitter allowed for the line on every timing verdict, µs.
     pub tolerance_us: u64,
@@ -61,6 +63,7 @@ impl Report {
             line: line.to_string(),
             line_kind: None,
             line_notes: Vec::new(),
+            echo: None,
             timing: options.timing,
             tolerance_us: 0,
             harness_late_us: 0,
@@ -106,7 +109,6 @@ pub fn run(
     let started = Instant::now();
     let mut report = Report::empty(&profile, &line.describe(), options);
     report.line_kind = Some(line.kind());
-    report.line_notes = line.notes();
     report.tolerance_us = line.tolerance_us();
     let mut master = BusMaster::new(line, profile.edition);
     let mut model = Slave::operational(profile);
@@ -185,6 +187,9 @@ pub fn run(
         progress(i + 1, selected.len(), &result);
         report.cases.push(result);
     }
+    // Read at the end: what the run found out about the line (its echo) is known now.
+    report.line_notes = master.line.notes();
+    report.echo = master.line.echo();
     let after = match not_read_back {
         None => Ok(Snapshot::read(&mut master, &model, &mut tally)),
         Some(why) => Err(why),

@@ -9,6 +9,7 @@
 
 pub mod adapter;
 pub mod clock;
+pub mod echo;
 pub mod serial;
 pub mod tcp;
 pub mod virtual_line;
@@ -76,6 +77,10 @@ pub enum LineError {
     Io(#[from] std::io::Error),
     #[error("the port is gone: {0}")]
     Gone(String),
+    /// The line returned something else than the request it sent (or, with `--echo
+    /// off`, the request itself): the line's fault.
+    #[error("line fault: {0}")]
+    Echo(String),
     #[error("cannot apply UART settings {settings}: {reason}")]
     Settings { settings: UartSettings, reason: String },
 }
@@ -110,6 +115,25 @@ pub trait Line {
         true
     }
     fn settings(&self) -> UartSettings;
+    /// Whether a character sent with the wrong parity reaches the device as a parity
+    /// error (a UART and its wire do; a pseudo-terminal has no parity bit and a raw
+    /// TCP serial server sends in its own settings): `Err` says why not.
+    fn carries_parity(&self) -> Result<(), &'static str> {
+        Err("the line carries no parity bit")
+    }
+    /// Transmit `bytes` with the wrong parity on every character (odd for even, even
+    /// for odd), then return to the current settings to hear the reply: a request the
+    /// device must take for a UART fault (000:T47).
+    fn send_with_wrong_parity(&mut self, bytes: &[u8]) -> Result<Sent, LineError> {
+        let right = self.settings();
+        let refused = |reason: &str| LineError::Settings { settings: right, reason: reason.to_string() };
+        self.carries_parity().map_err(refused)?;
+        let wrong = right.with_wrong_parity().ok_or_else(|| refused("no parity: a parity error cannot be made"))?;
+        self.configure(wrong)?;
+        let sent = self.send(bytes);
+        self.configure(right)?;
+        sent
+    }
     /// Timing jitter the line adds, in µs (0 in virtual time).
     fn tolerance_us(&self) -> u64 {
         self.clock().map_or(0, |c| c.tolerance_us)
@@ -125,6 +149,11 @@ pub trait Line {
     /// Facts about the line that bear on timing verdicts (an adapter's latency timer).
     fn notes(&self) -> Vec<String> {
         Vec::new()
+    }
+    /// What the harness found of the line's echo, and how it was told to treat it;
+    /// `None` where no [`echo::EchoLine`] watches it.
+    fn echo(&self) -> Option<(echo::Echo, echo::EchoMode)> {
+        None
     }
 }
 
@@ -156,6 +185,9 @@ impl<L: Line + ?Sized> Line for Box<L> {
     fn settings(&self) -> UartSettings {
         (**self).settings()
     }
+    fn carries_parity(&self) -> Result<(), &'static str> {
+        (**self).carries_parity()
+    }
     fn tolerance_us(&self) -> u64 {
         (**self).tolerance_us()
     }
@@ -170,5 +202,8 @@ impl<L: Line + ?Sized> Line for Box<L> {
     }
     fn notes(&self) -> Vec<String> {
         (**self).notes()
+    }
+    fn echo(&self) -> Option<(echo::Echo, echo::EchoMode)> {
+        (**self).echo()
     }
 }

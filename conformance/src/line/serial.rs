@@ -197,6 +197,14 @@ impl Line for SerialLine {
         self.settings
     }
 
+    fn carries_parity(&self) -> Result<(), &'static str> {
+        if self.pseudo_terminal {
+            Err("a pseudo-terminal carries no parity bit: a parity error cannot be sent on it")
+        } else {
+            Ok(())
+        }
+    }
+
     fn kind(&self) -> LineKind {
         if self.pseudo_terminal {
             LineKind::PseudoTerminal

@@ -116,6 +116,10 @@ impl Line for TcpLine {
         self.settings
     }
 
+    fn carries_parity(&self) -> Result<(), &'static str> {
+        Err("a raw TCP serial server sends in its own UART settings: a parity error cannot be sent through it")
+    }
+
     fn kind(&self) -> LineKind {
         LineKind::Tcp
     }

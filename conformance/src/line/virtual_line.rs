@@ -13,6 +13,9 @@ pub trait SlaveDevice {
     fn receive(&mut self, ch: RxChar) -> Option<Step>;
     fn poll(&mut self, now_us: u64) -> Option<Step>;
     fn next_deadline(&self, now_us: u64) -> Option<u64>;
+    /// The UART settings the device listens with at `now_us` (`None`: it is not
+    /// listening). A character sent in other settings arrives with a UART fault.
+    fn listening_settings(&self, now_us: u64) -> Option<UartSettings>;
     /// Delay between the earliest allowed start and the actual start of a reply.
     fn reply_delay_us(&self) -> u64 {
         300
@@ -33,6 +36,9 @@ impl SlaveDevice for Slave {
     }
     fn next_deadline(&self, now_us: u64) -> Option<u64> {
         Slave::next_deadline(self, now_us)
+    }
+    fn listening_settings(&self, now_us: u64) -> Option<UartSettings> {
+        Slave::listening_settings(self, now_us)
     }
     fn edition(&self) -> Edition {
         self.profile().edition
@@ -87,6 +93,22 @@ impl<D: SlaveDevice> VirtualLine<D> {
     }
 }
 
+/// The UART fault a character sent in `sent` settings arrives with at a receiver
+/// listening in `heard` settings: none when they agree; a parity error where only the
+/// parity differs and both have a parity bit (the bit is wrong for one of the two
+/// rules); a framing error otherwise (the receiver finds no stop bit where it expects
+/// one). // 000:T47
+pub fn arrives_with(sent: UartSettings, heard: UartSettings) -> Option<hiperface_model::UartFault> {
+    use hiperface_model::settings::Parity;
+    use hiperface_model::UartFault;
+    if sent == heard {
+        return None;
+    }
+    let both_have_parity = sent.parity != Parity::None && heard.parity != Parity::None;
+    let only_parity = UartSettings { parity: heard.parity, ..sent } == heard;
+    Some(if only_parity && both_have_parity { UartFault::Parity } else { UartFault::Framing })
+}
+
 impl<D: SlaveDevice> Line for VirtualLine<D> {
     fn now_us(&mut self) -> u64 {
         self.now
@@ -100,7 +122,8 @@ impl<D: SlaveDevice> Line for VirtualLine<D> {
         for (i, b) in bytes.iter().enumerate() {
             last = start + (i as u64 + 1) * ct;
             self.advance(last.saturating_sub(1));
-            if let Some(step) = self.device.receive(RxChar::ok(*b, last)) {
+            let fault = self.device.listening_settings(last).and_then(|heard| arrives_with(self.settings, heard));
+            if let Some(step) = self.device.receive(RxChar { byte: *b, at_us: last, fault }) {
                 self.transmit(step);
             }
         }
@@ -151,6 +174,10 @@ impl<D: SlaveDevice> Line for VirtualLine<D> {
 
     fn kind(&self) -> LineKind {
         LineKind::Virtual
+    }
+
+    fn carries_parity(&self) -> Result<(), &'static str> {
+        Ok(())
     }
 
     fn describe(&self) -> String {

@@ -4,6 +4,7 @@
 #![allow(dead_code)]
 
 pub mod hx1;
+pub mod line_emulator;
 pub mod session;
 
 use hiperface_conformance::line::tcp::TcpLine;

@@ -106,7 +106,7 @@ impl InitFault {
     }
 
     pub fn from_name(name: &str) -> Option<InitFault> {
-        InitFault::ALL.into_iter().find(|f| f.name() == name)
+        InitFault::ALL.iter().copied().find(|f| f.name() == name)
     }
 }
 
@@ -167,7 +167,7 @@ impl PositionFault {
     }
 
     pub fn from_name(name: &str) -> Option<PositionFault> {
-        PositionFault::ALL.into_iter().find(|f| f.name() == name)
+        PositionFault::ALL.iter().copied().find(|f| f.name() == name)
     }
 
     /// Whether the fault locks position output until reset (linear 20h does, 000:T62).
@@ -219,10 +219,10 @@ impl InjectedFaults {
     }
 
     pub fn init_faults(&self) -> impl Iterator<Item = InitFault> + '_ {
-        InitFault::ALL.into_iter().filter(|f| self.init & f.bit() != 0)
+        InitFault::ALL.iter().copied().filter(|f| self.init & f.bit() != 0)
     }
 
     pub fn position_faults(&self) -> impl Iterator<Item = PositionFault> + '_ {
-        PositionFault::ALL.into_iter().filter(|f| self.position & f.bit() != 0)
+        PositionFault::ALL.iter().copied().filter(|f| self.position & f.bit() != 0)
     }
 }

@@ -81,8 +81,8 @@ impl PowerUp {
     pub fn next_change(&self, profile: &Profile, now_us: u64) -> Option<u64> {
         let since = self.since_us?;
         [profile.init_ms, profile.default_window_ms, profile.user_settings_ms]
-            .into_iter()
-            .map(|m| since.saturating_add(m as u64 * 1000))
+            .iter()
+            .map(|m| since.saturating_add(*m as u64 * 1000))
             .find(|t| *t > now_us)
     }
 }

@@ -32,6 +32,7 @@ pub fn catalogue() -> Vec<Case> {
         addressing::BROADCAST,
         addressing::OTHER,
         protocol::CHECKSUM,
+        protocol::PARITY,
         protocol::UNKNOWN_COMMAND,
         protocol::LENGTH,
         protocol::ARGUMENT,

@@ -1,7 +1,7 @@
 //! Protocol errors: checksum, unknown command, length, argument. // 000:2.4.2, 000:T47-T50
 
 use super::{always, case};
-use crate::certify::Case;
+use crate::certify::{Case, Finding};
 use hiperface_model::{CommandId, Request};
 
 pub const CHECKSUM: Case = case!(
@@ -14,6 +14,28 @@ pub const CHECKSUM: Case = case!(
         let a = c.address();
         c.send_frame(&[a, 0x42, 0x00])?;
         c.send_frame(&[a, 0x4E, 0x0F]).map(drop)
+    }
+);
+
+pub const PARITY: Case = case!(
+    "protocol.parity",
+    "A request with a parity error draws 09h",
+    [PARITY_ERROR, COMMON_ERRORS],
+    Nothing,
+    always,
+    |c| {
+        let a = c.address();
+        if let Err(why) = c.line_carries_parity() {
+            c.push(Finding::not_applicable(why));
+            return Ok(());
+        }
+        let now = c.now_us();
+        if c.model.listening_settings(now).and_then(|s| s.with_wrong_parity()).is_none() {
+            c.push(Finding::not_applicable("the device listens without parity: no parity error can be made"));
+            return Ok(());
+        }
+        // Read Position: a request every device answers, so that only the fault decides.
+        c.send_with_wrong_parity(&crate::exchange::sealed(&[a, 0x42])).map(drop)
     }
 );
 

@@ -137,11 +137,11 @@ impl Slave {
     /// applies (000:T43 and T44 disagree on which one a locked command answers).
     fn memory_checks(&self, c: &mut Checks, command: CommandId) {
         let Some(spec) = command.spec() else { return };
-        let lockable = spec.errors.contains(&InternalChecksum) || command == CommandId::SetSerialInterface;
+        let lockable = spec.lists(InternalChecksum) || command == CommandId::SetSerialInterface;
         let nv = self.locks.nonvolatile && lockable;
         c.check(nv, InternalChecksum, clause::NV_LOCK);
-        c.tolerate(nv && spec.errors.contains(&I2cBus), I2cBus);
-        let i2c = self.injected.i2c() && spec.errors.contains(&I2cBus);
+        c.tolerate(nv && spec.lists(I2cBus), I2cBus);
+        let i2c = self.injected.i2c() && spec.lists(I2cBus);
         c.check(i2c, I2cBus, clause::I2C_BUS);
     }
 

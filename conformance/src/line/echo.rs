@@ -1,0 +1,317 @@
+//! Local echo: a two-wire RS-485 adapter whose receiver stays on while it sends hears
+//! its own request before the device's reply. [`EchoLine`] wraps any line, finds out
+//! at the first request whether it echoes (`--echo auto`), and takes the echo off the
+//! line, so that the exchange sees only what the device sent. An echo that differs
+//! from the request is the line's fault (a collision, a broken transceiver): an ERROR
+//! of the line, never charged to the device.
+
+use super::{Line, LineError, LineKind, RealTime, Sent, Window};
+use hiperface_model::datalink::RxChar;
+use hiperface_model::UartSettings;
+use std::collections::VecDeque;
+
+/// Whether the line echoes what the harness sends (`--echo`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum EchoMode {
+    /// Found out at the first request (the request comes back byte for byte before
+    /// any reply) and taken off the line where it does.
+    #[default]
+    Auto,
+    /// The line echoes: every request comes back and is taken off the line.
+    On,
+    /// The line does not echo; a request that comes back is reported as a line fault
+    /// ("the line echoes: use --echo auto"), not graded as the device's reply.
+    Off,
+}
+
+/// What the harness knows about the line's echo.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Echo {
+    /// No request sent yet (`auto`).
+    Unknown,
+    /// Requests come back; the echo is taken off the line.
+    Echoes,
+    /// Requests do not come back.
+    Quiet,
+}
+
+/// A line with its echo handled.
+pub struct EchoLine<L: Line> {
+    inner: L,
+    mode: EchoMode,
+    echo: Echo,
+    /// Characters read while looking for an echo that were not one: the device's.
+    held: VecDeque<RxChar>,
+}
+
+impl<L: Line> EchoLine<L> {
+    pub fn new(inner: L, mode: EchoMode) -> EchoLine<L> {
+        let echo = match mode {
+            EchoMode::Auto => Echo::Unknown,
+            EchoMode::On => Echo::Echoes,
+            EchoMode::Off => Echo::Quiet,
+        };
+        EchoLine { inner, mode, echo, held: VecDeque::new() }
+    }
+
+    pub fn echo(&self) -> Echo {
+        self.echo
+    }
+
+    /// The next character, the held ones first.
+    fn next(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError> {
+        match self.held.pop_front() {
+            Some(c) => Ok(Some(c)),
+            None => self.inner.recv(until_us),
+        }
+    }
+
+    /// Read what came back of `sent` by `until_us`: the characters that match it from
+    /// its start, and the first that does not (or `None` when the line fell quiet).
+    fn read_back(&mut self, sent: &[u8], until_us: u64) -> Result<(Vec<RxChar>, Option<RxChar>), LineError> {
+        let mut matched = Vec::with_capacity(sent.len());
+        while matched.len() < sent.len() {
+            match self.next(until_us)? {
+                Some(c) if Some(&c.byte) == sent.get(matched.len()) => matched.push(c),
+                other => return Ok((matched, other)),
+            }
+        }
+        Ok((matched, None))
+    }
+}
+
+/// The request's end, narrowed by its echo: the last character cannot have come back
+/// before it was on the wire, so the request ended no later than the echo's last
+/// character arrived.
+fn narrowed(end: Window, echo_end_us: u64) -> Window {
+    Window { earliest_us: end.earliest_us, latest_us: end.latest_us.min(echo_end_us.max(end.earliest_us)) }
+}
+
+impl<L: Line> Line for EchoLine<L> {
+    fn now_us(&mut self) -> u64 {
+        self.inner.now_us()
+    }
+
+    fn send(&mut self, bytes: &[u8]) -> Result<Sent, LineError> {
+        let sent = self.inner.send(bytes)?;
+        // An echo is on the line while the request is: it has come back by the time a
+        // reply could begin (the request's end and the device's timeout, 000:2.2.2),
+        // with the line's own latency.
+        let timeout = self.inner.settings().timeout_us(hiperface_model::Edition::Current);
+        let until = sent.end.latest_us + timeout + self.inner.tolerance_us();
+        match self.echo {
+            Echo::Quiet if self.mode == EchoMode::Off => {
+                // Watch for an echo all the same, to say so rather than grade it.
+                let (matched, other) = self.read_back(bytes, until)?;
+                let echoed = matched.len() == bytes.len() && !bytes.is_empty();
+                self.held.extend(matched);
+                self.held.extend(other);
+                if echoed {
+                    return Err(LineError::Echo(
+                        "the line echoes: the request came back byte for byte before any reply; use --echo auto".into(),
+                    ));
+                }
+                Ok(sent)
+            }
+            Echo::Quiet => Ok(sent),
+            Echo::Unknown => {
+                let (matched, other) = self.read_back(bytes, until)?;
+                if matched.len() == bytes.len() && !bytes.is_empty() {
+                    self.echo = Echo::Echoes;
+                    self.held.extend(other);
+                    let end = matched.last().map_or(sent.end, |c| narrowed(sent.end, c.at_us));
+                    Ok(Sent { end })
+                } else {
+                    // The device's reply (or nothing): given back to the exchange.
+                    self.echo = Echo::Quiet;
+                    self.held.extend(matched);
+                    self.held.extend(other);
+                    Ok(sent)
+                }
+            }
+            Echo::Echoes => {
+                let (matched, other) = self.read_back(bytes, until)?;
+                if matched.len() == bytes.len() {
+                    self.held.extend(other);
+                    let end = matched.last().map_or(sent.end, |c| narrowed(sent.end, c.at_us));
+                    return Ok(Sent { end });
+                }
+                let heard: Vec<String> =
+                    matched.iter().chain(other.iter()).map(|c| format!("{:02X}", c.byte)).collect();
+                let sent_hex: Vec<String> = bytes.iter().map(|b| format!("{b:02X}")).collect();
+                Err(LineError::Echo(format!(
+                    "the echo of [{}] came back as [{}]: a collision or a fault of the line, not the device's",
+                    sent_hex.join(" "),
+                    heard.join(" ")
+                )))
+            }
+        }
+    }
+
+    fn recv(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError> {
+        match self.held.front() {
+            Some(c) if c.at_us <= until_us => Ok(self.held.pop_front()),
+            Some(_) => Ok(None),
+            None => self.inner.recv(until_us),
+        }
+    }
+
+    fn start_of(&self, ch: &RxChar) -> Window {
+        self.inner.start_of(ch)
+    }
+    fn clock(&self) -> Option<&RealTime> {
+        self.inner.clock()
+    }
+    fn wait_until(&mut self, t_us: u64) -> Result<(), LineError> {
+        self.inner.wait_until(t_us)
+    }
+    fn configure(&mut self, settings: UartSettings) -> Result<(), LineError> {
+        self.inner.configure(settings)
+    }
+    fn can_change_settings(&self) -> bool {
+        self.inner.can_change_settings()
+    }
+    fn settings(&self) -> UartSettings {
+        self.inner.settings()
+    }
+    fn carries_parity(&self) -> Result<(), &'static str> {
+        self.inner.carries_parity()
+    }
+    fn send_with_wrong_parity(&mut self, bytes: &[u8]) -> Result<Sent, LineError> {
+        // The echo of a request sent with the wrong parity comes back with parity
+        // errors, or not at all: whatever of it comes back is not the device's.
+        let sent = self.inner.send_with_wrong_parity(bytes)?;
+        if self.echo == Echo::Echoes {
+            let timeout = self.inner.settings().timeout_us(hiperface_model::Edition::Current);
+            let until = sent.end.latest_us + timeout + self.inner.tolerance_us();
+            for _ in 0..bytes.len() {
+                if self.next(until)?.is_none() {
+                    break;
+                }
+            }
+        }
+        Ok(sent)
+    }
+    fn tolerance_us(&self) -> u64 {
+        self.inner.tolerance_us()
+    }
+    fn take_lateness_us(&mut self) -> u64 {
+        self.inner.take_lateness_us()
+    }
+    fn kind(&self) -> LineKind {
+        self.inner.kind()
+    }
+    fn describe(&self) -> String {
+        self.inner.describe()
+    }
+    fn notes(&self) -> Vec<String> {
+        self.inner.notes()
+    }
+    fn echo(&self) -> Option<(Echo, EchoMode)> {
+        Some((self.echo, self.mode))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::line::virtual_line::VirtualLine;
+    use hiperface_model::{profiles, Slave};
+
+    /// The reference model on a virtual line that echoes: every character the
+    /// master sends comes back a character time later, or, with `corrupt`, with its
+    /// lowest bit flipped.
+    struct Echoing {
+        line: VirtualLine<Slave>,
+        corrupt: bool,
+        back: VecDeque<RxChar>,
+    }
+
+    impl Line for Echoing {
+        fn now_us(&mut self) -> u64 {
+            self.line.now_us()
+        }
+        fn send(&mut self, bytes: &[u8]) -> Result<Sent, LineError> {
+            let start = self.line.now_us();
+            let ct = self.line.settings().char_time_us();
+            let sent = self.line.send(bytes)?;
+            for (i, b) in bytes.iter().enumerate() {
+                let byte = if self.corrupt { b ^ 1 } else { *b };
+                self.back.push_back(RxChar::ok(byte, start + (i as u64 + 1) * ct));
+            }
+            Ok(sent)
+        }
+        fn recv(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError> {
+            match self.back.front() {
+                Some(c) if c.at_us <= until_us => Ok(self.back.pop_front()),
+                _ => self.line.recv(until_us),
+            }
+        }
+        fn start_of(&self, ch: &RxChar) -> Window {
+            self.line.start_of(ch)
+        }
+        fn configure(&mut self, settings: UartSettings) -> Result<(), LineError> {
+            self.line.configure(settings)
+        }
+        fn settings(&self) -> UartSettings {
+            self.line.settings()
+        }
+        fn kind(&self) -> LineKind {
+            LineKind::Virtual
+        }
+        fn describe(&self) -> String {
+            "echoing".into()
+        }
+    }
+
+    fn echoing(corrupt: bool) -> Echoing {
+        Echoing { line: VirtualLine::new(Slave::operational(profiles::srs50())), corrupt, back: VecDeque::new() }
+    }
+
+    fn read_all(line: &mut impl Line, until_us: u64) -> Vec<u8> {
+        std::iter::from_fn(|| line.recv(until_us).ok().flatten()).map(|c| c.byte).collect()
+    }
+
+    /// Read Type Label to 40h: the request and the reply the model gives.
+    const REQUEST: [u8; 3] = [0x40, 0x52, 0x12];
+
+    #[test]
+    fn auto_finds_the_echo_and_takes_it_off() {
+        let mut line = EchoLine::new(echoing(false), EchoMode::Auto);
+        let sent = line.send(&REQUEST).unwrap();
+        assert_eq!(line.echo(), Echo::Echoes);
+        let reply = read_all(&mut line, sent.end.latest_us + 100_000);
+        assert_eq!(&reply[..2], &[0x40, 0x52], "the device's reply, without the echo: {reply:02X?}");
+        assert!(hiperface_model::checksum::is_valid(&reply));
+        // The second request's echo is taken off too.
+        let sent = line.send(&REQUEST).unwrap();
+        assert_eq!(&read_all(&mut line, sent.end.latest_us + 100_000)[..2], &[0x40, 0x52]);
+    }
+
+    #[test]
+    fn auto_on_a_quiet_line_gives_the_reply_back_whole() {
+        let mut line = EchoLine::new(VirtualLine::new(Slave::operational(profiles::srs50())), EchoMode::Auto);
+        let sent = line.send(&REQUEST).unwrap();
+        assert_eq!(line.echo(), Echo::Quiet);
+        let reply = read_all(&mut line, sent.end.latest_us + 100_000);
+        assert_eq!(reply.len(), 7, "{reply:02X?}");
+        assert!(hiperface_model::checksum::is_valid(&reply));
+    }
+
+    #[test]
+    fn an_echo_unlike_the_request_is_a_line_fault() {
+        let mut line = EchoLine::new(echoing(true), EchoMode::On);
+        let e = line.send(&REQUEST).unwrap_err();
+        assert!(matches!(e, LineError::Echo(_)), "{e}");
+        assert!(e.to_string().contains("not the device's"), "{e}");
+    }
+
+    #[test]
+    fn echo_off_on_an_echoing_line_says_so() {
+        let mut line = EchoLine::new(echoing(false), EchoMode::Off);
+        let e = line.send(&REQUEST).unwrap_err();
+        assert!(e.to_string().contains("use --echo auto"), "{e}");
+    }
+}

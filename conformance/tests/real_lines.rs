@@ -1,0 +1,87 @@
+//! The harness on lines as a lab bench has them, through the line emulator between two
+//! pseudo-terminals (`common::line_emulator`): a line that echoes the harness's own
+//! requests, against the simulator and against HX-1, the independent slave.
+
+mod common;
+
+use common::hx1::{self, Hx1};
+use common::line_emulator::{Behaviour, LineEmulator};
+use hiperface_conformance::certify::{self, CaseVerdict, Options, Report};
+use hiperface_conformance::line::echo::{Echo, EchoLine, EchoMode};
+use hiperface_conformance::line::serial::SerialLine;
+use hiperface_conformance::simulate::PtySimulator;
+use hiperface_model::{profiles, Grading, Profile, UartSettings};
+
+/// Real time on a shared machine: the pseudo-terminal tests' generous bound.
+const GENEROUS_US: u64 = 25_000;
+
+fn certify_through(emulator: &LineEmulator, profile: Profile, echo: EchoMode, options: &Options) -> Report {
+    let line = SerialLine::open(&emulator.path, UartSettings::DEFAULT).unwrap_or_else(|e| panic!("{e}"));
+    let line = EchoLine::new(line.with_tolerance(GENEROUS_US), echo);
+    certify::run(Box::new(line), profile, options, |_, _, _| {})
+}
+
+fn failed(r: &Report) -> Vec<&'static str> {
+    r.cases.iter().filter(|c| matches!(c.verdict, CaseVerdict::Fail | CaseVerdict::Error)).map(|c| c.id).collect()
+}
+
+#[test]
+fn an_echoing_line_is_found_and_its_echo_taken_off_against_the_simulator() {
+    let _one = common::one_at_a_time();
+    let profile = profiles::srs50();
+    let (_sim, device) = PtySimulator::start(profile).unwrap();
+    let emulator = LineEmulator::start(device, Behaviour { echo: true, ..Behaviour::default() });
+    let r = certify_through(&emulator, profile, EchoMode::Auto, &Options::all_allowed());
+    assert_eq!(
+        failed(&r),
+        Vec::<&str>::new(),
+        "{:#?}",
+        r.cases.iter().filter(|c| c.verdict == CaseVerdict::Fail).collect::<Vec<_>>()
+    );
+    assert!(r.outcome().passed(), "{:?} {:?}", r.summary, r.aborted);
+    assert_eq!(r.echo, Some((Echo::Echoes, EchoMode::Auto)), "the certificate says the line echoed");
+    assert!(r.summary.get("PASS").copied().unwrap_or(0) > 20, "{:?}", r.summary);
+}
+
+#[test]
+#[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
+fn an_echoing_line_is_found_and_its_echo_taken_off_against_hx1() {
+    let _one = common::one_at_a_time();
+    let hx1 = Hx1::start(&[]);
+    let emulator = LineEmulator::open(&hx1.path, Behaviour { echo: true, ..Behaviour::default() });
+    let options = Options { grading: Grading::Range, ..Options::all_allowed() };
+    let r = certify_through(&emulator, hx1::profile(), EchoMode::Auto, &options);
+    assert_eq!(
+        failed(&r),
+        Vec::<&str>::new(),
+        "{:#?}",
+        r.cases.iter().filter(|c| c.verdict == CaseVerdict::Fail).collect::<Vec<_>>()
+    );
+    assert!(r.outcome().passed(), "{:?} {:?}", r.summary, r.aborted);
+    assert_eq!(r.echo, Some((Echo::Echoes, EchoMode::Auto)));
+}
+
+#[test]
+fn echo_off_on_an_echoing_line_is_a_diagnosis_not_a_wall_of_fails() {
+    let _one = common::one_at_a_time();
+    let profile = profiles::srs50();
+    let (_sim, device) = PtySimulator::start(profile).unwrap();
+    let emulator = LineEmulator::start(device, Behaviour { echo: true, ..Behaviour::default() });
+    let r = certify_through(&emulator, profile, EchoMode::Off, &Options::all_allowed());
+    assert!(r.cases.iter().all(|c| c.verdict != CaseVerdict::Fail), "nothing charged to the device: {:?}", r.summary);
+    assert!(!r.outcome().passed());
+    let why = r.aborted.as_deref().unwrap_or_default();
+    assert!(why.contains("the line echoes") && why.contains("--echo auto"), "{why}");
+}
+
+#[test]
+fn a_quiet_line_is_found_quiet_and_graded_as_before() {
+    let _one = common::one_at_a_time();
+    let profile = profiles::srs50();
+    let (_sim, device) = PtySimulator::start(profile).unwrap();
+    let emulator = LineEmulator::start(device, Behaviour::default());
+    let r = certify_through(&emulator, profile, EchoMode::Auto, &Options::all_allowed());
+    assert_eq!(failed(&r), Vec::<&str>::new());
+    assert!(r.outcome().passed(), "{:?} {:?}", r.summary, r.aborted);
+    assert_eq!(r.echo, Some((Echo::Quiet, EchoMode::Auto)));
+}
