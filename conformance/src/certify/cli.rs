@@ -2,6 +2,7 @@
 
 use crate::args::{ms_to_us, parse_ms, WorldArgs};
 use crate::line::echo::{EchoLine, EchoMode};
+use crate::line::rs485::{Rs485Mode, Rs485Settings};
 use crate::line::{Line, LineKind};
 use crate::port::{self, PortSpec};
 use crate::verdict::timing::TimingMode;
@@ -59,6 +60,20 @@ pub struct CertifySlaveArgs {
     /// line fault.
     #[arg(long, value_enum, default_value_t = EchoMode::Auto)]
     pub echo: EchoMode,
+    /// The kernel's RS-485 mode for a native UART that keys its transceiver with RTS:
+    /// `leave` the port as it is, `on` for the run (put back after it), `off`.
+    #[arg(long, value_enum, default_value_t = Rs485Mode::Leave)]
+    pub rs485: Rs485Mode,
+    /// With `--rs485 on`: RTS low, not high, while sending (a transceiver whose DE is
+    /// active low).
+    #[arg(long, requires = "rs485")]
+    pub rs485_rts_low: bool,
+    /// With `--rs485 on`: delay from RTS to the first character, ms.
+    #[arg(long, value_parser = parse_ms, default_value = "0", requires = "rs485")]
+    pub rs485_delay_before_ms: f64,
+    /// With `--rs485 on`: delay from the last character to RTS released, ms.
+    #[arg(long, value_parser = parse_ms, default_value = "0", requires = "rs485")]
+    pub rs485_delay_after_ms: f64,
     /// The simulated encoder's world (with `--port sim` or `virtual`).
     #[command(flatten)]
     pub world: WorldArgs,
@@ -81,8 +96,18 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<ExitCode, String> {
         tolerance_ms,
         timing,
         echo,
+        rs485,
+        rs485_rts_low,
+        rs485_delay_before_ms,
+        rs485_delay_after_ms,
         world,
     } = args;
+    let rs485 = Rs485Settings {
+        mode: rs485,
+        rts_low_while_sending: rs485_rts_low,
+        delay_before_ms: rs485_delay_before_ms,
+        delay_after_ms: rs485_delay_after_ms,
+    };
     let profile = profile_file::resolve(&profile).map_err(|e| e.to_string())?;
     if let Some(dir) = &dir {
         report::prepare_dir(dir)?;
@@ -102,6 +127,13 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<ExitCode, String> {
     let sim = port.is_model();
     let grading = grading.unwrap_or(if sim { Grading::Exact } else { Grading::Range });
     let world = if sim { world.world() } else { World::default() };
+    // The RS-485 mode is set before the run opens the port, and put back when the guard
+    // goes at the end of this function.
+    let rs485_guard = match (&port, rs485.mode) {
+        (_, Rs485Mode::Leave) => None,
+        (PortSpec::Path(path), _) => rs485.apply(path).map_err(|e| e.to_string())?,
+        (other, _) => return Err(format!("--rs485 needs a serial port, not `{other}`")),
+    };
     let opened = match port::open_for_slave(&port, profile, &world, tolerance_ms.map(ms_to_us)) {
         Ok(o) => o,
         Err(e) => {
@@ -164,6 +196,10 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<ExitCode, String> {
         b.finish_and_clear();
     }
     drop(simulator);
+    let mut report = report;
+    if let Some(g) = &rs485_guard {
+        report.line_notes.push(format!("The port ran in the kernel's {} (--rs485), put back afterwards.", g.in_force));
+    }
     summarize(&report, &profile);
     if let Some(dir) = dir {
         report::write_all(&report, &dir).map_err(|e| format!("cannot write the report to {}: {e}", dir.display()))?;

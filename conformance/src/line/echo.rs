@@ -49,9 +49,8 @@ pub struct EchoLine<L: Line> {
 impl<L: Line> EchoLine<L> {
     pub fn new(inner: L, mode: EchoMode) -> EchoLine<L> {
         let echo = match mode {
-            EchoMode::Auto => Echo::Unknown,
+            EchoMode::Auto | EchoMode::Off => Echo::Unknown,
             EchoMode::On => Echo::Echoes,
-            EchoMode::Off => Echo::Quiet,
         };
         EchoLine { inner, mode, echo, held: VecDeque::new() }
     }
@@ -102,23 +101,22 @@ impl<L: Line> Line for EchoLine<L> {
         let timeout = self.inner.settings().timeout_us(hiperface_model::Edition::Current);
         let until = sent.end.latest_us + timeout + self.inner.tolerance_us();
         match self.echo {
-            Echo::Quiet if self.mode == EchoMode::Off => {
-                // Watch for an echo all the same, to say so rather than grade it.
+            Echo::Quiet => Ok(sent),
+            // Found out at the first request only: a later request's reply may be the
+            // request itself (Increment Counter's is), an echo never differs from it.
+            // The harness's first request is Read Type Label, whose reply has data.
+            Echo::Unknown => {
                 let (matched, other) = self.read_back(bytes, until)?;
                 let echoed = matched.len() == bytes.len() && !bytes.is_empty();
-                self.held.extend(matched);
-                self.held.extend(other);
-                if echoed {
+                if echoed && self.mode == EchoMode::Off {
+                    // Watched all the same, to say so rather than grade it.
+                    self.held.extend(matched);
+                    self.held.extend(other);
                     return Err(LineError::Echo(
                         "the line echoes: the request came back byte for byte before any reply; use --echo auto".into(),
                     ));
                 }
-                Ok(sent)
-            }
-            Echo::Quiet => Ok(sent),
-            Echo::Unknown => {
-                let (matched, other) = self.read_back(bytes, until)?;
-                if matched.len() == bytes.len() && !bytes.is_empty() {
+                if echoed {
                     self.echo = Echo::Echoes;
                     self.held.extend(other);
                     let end = matched.last().map_or(sent.end, |c| narrowed(sent.end, c.at_us));

@@ -10,6 +10,7 @@
 pub mod adapter;
 pub mod clock;
 pub mod echo;
+pub mod rs485;
 pub mod serial;
 pub mod tcp;
 pub mod virtual_line;

@@ -87,6 +87,10 @@ impl Drop for LineEmulator {
 
 /// The harness sends: each character on the wire for its time, echoed as it goes.
 fn outbound(mut harness: File, mut device: Box<dyn serialport::SerialPort>, b: Behaviour, stop: &AtomicBool) {
+    // A line is hardware: where permitted, the emulator runs at a real-time priority,
+    // so that a busy machine does not make the line itself late (as HX-1 and the
+    // simulator do).
+    hiperface_conformance::sched::real_time_priority();
     let mut echo = harness.try_clone().unwrap();
     let mut buf = [0u8; 256];
     while !stop.load(Ordering::Relaxed) {
@@ -114,6 +118,7 @@ fn outbound(mut harness: File, mut device: Box<dyn serialport::SerialPort>, b: B
 /// The device answers: passed on as it comes (after the gap), or held for the latency
 /// timer and handed on in one burst.
 fn inbound(mut device: Box<dyn serialport::SerialPort>, mut harness: File, b: Behaviour, stop: &AtomicBool) {
+    hiperface_conformance::sched::real_time_priority();
     let mut held: Vec<u8> = Vec::new();
     let mut held_since: Option<Instant> = None;
     let mut buf = [0u8; 256];
