@@ -24,13 +24,15 @@ pub enum PortSpec {
     Pty,
     /// Raw TCP to a serial device server, `host:port`.
     Tcp(String),
+    /// A serial device server that takes UART settings through RFC 2217, `host:port`.
+    Rfc2217(String),
     /// A serial port or pseudo-terminal by path.
     Path(String),
 }
 
 /// A `--port` argument that names nothing.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("`{given}` is not a port: {why} (expected sim, virtual, pty, tcp://HOST:PORT or a device path)")]
+#[error("`{given}` is not a port: {why} (expected sim, virtual, pty, tcp://HOST:PORT, rfc2217://HOST:PORT or a device path)")]
 pub struct BadPort {
     pub given: String,
     pub why: &'static str,
@@ -46,18 +48,22 @@ impl FromStr for PortSpec {
             "virtual" => Ok(PortSpec::Virtual),
             "pty" => Ok(PortSpec::Pty),
             "" => Err(bad("it is empty")),
-            _ => match s.strip_prefix("tcp://") {
-                Some(address) => {
+            _ => {
+                let server = |address: &str| -> Result<String, BadPort> {
                     let (host, port) = address.rsplit_once(':').ok_or_else(|| bad("no :PORT after the host"))?;
                     if host.is_empty() {
                         return Err(bad("no host"));
                     }
                     port.parse::<u16>().map_err(|_| bad("the TCP port is not a number from 0 to 65535"))?;
-                    Ok(PortSpec::Tcp(address.to_string()))
+                    Ok(address.to_string())
+                };
+                match (s.strip_prefix("tcp://"), s.strip_prefix("rfc2217://")) {
+                    (Some(address), _) => server(address).map(PortSpec::Tcp),
+                    (_, Some(address)) => server(address).map(PortSpec::Rfc2217),
+                    _ if s.contains("://") => Err(bad("only tcp:// and rfc2217:// are spoken")),
+                    _ => Ok(PortSpec::Path(s.to_string())),
                 }
-                None if s.contains("://") => Err(bad("only tcp:// is spoken")),
-                None => Ok(PortSpec::Path(s.to_string())),
-            },
+            }
         }
     }
 }
@@ -69,6 +75,7 @@ impl fmt::Display for PortSpec {
             PortSpec::Virtual => f.write_str("virtual"),
             PortSpec::Pty => f.write_str("pty"),
             PortSpec::Tcp(a) => write!(f, "tcp://{a}"),
+            PortSpec::Rfc2217(a) => write!(f, "rfc2217://{a}"),
             PortSpec::Path(p) => f.write_str(p),
         }
     }
@@ -127,6 +134,13 @@ pub fn open_for_slave(
             }
             (Box::new(line), None, strict)
         }
+        PortSpec::Rfc2217(address) => {
+            let mut line = TcpLine::connect_rfc2217(address, UartSettings::DEFAULT)?;
+            if let Some(t) = tolerance_us {
+                line = line.with_tolerance(t);
+            }
+            (Box::new(line), None, strict)
+        }
         PortSpec::Path(path) => {
             let mut line = SerialLine::open(path, UartSettings::DEFAULT)?;
             if let Some(t) = tolerance_us {
@@ -160,6 +174,8 @@ mod tests {
         assert_eq!("pty".parse(), Ok(PortSpec::Pty));
         assert_eq!("tcp://127.0.0.1:2000".parse(), Ok(PortSpec::Tcp("127.0.0.1:2000".into())));
         assert_eq!("tcp://[::1]:2000".parse(), Ok(PortSpec::Tcp("[::1]:2000".into())));
+        assert_eq!("rfc2217://10.0.0.5:4001".parse(), Ok(PortSpec::Rfc2217("10.0.0.5:4001".into())));
+        assert!("rfc2217://nohost".parse::<PortSpec>().is_err());
         assert_eq!("/dev/ttyUSB0".parse(), Ok(PortSpec::Path("/dev/ttyUSB0".into())));
         assert_eq!("COM3".parse(), Ok(PortSpec::Path("COM3".into())));
         for bad in ["", "tcp://host", "tcp://:2000", "tcp://h:99999", "rfc2217://h:1"] {

@@ -36,6 +36,14 @@ pub trait Hooks {
     fn sets_port(&self) -> bool {
         true
     }
+    /// Whether the port's own data rate is the line's, set by whoever serves the other
+    /// end (a serial device server that takes settings through RFC 2217, writing them
+    /// to the pseudo-terminal): a character heard at another rate than the slave
+    /// listens at arrives with a framing error, and a reply sent at another rate than
+    /// the line's is not heard (a UART at the wrong rate finds no characters).
+    fn follows_line_settings(&self) -> bool {
+        false
+    }
     /// The characters of one read follow (`received` for each): the line had not been
     /// read for `unwatched_us` before it (0 when it was watched; the harness was busy
     /// writing a reply, or not scheduled). They may have come any time in that
@@ -109,6 +117,18 @@ pub fn serve(
     serve_with(port, &mut slave, Instant::now(), &stop, &mut logger)
 }
 
+/// The line's settings are the other end's (see [`Hooks::follows_line_settings`]).
+struct FollowLine;
+
+impl Hooks for FollowLine {
+    fn sets_port(&self) -> bool {
+        false
+    }
+    fn follows_line_settings(&self) -> bool {
+        true
+    }
+}
+
 /// Logs frames for `hiperface simulate --log`.
 struct Logger<'a> {
     log: Option<&'a mut (dyn Write + 'a)>,
@@ -171,11 +191,18 @@ pub fn serve_with(
         } else {
             std::mem::take(&mut heard)
         };
+        // The line's data rate, where the other end sets it (RFC 2217 through ser2net).
+        let line_bps = if hooks.follows_line_settings() { port.baud_rate().ok() } else { None };
         for Chunk { bytes, at_us: t, unwatched_us } in chunks {
             hooks.read(unwatched_us);
             for b in bytes {
                 let listening = slave.listening_settings(t);
-                let ch = rx_clock.stamp(b, t, Some(listening.unwrap_or_default().char_time_us()));
+                let mut ch = rx_clock.stamp(b, t, Some(listening.unwrap_or_default().char_time_us()));
+                if let (Some(bps), Some(l)) = (line_bps, listening) {
+                    if bps != l.baud.bits_per_second() {
+                        ch.fault = Some(hiperface_model::UartFault::Framing);
+                    }
+                }
                 hooks.received(ch, listening);
                 steps.extend(slave.receive(ch));
             }
@@ -194,6 +221,10 @@ pub fn serve_with(
                 disturbed_us: 0,
             };
             let Some(mut p) = hooks.reply(slave, &step, planned) else { continue };
+            let line_bps = if hooks.follows_line_settings() { port.baud_rate().ok() } else { None };
+            if line_bps.is_some_and(|bps| bps != p.settings.baud.bits_per_second()) {
+                continue; // sent at a rate the line is not at: nobody hears it
+            }
             let ct = p.settings.char_time_us();
             // Write each run of characters whole when its first character would be
             // complete; the line is busy until the last is out. A harness that writes
@@ -324,6 +355,22 @@ impl PtySimulator {
     /// Start; returns the simulator and the other end of the pair, for the harness.
     pub fn start(profile: Profile) -> Result<(PtySimulator, Box<dyn SerialPort>), String> {
         PtySimulator::start_in(profile, World::default())
+    }
+
+    /// Start, the data rate of the line being whatever the other end of the
+    /// pseudo-terminal sets (a serial device server that takes settings through RFC
+    /// 2217): see [`Hooks::follows_line_settings`].
+    pub fn start_following_line_settings(profile: Profile) -> Result<(PtySimulator, Box<dyn SerialPort>), String> {
+        let (sim_end, harness_end) =
+            serialport::TTYPort::pair().map_err(|e| format!("cannot create a pseudo-terminal pair: {e}"))?;
+        let path = harness_end.name().unwrap_or_else(|| "pty".into());
+        let stop = Arc::new(AtomicBool::new(false));
+        let flag = stop.clone();
+        let thread = std::thread::spawn(move || {
+            let mut slave = Slave::operational(profile);
+            serve_with(Box::new(sim_end), &mut slave, Instant::now(), &flag, &mut FollowLine)
+        });
+        Ok((PtySimulator { path, stop, thread: Some(thread) }, Box::new(harness_end)))
     }
 
     /// Start in a given world (inputs, start-up faults).

@@ -4,6 +4,8 @@
 mod common;
 
 use hiperface_conformance::certify::{self, CaseVerdict, Options};
+use hiperface_conformance::line::Line;
+use hiperface_conformance::port::{self, PortSpec};
 use hiperface_conformance::simulate::PtySimulator;
 use hiperface_model::profiles;
 
@@ -23,4 +25,62 @@ fn the_catalogue_passes_through_ser2net() {
     assert!(report.line.starts_with("tcp://127.0.0.1:"));
     eprintln!("ser2net run: wall {:.0} ms, physical minimum {:.0} ms", report.wall_time_ms, report.physical_minimum_ms);
     drop(sim);
+}
+
+/// RFC 2217: the harness sets ser2net's UART (here the pseudo-terminal's data rate,
+/// which the simulator follows), so 67h is followed end to end instead of being
+/// NOT-APPLICABLE as on raw TCP.
+#[test]
+#[cfg_attr(not(has_ser2net), ignore = "ser2net is not installed (apt-get install ser2net)")]
+fn temporary_settings_are_followed_through_rfc2217() {
+    let _one = common::one_at_a_time();
+    // TTK70 with every optional command, as over a pseudo-terminal: 67h to 19 200 Bd.
+    let mut profile = profiles::ttk70();
+    profile.commands = hiperface_model::command::CommandSet::all_for(false);
+    let (sim, harness_end) = PtySimulator::start_following_line_settings(profile).unwrap();
+    // Kept open: with no end open the simulator would take the line for gone.
+    let _harness_end = harness_end;
+    let server = common::Ser2net::bridge_rfc2217(&sim.path, "sim2217");
+    let spec: PortSpec = format!("rfc2217://{}", server.address()).parse().unwrap();
+    let line = connect_retrying(|| port::open_for_slave(&spec, profile, &Default::default(), Some(25_000))).line;
+    assert!(line.describe().starts_with("rfc2217://"), "{}", line.describe());
+    let report = certify::run(line, profile, &Options::all_allowed(), |_, _, _| {});
+    let bad: Vec<_> =
+        report.cases.iter().filter(|c| !matches!(c.verdict, CaseVerdict::Pass | CaseVerdict::NotApplicable)).collect();
+    assert!(bad.is_empty(), "{bad:#?}");
+    let temporary = report.cases.iter().find(|c| c.id == "settings.temporary").unwrap();
+    assert_eq!(temporary.verdict, CaseVerdict::Pass, "{temporary:#?}");
+    drop(sim);
+}
+
+/// The same simulator on raw TCP: the device server keeps 9 600 Bd, 67h cannot be
+/// followed, and the case says so: the simulator really follows the line's rate.
+#[test]
+#[cfg_attr(not(has_ser2net), ignore = "ser2net is not installed (apt-get install ser2net)")]
+fn without_rfc2217_the_same_case_cannot_be_followed() {
+    let _one = common::one_at_a_time();
+    let mut profile = profiles::ttk70();
+    profile.commands = hiperface_model::command::CommandSet::all_for(false);
+    let (sim, harness_end) = PtySimulator::start_following_line_settings(profile).unwrap();
+    let _harness_end = harness_end;
+    let server = common::Ser2net::bridge(&sim.path, "simraw");
+    let line = server.connect().with_tolerance(25_000);
+    let report = certify::run(Box::new(line), profile, &Options::all_allowed(), |_, _, _| {});
+    let temporary = report.cases.iter().find(|c| c.id == "settings.temporary").unwrap();
+    assert_eq!(temporary.verdict, CaseVerdict::NotApplicable, "{temporary:#?}");
+    drop(sim);
+}
+
+/// Connect once ser2net listens (it starts in the background).
+fn connect_retrying<T, E: std::fmt::Display>(mut open: impl FnMut() -> Result<T, E>) -> T {
+    let started = std::time::Instant::now();
+    loop {
+        match open() {
+            Ok(t) => return t,
+            Err(_) if started.elapsed() < std::time::Duration::from_secs(10) => {
+                std::thread::sleep(std::time::Duration::from_millis(100))
+            }
+            Err(e) => panic!("{e}"),
+        }
+    }
 }

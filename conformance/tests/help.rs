@@ -115,7 +115,7 @@ fn the_old_flag_names_still_work() {
 #[case(&["simulate", "--port", "tcp://localhost:1"], "the simulator serves a port of its own")]
 #[case(&["simulate", "--port", "sim"], "the simulator serves a port of its own")]
 #[case(&["certify", "master", "--port", "sim"], "served on a serial port by path")]
-#[case(&["certify", "master", "--port", "ftp://x"], "only tcp:// is spoken")]
+#[case(&["certify", "master", "--port", "ftp://x"], "only tcp:// and rfc2217:// are spoken")]
 #[case(&["certify", "slave", "--port", "pty"], "give its path")]
 fn a_port_a_command_cannot_serve_is_refused_with_why(#[case] args: &[&str], #[case] why: &str) {
     let (code, text) = run(args);

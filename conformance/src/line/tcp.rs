@@ -1,8 +1,10 @@
-//! Raw TCP to a serial device server (`tcp://host:port`, e.g. ser2net). The server
-//! owns the UART and its settings. TCP has no baud rate: the harness writes a request
-//! at once and knows its end as a window, and stamps received bytes like on a
-//! pseudo-terminal (see [`super::clock`]).
+//! TCP to a serial device server: raw (`tcp://host:port`, e.g. ser2net), where the
+//! server owns the UART and its settings, or RFC 2217 (`rfc2217://host:port`), where
+//! the harness sets the server's data rate and parity (see [`super::rfc2217`]). TCP has
+//! no baud rate: the harness writes a request at once and knows its end as a window,
+//! and stamps received bytes like on a pseudo-terminal (see [`super::clock`]).
 
+use super::rfc2217::{self, Event, Telnet};
 use super::{clock, Line, LineError, LineKind, RealTime, Sent, Window};
 use hiperface_model::datalink::RxChar;
 use hiperface_model::UartSettings;
@@ -18,7 +20,12 @@ pub struct TcpLine {
     address: String,
     time: clock::RealTime,
     settings: UartSettings,
+    /// RFC 2217's Telnet state, where the server speaks it.
+    telnet: Option<Telnet>,
 }
+
+/// How long a device server may take to confirm new UART settings.
+const SETTINGS_CONFIRMED_WITHIN: Duration = Duration::from_secs(2);
 
 impl TcpLine {
     /// Connect to `host:port` within 5 s.
@@ -31,13 +38,69 @@ impl TcpLine {
             .ok_or_else(|| open_err("no address".into()))?;
         let stream = TcpStream::connect_timeout(&addr, Duration::from_secs(5)).map_err(|e| open_err(e.to_string()))?;
         stream.set_nodelay(true).map_err(|e| open_err(e.to_string()))?;
-        Ok(TcpLine { stream, address: address.to_string(), time: clock::RealTime::new(DEFAULT_TOLERANCE_US), settings })
+        let time = clock::RealTime::new(DEFAULT_TOLERANCE_US);
+        Ok(TcpLine { stream, address: address.to_string(), time, settings, telnet: None })
+    }
+
+    /// Connect to a device server that speaks RFC 2217, and set its UART to `settings`
+    /// (refused if it does not confirm them).
+    pub fn connect_rfc2217(address: &str, settings: UartSettings) -> Result<TcpLine, LineError> {
+        let mut line = TcpLine::connect(address, settings)?;
+        line.telnet = Some(Telnet::default());
+        line.stream.write_all(&rfc2217::greeting()).map_err(|e| LineError::Gone(e.to_string()))?;
+        line.configure(settings).map_err(|e| LineError::Open {
+            port: format!("rfc2217://{address}"),
+            reason: format!("the server did not take the UART settings through RFC 2217: {e}"),
+        })?;
+        Ok(line)
     }
 
     /// Allow this much timing jitter (µs) before a reply's start is graded.
     pub fn with_tolerance(mut self, tolerance_us: u64) -> TcpLine {
         self.time.tolerance_us = tolerance_us;
         self
+    }
+}
+
+/// Read whatever the server sends within `wait`, answering its negotiation; the
+/// first serial data byte, if one came.
+fn read_data(
+    stream: &mut TcpStream,
+    address: &str,
+    telnet: &mut Option<Telnet>,
+    wait: Duration,
+) -> Result<Option<u8>, LineError> {
+    let deadline = std::time::Instant::now() + wait;
+    loop {
+        let mut b = [0u8; 1];
+        let left = deadline.saturating_duration_since(std::time::Instant::now());
+        let read = if left.is_zero() {
+            // A zero timeout is refused by a socket: look without waiting instead.
+            stream.set_nonblocking(true)?;
+            let read = stream.read(&mut b);
+            stream.set_nonblocking(false)?;
+            read
+        } else {
+            stream.set_read_timeout(Some(left))?;
+            stream.read(&mut b)
+        };
+        let byte = match read {
+            Ok(1) => b[0],
+            Ok(_) => return Err(LineError::Gone(format!("{address} closed the connection"))),
+            Err(e) if matches!(e.kind(), ErrorKind::TimedOut | ErrorKind::WouldBlock | ErrorKind::Interrupted) => {
+                return Ok(None)
+            }
+            Err(e) => return Err(LineError::Gone(e.to_string())),
+        };
+        let Some(t) = telnet.as_mut() else { return Ok(Some(byte)) };
+        match t.take(byte) {
+            Event::Data(d) => return Ok(Some(d)),
+            Event::Answer(a) => stream.write_all(&a).map_err(|e| LineError::Gone(e.to_string()))?,
+            Event::Nothing | Event::Applied { .. } => {}
+        }
+        if left.is_zero() {
+            return Ok(None);
+        }
     }
 }
 
@@ -49,38 +112,18 @@ impl Line for TcpLine {
     fn send(&mut self, bytes: &[u8]) -> Result<Sent, LineError> {
         let ct = self.settings.char_time_us();
         let stream = &mut self.stream;
+        let telnet = self.telnet.is_some();
         let end = clock::write_whole(&self.time, ct, bytes, |b| {
-            stream.write_all(b).map_err(|e| LineError::Gone(e.to_string()))
+            let wire = if telnet { rfc2217::escape(b) } else { b.to_vec() };
+            stream.write_all(&wire).map_err(|e| LineError::Gone(e.to_string()))
         })?;
         // Behind the server a UART adds one character time (a pseudo-terminal none).
         Ok(Sent { end: Window { earliest_us: end.earliest_us, latest_us: end.latest_us + ct } })
     }
 
     fn recv(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError> {
-        let time = &self.time;
-        let (stream, address) = (&mut self.stream, &self.address);
-        let got = clock::read_until(time, until_us, |wait| {
-            let mut b = [0u8; 1];
-            let read = if wait.is_zero() {
-                // A zero timeout is refused by a socket: look without waiting instead,
-                // and block again for the reads that wait.
-                stream.set_nonblocking(true)?;
-                let read = stream.read(&mut b);
-                stream.set_nonblocking(false)?;
-                read
-            } else {
-                stream.set_read_timeout(Some(wait))?;
-                stream.read(&mut b)
-            };
-            match read {
-                Ok(1) => Ok(Some(b[0])),
-                Ok(_) => Err(LineError::Gone(format!("tcp://{address} closed the connection"))),
-                Err(e) if matches!(e.kind(), ErrorKind::TimedOut | ErrorKind::WouldBlock | ErrorKind::Interrupted) => {
-                    Ok(None)
-                }
-                Err(e) => Err(LineError::Gone(e.to_string())),
-            }
-        })?;
+        let (stream, address, telnet) = (&mut self.stream, &self.address, &mut self.telnet);
+        let got = clock::read_until(&self.time, until_us, |wait| read_data(stream, address, telnet, wait))?;
         // TCP has no baud rate: the server's UART delivered the bytes a character apart.
         let clocked = Some(self.settings.char_time_us());
         Ok(got.map(|(byte, arrival)| self.time.rx.stamp(byte, arrival, clocked)))
@@ -97,7 +140,28 @@ impl Line for TcpLine {
     }
 
     fn configure(&mut self, settings: UartSettings) -> Result<(), LineError> {
-        // The server's port settings are its configuration's; RFC 2217 is not spoken here.
+        if self.telnet.is_some() {
+            // RFC 2217: ask, and wait until the server says it applied them. No serial
+            // data is expected meanwhile (the harness changes settings between
+            // exchanges); any that comes is the line's fault, not lost silently.
+            self.stream.write_all(&rfc2217::set_settings(settings)).map_err(|e| LineError::Gone(e.to_string()))?;
+            let started = std::time::Instant::now();
+            while !self.telnet.as_ref().is_some_and(|t| t.has_applied(settings)) {
+                let left = SETTINGS_CONFIRMED_WITHIN.saturating_sub(started.elapsed());
+                if left.is_zero() {
+                    return Err(LineError::Settings { settings, reason: "the server did not confirm them".into() });
+                }
+                let wait = left.min(Duration::from_millis(50));
+                if let Some(d) = read_data(&mut self.stream, &self.address, &mut self.telnet, wait)? {
+                    return Err(LineError::Echo(format!(
+                        "serial data {d:02X} came while the server was switching its UART settings"
+                    )));
+                }
+            }
+            self.settings = settings;
+            return Ok(());
+        }
+        // The server's port settings are its configuration's.
         if settings.baud != self.settings.baud || settings.parity != self.settings.parity {
             return Err(LineError::Settings {
                 settings,
@@ -109,7 +173,7 @@ impl Line for TcpLine {
     }
 
     fn can_change_settings(&self) -> bool {
-        false
+        self.telnet.is_some()
     }
 
     fn settings(&self) -> UartSettings {
@@ -125,6 +189,9 @@ impl Line for TcpLine {
     }
 
     fn describe(&self) -> String {
-        format!("tcp://{} ({})", self.address, self.kind().label())
+        match self.telnet {
+            Some(_) => format!("rfc2217://{} (serial device server, RFC 2217)", self.address),
+            None => format!("tcp://{} ({})", self.address, self.kind().label()),
+        }
     }
 }

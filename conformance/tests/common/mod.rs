@@ -69,8 +69,13 @@ pub fn real_time_prefix() -> &'static str {
 /// algorithm, so that characters are passed on as they come (with them the server
 /// passes a reply on in bursts further apart than the timeout).
 pub fn ser2net_yaml(name: &str, port: u16, device: &str) -> String {
+    ser2net_yaml_with(name, &format!("tcp(nodelay),127.0.0.1,{port}"), device)
+}
+
+/// The same with another accepter (e.g. `telnet(rfc2217),tcp(nodelay),127.0.0.1,PORT`).
+pub fn ser2net_yaml_with(name: &str, accepter: &str, device: &str) -> String {
     format!(
-        "%YAML 1.1\n---\nconnection: &{name}\n    accepter: tcp(nodelay),127.0.0.1,{port}\n    enable: on\n    \
+        "%YAML 1.1\n---\nconnection: &{name}\n    accepter: {accepter}\n    enable: on\n    \
          options:\n      chardelay: false\n    connector: serialdev,{device},9600e81,local\n"
     )
 }
@@ -83,11 +88,25 @@ pub fn free_port() -> u16 {
 impl Ser2net {
     /// Start one for `pty_path` at 9600 8E1.
     pub fn bridge(pty_path: &str, name: &str) -> Ser2net {
+        Ser2net::start(pty_path, name, false)
+    }
+
+    /// Start one for `pty_path` that takes UART settings through RFC 2217.
+    pub fn bridge_rfc2217(pty_path: &str, name: &str) -> Ser2net {
+        Ser2net::start(pty_path, name, true)
+    }
+
+    fn start(pty_path: &str, name: &str, rfc2217: bool) -> Ser2net {
         let exe = ser2net_program();
         let port = free_port();
         let dir = tempfile::tempdir().unwrap();
         let config = dir.path().join("ser2net.yaml");
-        std::fs::write(&config, ser2net_yaml(name, port, pty_path)).unwrap();
+        let yaml = if rfc2217 {
+            ser2net_yaml_with(name, &format!("telnet(rfc2217),tcp(nodelay),127.0.0.1,{port}"), pty_path)
+        } else {
+            ser2net_yaml(name, port, pty_path)
+        };
+        std::fs::write(&config, yaml).unwrap();
         // A device server is a device with a processor of its own: where permitted it
         // runs at a real-time priority, so that a busy test machine does not delay its
         // chunks by more than a reply's timing limit (it did, under load).
