@@ -215,3 +215,37 @@ fn every_defect_switch_fails_its_own_case() {
     eprintln!("{}", table.join("\n"));
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
+
+/// RFC 2217 through a real ser2net: HX-1 takes the line's data rate from its
+/// pseudo-terminal (`--follow-line`), so 67h is followed end to end. The conformant
+/// HX-1 passes `settings.temporary`; with `ignores-temporary-settings` (it answers 67h
+/// and keeps its old rate) the case FAILs, and only that case.
+#[test]
+#[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
+#[cfg_attr(not(has_ser2net), ignore = "ser2net is not installed (apt-get install ser2net)")]
+fn temporary_settings_through_rfc2217_pass_and_their_defect_fails() {
+    use hiperface_conformance::port::open_for_slave;
+    let _one = common::one_at_a_time();
+    let run = |args: &[&str]| {
+        let hx1 = Hx1::start(args);
+        let server = common::Ser2net::bridge_rfc2217(&hx1.path, "hx1rfc2217");
+        let spec: PortSpec = format!("rfc2217://{}", server.address()).parse().unwrap();
+        let started = std::time::Instant::now();
+        let opened = loop {
+            match open_for_slave(&spec, profile(), &Default::default(), None) {
+                Ok(o) => break o,
+                Err(_) if started.elapsed() < std::time::Duration::from_secs(10) => {
+                    std::thread::sleep(std::time::Duration::from_millis(100))
+                }
+                Err(e) => panic!("{e}"),
+            }
+        };
+        let options = Options { timing: opened.default_timing.0, ..options() };
+        certify::run(opened.line, profile(), &options, |_, _, _| {})
+    };
+    let good = run(&["--follow-line"]);
+    assert_eq!(with_verdict(&good, CaseVerdict::Fail), Vec::<&str>::new(), "{:?}", good.summary);
+    assert!(with_verdict(&good, CaseVerdict::Pass).contains(&"settings.temporary"), "{:?}", good.summary);
+    let bad = run(&["--follow-line", "--defect", "ignores-temporary-settings"]);
+    assert_eq!(with_verdict(&bad, CaseVerdict::Fail), vec!["settings.temporary"], "{:?}", bad.summary);
+}

@@ -28,6 +28,7 @@ import select
 import signal
 import stat
 import sys
+import termios
 import time
 import tty
 
@@ -110,6 +111,7 @@ DEFECTS = {
     "no-init-silence": "answers during the initialization after an Encoder Reset",
     "no-code-check": "Set Position accepts any Code0",
     "old-address-reply": "Set Encoder Address replies from the old address",
+    "ignores-temporary-settings": "replies to Temporarily Set Serial Interface but keeps its old settings",
 }
 
 
@@ -483,7 +485,24 @@ def watch_stdin():
 LATE_WAKE_S = 0.0005
 
 
-def serve(fd, slave, log):
+# termios speed constants -> Bd, for --follow-line.
+SPEEDS = {getattr(termios, "B%d" % bd): bd for bd in (600, 1200, 2400, 4800, 9600, 19200, 38400)}
+
+
+def line_bd(fd):
+    """The data rate the other end of the pseudo-terminal set (a device server that
+    takes settings through RFC 2217 writes them there)."""
+    return SPEEDS.get(termios.tcgetattr(fd)[4])
+
+
+def at_line_rate(fd, slave, now, follow):
+    """With --follow-line: whether the line runs at the rate this device listens
+    and replies at. A UART at another rate finds no characters."""
+    settings = slave.listening(now)
+    return not follow or settings is None or line_bd(fd) == BAUD_RATES.get(settings & 0x07)
+
+
+def serve(fd, slave, log, follow=False):
     pending = bytearray()
     last_rx = None
     stop = []
@@ -506,19 +525,19 @@ def serve(fd, slave, log):
             request = bytes(pending)
             pending.clear()
             last_rx = None
-            respond(fd, slave, request, end, log)
+            respond(fd, slave, request, end, log, follow)
             continue
         if fd in ready:
             try:
                 chunk = os.read(fd, 512)
             except OSError:
                 chunk = b""
-            if slave.listening(now) is None:
-                continue   # no UART communication: characters are lost
+            if slave.listening(now) is None or not at_line_rate(fd, slave, now, follow):
+                continue   # no UART communication, or another rate: characters are lost
             if end is not None and now >= end and now - end < LATE_WAKE_S:
                 # woken on time and these bytes were not there yet: the previous
                 # request ended before they came
-                respond(fd, slave, bytes(pending), end, log)
+                respond(fd, slave, bytes(pending), end, log, follow)
                 pending.clear()
             # woken late (a busy machine), the bytes may have come before the timeout
             # ended: a UART would have stamped them; this process cannot tell, and
@@ -527,9 +546,11 @@ def serve(fd, slave, log):
             last_rx = now
 
 
-def respond(fd, slave, request, end, log):
+def respond(fd, slave, request, end, log, follow=False):
     slave.pending_settings = None
     reply = slave.handle(request, end)
+    if reply is not None and not at_line_rate(fd, slave, end, follow):
+        reply = None   # sent at another rate than the line's: nobody hears it
     if log:
         print("%10.3f M> %s" % (end - slave.boot, request.hex(" ")), file=sys.stderr, flush=True)
     if reply is None:
@@ -545,7 +566,7 @@ def respond(fd, slave, request, end, log):
         os.write(fd, reply)
     if log:
         print("%10.3f S< %s" % (time.monotonic() - slave.boot, reply.hex(" ")), file=sys.stderr, flush=True)
-    if slave.pending_settings is not None:
+    if slave.pending_settings is not None and "ignores-temporary-settings" not in slave.defects:
         slave.temporary_settings = slave.pending_settings
 
 
@@ -557,6 +578,9 @@ def main():
     p.add_argument("--erased-byte", type=lambda v: int(v, 0), default=0xFF,
                    help="what unwritten bytes of a new data field read (default 0xFF)")
     p.add_argument("--log", action="store_true")
+    p.add_argument("--follow-line", action="store_true",
+                   help="take the line's data rate from the pseudo-terminal (set by a device server "
+                        "through RFC 2217): characters at another rate are lost")
     p.add_argument("--list-defects", action="store_true")
     args = p.parse_args()
     if args.list_defects:
@@ -571,7 +595,7 @@ def main():
     global ERASED
     ERASED = args.erased_byte & 0xFF
     device = HX1(args.defect, args.temperature)
-    serve(master, device, args.log)
+    serve(master, device, args.log, args.follow_line)
     os.close(slave_fd)
 
 
