@@ -134,11 +134,16 @@ pub fn octant_transformation_is_sound(sin: i32, cos: i32) -> bool {
     ordered && bounds
 }
 
+// Each harness's first doc line is `Domain: ...`, in the words of its twin's
+// `Property::domain` (a test compares the two); then why its unwind bound suffices.
+// Unwinding assertions are on (Kani's default): a bound that is too small fails.
 #[cfg(kani)]
 mod harnesses {
     use super::*;
+    use crate::properties::{self as p, STEP_FRAME};
 
-    /// Bounds: a 3-byte body (address, command, one data byte), any bit of 4 bytes.
+    /// Domain: every 3-byte body, every bit of the 4-byte frame.
+    /// No loop depends on the inputs (the XOR runs over 3 or 4 bytes).
     #[kani::proof]
     fn checksum() {
         let body: [u8; 3] = kani::any();
@@ -147,20 +152,20 @@ mod harnesses {
         assert!(checksum_detects_single_bit_flips(body, bit));
     }
 
-    /// Bounds: all 256 settings bytes.
+    /// Domain: all 256 settings bytes.
     #[kani::proof]
     fn settings_codec() {
         assert!(settings_codec_round_trips(kani::any()));
     }
 
-    /// Bounds: all 256 address bytes.
+    /// Domain: all 256 address bytes.
     #[kani::proof]
     fn address_codec() {
         assert!(address_codec_round_trips(kani::any()));
     }
 
-    /// Bounds: the 16 rows of 000 Table 72. Unwind 17: the search runs over the 16
-    /// rows (+1 for the exit check).
+    /// Domain: the 16 rows of 000 Table 72.
+    /// Unwind 17: the search runs over the 16 rows (+1 for the exit check).
     #[kani::proof]
     #[kani::unwind(17)]
     fn quadrature_table() {
@@ -169,8 +174,8 @@ mod harnesses {
         assert!(quadrature_equals_table_72(row));
     }
 
-    /// Bounds: the 16 rows of the synchronisation table. Unwind 17: the search runs
-    /// over the 16 rows (+1 for the exit check).
+    /// Domain: the 16 rows of 000:3.2.5's table.
+    /// Unwind 17: the search runs over the 16 rows (+1 for the exit check).
     #[kani::proof]
     #[kani::unwind(17)]
     fn sync_table() {
@@ -179,35 +184,36 @@ mod harnesses {
         assert!(sync_equals_table(f, a));
     }
 
-    /// Bounds: sin and cos in -128..=127 (every sign and magnitude combination).
+    /// Domain: sin and cos in -128..=127.
     #[kani::proof]
     fn octants() {
         let (s, c): (i8, i8) = (kani::any(), kani::any());
         assert!(octant_transformation_is_sound(s as i32, c as i32));
     }
 
-    /// Bounds: all 256 command bytes.
+    /// Domain: all 256 command bytes.
     #[kani::proof]
     fn command_byte_codec() {
-        assert!(crate::properties::command_byte_round_trips(kani::any()));
+        assert!(p::command_byte_round_trips(kani::any()));
     }
 
-    /// Bounds: frames of up to 6 symbolic bytes. Unwind 8: the loops run over the
-    /// frame's bytes (at most 6, +1 for the exit check); unwinding assertions fail
-    /// where a loop needs more.
+    /// Domain: every frame of 0 to 6 bytes.
+    /// Unwind 8: the loops run over the frame's bytes (at most 6, +1 for the exit
+    /// check).
     #[kani::proof]
     #[kani::unwind(8)]
     fn request_decoder() {
         let frame: [u8; 6] = kani::any();
         let len: usize = kani::any();
         kani::assume(len <= 6);
-        assert!(crate::properties::request_decoder_is_total(&frame[..len]));
+        assert!(p::request_decoder_is_total(&frame[..len]));
     }
 
-    /// Bounds: a command byte and up to 6 reply bytes. Unwind 8: the loops run over
-    /// the reply's bytes (at most 6, +1 for the exit check). Run with CBMC's
-    /// `--max-field-sensitivity-array-size 256` (scripts/kani.sh; docs/design.md,
-    /// "Kani"): without it CBMC 6.6 misreads the fields of a `Response`.
+    /// Domain: a command byte and 0 to 6 reply bytes.
+    /// Unwind 8: the loops run over the reply's bytes (at most 6, +1 for the exit
+    /// check). Run with CBMC's `--max-field-sensitivity-array-size 136`
+    /// (scripts/kani.sh; docs/design.md, "Kani"): without it CBMC 6.6 misreads the
+    /// fields of a `Response`.
     #[kani::proof]
     #[kani::unwind(8)]
     fn response_decoder() {
@@ -217,30 +223,43 @@ mod harnesses {
         crate::targets::response(&data[..len]);
     }
 
-    /// Bounds: every command (index into the table), 6 symbolic argument bytes; unwind
-    /// 140 (a request's longest loop: a Store Data's data bytes). No verdict yet in
-    /// 300 s under Kani; its twin covers it.
+    /// Domain: every command of fixed length, any data bytes.
+    /// Unwind 9: the loops run over the frame's bytes (at most 8: address, command, 5
+    /// data bytes, checksum; +1 for the exit check).
     #[kani::proof]
-    #[kani::unwind(140)]
-    fn request_round_trip() {
-        let command: u8 = kani::any();
-        let data: [u8; 6] = kani::any();
-        assert!(crate::properties::request_round_trips(command, &data));
+    #[kani::unwind(9)]
+    fn request_round_trip_fixed() {
+        let row: u8 = kani::any();
+        kani::assume((row as usize) < hiperface_model::COMMAND_TABLE.len() && row != p::STORE_DATA_ROW);
+        let data: [u8; 5] = kani::any();
+        assert!(p::request_round_trips(row, &data));
     }
 
-    /// Bounds: 4 characters with symbolic bytes and gaps, any timeout. Unwind 5: the
-    /// longest loop is over the 4 characters (+1 for the exit check).
+    /// Domain: Store Data with 1 to 128 data bytes, any header and data bytes.
+    /// Unwind 136: the loops run over the frame's bytes (at most 135, +1 for the exit
+    /// check).
+    #[kani::proof]
+    #[kani::unwind(136)]
+    fn request_round_trip_store_data() {
+        let data: [u8; 132] = kani::any();
+        let len: usize = kani::any();
+        kani::assume((5..=132).contains(&len));
+        assert!(p::request_round_trips(p::STORE_DATA_ROW, &data[..len]));
+    }
+
+    /// Domain: any timeout, 4 characters with any bytes and gaps.
+    /// Unwind 5: the longest loop is over the 4 characters (+1 for the exit check).
     #[kani::proof]
     #[kani::unwind(5)]
     fn datalink() {
         let timeout: u16 = kani::any();
         let chars: [(u8, u16); 4] = kani::any();
-        let chars = chars.map(|(byte, gap_us)| crate::targets::TimedChar { byte, gap_us, fault: None });
-        crate::targets::datalink(timeout, &chars);
+        assert!(p::datalink_frames(timeout, &chars));
     }
 
-    /// Bounds: sequences of 6 operations over 5 codes and pop. Unwind 7: the loop over
-    /// the 6 operations (+1); the stack's own loops are over its 4 entries.
+    /// Domain: every sequence of 6 operations over 5 codes and pop.
+    /// Unwind 7: the loop over the 6 operations (+1); the stack's own loops are over
+    /// its 4 slots.
     #[kani::proof]
     #[kani::unwind(7)]
     fn stack() {
@@ -248,20 +267,21 @@ mod harnesses {
         for o in ops {
             kani::assume(o < 6);
         }
-        assert!(crate::properties::stack_invariants(&ops));
+        assert!(p::stack_invariants(&ops));
     }
 
-    /// Bounds: a 4-byte frame to 40h on a factory-state SEK37; unwind 140 (the loops
-    /// over a data field's bytes). No verdict yet in 300 s under Kani; its twin covers
-    /// it.
+    /// Domain: Read Encoder Status to 40h with any checksum byte, on a factory-state SEK37.
+    /// Unwind 257: the longest loops run over the data field table's 255 slots (+1, +1
+    /// for the loop over every field number 0..=255). No verdict yet under Kani (see
+    /// the README's table): it is the first of one harness per command.
     #[kani::proof]
-    #[kani::unwind(140)]
+    #[kani::unwind(257)]
     fn slave_step() {
-        let cmd: u8 = kani::any();
-        let data: [u8; 2] = kani::any();
-        let frame = [0x40, cmd, data[0], data[1]];
         let s = hiperface_model::Slave::operational(hiperface_model::profiles::sek37());
-        assert!(crate::properties::slave_step_is_total(&s, &frame));
+        let bytes: [u8; STEP_FRAME] = kani::any();
+        let sealed: bool = kani::any();
+        let frame = p::step_frame(0x50, bytes, 3, sealed);
+        assert!(p::slave_step_is_total(&s, &frame[..3]));
     }
 }
 
@@ -281,8 +301,29 @@ mod tests {
         let mut twins: Vec<&str> = properties::PROPERTIES.iter().filter_map(|p| p.harness).collect();
         harnesses.sort_unstable();
         twins.sort_unstable();
-        assert_eq!(harnesses.len(), 13, "{harnesses:?}");
+        assert_eq!(harnesses.len(), 14, "{harnesses:?}");
         assert_eq!(harnesses, twins);
+    }
+
+    /// Each harness's domain is its twin's, word for word: the `Domain:` line that
+    /// opens the harness's doc comment is the twin's `Property::domain`.
+    #[test]
+    fn every_twin_checks_its_harness_domain() {
+        let source = include_str!("lib.rs");
+        let marker = concat!("#[kani", "::proof]");
+        let mut checked = 0;
+        for chunk in source.split(marker).skip(1) {
+            let Some(name) = chunk.split("fn ").nth(1).and_then(|s| s.split('(').next()) else { continue };
+            let twin = properties::PROPERTIES.iter().find(|p| p.harness == Some(name)).expect("a twin");
+            // The last `Domain:` line before the harness, with no other function between.
+            let before = &source[..source.find(&format!("fn {name}(")).unwrap_or(0)];
+            let doc = before.rsplit("/// Domain: ").next().unwrap_or("");
+            assert!(!doc.contains("fn "), "{name} has no Domain: line of its own");
+            let domain = doc.lines().next().unwrap_or("").trim().trim_end_matches('.');
+            assert_eq!(domain, twin.domain, "{name}");
+            checked += 1;
+        }
+        assert_eq!(checked, 14);
     }
 
     #[test]

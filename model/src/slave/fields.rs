@@ -165,7 +165,15 @@ impl DataFields {
     }
 
     pub fn used_blocks(&self) -> u32 {
-        self.statuses[..self.count as usize].iter().map(|s| FieldStatus(*s).blocks() as u32).sum()
+        self.blocks_before(self.count)
+    }
+
+    /// Blocks of the fields below `number`. Every slot of the table is visited (those
+    /// at or above `number` count 0): a loop of fixed length, which a bounded model
+    /// checker bounds whatever it knows of `number`.
+    fn blocks_before(&self, number: u8) -> u32 {
+        let below = |(i, s): (usize, &u8)| if i < number as usize { FieldStatus(*s).blocks() as u32 } else { 0 };
+        self.statuses.iter().enumerate().map(below).sum()
     }
 
     pub fn free_blocks(&self) -> u8 {
@@ -173,7 +181,7 @@ impl DataFields {
     }
 
     fn start(&self, number: u8) -> usize {
-        self.statuses[..number as usize].iter().map(|s| FieldStatus(*s).size_bytes()).sum()
+        self.blocks_before(number) as usize * BLOCK
     }
 
     /// Bytes `offset..offset+count` of a field; `None` if out of bounds.

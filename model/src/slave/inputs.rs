@@ -218,11 +218,15 @@ impl InjectedFaults {
         }
     }
 
-    pub fn init_faults(&self) -> impl Iterator<Item = InitFault> + '_ {
-        InitFault::ALL.iter().copied().filter(|f| self.init & f.bit() != 0)
+    // Every fault of the table with whether it is injected, rather than only the
+    // injected ones: a loop over them has a fixed count, which a bounded model checker
+    // bounds whatever it knows of the injected bits (a filtered loop it did not, in
+    // the slave-step harnesses).
+    pub fn init_faults(&self) -> [(InitFault, bool); InitFault::ALL.len()] {
+        InitFault::ALL.map(|f| (f, self.init & f.bit() != 0))
     }
 
-    pub fn position_faults(&self) -> impl Iterator<Item = PositionFault> + '_ {
-        PositionFault::ALL.iter().copied().filter(|f| self.position & f.bit() != 0)
+    pub fn position_faults(&self) -> [(PositionFault, bool); PositionFault::ALL.len()] {
+        PositionFault::ALL.map(|f| (f, self.position & f.bit() != 0))
     }
 }

@@ -120,7 +120,10 @@ impl Slave {
         self.boot_settings = self.nv.settings;
         self.link.clear();
         self.locks = Locks::default();
-        for fault in self.injected.init_faults() {
+        for (fault, injected) in self.injected.init_faults() {
+            if !injected {
+                continue;
+            }
             let e = fault.effect();
             // 000:T38-T46: stored "along with the internal checksum error".
             if e.with_checksum_error {

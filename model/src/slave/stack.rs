@@ -31,8 +31,19 @@ impl ErrorStack {
         self.len == 0
     }
 
+    /// The code in slot `i` (0 the oldest), if the stack holds that many.
+    pub fn slot(&self, i: usize) -> Option<FaultCode> {
+        self.entries.get(i).filter(|_| i < self.len as usize).map(|b| FaultCode::decode(*b))
+    }
+
     pub fn contains(&self, code: FaultCode) -> bool {
-        self.entries().any(|c| c == code)
+        // Every slot visited, no early exit: a loop of STACK_DEPTH steps whatever the
+        // length, which a bounded model checker bounds without knowing it.
+        let mut found = false;
+        for i in 0..STACK_DEPTH {
+            found |= self.slot(i) == Some(code);
+        }
+        found
     }
 
     /// Store a code: once while unread; on overflow the oldest is dropped. 00h is never stored.

@@ -14,7 +14,10 @@ impl Slave {
         c.check(self.locks.position, AngularOffset, clause::POSITION_LOCK);
         let linear = self.profile.resolution.is_linear();
         let mut newly_locked = false;
-        for fault in self.injected.position_faults() {
+        for (fault, injected) in self.injected.position_faults() {
+            if !injected {
+                continue;
+            }
             let answered = c.first.is_none();
             c.check(true, fault.code(), clause::POSITION_FAULTS);
             if measured && !answered {
