@@ -178,11 +178,11 @@ mod tests {
         assert!("rfc2217://nohost".parse::<PortSpec>().is_err());
         assert_eq!("/dev/ttyUSB0".parse(), Ok(PortSpec::Path("/dev/ttyUSB0".into())));
         assert_eq!("COM3".parse(), Ok(PortSpec::Path("COM3".into())));
-        for bad in ["", "tcp://host", "tcp://:2000", "tcp://h:99999", "rfc2217://h:1"] {
+        for bad in ["", "tcp://host", "tcp://:2000", "tcp://h:99999", "ftp://h:1", "rfc2217://h"] {
             let e = bad.parse::<PortSpec>().unwrap_err();
             assert!(e.to_string().contains("is not a port"), "{bad}: {e}");
         }
-        for s in ["sim", "virtual", "pty", "tcp://h:1", "/dev/pts/3"] {
+        for s in ["sim", "virtual", "pty", "tcp://h:1", "rfc2217://h:1", "/dev/pts/3"] {
             assert_eq!(s.parse::<PortSpec>().unwrap().to_string(), s);
         }
     }

@@ -81,6 +81,11 @@ impl<L: Line> EchoLine<L> {
     }
 }
 
+/// `--echo off` on a line that echoes.
+fn off_but_echoes() -> LineError {
+    LineError::Echo("the line echoes: the request came back byte for byte before any reply; use --echo auto".into())
+}
+
 /// The request's end, narrowed by its echo: the last character cannot have come back
 /// before it was on the wire, so the request ended no later than the echo's last
 /// character arrived.
@@ -108,17 +113,14 @@ impl<L: Line> Line for EchoLine<L> {
             Echo::Unknown => {
                 let (matched, other) = self.read_back(bytes, until)?;
                 let echoed = matched.len() == bytes.len() && !bytes.is_empty();
-                if echoed && self.mode == EchoMode::Off {
-                    // Watched all the same, to say so rather than grade it.
-                    self.held.extend(matched);
-                    self.held.extend(other);
-                    return Err(LineError::Echo(
-                        "the line echoes: the request came back byte for byte before any reply; use --echo auto".into(),
-                    ));
-                }
                 if echoed {
                     self.echo = Echo::Echoes;
                     self.held.extend(other);
+                    if self.mode == EchoMode::Off {
+                        // Watched all the same, to say so rather than grade it; and
+                        // from now on every request, so that nothing is graded.
+                        return Err(off_but_echoes());
+                    }
                     let end = matched.last().map_or(sent.end, |c| narrowed(sent.end, c.at_us));
                     Ok(Sent { end })
                 } else {
@@ -133,6 +135,9 @@ impl<L: Line> Line for EchoLine<L> {
                 let (matched, other) = self.read_back(bytes, until)?;
                 if matched.len() == bytes.len() {
                     self.held.extend(other);
+                    if self.mode == EchoMode::Off {
+                        return Err(off_but_echoes());
+                    }
                     let end = matched.last().map_or(sent.end, |c| narrowed(sent.end, c.at_us));
                     return Ok(Sent { end });
                 }
@@ -307,9 +312,15 @@ mod tests {
     }
 
     #[test]
-    fn echo_off_on_an_echoing_line_says_so() {
+    fn echo_off_on_an_echoing_line_says_so_at_every_request() {
         let mut line = EchoLine::new(echoing(false), EchoMode::Off);
         let e = line.send(&REQUEST).unwrap_err();
         assert!(e.to_string().contains("use --echo auto"), "{e}");
+        // A caller that goes on (the run's first reads do) is told again, and is never
+        // given an echo for a reply.
+        for _ in 0..3 {
+            let e = line.send(&[0x40, 0x56, 0x16]).unwrap_err();
+            assert!(e.to_string().contains("use --echo auto"), "{e}");
+        }
     }
 }
