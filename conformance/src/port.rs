@@ -96,14 +96,29 @@ pub struct Opened {
     pub default_timing: (TimingMode, Option<String>),
 }
 
-/// Open `spec` for certifying a slave of `profile`. `tolerance_us` overrides the
-/// line's default jitter tolerance on every real-time line.
+/// How the line is to be taken, beyond what its kind says: from the command line.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct LineOptions {
+    /// Overrides the line's default jitter tolerance on every real-time line, µs.
+    pub tolerance_us: Option<u64>,
+    /// The line may deliver received characters this late (`--latency-ms`), µs.
+    pub latency_us: Option<u64>,
+}
+
+impl LineOptions {
+    pub fn tolerance(tolerance_us: u64) -> LineOptions {
+        LineOptions { tolerance_us: Some(tolerance_us), ..LineOptions::default() }
+    }
+}
+
+/// Open `spec` for certifying a slave of `profile`, the line taken as `options` say.
 pub fn open_for_slave(
     spec: &PortSpec,
     profile: Profile,
     world: &World,
-    tolerance_us: Option<u64>,
+    options: LineOptions,
 ) -> Result<Opened, LineError> {
+    let LineOptions { tolerance_us, latency_us } = options;
     let strict = (TimingMode::Strict, None);
     let (line, simulator, default_timing): (Box<dyn Line>, _, _) = match spec {
         PortSpec::Virtual => {
@@ -146,12 +161,15 @@ pub fn open_for_slave(
             if let Some(t) = tolerance_us {
                 line = line.with_tolerance(t);
             }
-            let timing = match line.adapter().map(|a| a.input_latency_us()) {
-                Some(latency) if latency > STRICT_LIMIT_US => (
+            if let Some(l) = latency_us {
+                line = line.with_declared_latency(l);
+            }
+            let timing = match line.input_latency_us() {
+                latency if latency > STRICT_LIMIT_US => (
                     TimingMode::Lenient,
                     Some(format!(
-                        "timing graded leniently: the USB adapter may hold replies back up to {:.1} ms \
-                         (lower its latency timer, or choose --timing strict)",
+                        "timing graded leniently: the line may hold replies back up to {:.1} ms \
+                         (lower the adapter's latency timer, or choose --timing strict)",
                         latency as f64 / 1000.0
                     )),
                 ),
@@ -190,19 +208,20 @@ mod tests {
     #[test]
     fn the_tolerance_reaches_every_real_time_line() {
         let profile = hiperface_model::profiles::srs50();
-        let opened = open_for_slave(&PortSpec::Sim, profile, &World::default(), Some(7_000)).unwrap();
+        let opened = open_for_slave(&PortSpec::Sim, profile, &World::default(), LineOptions::tolerance(7_000)).unwrap();
         assert_eq!(opened.line.tolerance_us(), 7_000);
         // A pseudo-terminal by path: the other end stays open, its own handle is closed.
         use serialport::SerialPort as _;
         let (_keep, other) = serialport::TTYPort::pair().unwrap();
         let path = other.name().unwrap();
         drop(other);
-        let opened = open_for_slave(&PortSpec::Path(path), profile, &World::default(), Some(9_000)).unwrap();
+        let opened =
+            open_for_slave(&PortSpec::Path(path), profile, &World::default(), LineOptions::tolerance(9_000)).unwrap();
         assert_eq!(opened.line.tolerance_us(), 9_000);
         let server = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
         let spec = PortSpec::Tcp(server.local_addr().unwrap().to_string());
-        let opened = open_for_slave(&spec, profile, &World::default(), Some(11_000)).unwrap();
+        let opened = open_for_slave(&spec, profile, &World::default(), LineOptions::tolerance(11_000)).unwrap();
         assert_eq!(opened.line.tolerance_us(), 11_000);
-        assert!(open_for_slave(&PortSpec::Pty, profile, &World::default(), None).is_err());
+        assert!(open_for_slave(&PortSpec::Pty, profile, &World::default(), LineOptions::default()).is_err());
     }
 }

@@ -42,7 +42,10 @@ fn temporary_settings_are_followed_through_rfc2217() {
     let _harness_end = harness_end;
     let server = common::Ser2net::bridge_rfc2217(&sim.path, "sim2217");
     let spec: PortSpec = format!("rfc2217://{}", server.address()).parse().unwrap();
-    let line = connect_retrying(|| port::open_for_slave(&spec, profile, &Default::default(), Some(25_000))).line;
+    let line = connect_retrying(|| {
+        port::open_for_slave(&spec, profile, &Default::default(), port::LineOptions::tolerance(25_000))
+    })
+    .line;
     assert!(line.describe().starts_with("rfc2217://"), "{}", line.describe());
     let report = certify::run(line, profile, &Options::all_allowed(), |_, _, _| {});
     let bad: Vec<_> =

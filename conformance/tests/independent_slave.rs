@@ -25,8 +25,9 @@ fn options() -> Options {
 /// Certify over the pseudo-terminal, opened as `certify slave --port <path>` opens it
 /// (default tolerance, default timing mode).
 fn certify_pty(hx1: &Hx1) -> Report {
-    let opened = port::open_for_slave(&PortSpec::Path(hx1.path.clone()), profile(), &Default::default(), None)
-        .unwrap_or_else(|e| panic!("{e}"));
+    let opened =
+        port::open_for_slave(&PortSpec::Path(hx1.path.clone()), profile(), &Default::default(), Default::default())
+            .unwrap_or_else(|e| panic!("{e}"));
     let options = Options { timing: opened.default_timing.0, ..options() };
     certify::run(opened.line, profile(), &options, |_, _, _| {})
 }
@@ -232,7 +233,7 @@ fn temporary_settings_through_rfc2217_pass_and_their_defect_fails() {
         let spec: PortSpec = format!("rfc2217://{}", server.address()).parse().unwrap();
         let started = std::time::Instant::now();
         let opened = loop {
-            match open_for_slave(&spec, profile(), &Default::default(), None) {
+            match open_for_slave(&spec, profile(), &Default::default(), Default::default()) {
                 Ok(o) => break o,
                 Err(_) if started.elapsed() < std::time::Duration::from_secs(10) => {
                     std::thread::sleep(std::time::Duration::from_millis(100))

@@ -89,3 +89,47 @@ fn a_quiet_line_is_found_quiet_and_graded_as_before() {
     assert!(r.outcome().passed(), "{:?} {:?}", r.summary, r.aborted);
     assert_eq!(r.echo, Some((Echo::Quiet, EchoMode::Auto)));
 }
+
+/// A line that holds the device's characters for 16 ms, as an FTDI adapter's latency
+/// timer does by default, which the harness cannot read on a pseudo-terminal: declared
+/// with `--latency-ms 16`, the run has no FAIL in the default timing mode and the
+/// certificate names the latency; undeclared, the same line makes replies late.
+#[test]
+fn a_declared_latency_timer_is_no_fail_and_is_on_the_certificate() {
+    use hiperface_conformance::port::{open_for_slave, LineOptions, PortSpec};
+    let _one = common::one_at_a_time();
+    let profile = profiles::srs50();
+    let run = |latency_us: Option<u64>| {
+        let (_sim, device) = PtySimulator::start(profile).unwrap();
+        let emulator = LineEmulator::start(device, Behaviour { latency_ms: 16, ..Behaviour::default() });
+        let spec = PortSpec::Path(emulator.path.clone());
+        let opened =
+            open_for_slave(&spec, profile, &Default::default(), LineOptions { latency_us, ..Default::default() })
+                .unwrap_or_else(|e| panic!("{e}"));
+        let options = Options { timing: opened.default_timing.0, ..Options::all_allowed() };
+        certify::run(opened.line, profile, &options, |_, _, _| {})
+    };
+    let declared = run(Some(16_000));
+    assert_eq!(failed(&declared), Vec::<String>::new());
+    assert!(declared.outcome().passed(), "{:?}", declared.summary);
+    assert!(declared.line_notes.iter().any(|n| n.contains("16.0 ms")), "{:?}", declared.line_notes);
+    let undeclared = run(None);
+    assert!(
+        undeclared.cases.iter().any(|c| c.verdict == CaseVerdict::Fail),
+        "the emulated latency timer is real: undeclared it makes replies late {:?}",
+        undeclared.summary
+    );
+}
+
+/// A line that adds 0.3 ms before each character it passes on, both ways (a slow
+/// device server): within every timeout, no FAIL.
+#[test]
+fn a_gap_before_each_character_is_no_fail() {
+    let _one = common::one_at_a_time();
+    let profile = profiles::srs50();
+    let (_sim, device) = PtySimulator::start(profile).unwrap();
+    let emulator = LineEmulator::start(device, Behaviour { gap_us: 300, ..Behaviour::default() });
+    let r = certify_through(&emulator, profile, EchoMode::Auto, &Options::all_allowed());
+    assert_eq!(failed(&r), Vec::<String>::new());
+    assert!(r.outcome().passed(), "{:?} {:?}", r.summary, r.aborted);
+}

@@ -49,6 +49,12 @@ pub struct CertifySlaveArgs {
     /// serial port or pseudo-terminal, 4 over TCP).
     #[arg(long, value_parser = parse_ms)]
     pub tolerance_ms: Option<f64>,
+    /// The line may deliver received characters up to this late, ms: a latency timer
+    /// the harness cannot read or lower (an adapter behind a hub or a device server's
+    /// buffering). Reply windows are widened by it, above 3 ms timing is graded
+    /// leniently by default, and the certificate says so.
+    #[arg(long, value_parser = parse_ms)]
+    pub latency_ms: Option<f64>,
     /// How reply timing is graded: strict (FAIL outside the window), lenient
     /// (NON-STRICT, with the figure), off (reported only). Default: strict, lenient
     /// through a USB adapter whose latency timer could not be lowered.
@@ -94,6 +100,7 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<ExitCode, String> {
         report: dir,
         grading,
         tolerance_ms,
+        latency_ms,
         timing,
         echo,
         rs485,
@@ -127,6 +134,9 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<ExitCode, String> {
     let sim = port.is_model();
     let grading = grading.unwrap_or(if sim { Grading::Exact } else { Grading::Range });
     let world = if sim { world.world() } else { World::default() };
+    if latency_ms.is_some() && !matches!(port, PortSpec::Path(_)) {
+        return Err(format!("--latency-ms applies to a serial port or pseudo-terminal path, not `{port}`"));
+    }
     // The RS-485 mode is set before the run opens the port, and put back when the guard
     // goes at the end of this function.
     let rs485_guard = match (&port, rs485.mode) {
@@ -134,7 +144,12 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<ExitCode, String> {
         (PortSpec::Path(path), _) => rs485.apply(path).map_err(|e| e.to_string())?,
         (other, _) => return Err(format!("--rs485 needs a serial port, not `{other}`")),
     };
-    let opened = match port::open_for_slave(&port, profile, &world, tolerance_ms.map(ms_to_us)) {
+    let opened = match port::open_for_slave(
+        &port,
+        profile,
+        &world,
+        port::LineOptions { tolerance_us: tolerance_ms.map(ms_to_us), latency_us: latency_ms.map(ms_to_us) },
+    ) {
         Ok(o) => o,
         Err(e) => {
             if let Some(dir) = &dir {

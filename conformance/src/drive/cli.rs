@@ -120,7 +120,8 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<ExitCode, String> {
 /// Run the reference master on a port, printing what it reads.
 pub fn reference_master(args: &MasterArgs) -> Result<ExitCode, String> {
     let profile = profile_file::resolve(&args.profile).map_err(|e| e.to_string())?;
-    let opened = port::open_for_slave(&args.port, profile, &World::default(), None).map_err(|e| e.to_string())?;
+    let opened =
+        port::open_for_slave(&args.port, profile, &World::default(), Default::default()).map_err(|e| e.to_string())?;
     let _simulator = opened.simulator;
     let mut master = BusMaster::new(opened.line, profile.edition);
     let options =

@@ -27,6 +27,9 @@ pub struct SerialLine {
     pseudo_terminal: bool,
     /// The USB adapter behind a real port, if any.
     adapter: Option<Adapter>,
+    /// How late the line may deliver a received character, as the user declared it
+    /// (`--latency-ms`: a latency timer the harness cannot read), µs.
+    declared_latency_us: u64,
     notes: Vec<String>,
 }
 
@@ -97,6 +100,7 @@ impl SerialLine {
             settings,
             pseudo_terminal,
             adapter: None,
+            declared_latency_us: 0,
             notes: Vec::new(),
         }
     }
@@ -110,6 +114,26 @@ impl SerialLine {
     /// The USB adapter behind the port, if one was found.
     pub fn adapter(&self) -> Option<&Adapter> {
         self.adapter.as_ref()
+    }
+
+    /// The line may deliver received characters up to `latency_us` late (an adapter's
+    /// latency timer the harness cannot read or lower, a device server's buffering):
+    /// reply windows are widened by it and the certificate says so.
+    pub fn with_declared_latency(mut self, latency_us: u64) -> SerialLine {
+        self.declared_latency_us = latency_us;
+        if latency_us > 0 {
+            self.notes.push(format!(
+                "The line may deliver received characters up to {:.1} ms late (--latency-ms): reply windows are widened by it.",
+                latency_us as f64 / 1000.0
+            ));
+        }
+        self
+    }
+
+    /// How late a received character may reach the harness: the adapter's latency
+    /// found in sysfs, or what the user declared, whichever is more, µs.
+    pub fn input_latency_us(&self) -> u64 {
+        self.adapter.as_ref().map_or(0, Adapter::input_latency_us).max(self.declared_latency_us)
     }
 
     fn gone(e: std::io::Error) -> LineError {
@@ -170,13 +194,13 @@ impl Line for SerialLine {
 
     fn start_of(&self, ch: &RxChar) -> Window {
         let ct = self.settings.char_time_us();
+        let latency = self.input_latency_us();
         if self.pseudo_terminal {
             // A peer's write is the start of the character (a program) or its end (a
-            // program playing the UART).
-            return Window { earliest_us: ch.at_us.saturating_sub(ct), latest_us: ch.at_us };
+            // program playing the UART); what is in between may hold it back.
+            return Window { earliest_us: ch.at_us.saturating_sub(ct + latency), latest_us: ch.at_us };
         }
         // A UART stamps a character after its stop bit; an adapter may pass it on late.
-        let latency = self.adapter.as_ref().map_or(0, Adapter::input_latency_us);
         Window { earliest_us: ch.at_us.saturating_sub(ct + latency), latest_us: ch.at_us.saturating_sub(ct) }
     }
 
