@@ -225,7 +225,7 @@ mod tests {
 
     /// The reference model on a virtual line that echoes: every character the
     /// master sends comes back a character time later, or, with `corrupt`, with its
-    /// lowest bit flipped.
+    /// lowest bit flipped; one sent with the wrong parity comes back as 00h.
     struct Echoing {
         line: VirtualLine<Slave>,
         corrupt: bool,
@@ -239,9 +239,19 @@ mod tests {
         fn send(&mut self, bytes: &[u8]) -> Result<Sent, LineError> {
             let start = self.line.now_us();
             let ct = self.line.settings().char_time_us();
+            // Sent in other settings than the line's (the wrong parity): the harness's
+            // UART, back in the right ones when the echo is read, reads each as 00h
+            // (Linux without PARMRK).
+            let garbled = self.line.settings() != UartSettings::DEFAULT;
             let sent = self.line.send(bytes)?;
             for (i, b) in bytes.iter().enumerate() {
-                let byte = if self.corrupt { b ^ 1 } else { *b };
+                let byte = if garbled {
+                    0
+                } else if self.corrupt {
+                    b ^ 1
+                } else {
+                    *b
+                };
                 self.back.push_back(RxChar::ok(byte, start + (i as u64 + 1) * ct));
             }
             Ok(sent)
@@ -266,6 +276,9 @@ mod tests {
         }
         fn describe(&self) -> String {
             "echoing".into()
+        }
+        fn carries_parity(&self) -> Result<(), &'static str> {
+            Ok(())
         }
     }
 
@@ -300,6 +313,19 @@ mod tests {
         assert_eq!(line.echo(), Echo::Quiet);
         let reply = read_all(&mut line, sent.end.latest_us + 100_000);
         assert_eq!(reply.len(), 7, "{reply:02X?}");
+        assert!(hiperface_model::checksum::is_valid(&reply));
+    }
+
+    /// A request sent with the wrong parity on an echoing line (behind a `Box<dyn
+    /// Line>`, as a run holds it): its echo is taken off, and what is read is the
+    /// device's 09h reply (000:T47).
+    #[test]
+    fn the_echo_of_a_request_with_a_parity_error_is_taken_off() {
+        let mut line: Box<dyn Line> = Box::new(EchoLine::new(echoing(false), EchoMode::On));
+        let sent = line.send_with_wrong_parity(&[0x40, 0x42, 0x02]).unwrap();
+        let reply = read_all(&mut line, sent.end.latest_us + 100_000);
+        // An unparsed request is answered in the form of Read Encoder Status, 09h.
+        assert_eq!(reply.get(..3), Some(&[0x40, 0x50, 0x09][..]), "{reply:02X?}");
         assert!(hiperface_model::checksum::is_valid(&reply));
     }
 

@@ -190,6 +190,9 @@ impl<L: Line + ?Sized> Line for Box<L> {
     fn carries_parity(&self) -> Result<(), &'static str> {
         (**self).carries_parity()
     }
+    fn send_with_wrong_parity(&mut self, bytes: &[u8]) -> Result<Sent, LineError> {
+        (**self).send_with_wrong_parity(bytes)
+    }
     fn tolerance_us(&self) -> u64 {
         (**self).tolerance_us()
     }
