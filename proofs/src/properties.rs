@@ -91,15 +91,8 @@ pub fn stack_invariants(ops: &[u8]) -> bool {
                 s.pop(StackOrder::OldestFirst);
             }
         }
-        // At most four entries, each present once (no allocation, every pair of slots
-        // visited: Kani checks this too, with loops it bounds).
-        let mut repeated = false;
-        for i in 0..STACK_DEPTH {
-            for j in i + 1..STACK_DEPTH {
-                repeated |= s.slot(i).is_some() && s.slot(i) == s.slot(j);
-            }
-        }
-        if s.len() > STACK_DEPTH || repeated {
+        // At most four entries, each present once (no allocation: Kani checks this too).
+        if s.len() > STACK_DEPTH || !targets::holds_each_code_once(&s) {
             return false;
         }
     }
@@ -131,9 +124,7 @@ pub fn memory_is_conserved(ops: &[u8]) -> bool {
 
 /// The data link never merges characters a timeout apart, loses none, never panics.
 pub fn datalink_frames(timeout: u16, chars: &[(u8, u16)]) -> bool {
-    let chars: Vec<targets::TimedChar> =
-        chars.iter().map(|(b, g)| targets::TimedChar { byte: *b, gap_us: *g, fault: None }).collect();
-    targets::datalink(timeout, &chars);
+    targets::datalink_of(timeout, chars.iter().map(|(b, g)| (*b, *g, None)));
     true
 }
 
