@@ -142,15 +142,10 @@ pub fn open_for_slave(
                 reason: "a slave is certified on its own port: give its path (a pseudo-terminal path works)".into(),
             })
         }
-        PortSpec::Tcp(address) => {
-            let mut line = TcpLine::connect(address, UartSettings::DEFAULT)?;
-            if let Some(t) = tolerance_us {
-                line = line.with_tolerance(t);
-            }
-            (Box::new(line), None, strict)
-        }
-        PortSpec::Rfc2217(address) => {
-            let mut line = TcpLine::connect_rfc2217(address, UartSettings::DEFAULT)?;
+        PortSpec::Tcp(address) | PortSpec::Rfc2217(address) => {
+            let connect =
+                if matches!(spec, PortSpec::Rfc2217(_)) { TcpLine::connect_rfc2217 } else { TcpLine::connect };
+            let mut line = connect(address, UartSettings::DEFAULT)?;
             if let Some(t) = tolerance_us {
                 line = line.with_tolerance(t);
             }

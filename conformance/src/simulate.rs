@@ -191,8 +191,7 @@ pub fn serve_with(
         } else {
             std::mem::take(&mut heard)
         };
-        // The line's data rate, where the other end sets it (RFC 2217 through ser2net).
-        let line_bps = if hooks.follows_line_settings() { port.baud_rate().ok() } else { None };
+        let line_bps = line_rate(port.as_ref(), hooks);
         for Chunk { bytes, at_us: t, unwatched_us } in chunks {
             hooks.read(unwatched_us);
             for b in bytes {
@@ -221,8 +220,7 @@ pub fn serve_with(
                 disturbed_us: 0,
             };
             let Some(mut p) = hooks.reply(slave, &step, planned) else { continue };
-            let line_bps = if hooks.follows_line_settings() { port.baud_rate().ok() } else { None };
-            if line_bps.is_some_and(|bps| bps != p.settings.baud.bits_per_second()) {
+            if line_rate(port.as_ref(), hooks).is_some_and(|bps| bps != p.settings.baud.bits_per_second()) {
                 continue; // sent at a rate the line is not at: nobody hears it
             }
             let ct = p.settings.char_time_us();
@@ -271,6 +269,13 @@ pub fn serve_with(
         }
     }
     Ok(())
+}
+
+/// The line's data rate, where the other end sets it (RFC 2217 through ser2net, see
+/// [`Hooks::follows_line_settings`]); `None` where the port's own settings are not
+/// the line's. Read when it is needed: the other end may change it at any time.
+fn line_rate(port: &dyn SerialPort, hooks: &dyn Hooks) -> Option<u32> {
+    hooks.follows_line_settings().then(|| port.baud_rate().ok()).flatten()
 }
 
 /// The characters one read returned.
@@ -361,26 +366,28 @@ impl PtySimulator {
     /// pseudo-terminal sets (a serial device server that takes settings through RFC
     /// 2217): see [`Hooks::follows_line_settings`].
     pub fn start_following_line_settings(profile: Profile) -> Result<(PtySimulator, Box<dyn SerialPort>), String> {
-        let (sim_end, harness_end) =
-            serialport::TTYPort::pair().map_err(|e| format!("cannot create a pseudo-terminal pair: {e}"))?;
-        let path = harness_end.name().unwrap_or_else(|| "pty".into());
-        let stop = Arc::new(AtomicBool::new(false));
-        let flag = stop.clone();
-        let thread = std::thread::spawn(move || {
+        PtySimulator::serving(move |port, stop| {
             let mut slave = Slave::operational(profile);
-            serve_with(Box::new(sim_end), &mut slave, Instant::now(), &flag, &mut FollowLine)
-        });
-        Ok((PtySimulator { path, stop, thread: Some(thread) }, Box::new(harness_end)))
+            serve_with(port, &mut slave, Instant::now(), &stop, &mut FollowLine)
+        })
     }
 
     /// Start in a given world (inputs, start-up faults).
     pub fn start_in(profile: Profile, world: World) -> Result<(PtySimulator, Box<dyn SerialPort>), String> {
+        PtySimulator::serving(move |port, stop| serve(port, profile, &world, stop, None))
+    }
+
+    /// A pseudo-terminal pair, `serve` run on one end by a thread until the stop flag it
+    /// is given is set; the other end for the harness.
+    fn serving(
+        serve: impl FnOnce(Box<dyn SerialPort>, Arc<AtomicBool>) -> std::io::Result<()> + Send + 'static,
+    ) -> Result<(PtySimulator, Box<dyn SerialPort>), String> {
         let (sim_end, harness_end) =
             serialport::TTYPort::pair().map_err(|e| format!("cannot create a pseudo-terminal pair: {e}"))?;
         let path = harness_end.name().unwrap_or_else(|| "pty".into());
         let stop = Arc::new(AtomicBool::new(false));
         let flag = stop.clone();
-        let thread = std::thread::spawn(move || serve(Box::new(sim_end), profile, &world, flag, None));
+        let thread = std::thread::spawn(move || serve(Box::new(sim_end), flag));
         Ok((PtySimulator { path, stop, thread: Some(thread) }, Box::new(harness_end)))
     }
 }

@@ -189,7 +189,7 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<ExitCode, String> {
         }
         b
     });
-    let report = super::run(line, profile, &options, |i, n, r| {
+    let mut report = super::run(line, profile, &options, |i, n, r| {
         let mut text = format!("[{i:>2}/{n}] {:<16} {}", r.verdict.label(), r.id);
         if r.attempts > 1 {
             text.push_str(&format!(" ({} runs: the harness was disturbed)", r.attempts));
@@ -211,7 +211,6 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<ExitCode, String> {
         b.finish_and_clear();
     }
     drop(simulator);
-    let mut report = report;
     if let Some(g) = &rs485_guard {
         report.line_notes.push(format!("The port ran in the kernel's {} (--rs485), put back afterwards.", g.in_force));
     }

@@ -7,7 +7,7 @@
 
 use super::{Line, LineError, LineKind, RealTime, Sent, Window};
 use hiperface_model::datalink::RxChar;
-use hiperface_model::UartSettings;
+use hiperface_model::{Hex, UartSettings};
 use std::collections::VecDeque;
 
 /// Whether the line echoes what the harness sends (`--echo`).
@@ -59,6 +59,14 @@ impl<L: Line> EchoLine<L> {
         self.echo
     }
 
+    /// By when the echo of `sent` has come back: it is on the line while the request
+    /// is, so by the time a reply could begin (the request's end and the device's
+    /// timeout, 000:2.2.2), with the line's own latency.
+    fn echo_deadline(&self, sent: &Sent) -> u64 {
+        let timeout = self.inner.settings().timeout_us(hiperface_model::Edition::Current);
+        sent.end.latest_us + timeout + self.inner.tolerance_us()
+    }
+
     /// The next character, the held ones first.
     fn next(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError> {
         match self.held.pop_front() {
@@ -100,55 +108,41 @@ impl<L: Line> Line for EchoLine<L> {
 
     fn send(&mut self, bytes: &[u8]) -> Result<Sent, LineError> {
         let sent = self.inner.send(bytes)?;
-        // An echo is on the line while the request is: it has come back by the time a
-        // reply could begin (the request's end and the device's timeout, 000:2.2.2),
-        // with the line's own latency.
-        let timeout = self.inner.settings().timeout_us(hiperface_model::Edition::Current);
-        let until = sent.end.latest_us + timeout + self.inner.tolerance_us();
-        match self.echo {
-            Echo::Quiet => Ok(sent),
-            // Found out at the first request only: a later request's reply may be the
-            // request itself (Increment Counter's is), an echo never differs from it.
-            // The harness's first request is Read Type Label, whose reply has data.
-            Echo::Unknown => {
-                let (matched, other) = self.read_back(bytes, until)?;
-                let echoed = matched.len() == bytes.len() && !bytes.is_empty();
-                if echoed {
-                    self.echo = Echo::Echoes;
-                    self.held.extend(other);
-                    if self.mode == EchoMode::Off {
-                        // Watched all the same, to say so rather than grade it; and
-                        // from now on every request, so that nothing is graded.
-                        return Err(off_but_echoes());
-                    }
-                    let end = matched.last().map_or(sent.end, |c| narrowed(sent.end, c.at_us));
-                    Ok(Sent { end })
-                } else {
-                    // The device's reply (or nothing): given back to the exchange.
-                    self.echo = Echo::Quiet;
-                    self.held.extend(matched);
-                    self.held.extend(other);
-                    Ok(sent)
+        if self.echo == Echo::Quiet {
+            return Ok(sent);
+        }
+        let until = self.echo_deadline(&sent);
+        let (matched, other) = self.read_back(bytes, until)?;
+        // The request came back: found now (at the first request only: a later reply
+        // may be its request byte for byte, Increment Counter's is; the harness's
+        // first request is Read Type Label, whose reply has data), or as expected.
+        let came_back = matched.len() == bytes.len() && (self.echo == Echo::Echoes || !bytes.is_empty());
+        match (came_back, self.echo) {
+            (true, _) => {
+                self.echo = Echo::Echoes;
+                self.held.extend(other);
+                if self.mode == EchoMode::Off {
+                    // Watched all the same, to say so rather than grade it; and from
+                    // now on at every request, so that nothing is graded.
+                    return Err(off_but_echoes());
                 }
+                let end = matched.last().map_or(sent.end, |c| narrowed(sent.end, c.at_us));
+                Ok(Sent { end })
             }
-            Echo::Echoes => {
-                let (matched, other) = self.read_back(bytes, until)?;
-                if matched.len() == bytes.len() {
-                    self.held.extend(other);
-                    if self.mode == EchoMode::Off {
-                        return Err(off_but_echoes());
-                    }
-                    let end = matched.last().map_or(sent.end, |c| narrowed(sent.end, c.at_us));
-                    return Ok(Sent { end });
-                }
-                let heard: Vec<String> =
-                    matched.iter().chain(other.iter()).map(|c| format!("{:02X}", c.byte)).collect();
-                let sent_hex: Vec<String> = bytes.iter().map(|b| format!("{b:02X}")).collect();
+            (false, Echo::Echoes) => {
+                let heard: Vec<u8> = matched.iter().chain(other.iter()).map(|c| c.byte).collect();
                 Err(LineError::Echo(format!(
                     "the echo of [{}] came back as [{}]: a collision or a fault of the line, not the device's",
-                    sent_hex.join(" "),
-                    heard.join(" ")
+                    Hex(bytes),
+                    Hex(&heard)
                 )))
+            }
+            // The device's reply (or nothing): given back to the exchange.
+            (false, _) => {
+                self.echo = Echo::Quiet;
+                self.held.extend(matched);
+                self.held.extend(other);
+                Ok(sent)
             }
         }
     }
@@ -187,8 +181,7 @@ impl<L: Line> Line for EchoLine<L> {
         // errors, or not at all: whatever of it comes back is not the device's.
         let sent = self.inner.send_with_wrong_parity(bytes)?;
         if self.echo == Echo::Echoes {
-            let timeout = self.inner.settings().timeout_us(hiperface_model::Edition::Current);
-            let until = sent.end.latest_us + timeout + self.inner.tolerance_us();
+            let until = self.echo_deadline(&sent);
             for _ in 0..bytes.len() {
                 if self.next(until)?.is_none() {
                     break;

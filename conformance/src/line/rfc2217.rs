@@ -97,8 +97,8 @@ pub struct Telnet {
     sub: Vec<u8>,
     /// The server agreed to the com port option (DO 44).
     pub com_port: bool,
-    /// The settings the server said it applied, last first: (command, value).
-    pub applied: Vec<(u8, Vec<u8>)>,
+    /// The value the server last said it applied, by command.
+    pub applied: std::collections::BTreeMap<u8, Vec<u8>>,
 }
 
 #[derive(Debug, Default, Clone, Copy, PartialEq, Eq)]
@@ -139,7 +139,7 @@ impl Telnet {
                 match self.sub.as_slice() {
                     [COM_PORT_OPTION, command, value @ ..] if *command > 100 => {
                         let (command, value) = (command - 100, value.to_vec());
-                        self.applied.insert(0, (command, value.clone()));
+                        self.applied.insert(command, value.clone());
                         Event::Applied { command, value }
                     }
                     _ => Event::Nothing,
@@ -178,7 +178,7 @@ impl Telnet {
     /// Whether the server has said it applied `settings` (its answers to the data rate
     /// and parity requests of [`set_settings`]).
     pub fn has_applied(&self, settings: UartSettings) -> bool {
-        let latest = |c: u8| self.applied.iter().find(|(command, _)| *command == c).map(|(_, v)| v.as_slice());
+        let latest = |c: u8| self.applied.get(&c).map(Vec::as_slice);
         let rate = settings.baud.bits_per_second().to_be_bytes();
         latest(SET_BAUDRATE) == Some(&rate[..]) && latest(SET_PARITY) == Some(&[parity_code(settings)][..])
     }
