@@ -183,7 +183,10 @@ fn decoding_a_certify_report_reproduces_its_slave_verdicts() {
         .arg(&report)
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stdout));
+    // Both streams: the summary is on standard output, each FAIL and its finding on
+    // standard error.
+    let said = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success(), "{said}");
     let json: serde_json::Value = serde_json::from_slice(&std::fs::read(report.join("report.json")).unwrap()).unwrap();
     let cases = json["cases"].as_array().unwrap();
     let replies: usize =
