@@ -34,12 +34,7 @@ fn the_catalogue_passes_through_ser2net() {
 #[cfg_attr(not(has_ser2net), ignore = "ser2net is not installed (apt-get install ser2net)")]
 fn temporary_settings_are_followed_through_rfc2217() {
     let _one = common::one_at_a_time();
-    // TTK70 with every optional command, as over a pseudo-terminal: 67h to 19 200 Bd.
-    let mut profile = profiles::ttk70();
-    profile.commands = hiperface_model::command::CommandSet::all_for(false);
-    let (sim, harness_end) = PtySimulator::start_following_line_settings(profile).unwrap();
-    // Kept open: with no end open the simulator would take the line for gone.
-    let _harness_end = harness_end;
+    let (profile, sim, _harness_end) = simulator_following_the_line();
     let server = common::Ser2net::bridge_rfc2217(&sim.path, "sim2217");
     let spec: PortSpec = format!("rfc2217://{}", server.address()).parse().unwrap();
     let line = connect_retrying(|| {
@@ -56,22 +51,29 @@ fn temporary_settings_are_followed_through_rfc2217() {
     drop(sim);
 }
 
-/// The same simulator on raw TCP: the device server keeps 9 600 Bd, 67h cannot be
-/// followed, and the case says so: the simulator really follows the line's rate.
+/// The same simulator on raw TCP: the device server keeps 9 600 Bd, so 67h cannot be
+/// followed, and the case says so (NOT-APPLICABLE) instead of running.
 #[test]
 #[cfg_attr(not(has_ser2net), ignore = "ser2net is not installed (apt-get install ser2net)")]
 fn without_rfc2217_the_same_case_cannot_be_followed() {
     let _one = common::one_at_a_time();
-    let mut profile = profiles::ttk70();
-    profile.commands = hiperface_model::command::CommandSet::all_for(false);
-    let (sim, harness_end) = PtySimulator::start_following_line_settings(profile).unwrap();
-    let _harness_end = harness_end;
+    let (profile, sim, _harness_end) = simulator_following_the_line();
     let server = common::Ser2net::bridge(&sim.path, "simraw");
     let line = server.connect().with_tolerance(25_000);
     let report = certify::run(Box::new(line), profile, &Options::all_allowed(), |_, _, _| {});
     let temporary = report.cases.iter().find(|c| c.id == "settings.temporary").unwrap();
     assert_eq!(temporary.verdict, CaseVerdict::NotApplicable, "{temporary:#?}");
     drop(sim);
+}
+
+/// TTK70 with every optional command (67h to 19 200 Bd, as over a pseudo-terminal),
+/// simulated following the rate ser2net sets on its pseudo-terminal; the harness's
+/// end, to be kept open (with no end open the simulator would take the line for gone).
+fn simulator_following_the_line() -> (hiperface_model::Profile, PtySimulator, Box<dyn serialport::SerialPort>) {
+    let mut profile = profiles::ttk70();
+    profile.commands = hiperface_model::command::CommandSet::all_for(false);
+    let (sim, harness_end) = PtySimulator::start_following_line_settings(profile).unwrap();
+    (profile, sim, harness_end)
 }
 
 /// Connect once ser2net listens (it starts in the background).
