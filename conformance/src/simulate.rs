@@ -59,6 +59,17 @@ pub trait Hooks {
     }
     /// A reply went out as planned, its last character ending at `end_us`.
     fn sent(&mut self, _planned: &Planned, _end_us: u64) {}
+    /// Whether the port marks UART faults in what it delivers (`PARMRK`: see
+    /// `line::serial::open_marking_port`): a master's character with a parity or
+    /// framing error reaches the model as one.
+    fn marks_errors(&self) -> bool {
+        false
+    }
+    /// The echo of the replies, where the line may echo (a drive on a port): what it
+    /// takes off the line never reaches the model or [`Hooks::received`].
+    fn reply_echo(&mut self) -> Option<&mut crate::line::reply_echo::ReplyEcho> {
+        None
+    }
     /// Whether the serving thread got the real-time priority it asked for.
     fn real_time(&mut self, _granted: bool) {}
     /// How long one read may wait while the model has nothing due (no frame in
@@ -166,6 +177,10 @@ pub fn serve_with(
     let mut watched = Watched { read_us: now(epoch), run_delay: crate::sched::RunDelay::of_this_thread() };
     // What the master sent while a reply went out, as it was read.
     let mut heard: Vec<Chunk> = Vec::new();
+    // The kernel's marks of UART faults, taken back across reads.
+    let (marking, mut marks) = (hooks.marks_errors(), crate::listen::tap::Marks::default());
+    // The master's characters, off the line and its echo, in the order they came.
+    let mut master_chars: Vec<RxChar> = Vec::new();
     while !stop.load(Ordering::Relaxed) {
         // Follow the slave's listening settings (67h, reset, power-up windows) on the
         // port; a pseudo-terminal accepts and ignores them.
@@ -194,18 +209,26 @@ pub fn serve_with(
         let line_bps = line_rate(port.as_ref(), hooks);
         for Chunk { bytes, at_us: t, unwatched_us } in chunks {
             hooks.read(unwatched_us);
-            for b in bytes {
-                let listening = slave.listening_settings(t);
-                let mut ch = rx_clock.stamp(b, t, Some(listening.unwrap_or_default().char_time_us()));
+            let listening = slave.listening_settings(t);
+            for (byte, fault) in unmarked(&bytes, marking.then_some(&mut marks)) {
+                let mut ch = rx_clock.stamp(byte, t, Some(listening.unwrap_or_default().char_time_us()));
+                ch.fault = ch.fault.or(fault);
                 if let (Some(bps), Some(l)) = (line_bps, listening) {
                     if bps != l.baud.bits_per_second() {
                         ch.fault = Some(hiperface_model::UartFault::Framing);
                     }
                 }
-                hooks.received(ch, listening);
-                steps.extend(slave.receive(ch));
+                match hooks.reply_echo() {
+                    Some(echo) => echo.take(ch, &mut master_chars),
+                    None => master_chars.push(ch),
+                }
             }
+            feed(slave, hooks, &mut master_chars, Some(t), &mut steps);
         }
+        if let Some(echo) = hooks.reply_echo() {
+            echo.idle(now(epoch), &mut master_chars);
+        }
+        feed(slave, hooks, &mut master_chars, None, &mut steps);
         steps.extend(slave.poll(now(epoch)));
         hooks.idle(now(epoch));
         for step in steps {
@@ -266,9 +289,59 @@ pub fn serve_with(
                 start += pause;
             }
             hooks.sent(&p, start);
+            if let Some(echo) = hooks.reply_echo() {
+                // Characters it held that were the master's after all come first at
+                // the next turn.
+                echo.sent(&p.frame, start, &mut master_chars);
+            }
+        }
+    }
+    // Stopped: what was read while the last reply went out holds part of its echo,
+    // which the echo takes off, so that whoever serves the port next (the next
+    // scenario) does not await the part it already had.
+    if let Some(echo) = hooks.reply_echo() {
+        for Chunk { bytes, at_us, .. } in heard {
+            for (byte, fault) in unmarked(&bytes, marking.then_some(&mut marks)) {
+                echo.take(RxChar { byte, at_us, fault }, &mut Vec::new());
+            }
         }
     }
     Ok(())
+}
+
+/// The characters of `bytes` as the UART received them: taken back from the kernel's
+/// marks where the port marks faults (`marks`, kept across reads).
+fn unmarked(
+    bytes: &[u8],
+    marks: Option<&mut crate::listen::tap::Marks>,
+) -> Vec<(u8, Option<hiperface_model::UartFault>)> {
+    let mut out = Vec::with_capacity(bytes.len());
+    match marks {
+        Some(marks) => {
+            for b in bytes {
+                marks.push(*b, &mut |m| out.push(m.as_received()));
+            }
+        }
+        None => out.extend(bytes.iter().map(|b| (*b, None))),
+    }
+    out
+}
+
+/// Give the master's characters to the hooks and the model, in the order they came:
+/// with the settings the slave listens at when they were read (`read_us`), or, for
+/// characters the echo held, when they were stamped.
+fn feed(
+    slave: &mut Slave,
+    hooks: &mut dyn Hooks,
+    chars: &mut Vec<RxChar>,
+    read_us: Option<u64>,
+    steps: &mut Vec<Step>,
+) {
+    for ch in chars.drain(..) {
+        let listening = slave.listening_settings(read_us.unwrap_or(ch.at_us));
+        hooks.received(ch, listening);
+        steps.extend(slave.receive(ch));
+    }
 }
 
 /// The line's data rate, where the other end sets it (RFC 2217 through ser2net, see

@@ -8,6 +8,7 @@ mod common;
 
 use hiperface_conformance::certify::{CaseResult, CaseVerdict};
 use hiperface_conformance::drive::{self, Attach, DriveReport, Options, PowerOn};
+use hiperface_conformance::line::echo::{Echo, EchoMode};
 use hiperface_conformance::verdict::Outcome;
 use hiperface_model::{profiles, Profile};
 use std::path::Path;
@@ -457,26 +458,15 @@ fn an_interrupted_run_stops_the_master_and_writes_its_partial_report(#[case] sig
 #[test]
 fn a_drive_on_a_port_is_certified_without_seeing_its_power_on() {
     let _one = common::one_at_a_time();
-    use hiperface_conformance::exchange::BusMaster;
-    use hiperface_conformance::line::serial::SerialLine;
     use serialport::SerialPort as _;
     // A "drive" on the other end of a serial line: the reference master, running on
     // its own, started before the harness (the harness cannot see its power-on).
     let (drive_end, encoder_end) = serialport::TTYPort::pair().unwrap();
     let path = encoder_end.name().unwrap();
     let profile = profiles::srs50();
-    let drive = std::thread::spawn(move || {
-        hiperface_conformance::sched::real_time_priority();
-        let line = SerialLine::from_port(Box::new(drive_end), "drive".into(), profile.settings, true);
-        let mut master = BusMaster::new(line, profile.edition);
-        // It runs until its line goes (below); a cap keeps a broken test from hanging.
-        // (A fixed 5.5 s ended it before the last scenario when a busy machine made
-        // the harness run scenarios again.)
-        let options = drive::reference::Options { polling_period_ms: 20, duration_ms: Some(120_000) };
-        drive::reference::run(&mut master, profile, options, &mut |_: &str| {})
-    });
+    let drive = common::reference_drive(Box::new(drive_end), profile);
     let options = Options {
-        attach: Attach::Port { path, power_on: PowerOn::Unseen },
+        attach: Attach::Port { path, power_on: PowerOn::Unseen, echo: EchoMode::Auto },
         // Not 22h: the drive stops reading the position for good after it, as it should.
         scenarios: Some("startup.default,protocol.checksum-error,protocol.parity,reply.corrupt".into()),
         polling_period_ms: drive::POLLING_PERIOD_MS,
@@ -496,6 +486,9 @@ fn a_drive_on_a_port_is_certified_without_seeing_its_power_on() {
         assert_eq!(s.verdict, CaseVerdict::Pass, "{id}: {:#?}", s.findings);
     }
     assert!(report.notes.iter().any(|n| n.contains("power-on was not seen")), "{:?}", report.notes);
+    // A pseudo-terminal does not echo, and has no UART to see faults.
+    assert_eq!(report.echo, Some((Echo::Quiet, EchoMode::Auto)));
+    assert_eq!(report.uart_faults, Some(0));
 }
 
 /// An operator who switches a "drive" on the far end of a pseudo-terminal: the
@@ -554,7 +547,7 @@ fn with_an_operator_the_start_up_of_a_drive_on_a_port_is_graded() {
             switched_on: 0,
         };
         let options = Options {
-            attach: Attach::Port { path, power_on: PowerOn::Prompt },
+            attach: Attach::Port { path, power_on: PowerOn::Prompt, echo: EchoMode::Auto },
             scenarios: Some(scenarios.into()),
             polling_period_ms: drive::POLLING_PERIOD_MS,
             interrupt: None,

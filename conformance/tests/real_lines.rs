@@ -7,6 +7,7 @@ mod common;
 use common::hx1::{self, Hx1};
 use common::line_emulator::{Behaviour, LineEmulator};
 use hiperface_conformance::certify::{self, CaseVerdict, Options, Report};
+use hiperface_conformance::drive;
 use hiperface_conformance::line::echo::{Echo, EchoLine, EchoMode};
 use hiperface_conformance::line::serial::SerialLine;
 use hiperface_conformance::simulate::PtySimulator;
@@ -126,4 +127,66 @@ fn a_gap_before_each_character_is_no_fail() {
     let r = simulator_through(Behaviour { gap_us: 300, ..Behaviour::default() }, EchoMode::Auto);
     assert_eq!(failed(&r), Vec::<String>::new());
     assert!(r.outcome().passed(), "{:?} {:?}", r.summary, r.aborted);
+}
+
+/// A drive (the reference master) behind the emulator behaving as `behaviour`,
+/// certified through it with `echo` (the drive's power-on unseen).
+fn drive_through(behaviour: Behaviour, echo: EchoMode) -> drive::DriveReport {
+    use serialport::SerialPort as _;
+    let profile = profiles::srs50();
+    let (drive_end, line_end) = serialport::TTYPort::pair().unwrap();
+    let _name = line_end.name();
+    let running = common::reference_drive(Box::new(drive_end), profile);
+    let emulator = LineEmulator::start(Box::new(line_end), behaviour);
+    let options = drive::Options {
+        attach: drive::Attach::Port { path: emulator.path.clone(), power_on: drive::PowerOn::Unseen, echo },
+        scenarios: Some("protocol.checksum-error,protocol.parity,reply.corrupt".into()),
+        polling_period_ms: drive::POLLING_PERIOD_MS,
+        interrupt: None,
+    };
+    let report = drive::run(profile, &options, |_, _, _| {});
+    // The drive ends when its line goes.
+    drop(emulator);
+    let _ = running.join();
+    report
+}
+
+/// The start of a scenario's timeline, for a failed assertion's message.
+fn timeline(s: &hiperface_conformance::certify::CaseResult) -> String {
+    s.wire.iter().take(40).map(|w| format!("{:>12} {} {}\n", w.t_us, w.direction, w.bytes)).collect()
+}
+
+/// As the encoder, on a line that echoes the encoder's replies: found at the first
+/// reply, taken off the line, and the master graded as on a quiet line.
+#[test]
+fn an_echoing_line_is_found_and_its_echo_taken_off_as_the_encoder() {
+    let _one = common::one_at_a_time();
+    let report = drive_through(Behaviour { echo: true, ..Behaviour::default() }, EchoMode::Auto);
+    for s in &report.scenarios {
+        assert_eq!(s.verdict, CaseVerdict::Pass, "{}: {:#?}\n{}", s.id, s.findings, timeline(s));
+    }
+    assert_eq!(report.echo, Some((Echo::Echoes, EchoMode::Auto)), "the certificate says the line echoed");
+}
+
+/// As the encoder with `--echo off` on a line that echoes: a fault of the line with the
+/// diagnosis, never a FAIL of the master for its own echo.
+#[test]
+fn echo_off_on_an_echoing_line_is_a_diagnosis_as_the_encoder() {
+    let _one = common::one_at_a_time();
+    let report = drive_through(Behaviour { echo: true, ..Behaviour::default() }, EchoMode::Off);
+    for s in &report.scenarios {
+        assert_eq!(s.verdict, CaseVerdict::Error, "{}: {:#?}\n{}", s.id, s.findings, timeline(s));
+        assert!(s.findings.iter().any(|f| f.message().contains("use --echo auto")), "{}: {:#?}", s.id, s.findings);
+    }
+}
+
+/// As the encoder on a quiet line: found quiet, the master graded as before.
+#[test]
+fn a_quiet_line_is_found_quiet_as_the_encoder() {
+    let _one = common::one_at_a_time();
+    let report = drive_through(Behaviour::default(), EchoMode::Auto);
+    for s in &report.scenarios {
+        assert_eq!(s.verdict, CaseVerdict::Pass, "{}: {:#?}\n{}", s.id, s.findings, timeline(s));
+    }
+    assert_eq!(report.echo, Some((Echo::Quiet, EchoMode::Auto)));
 }

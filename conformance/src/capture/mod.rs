@@ -42,6 +42,20 @@ pub enum Mark {
     Break,
 }
 
+impl Mark {
+    /// As a receiving UART hands it on: the byte read and its fault. A break reads as
+    /// a 00h whose stop bit is missing (a framing error). // 000:T47
+    pub fn as_received(self) -> (u8, Option<hiperface_model::UartFault>) {
+        use hiperface_model::UartFault;
+        match self {
+            Mark::Byte(b) => (b, None),
+            Mark::ParityError(b) => (b, Some(UartFault::Parity)),
+            Mark::FramingError(b) => (b, Some(UartFault::Framing)),
+            Mark::Break => (0, Some(UartFault::Framing)),
+        }
+    }
+}
+
 /// One character (or break) on the bus.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Event {

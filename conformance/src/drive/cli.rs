@@ -3,6 +3,7 @@
 
 use super::{reference, Attach, Options, PowerOn};
 use crate::exchange::BusMaster;
+use crate::line::echo::EchoMode;
 use crate::port::{self, PortSpec};
 use crate::profile_file;
 use crate::verdict::CaseVerdict;
@@ -24,6 +25,11 @@ pub struct CertifyMasterArgs {
     /// With `--port`: how the harness learns the drive's power-on.
     #[arg(long, value_enum, default_value = "unseen")]
     pub power_on: PowerOn,
+    /// With `--port`: whether the port hears the encoder's own replies (a two-wire
+    /// RS-485 adapter whose receiver stays on). `auto` finds out at the first reply and
+    /// takes the echo off the line; `off` reports an echo as a fault of the line.
+    #[arg(long, value_enum, requires = "port")]
+    pub echo: Option<EchoMode>,
     /// The encoder's profile: a built-in name or a TOML file.
     #[arg(long, default_value = "SRS50")]
     pub profile: String,
@@ -63,7 +69,9 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<ExitCode, String> {
     let profile = profile_file::resolve(&args.profile).map_err(|e| e.to_string())?;
     let attach = match (&args.exec, &args.port) {
         (Some(exec), _) => Attach::Exec(exec.clone()),
-        (None, Some(PortSpec::Path(path))) => Attach::Port { path: path.clone(), power_on: args.power_on },
+        (None, Some(PortSpec::Path(path))) => {
+            Attach::Port { path: path.clone(), power_on: args.power_on, echo: args.echo.unwrap_or_default() }
+        }
         (None, Some(other)) => {
             return Err(format!(
                 "`--port {other}`: the drive is served on a serial port by path (a pseudo-terminal \

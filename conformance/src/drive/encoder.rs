@@ -6,9 +6,10 @@
 //! loop, read together; its tests are kept beside it.
 
 use super::scenarios::{Act, Injection, Scenario, Situation};
+use crate::line::reply_echo::ReplyEcho;
 use crate::simulate::{Hooks, Planned};
 use crate::verdict::WireEntry;
-use hiperface_model::datalink::RxChar;
+use hiperface_model::datalink::{RxChar, UartFault};
 use hiperface_model::master::obligations::{Observation, Observer, Rule};
 use hiperface_model::response::ResponseFrame;
 use hiperface_model::{checksum, CommandId, Hex, Profile, RequestFrame, Slave, Step, UartSettings};
@@ -42,6 +43,12 @@ pub struct Timeline {
     /// how long the line had been unwatched before (µs). They may have come that much
     /// earlier than stamped.
     pub late_chars: Vec<(u64, u64)>,
+    /// The master's characters read with a parity or framing error (a drive on a port,
+    /// whose kernel marks them).
+    pub uart_faults: usize,
+    /// Faults of the line itself (an echo unlike the reply, `--echo off` on a line that
+    /// echoes): when (µs), and what. Never the master's.
+    pub line_faults: Vec<(u64, String)>,
 }
 
 impl Timeline {
@@ -117,6 +124,15 @@ pub struct DriveEncoder {
     /// (µs, `u64::MAX` until then) to watch long enough after it.
     situation: Situation,
     arisen: Arc<AtomicU64>,
+    /// A drive on a port: the port marks UART faults, and the echo of the replies is
+    /// watched.
+    port: Option<OnPort>,
+}
+
+/// What the encoder knows of a drive's port.
+#[derive(Debug, Clone)]
+pub struct OnPort {
+    pub echo: ReplyEcho,
 }
 
 /// More characters than any master needs in a scenario: a flood is cut here.
@@ -151,7 +167,19 @@ impl DriveEncoder {
             read_late_us: 0,
             situation: scenario.situation,
             arisen: Arc::new(AtomicU64::new(u64::MAX)),
+            port: None,
         }
+    }
+
+    /// Served on a drive's port (`certify master --port`), opened marking UART faults.
+    pub fn on_port(mut self, port: OnPort) -> DriveEncoder {
+        self.port = Some(port);
+        self
+    }
+
+    /// What the encoder learnt of the port (its echo), for the next scenario.
+    pub fn port(&self) -> Option<&OnPort> {
+        self.port.as_ref()
     }
 
     /// Where the time (µs) the scenario's situation arose is published for the
@@ -208,6 +236,10 @@ impl DriveEncoder {
     /// Flush the observer and the timeline at the end of the scenario.
     pub fn finish(&mut self, now_us: u64) {
         self.timeline.end_us = now_us;
+        if let Some(p) = self.port.as_mut() {
+            // An echo still on its way is the next scenario's to take off the line.
+            self.timeline.line_faults.extend(p.echo.take_faults());
+        }
         let seen = &mut self.timeline.observations;
         self.observer.end(now_us, &mut |o| seen.push(o));
         self.flush_heard(u64::MAX);
@@ -252,8 +284,22 @@ impl Hooks for DriveEncoder {
             }
         }
         self.timeline.characters += 1;
+        if let Some(fault @ (UartFault::Parity | UartFault::Framing)) = ch.fault {
+            self.timeline.uart_faults += 1;
+            // The kernel marks both alike (listen::tap::Marks): "parity" may be either.
+            let what = format!("{:02X} read with a {fault:?} error (a UART fault, 000:T47)", ch.byte);
+            self.note(ch.at_us, "!", what);
+        }
         let seen = &mut self.timeline.observations;
         self.observer.master_char(ch, &mut |o| seen.push(o));
+    }
+
+    fn marks_errors(&self) -> bool {
+        self.port.is_some()
+    }
+
+    fn reply_echo(&mut self) -> Option<&mut ReplyEcho> {
+        self.port.as_mut().map(|p| &mut p.echo)
     }
 
     fn sets_port(&self) -> bool {
@@ -477,5 +523,33 @@ mod tests {
         };
         assert_eq!(reply_disturbance(0), Some(0));
         assert_eq!(reply_disturbance(36_000), Some(36_000));
+    }
+
+    /// A master's character read with a parity error (a port that marks them) is
+    /// counted and put on the timeline; the encoder's model answers the frame with
+    /// 09h, as an encoder does (000:T47).
+    #[test]
+    fn a_masters_uart_fault_is_counted_and_answered_09h() {
+        use crate::line::echo::{Echo, EchoMode};
+        use crate::simulate::Hooks;
+        let p = hiperface_model::profiles::srs50();
+        let scenario = crate::drive::scenarios::catalogue().into_iter().next().unwrap();
+        let echo = ReplyEcho::new(EchoMode::Auto, Echo::Quiet, 0);
+        let mut encoder = DriveEncoder::new(p, &scenario, false, None).on_port(OnPort { echo });
+        assert!(encoder.marks_errors());
+        let mut slave = Slave::operational(p);
+        let ct = UartSettings::DEFAULT.char_time_us();
+        let mut steps = Vec::new();
+        for (i, b) in [0x40, 0x42, 0x02].into_iter().enumerate() {
+            let fault = (i == 1).then_some(UartFault::Parity);
+            let ch = RxChar { byte: b, at_us: 100_000 + i as u64 * ct, fault };
+            encoder.received(ch, Some(UartSettings::DEFAULT));
+            steps.extend(slave.receive(ch));
+        }
+        steps.extend(slave.poll(200_000));
+        assert_eq!(encoder.timeline.uart_faults, 1);
+        assert!(encoder.timeline.entries.iter().any(|e| e.bytes.contains("42 read with a Parity error")));
+        let reply = steps.into_iter().find_map(|s| s.transmission).expect("a reply");
+        assert_eq!(reply.frame.as_bytes()[1..3], [0x50, 0x09], "09h, 000:T47");
     }
 }

@@ -77,6 +77,14 @@ fn grade(
         result.push(Finding::error("the master sent nothing: there is nothing to grade"));
         return None;
     }
+    // The line's own faults: what the master is graded on may not be what it sent.
+    if let Some((at_us, what)) = timeline.line_faults.first() {
+        let more = match timeline.line_faults.len() - 1 {
+            0 => String::new(),
+            n => format!(" ({n} more faults of the line after it)"),
+        };
+        result.push(Finding::error(format!("at {:.3} ms: {what}{more}", *at_us as f64 / 1000.0)));
+    }
     if timeline.characters >= encoder::MAX_CHARACTERS {
         result.push(Finding::error(format!("the master flooded the line ({} characters)", timeline.characters)));
     }

@@ -15,10 +15,12 @@ mod scenario_run;
 pub mod scenarios;
 pub mod timeline;
 
+use crate::line::echo::{Echo, EchoMode};
+use crate::line::reply_echo::ReplyEcho;
 use crate::verdict::{CaseResult, Finding, Outcome, MAX_ATTEMPTS};
 pub use hiperface_model::master::obligations::POLLING_PERIOD_MS;
 use hiperface_model::Profile;
-use scenario_run::{on_port, open_port, run_scenario, Drive, ScenarioRun};
+use scenario_run::{echo_slack_us, on_port, open_port, run_scenario, Drive, ScenarioRun};
 use serde::Serialize;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -30,8 +32,9 @@ pub enum Attach {
     /// A process started for each scenario on a fresh pseudo-terminal: its command
     /// line, `{port}` standing for the pseudo-terminal's path. Its start is power-on.
     Exec(String),
-    /// A drive on a serial port the harness serves as the encoder.
-    Port { path: String, power_on: PowerOn },
+    /// A drive on a serial port the harness serves as the encoder; `echo`: whether
+    /// the port hears the encoder's own replies (a two-wire RS-485 adapter).
+    Port { path: String, power_on: PowerOn, echo: EchoMode },
 }
 
 impl std::fmt::Display for Attach {
@@ -116,6 +119,11 @@ pub struct DriveReport {
     pub real_time_scenarios: usize,
     /// Why the run ended before its last scenario (an interrupt), if it did.
     pub cut_short: Option<String>,
+    /// A drive on a port: whether the line echoed the encoder's replies, as found, and
+    /// the `--echo` it was run with.
+    pub echo: Option<(Echo, EchoMode)>,
+    /// A drive on a port: the master's characters read with a parity or framing error.
+    pub uart_faults: Option<usize>,
 }
 
 impl DriveReport {
@@ -155,14 +163,19 @@ pub fn run_with(
         notes_per_scenario: Vec::new(),
         real_time_scenarios: 0,
         cut_short: None,
+        echo: None,
+        uart_faults: None,
     };
     report.notes.push(match options.attach {
         Attach::Exec(_) => "The master's data rate was read from its pseudo-terminal's settings; parity and character \
                             size cannot be read there (Linux keeps a pseudo-terminal at 8 bits, no parity) and were \
                             not graded."
             .into(),
-        Attach::Port { .. } => "The master's data rate and parity were not read: on a real port a wrong one shows as \
-                                frames that are no requests."
+        Attach::Port { .. } => "The master's data rate was not read: on a port a wrong one shows as characters with \
+                                framing errors, or frames that are no requests. Characters read with a parity or \
+                                framing error reach the encoder as such, and it answers 09h as an encoder does \
+                                (000:T47); they are counted, not charged to the master (noise on the line looks \
+                                the same)."
             .into(),
     });
     report.notes.push(format!(
@@ -191,6 +204,8 @@ pub fn run_with(
     };
     let interrupted = || options.interrupt.as_ref().is_some_and(|f| f.load(Ordering::Relaxed));
     let mut not_run = 0;
+    // A drive on a port: the echo of the encoder's replies, found once for the run.
+    let mut reply_echo: Option<ReplyEcho> = None;
     for (i, scenario) in chosen.iter().enumerate() {
         let profile = scenario.encoder.map_or(profile, |make| make(profile));
         let result = if interrupted() {
@@ -207,9 +222,13 @@ pub fn run_with(
                     (Attach::Exec(exec), _) => {
                         run_scenario(profile, scenario, exec, options.polling_period_ms, &interrupted)
                     }
-                    (Attach::Port { power_on, .. }, Some(Ok(port))) => {
-                        let drive = Drive { port: port.as_ref(), power_on: *power_on, operator: &mut *operator };
-                        on_port(profile, scenario, drive, options.polling_period_ms, &interrupted)
+                    (Attach::Port { power_on, echo: mode, path }, Some(Ok(port))) => {
+                        let echo =
+                            reply_echo.get_or_insert_with(|| ReplyEcho::new(*mode, Echo::Unknown, echo_slack_us(path)));
+                        let drive = Drive { port: port.as_ref(), power_on: *power_on, operator: &mut *operator, echo };
+                        let run = on_port(profile, scenario, drive, options.polling_period_ms, &interrupted);
+                        *report.uart_faults.get_or_insert(0) += run.uart_faults;
+                        run
                     }
                     (Attach::Port { path, .. }, _) => {
                         let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
@@ -239,6 +258,7 @@ pub fn run_with(
         *report.summary.entry(result.verdict.label().to_string()).or_default() += 1;
         report.scenarios.push(result);
     }
+    report.echo = reply_echo.map(|e| (e.echo(), e.mode()));
     report.wall_time_ms = started.elapsed().as_secs_f64() * 1000.0;
     if interrupted() {
         let why = format!("interrupted (Ctrl-C or SIGTERM) with {} of {n} scenarios run", n - not_run);

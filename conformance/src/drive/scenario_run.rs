@@ -2,11 +2,12 @@
 //! pseudo-terminal (the master started on it) or on the drive's port, until the
 //! scenario's end, the master's exit or an interrupt.
 
-use super::encoder::DriveEncoder;
+use super::encoder::{DriveEncoder, OnPort};
 use super::grade::finish;
 use super::process::MasterProcess;
 use super::scenarios::Scenario;
 use super::{Operator, PowerOn};
+use crate::line::reply_echo::ReplyEcho;
 use crate::simulate::serve_with;
 use crate::verdict::{CaseResult, Finding};
 use hiperface_model::{Profile, Slave};
@@ -25,12 +26,14 @@ pub(super) struct ScenarioRun {
     pub(super) disturbed: Option<String>,
     /// The encoder's thread ran at a real-time priority.
     pub(super) real_time: bool,
+    /// The master's characters read with a parity or framing error.
+    pub(super) uart_faults: usize,
 }
 
 impl ScenarioRun {
     /// A run that ended before the encoder served (it could not start).
     pub(super) fn early(result: CaseResult) -> ScenarioRun {
-        ScenarioRun { result, output: String::new(), length_ms: 0, disturbed: None, real_time: false }
+        ScenarioRun { result, output: String::new(), length_ms: 0, disturbed: None, real_time: false, uart_faults: 0 }
     }
 
     /// A run the encoder served to its end: graded, with what the timeline measured.
@@ -45,13 +48,24 @@ impl ScenarioRun {
     ) -> ScenarioRun {
         let disturbed = finish(&mut result, &mut hooks, scenario, started, by_operator, cut_short);
         let (length_ms, real_time) = (hooks.timeline.end_us / 1000, hooks.timeline.real_time);
-        ScenarioRun { result, output, length_ms, disturbed, real_time }
+        let uart_faults = hooks.timeline.uart_faults;
+        ScenarioRun { result, output, length_ms, disturbed, real_time, uart_faults }
     }
 }
 
-/// The drive's port at the encoder's delivery settings (000:T7, 9600 8E1).
+/// The drive's port at the encoder's delivery settings (000:T7, 9600 8E1), marking
+/// UART faults.
 pub(super) fn open_port(path: &str) -> Result<Box<dyn SerialPort>, String> {
-    crate::line::serial::open_port(path, hiperface_model::UartSettings::DEFAULT).map_err(|e| e.to_string())
+    crate::line::serial::open_marking_port(path, hiperface_model::UartSettings::DEFAULT).map_err(|e| e.to_string())
+}
+
+/// How much later than a reply's end its echo may be read on the drive's port: the
+/// encoder's timeout (000:2.2.2), and the port's own latency (a USB adapter's timer).
+pub(super) fn echo_slack_us(path: &str) -> u64 {
+    let latency =
+        crate::line::adapter::Adapter::detect(path, std::path::Path::new("/sys")).map_or(0, |a| a.input_latency_us());
+    let timeout = hiperface_model::UartSettings::DEFAULT.timeout_us(hiperface_model::Edition::Current);
+    timeout + latency.max(crate::line::serial::DEFAULT_TOLERANCE_US)
 }
 
 /// A drive on a real port, and how its power-on is known.
@@ -59,6 +73,8 @@ pub(super) struct Drive<'a> {
     pub(super) port: &'a dyn SerialPort,
     pub(super) power_on: PowerOn,
     pub(super) operator: &'a mut dyn Operator,
+    /// The echo of the encoder's replies on the port, as the scenarios before left it.
+    pub(super) echo: &'a mut ReplyEcho,
 }
 
 /// One scenario with a drive on a real port: a fresh encoder served on the port.
@@ -69,7 +85,7 @@ pub(super) fn on_port(
     polling_period_ms: u32,
     interrupted: &dyn Fn() -> bool,
 ) -> ScenarioRun {
-    let Drive { port, power_on, operator } = drive;
+    let Drive { port, power_on, operator, echo } = drive;
     let started = Instant::now();
     let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
     if scenario.from_power_on() && power_on == PowerOn::Unseen {
@@ -101,7 +117,8 @@ pub(super) fn on_port(
             slave
         }
     };
-    let mut hooks = DriveEncoder::new(profile, scenario, power_on == PowerOn::Prompt, None);
+    let on_port = OnPort { echo: echo.clone().carried_over() };
+    let mut hooks = DriveEncoder::new(profile, scenario, power_on == PowerOn::Prompt, None).on_port(on_port);
     hooks.set_polling_period_ms(polling_period_ms);
     let arisen = hooks.arisen();
     let epoch = Instant::now();
@@ -112,6 +129,9 @@ pub(super) fn on_port(
     let served = serve_until(port, &mut slave, &mut hooks, epoch, deadline, interrupted);
     let cut_short = interrupted();
     hooks.finish(epoch.elapsed().as_micros() as u64);
+    if let Some(p) = hooks.port() {
+        *echo = p.echo.clone();
+    }
     if let Some(f) = served_finding(served) {
         result.push(f);
     }

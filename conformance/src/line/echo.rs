@@ -37,6 +37,26 @@ pub enum Echo {
     Quiet,
 }
 
+/// The certificate's "echo" row: what was found of the line's echo of what the
+/// harness sent (`what`: "request" as master, "reply" as encoder), under `--echo`.
+pub fn describe(state: Option<(Echo, EchoMode)>, what: &str) -> String {
+    match state {
+        Some((Echo::Echoes, EchoMode::On)) => format!("the line echoes (--echo on): each {what}'s echo was taken off the line"),
+        Some((Echo::Echoes, EchoMode::Off)) => format!(
+            "the line echoes, not expected (--echo off): reported as a fault of the line at each {what}, not graded; use --echo auto"
+        ),
+        Some((Echo::Echoes, EchoMode::Auto)) => {
+            // As master, the echo's end also bounds when the request ended.
+            let times = if what == "request" { " and times its end" } else { "" };
+            format!("the line echoes (found at the first {what}): each {what}'s echo was taken off the line{times}")
+        }
+        Some((Echo::Quiet, EchoMode::Off)) => format!("not expected (--echo off); no {what} came back"),
+        Some((Echo::Quiet, _)) => format!("none (found at the first {what})"),
+        Some((Echo::Unknown, _)) => format!("unknown: no {what} was sent"),
+        None => "not watched".into(),
+    }
+}
+
 /// A line with its echo handled.
 pub struct EchoLine<L: Line> {
     inner: L,

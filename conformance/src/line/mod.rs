@@ -10,6 +10,7 @@
 pub mod adapter;
 pub mod clock;
 pub mod echo;
+pub mod reply_echo;
 pub mod rfc2217;
 pub mod rs485;
 pub mod serial;

@@ -47,14 +47,52 @@ fn parity(s: UartSettings) -> Parity {
 /// (`certify master --port`) and the simulator. (`monitor` opens its tap read-only,
 /// which needs termios itself: `listen/tap.rs`.)
 pub fn open_port(path: &str, settings: UartSettings) -> Result<Box<dyn SerialPort>, LineError> {
+    Ok(Box::new(open_native(path, settings)?))
+}
+
+fn open_native(path: &str, settings: UartSettings) -> Result<serialport::TTYPort, LineError> {
     serialport::new(path, settings.baud.bits_per_second())
         .data_bits(DataBits::Eight)
         .stop_bits(StopBits::One)
         .parity(parity(settings))
         .flow_control(FlowControl::None)
         .timeout(Duration::from_millis(1))
-        .open()
+        .open_native()
         .map_err(|e| LineError::Open { port: path.to_string(), reason: e.to_string() })
+}
+
+/// As [`open_port`], with the kernel marking what the UART saw in the data it
+/// delivers (`PARMRK`, as `monitor` reads: `FF 00 c` a character with a parity or
+/// framing error, `FF 00 00` a break, `FF FF` a data byte FFh; `listen::tap::Marks`
+/// takes it back). The encoder's port (`certify master --port`): a master's UART
+/// faults reach the model as such (09h, 000:T47). A pseudo-terminal marks too (it
+/// doubles FFh; it has no UART to see faults). The marking stays when the data rate
+/// or parity is changed ([`apply_settings`] changes `INPCK` and `IGNPAR` only).
+pub fn open_marking_port(path: &str, settings: UartSettings) -> Result<Box<dyn SerialPort>, LineError> {
+    use nix::sys::termios::{tcgetattr, tcsetattr, InputFlags as I, SetArg};
+    let mut port = open_native(path, settings)?;
+    let fail = |e: &dyn std::fmt::Display| LineError::Open {
+        port: path.to_string(),
+        reason: format!("cannot mark UART faults: {e}"),
+    };
+    // The settings are the terminal's, whichever descriptor sets them: set through a
+    // second one, opened while the port lets it (no unsafe descriptor juggling).
+    port.set_exclusive(false).map_err(|e| fail(&e))?;
+    let marked = (|| -> Result<(), String> {
+        use std::os::unix::fs::OpenOptionsExt;
+        let file = std::fs::OpenOptions::new()
+            .read(true)
+            .custom_flags(nix::libc::O_NOCTTY | nix::libc::O_NONBLOCK)
+            .open(path)
+            .map_err(|e| e.to_string())?;
+        let mut t = tcgetattr(&file).map_err(|e| e.to_string())?;
+        t.input_flags.remove(I::IGNPAR | I::IGNBRK | I::BRKINT | I::ISTRIP);
+        t.input_flags.insert(I::PARMRK);
+        tcsetattr(&file, SetArg::TCSANOW, &t).map_err(|e| e.to_string())
+    })();
+    port.set_exclusive(true).map_err(|e| fail(&e))?;
+    marked.map_err(|e| fail(&e))?;
+    Ok(Box::new(port))
 }
 
 /// Change an open port's data rate and parity (57h, 67h).
@@ -245,5 +283,56 @@ impl Line for SerialLine {
         let mut notes: Vec<String> = self.adapter.iter().map(Adapter::describe).collect();
         notes.extend(self.notes.iter().cloned());
         notes
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hiperface_model::settings::{Baud, Parity as HfParity};
+    use std::io::Write;
+
+    /// Read what `port` delivers until `n` bytes or half a second.
+    fn read_n(port: &mut dyn SerialPort, n: usize) -> Vec<u8> {
+        let (mut got, mut buf) = (Vec::new(), [0u8; 16]);
+        let until = std::time::Instant::now() + Duration::from_millis(500);
+        while got.len() < n && std::time::Instant::now() < until {
+            if let Ok(k) = port.read(&mut buf) {
+                got.extend_from_slice(&buf[..k]);
+            }
+        }
+        got
+    }
+
+    /// The encoder's port marks what the UART saw: on a pseudo-terminal (no UART, so
+    /// no faults) a data byte FFh comes doubled, as on a serial port, and the marks
+    /// are taken back to what was sent; the marking stays when the settings change.
+    #[test]
+    fn a_marking_port_doubles_ffh_and_keeps_marking_after_a_settings_change() {
+        let (mut far, near) = serialport::TTYPort::pair().expect("a pseudo-terminal pair");
+        let path = near.name().expect("a path");
+        let mut port = open_marking_port(&path, UartSettings::DEFAULT).expect("opened");
+        let unmark = |raw: &[u8]| {
+            let (mut marks, mut out) = (crate::listen::tap::Marks::default(), Vec::new());
+            for b in raw {
+                marks.push(*b, &mut |m| out.push(m.as_received()));
+            }
+            out
+        };
+        let sent = [0x40, 0xFF, 0x00, 0x41];
+        for settings in
+            [UartSettings::DEFAULT, UartSettings { baud: Baud::B19200, parity: HfParity::Odd, ..UartSettings::DEFAULT }]
+        {
+            apply_settings(port.as_mut(), settings).expect("settings");
+            far.write_all(&sent).expect("written");
+            let raw = read_n(port.as_mut(), 5);
+            assert_eq!(raw, [0x40, 0xFF, 0xFF, 0x00, 0x41], "{settings:?}");
+            assert_eq!(unmark(&raw), sent.iter().map(|b| (*b, None)).collect::<Vec<_>>());
+        }
+        // Without the marking, FFh comes as it is.
+        drop(port);
+        let mut plain = open_port(&path, UartSettings::DEFAULT).expect("opened");
+        far.write_all(&sent).expect("written");
+        assert_eq!(read_n(plain.as_mut(), 4), sent);
     }
 }

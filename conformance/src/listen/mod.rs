@@ -25,7 +25,7 @@ use crate::verdict::{CaseVerdict, Finding, Outcome};
 use heard::Heard;
 pub use heard::HeardExchange;
 use hiperface_model::command::CommandId;
-use hiperface_model::datalink::{DataLink, RxChar, UartFault};
+use hiperface_model::datalink::{DataLink, RxChar};
 use hiperface_model::frame::Hex;
 use hiperface_model::master::obligations::{Observation, Observer};
 use hiperface_model::oracle::Oracle;
@@ -139,17 +139,13 @@ impl Listener {
             Some(_) => Some(Role::Slave),
             None => None,
         });
-        let (byte, fault) = match e.mark {
-            Mark::Byte(b) => (b, None),
-            Mark::ParityError(b) => (b, Some(UartFault::Parity)),
-            Mark::FramingError(b) => (b, Some(UartFault::Framing)),
-            Mark::Break => {
-                // A break ends the frame it interrupts. // 000:T47 (a UART fault)
-                self.summary.breaks += 1;
-                self.close_channel(e.channel, out);
-                return;
-            }
-        };
+        if e.mark == Mark::Break {
+            // A break ends the frame it interrupts. // 000:T47 (a UART fault)
+            self.summary.breaks += 1;
+            self.close_channel(e.channel, out);
+            return;
+        }
+        let (byte, fault) = e.mark.as_received();
         self.summary.characters += 1;
         self.summary.flagged += u64::from(fault.is_some());
         const MAX: usize = 4 * hiperface_model::frame::MAX_FRAME;

@@ -41,6 +41,9 @@ fn markdown(r: &DriveReport) -> String {
     let mut s = format!("# HIPERFACE master certificate\n\n| | |\n|---|---|\n| master | `{}` |\n", r.master);
     s += &format!("| encoder profile | {} ({} edition) |\n| tool | {} |\n", r.profile, r.edition, r.tool);
     let summary: Vec<String> = r.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
+    for (name, value) in port_rows(r) {
+        s += &format!("| {name} | {value} |\n");
+    }
     s += &format!("| result | {} — {} |\n\n", r.outcome().label(), summary.join(", "));
     for n in &r.notes {
         s += &format!("Note: {n}\n\n");
@@ -62,6 +65,23 @@ fn markdown(r: &DriveReport) -> String {
     s
 }
 
+/// What the encoder found of a drive's port: its echo, and the master's characters
+/// with UART faults.
+fn port_rows(r: &DriveReport) -> Vec<(&'static str, String)> {
+    let mut rows = Vec::new();
+    if r.echo.is_some() {
+        rows.push(("echo", crate::line::echo::describe(r.echo, "reply")));
+    }
+    if let Some(n) = r.uart_faults {
+        let text = match n {
+            0 => "none read (the port marks parity and framing errors)".to_string(),
+            n => format!("{n} characters of the master read with a parity or framing error (answered 09h, 000:T47; not charged to the master: noise looks the same)"),
+        };
+        rows.push(("UART faults", text));
+    }
+    rows
+}
+
 /// The whole certificate.
 fn html(r: &DriveReport, profile: &Profile) -> String {
     let mut s = String::new();
@@ -70,12 +90,16 @@ fn html(r: &DriveReport, profile: &Profile) -> String {
     let _ = write!(
         s,
         "<h1>HIPERFACE master certificate: {verdict}</h1><table><tr><th>master</th><td><code>{}</code></td></tr>\
-         <tr><th>encoder profile</th><td>{} ({} edition)</td></tr><tr><th>tool</th><td>{}</td></tr></table>",
+         <tr><th>encoder profile</th><td>{} ({} edition)</td></tr><tr><th>tool</th><td>{}</td></tr>",
         escape(&r.master),
         escape(&r.profile),
         escape(&r.edition),
         escape(&r.tool)
     );
+    for (name, value) in port_rows(r) {
+        let _ = write!(s, "<tr><th>{name}</th><td>{}</td></tr>", escape(&value));
+    }
+    s += "</table>";
     s += "<h2>Scenarios</h2><table><tr><th>scenario</th><th>verdict</th><th>clauses</th></tr>";
     for c in &r.scenarios {
         let v = c.verdict.label();

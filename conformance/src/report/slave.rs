@@ -75,7 +75,7 @@ fn header(r: &Report) -> Vec<(&'static str, String)> {
         ("tool", r.tool.clone()),
         ("profile", format!("{} ({} edition)", r.profile, r.edition)),
         ("line", r.line.clone()),
-        ("echo", echo_text(r)),
+        ("echo", crate::line::echo::describe(r.echo, "request")),
         ("timing", timing_text(r)),
         ("grading of physical values", r.grading.clone()),
     ];
@@ -92,23 +92,6 @@ fn header(r: &Report) -> Vec<(&'static str, String)> {
         rows.push(("cases run again", format!("{} ({why})", rerun.join(", "))));
     }
     rows
-}
-
-fn echo_text(r: &Report) -> String {
-    use crate::line::echo::{Echo, EchoMode};
-    match r.echo {
-        Some((Echo::Echoes, EchoMode::On)) => {
-            "the line echoes (--echo on): each request's echo was taken off the line".into()
-        }
-        Some((Echo::Echoes, _)) => {
-            "the line echoes (found at the first request): each request's echo was taken off the line and times its end"
-                .into()
-        }
-        Some((Echo::Quiet, EchoMode::Off)) => "not expected (--echo off); no request came back".into(),
-        Some((Echo::Quiet, _)) => "none (found at the first request)".into(),
-        Some((Echo::Unknown, _)) => "unknown: no request was sent".into(),
-        None => "not watched".into(),
-    }
 }
 
 fn timing_text(r: &Report) -> String {

@@ -139,3 +139,20 @@ impl Ser2net {
         }
     }
 }
+
+/// A "drive" on `port`: the reference master (Read Position every 20 ms), running on
+/// its own until its line goes (or 120 s, so that a broken test cannot hang), at a
+/// real-time priority where permitted as a drive's processor would be.
+pub fn reference_drive(
+    port: Box<dyn serialport::SerialPort>,
+    profile: hiperface_model::Profile,
+) -> std::thread::JoinHandle<()> {
+    use hiperface_conformance::{drive, exchange::BusMaster, line::serial::SerialLine};
+    std::thread::spawn(move || {
+        hiperface_conformance::sched::real_time_priority();
+        let line = SerialLine::from_port(port, "drive".into(), profile.settings, true);
+        let mut master = BusMaster::new(line, profile.edition);
+        let options = drive::reference::Options { polling_period_ms: 20, duration_ms: Some(120_000) };
+        let _ = drive::reference::run(&mut master, profile, options, &mut |_: &str| {});
+    })
+}
