@@ -1,0 +1,84 @@
+/*
+ * Every function of the C API called with null pointers, short buffers and random
+ * bytes: each answers with a status code, none crashes. Built with AddressSanitizer
+ * and UndefinedBehaviorSanitizer (scripts/c-examples.sh), so that a read or write out
+ * of bounds stops the run.
+ */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "hiperface.h"
+
+#define CHECK(cond) do { if (!(cond)) { fprintf(stderr, "%s:%d: %s\n", __FILE__, __LINE__, #cond); return 1; } } while (0)
+
+int main(void) {
+    uint8_t out8 = 0, buf[HF_MAX_FRAME + 8];
+    size_t n = 0;
+    HfRequest req;
+    HfTransmission tx;
+    HfGrade g;
+    HfSlave *s = NULL;
+
+    /* Null pointers. */
+    CHECK(hf_checksum(NULL, 3, &out8) == HF_STATUS_NULL);
+    CHECK(hf_checksum(buf, 3, NULL) == HF_STATUS_NULL);
+    CHECK(!hf_frame_is_valid(NULL, 3));
+    CHECK(hf_frame_seal(NULL, 2, 3, &n) == HF_STATUS_NULL);
+    CHECK(hf_frame_seal(buf, 2, 3, NULL) == HF_STATUS_NULL);
+    CHECK(hf_request_decode(NULL, 3, &req, NULL) == HF_STATUS_NULL);
+    CHECK(hf_request_decode(buf, 3, NULL, NULL) == HF_STATUS_NULL);
+    CHECK(hf_slave_new(NULL, &s) == HF_STATUS_NULL);
+    CHECK(hf_slave_new("SRS50", NULL) == HF_STATUS_NULL);
+    CHECK(hf_slave_init(NULL, 1 << 16, "SRS50", &s) == HF_STATUS_NULL);
+    CHECK(hf_slave_receive(NULL, 0x40, 0, HF_FAULT_NONE) == HF_STATUS_NULL);
+    CHECK(hf_slave_poll(NULL, 0, &tx) == HF_STATUS_NULL);
+    CHECK(hf_oracle_grade(NULL, buf, 3, 0, NULL, 0, false, false, &g) == HF_STATUS_NULL);
+    HfInputs in = {0};
+    CHECK(hf_slave_inputs(NULL, &in) == HF_STATUS_NULL);
+    CHECK(hf_slave_set_inputs(NULL, &in) == HF_STATUS_NULL);
+    hf_slave_free(NULL);
+
+    /* Short buffers, bad arguments. */
+    CHECK(hf_frame_seal(buf, 3, 3, &n) == HF_STATUS_SHORT_BUFFER);
+    CHECK(hf_slave_new("no such profile", &s) == HF_STATUS_UNKNOWN_PROFILE);
+    uint8_t small[16];
+    CHECK(hf_slave_init(small, sizeof small, "SRS50", &s) == HF_STATUS_SHORT_BUFFER);
+    void *storage = aligned_alloc(hf_slave_align(), (hf_slave_size() + hf_slave_align()) / hf_slave_align() * hf_slave_align());
+    CHECK(storage != NULL);
+    CHECK(hf_slave_init((char *)storage + 1, hf_slave_size(), "SRS50", &s) == HF_STATUS_SHORT_BUFFER);
+    CHECK(hf_slave_init(storage, hf_slave_size(), "SRS50", &s) == HF_STATUS_OK);
+    CHECK(hf_slave_receive(s, 0x40, 0, 99) == HF_STATUS_INVALID);
+    CHECK(hf_slave_poll(s, 0, NULL) == HF_STATUS_NULL);
+    CHECK(hf_slave_inputs(s, NULL) == HF_STATUS_NULL);
+    CHECK(hf_slave_set_inputs(s, NULL) == HF_STATUS_NULL);
+    CHECK(hf_oracle_grade(s, buf, 3, 0, NULL, 0, false, false, NULL) == HF_STATUS_NULL);
+
+    /* Random bytes through everything that reads bytes. */
+    srand(1);
+    uint64_t t = 0;
+    for (int round = 0; round < 20000; round++) {
+        size_t len = (size_t)(rand() % (int)sizeof buf);
+        for (size_t i = 0; i < len; i++) buf[i] = (uint8_t)rand();
+        CHECK(hf_checksum(buf, len, &out8) == HF_STATUS_OK);
+        (void)hf_frame_is_valid(buf, len);
+        HfStatus d = hf_request_decode(buf, len, &req, &out8);
+        CHECK(d == HF_STATUS_OK || d == HF_STATUS_INVALID);
+        CHECK(d != HF_STATUS_OK || req.data_len <= HF_MAX_REQUEST_DATA);
+        t += (uint64_t)(rand() % 20000);
+        in.position = (uint64_t)rand() << 16 | (uint64_t)rand();
+        in.temperature_c = (int16_t)(rand() % 400 - 200);
+        in.led_current_ma = (uint16_t)rand();
+        in.speed = rand() - RAND_MAX / 2;
+        CHECK(hf_slave_set_inputs(s, &in) == HF_STATUS_OK);
+        CHECK(hf_slave_receive(s, buf[0], t, (uint8_t)(rand() % 5)) == HF_STATUS_OK);
+        HfStatus p = hf_slave_poll(s, t, &tx);
+        CHECK(p == HF_STATUS_OK || p == HF_STATUS_NOTHING);
+        CHECK(p != HF_STATUS_OK || tx.len <= HF_MAX_FRAME);
+        size_t reply_len = (size_t)(rand() % 12);
+        CHECK(hf_oracle_grade(s, buf, len, t, rand() % 4 ? buf + 1 : NULL, reply_len, rand() % 2, rand() % 2, &g) == HF_STATUS_OK);
+        CHECK(g.verdict <= HF_VERDICT_FAIL && memchr(g.clause, 0, sizeof g.clause) && memchr(g.reason, 0, sizeof g.reason));
+    }
+    free(storage);
+    printf("garbage: every call answered with a status code\n");
+    return 0;
+}

@@ -1,0 +1,148 @@
+//! The C API from Rust: what it answers is what the model answers, and no input
+//! (null pointers, short buffers, any bytes) makes it misbehave. The same API from C:
+//! `scripts/c-examples.sh`.
+
+use hiperface::*;
+use hiperface_model::{profiles, RequestFrame, RxChar, Slave};
+use proptest::prelude::*;
+use std::ptr::{null, null_mut};
+
+fn new_slave(profile: &str) -> *mut HfSlave {
+    let name = std::ffi::CString::new(profile).unwrap();
+    let mut s = null_mut();
+    assert_eq!(unsafe { hf_slave_new(name.as_ptr(), &mut s) }, HfStatus::Ok);
+    s
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(2000))]
+
+    /// Decoding agrees with the model's decoder, byte for byte.
+    #[test]
+    fn decode_agrees_with_the_model(bytes in proptest::collection::vec(any::<u8>(), 0..140)) {
+        let mut out = HfRequest { address: 0, command: 0, data_len: 0, data: [0; HF_MAX_REQUEST_DATA] };
+        let mut code = 0u8;
+        let status = unsafe { hf_request_decode(bytes.as_ptr(), bytes.len(), &mut out, &mut code) };
+        match RequestFrame::decode(&bytes) {
+            Ok(rf) => {
+                prop_assert_eq!(status, HfStatus::Ok);
+                prop_assert_eq!((out.address, out.command), (rf.address.byte(), rf.request.command().byte()));
+                prop_assert_eq!(&out.data[..out.data_len], &bytes[2..bytes.len() - 1]);
+            }
+            Err(_) => {
+                prop_assert_eq!(status, HfStatus::Invalid);
+                prop_assert!([0x0A, 0x0B, 0x0C].contains(&code), "{:02X}", code);
+            }
+        }
+    }
+
+    /// The slave through the API transmits what the model transmits, when it does.
+    #[test]
+    fn the_slave_answers_as_the_model(chars in proptest::collection::vec((any::<u8>(), 0u64..20_000, 0u8..5), 1..40)) {
+        let s = new_slave("SRS50");
+        let mut model = Slave::operational(profiles::srs50());
+        let mut t = 0;
+        for (byte, gap, fault) in chars {
+            t += gap;
+            prop_assert_eq!(unsafe { hf_slave_receive(s, byte, t, fault) }, HfStatus::Ok);
+            let uart = [None, Some(hiperface_model::UartFault::Parity), Some(hiperface_model::UartFault::Framing),
+                        Some(hiperface_model::UartFault::Noise), Some(hiperface_model::UartFault::Overrun)][fault as usize];
+            let mut expected = model.receive(RxChar { byte, at_us: t, fault: uart });
+            let mut tx = HfTransmission { frame: [0; HF_MAX_FRAME], len: 0, earliest_start_us: 0, latest_start_us: 0 };
+            let got = unsafe { hf_slave_poll(s, t, &mut tx) };
+            if expected.is_none() {
+                expected = model.poll(t);
+            }
+            match expected.and_then(|e| e.transmission) {
+                Some(e) => {
+                    prop_assert_eq!(got, HfStatus::Ok);
+                    prop_assert_eq!(&tx.frame[..tx.len], e.frame.as_bytes());
+                    prop_assert_eq!((tx.earliest_start_us, tx.latest_start_us), (e.earliest_start_us, e.latest_start_us));
+                }
+                None => prop_assert_eq!(got, HfStatus::Nothing),
+            }
+        }
+        unsafe { hf_slave_free(s) };
+    }
+
+    /// Any request and any reply: a grade with a NUL-terminated clause and reason.
+    #[test]
+    fn any_exchange_is_graded(request in proptest::collection::vec(any::<u8>(), 0..12),
+                              reply in proptest::option::of(proptest::collection::vec(any::<u8>(), 0..12)),
+                              exact in any::<bool>()) {
+        let s = new_slave("SEK37");
+        let mut g = HfGrade { verdict: HfVerdict::Pass, clause: [1; HF_CLAUSE_LEN], reason: [1; HF_REASON_LEN] };
+        let (ptr, len) = reply.as_ref().map_or((null(), 0), |r| (r.as_ptr(), r.len()));
+        let status = unsafe { hf_oracle_grade(s, request.as_ptr(), request.len(), 10_000, ptr, len, exact, false, &mut g) };
+        prop_assert_eq!(status, HfStatus::Ok);
+        prop_assert!(g.clause.contains(&0) && g.reason.contains(&0));
+        unsafe { hf_slave_free(s) };
+    }
+}
+
+/// A reply the model itself gives PASSes; one with a wrong checksum FAILs on 000:2.3.3.
+#[test]
+fn the_oracle_passes_the_models_reply_and_fails_a_wrong_checksum() {
+    let s = new_slave("SRS50");
+    let request = [0x40, 0x50, 0x10];
+    let mut model = Slave::operational(profiles::srs50());
+    let reply = match model.handle_frame(&request, 10_000).reply {
+        hiperface_model::Reply::Frame(f) => f.encode().as_bytes().to_vec(),
+        other => panic!("{other:?}"),
+    };
+    let grade = |reply: &[u8]| {
+        let mut g = HfGrade { verdict: HfVerdict::Pass, clause: [0; HF_CLAUSE_LEN], reason: [0; HF_REASON_LEN] };
+        assert_eq!(
+            unsafe {
+                hf_oracle_grade(s, request.as_ptr(), 3, 10_000, reply.as_ptr(), reply.len(), false, false, &mut g)
+            },
+            HfStatus::Ok
+        );
+        let text =
+            |b: &[std::ffi::c_char]| unsafe { std::ffi::CStr::from_ptr(b.as_ptr()) }.to_string_lossy().into_owned();
+        (g.verdict, text(&g.clause), text(&g.reason))
+    };
+    assert_eq!(grade(&reply).0, HfVerdict::Pass);
+    let mut wrong = reply.clone();
+    *wrong.last_mut().unwrap() ^= 1;
+    let (verdict, clause, reason) = grade(&wrong);
+    assert_eq!((verdict, clause.as_str()), (HfVerdict::Fail, "000:2.3.3"), "{reason}");
+    unsafe { hf_slave_free(s) };
+}
+
+/// Storage given by the caller: too small or misaligned is refused, the right size
+/// holds a working slave.
+#[test]
+fn a_slave_in_the_callers_storage() {
+    let name = c"SRS50";
+    let mut s = null_mut();
+    let mut storage = vec![0u64; hf_slave_size() / 8 + 2];
+    let base = storage.as_mut_ptr().cast::<std::ffi::c_void>();
+    assert_eq!(unsafe { hf_slave_init(base, 8, name.as_ptr(), &mut s) }, HfStatus::ShortBuffer);
+    let odd = unsafe { base.cast::<u8>().add(1) }.cast();
+    assert_eq!(unsafe { hf_slave_init(odd, hf_slave_size(), name.as_ptr(), &mut s) }, HfStatus::ShortBuffer);
+    assert_eq!(unsafe { hf_slave_init(base, hf_slave_size(), c"nope".as_ptr(), &mut s) }, HfStatus::UnknownProfile);
+    assert_eq!(unsafe { hf_slave_init(base, hf_slave_size(), name.as_ptr(), &mut s) }, HfStatus::Ok);
+    let mut tx = HfTransmission { frame: [0; HF_MAX_FRAME], len: 0, earliest_start_us: 0, latest_start_us: 0 };
+    for (i, b) in [0x40u8, 0x50, 0x10].into_iter().enumerate() {
+        assert_eq!(unsafe { hf_slave_receive(s, b, 1_000 + i as u64 * 1_146, 0) }, HfStatus::Ok);
+    }
+    assert_eq!(unsafe { hf_slave_poll(s, 1_000_000, &mut tx) }, HfStatus::Ok);
+    assert_eq!(&tx.frame[..2], &[0x40, 0x50], "Read Encoder Status answered");
+    assert_eq!(unsafe { hf_slave_receive(s, 0x40, 2_000_000, 9) }, HfStatus::Invalid, "no such UART fault");
+}
+
+/// The checksum helpers agree with 000:2.3.3's example (40 42 -> 02).
+#[test]
+fn frame_helpers() {
+    let mut frame = [0x40u8, 0x42, 0];
+    let mut n = 0;
+    assert_eq!(unsafe { hf_frame_seal(frame.as_mut_ptr(), 2, 3, &mut n) }, HfStatus::Ok);
+    assert_eq!((frame, n), ([0x40, 0x42, 0x02], 3));
+    assert!(unsafe { hf_frame_is_valid(frame.as_ptr(), 3) });
+    assert_eq!(unsafe { hf_frame_seal(frame.as_mut_ptr(), 3, 3, &mut n) }, HfStatus::ShortBuffer);
+    let mut sum = 0;
+    assert_eq!(unsafe { hf_checksum(frame.as_ptr(), 2, &mut sum) }, HfStatus::Ok);
+    assert_eq!(sum, 0x02);
+    assert_eq!(unsafe { hf_checksum(null(), 2, &mut sum) }, HfStatus::Null);
+}
