@@ -1,0 +1,49 @@
+"""The HIPERFACE reference model and its conformance oracle, for Python test benches.
+
+- Frame helpers: ``checksum``, ``seal``, ``is_valid`` (000:2.3.3), ``decode_request``
+  (raises ``MalformedRequest(message, code)`` with the fault code a slave answers).
+- ``Slave(profile)``: the reference model of an encoder (a built-in profile name or a
+  profile's TOML file); ``receive`` each character the master sends, ``poll`` for what
+  to send and in which window (000:2.2.2, 000:T8).
+- ``Oracle(exact=False).grade(slave, request, at_us, reply)``: a device's reply graded
+  PASS, NON-STRICT or FAIL with the clause id and the reason, in lockstep with the model.
+- ``verify_vectors(dir)``: the golden vectors checked as ``hiperface vectors verify`` does.
+- ``read_report(path)``: a certification's ``report.json`` as Python objects.
+"""
+
+from ._hiperface import (
+    Grade,
+    HiperfaceError,
+    MalformedRequest,
+    Oracle,
+    ProfileError,
+    Request,
+    Slave,
+    Transmission,
+    checksum,
+    decode_request,
+    is_valid,
+    seal,
+    verify_vectors,
+)
+from .report import Case, Finding, Report, read_report
+
+__all__ = [
+    "Case",
+    "Finding",
+    "Grade",
+    "HiperfaceError",
+    "MalformedRequest",
+    "Oracle",
+    "ProfileError",
+    "Report",
+    "Request",
+    "Slave",
+    "Transmission",
+    "checksum",
+    "decode_request",
+    "is_valid",
+    "read_report",
+    "seal",
+    "verify_vectors",
+]

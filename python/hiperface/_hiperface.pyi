@@ -1,0 +1,55 @@
+"""Typing stubs of the compiled module (python/src/lib.rs)."""
+
+from typing import List, Optional, Tuple
+
+class HiperfaceError(Exception): ...
+
+class MalformedRequest(HiperfaceError):
+    """args: (message, fault code): 0x0A checksum, 0x0B unknown command, 0x0C too short
+    or wrong length (000:2.3.3, 000:T48-T49)."""
+
+class ProfileError(HiperfaceError):
+    """A profile that cannot be loaded: the file, line and field."""
+
+def checksum(data: bytes) -> int: ...
+def seal(frame: bytes) -> bytes: ...
+def is_valid(frame: bytes) -> bool: ...
+def decode_request(frame: bytes) -> Request: ...
+def verify_vectors(path: str) -> Tuple[int, List[str]]: ...
+
+class Request:
+    address: int
+    command: int
+    data: bytes
+
+class Transmission:
+    frame: bytes
+    earliest_start_us: int
+    latest_start_us: int
+
+class Slave:
+    def __init__(self, profile: str) -> None: ...
+    def receive(self, byte: int, at_us: int, fault: Optional[str] = None) -> None: ...
+    def poll(self, now_us: int) -> Optional[Transmission]: ...
+    def handle_frame(self, frame: bytes, at_us: int) -> Optional[bytes]: ...
+    @property
+    def inputs(self) -> Tuple[int, int, int, int]: ...
+    def set_inputs(
+        self,
+        *,
+        position: Optional[int] = None,
+        speed: Optional[int] = None,
+        temperature_c: Optional[int] = None,
+        led_current_ma: Optional[int] = None,
+    ) -> None: ...
+
+class Grade:
+    verdict: str
+    clause: str
+    reason: str
+
+class Oracle:
+    def __init__(self, exact: bool = False) -> None: ...
+    def grade(
+        self, slave: Slave, request: bytes, at_us: int, reply: Optional[bytes], uart_fault: bool = False
+    ) -> Grade: ...

@@ -1,0 +1,290 @@
+//! `hiperface._hiperface`: the model and its oracle for Python test benches. The
+//! package `hiperface` (python/hiperface) re-exports it with typing stubs and adds the
+//! certification report reader.
+
+use hiperface_conformance::{profile_file, vectors};
+use hiperface_model::checksum::{is_valid as xor_is_zero, xor};
+use hiperface_model::request::RequestError;
+use hiperface_model::{FaultCode, Grading, Oracle as ModelOracle, RequestFrame, RxChar, Step, UartFault, Verdict};
+use pyo3::create_exception;
+use pyo3::exceptions::{PyException, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyBytes;
+use std::path::Path;
+
+create_exception!(_hiperface, HiperfaceError, PyException, "An error of the hiperface package.");
+create_exception!(
+    _hiperface,
+    MalformedRequest,
+    HiperfaceError,
+    "A request a slave refuses: args are (message, fault code) with the code a slave answers \
+     (0x0A checksum, 0x0B unknown command, 0x0C too short or wrong length; 000:2.3.3, 000:T48-T49)."
+);
+create_exception!(
+    _hiperface,
+    ProfileError,
+    HiperfaceError,
+    "A profile that cannot be loaded: the file, line and field."
+);
+
+/// The XOR checksum of `data` (000:2.3.3).
+#[pyfunction]
+fn checksum(data: &[u8]) -> u8 {
+    xor(data)
+}
+
+/// `frame` with its checksum appended (000:2.3.3).
+#[pyfunction]
+fn seal<'py>(py: Python<'py>, frame: &[u8]) -> Bound<'py, PyBytes> {
+    let mut sealed = frame.to_vec();
+    sealed.push(xor(frame));
+    PyBytes::new(py, &sealed)
+}
+
+/// Whether `frame` (checksum included, 2 bytes or more) XORs to 0 (000:2.3.3).
+#[pyfunction]
+fn is_valid(frame: &[u8]) -> bool {
+    frame.len() >= 2 && xor_is_zero(frame)
+}
+
+/// A decoded request.
+#[pyclass(module = "hiperface", frozen, get_all)]
+struct Request {
+    /// The address byte as sent (0x40...0x5F, 0xFF broadcast: 000:T5).
+    address: u8,
+    /// The command byte.
+    command: u8,
+    /// The data bytes between command byte and checksum.
+    data: Py<PyBytes>,
+}
+
+#[pymethods]
+impl Request {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!(
+            "Request(address=0x{:02X}, command=0x{:02X}, data={:02X?})",
+            self.address,
+            self.command,
+            self.data.as_bytes(py)
+        )
+    }
+}
+
+/// Decode a request; raises `MalformedRequest(message, code)` for one a slave refuses.
+#[pyfunction]
+fn decode_request(py: Python<'_>, frame: &[u8]) -> PyResult<Request> {
+    match RequestFrame::decode(frame) {
+        Ok(rf) => Ok(Request {
+            address: rf.address.byte(),
+            command: rf.request.command().byte(),
+            data: PyBytes::new(py, frame.get(2..frame.len().saturating_sub(1)).unwrap_or(&[])).unbind(),
+        }),
+        Err(e) => {
+            let code = match e {
+                RequestError::TooShort { .. } | RequestError::WrongLength { .. } => FaultCode::WrongLength,
+                RequestError::BadChecksum { .. } => FaultCode::Checksum,
+                RequestError::UnknownCommand { .. } => FaultCode::UnknownCommand,
+            };
+            Err(MalformedRequest::new_err((e.to_string(), code.byte())))
+        }
+    }
+}
+
+/// What the slave sends, and when (µs on the slave's clock).
+#[pyclass(module = "hiperface", frozen, get_all)]
+struct Transmission {
+    frame: Py<PyBytes>,
+    /// The first character may start once the request's timeout has passed (000:2.2.2)...
+    earliest_start_us: u64,
+    /// ...and must start by the command's maximum response time (000:T8).
+    latest_start_us: u64,
+}
+
+#[pymethods]
+impl Transmission {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!(
+            "Transmission(frame={:02X?}, earliest_start_us={}, latest_start_us={})",
+            self.frame.as_bytes(py),
+            self.earliest_start_us,
+            self.latest_start_us
+        )
+    }
+}
+
+/// The reference model of an encoder: fed the master's characters with their time,
+/// it says what to send and when.
+#[pyclass(module = "hiperface")]
+struct Slave {
+    slave: hiperface_model::Slave,
+    /// A frame the last character closed, for the next `poll`.
+    pending: Option<Step>,
+}
+
+fn uart_fault(fault: Option<&str>) -> PyResult<Option<UartFault>> {
+    Ok(match fault {
+        None => None,
+        Some("parity") => Some(UartFault::Parity),
+        Some("framing") => Some(UartFault::Framing),
+        Some("noise") => Some(UartFault::Noise),
+        Some("overrun") => Some(UartFault::Overrun),
+        Some(other) => {
+            return Err(PyValueError::new_err(format!(
+                "fault `{other}`: expected None, \"parity\", \"framing\", \"noise\" or \"overrun\""
+            )))
+        }
+    })
+}
+
+fn transmission(py: Python<'_>, step: &Step) -> Option<Transmission> {
+    let tx = step.transmission.as_ref()?;
+    Some(Transmission {
+        frame: PyBytes::new(py, tx.frame.as_bytes()).unbind(),
+        earliest_start_us: tx.earliest_start_us,
+        latest_start_us: tx.latest_start_us,
+    })
+}
+
+#[pymethods]
+impl Slave {
+    /// An operational slave of `profile`: a built-in name ("SRS50", ...) or the path
+    /// of a profile's TOML file. Raises `ProfileError` naming the file, line and field.
+    #[new]
+    fn new(profile: &str) -> PyResult<Slave> {
+        let p = profile_file::resolve(profile).map_err(|e| ProfileError::new_err(e.to_string()))?;
+        Ok(Slave { slave: hiperface_model::Slave::operational(p), pending: None })
+    }
+
+    /// A character from the master, its stop bit ending at `at_us`, with its UART
+    /// fault (000:T47). Call `poll` after each character.
+    #[pyo3(signature = (byte, at_us, fault=None))]
+    fn receive(&mut self, byte: u8, at_us: u64, fault: Option<&str>) -> PyResult<()> {
+        let fault = uart_fault(fault)?;
+        if let Some(step) = self.slave.receive(RxChar { byte, at_us, fault }) {
+            self.pending = Some(step);
+        }
+        Ok(())
+    }
+
+    /// What the slave sends by `now_us`, or None (nothing ended, or it stays silent).
+    fn poll(&mut self, py: Python<'_>, now_us: u64) -> Option<Transmission> {
+        let step = self.pending.take().or_else(|| self.slave.poll(now_us))?;
+        transmission(py, &step)
+    }
+
+    /// The reply to a whole frame ended at `at_us`, or None for silence.
+    fn handle_frame<'py>(&mut self, py: Python<'py>, frame: &[u8], at_us: u64) -> Option<Bound<'py, PyBytes>> {
+        match self.slave.handle_frame(frame, at_us).reply {
+            hiperface_model::Reply::Frame(f) => Some(PyBytes::new(py, f.encode().as_bytes())),
+            hiperface_model::Reply::Silent(_) => None,
+        }
+    }
+
+    /// The physical inputs: position (steps, 32 per period), speed, temperature_c,
+    /// led_current_ma.
+    #[getter]
+    fn inputs(&self) -> (u64, i32, i16, u16) {
+        let i = self.slave.inputs();
+        (i.position, i.speed, i.temperature_c, i.led_current_ma)
+    }
+
+    /// Change some of the physical inputs.
+    #[pyo3(signature = (*, position=None, speed=None, temperature_c=None, led_current_ma=None))]
+    fn set_inputs(
+        &mut self,
+        position: Option<u64>,
+        speed: Option<i32>,
+        temperature_c: Option<i16>,
+        led_current_ma: Option<u16>,
+    ) {
+        let mut i = self.slave.inputs();
+        i.position = position.unwrap_or(i.position);
+        i.speed = speed.unwrap_or(i.speed);
+        i.temperature_c = temperature_c.unwrap_or(i.temperature_c);
+        i.led_current_ma = led_current_ma.unwrap_or(i.led_current_ma);
+        self.slave.set_inputs(i);
+    }
+
+    fn __repr__(&self) -> String {
+        format!("Slave(profile={:?})", self.slave.profile().name.as_str())
+    }
+}
+
+/// A grade: "PASS", "NON-STRICT" or "FAIL", the clause id it rests on, and the reason.
+#[pyclass(module = "hiperface", frozen, get_all)]
+struct Grade {
+    verdict: &'static str,
+    clause: String,
+    reason: String,
+}
+
+#[pymethods]
+impl Grade {
+    fn __repr__(&self) -> String {
+        format!("Grade({} [{}] {})", self.verdict, self.clause, self.reason)
+    }
+}
+
+/// The oracle. `exact`: the device is the model's own world (every value graded
+/// exactly); otherwise a real device, whose position, temperature and LED current are
+/// unknown (graded by their range).
+#[pyclass(module = "hiperface", frozen)]
+struct Oracle {
+    oracle: ModelOracle,
+}
+
+#[pymethods]
+impl Oracle {
+    #[new]
+    #[pyo3(signature = (exact=false))]
+    fn new(exact: bool) -> Oracle {
+        Oracle { oracle: ModelOracle::new(if exact { Grading::Exact } else { Grading::Range }) }
+    }
+
+    /// Grade a device's `reply` (None: silence) to `request`, whose frame ended at
+    /// `at_us`, against `slave`, which then takes the request itself (lockstep).
+    #[pyo3(signature = (slave, request, at_us, reply, uart_fault=false))]
+    fn grade(&self, slave: &mut Slave, request: &[u8], at_us: u64, reply: Option<&[u8]>, uart_fault: bool) -> Grade {
+        let before = slave.slave.clone();
+        let expected = if uart_fault {
+            slave.slave.handle_faulty_frame(request, at_us)
+        } else {
+            slave.slave.handle_frame(request, at_us)
+        };
+        let g = self.oracle.grade(&before, request, at_us, &expected, reply);
+        Grade {
+            verdict: match g.verdict() {
+                Verdict::Pass => "PASS",
+                Verdict::NonStrict => "NON-STRICT",
+                Verdict::Fail => "FAIL",
+            },
+            clause: g.clause().to_string(),
+            reason: g.deviation().map(|d| d.to_string()).unwrap_or_default(),
+        }
+    }
+}
+
+/// Verify a directory of golden vectors as `hiperface vectors verify` does: returns
+/// (vectors checked, mismatches), each mismatch a line naming the vector.
+#[pyfunction]
+fn verify_vectors(path: &str) -> PyResult<(usize, Vec<String>)> {
+    vectors::verify_dir(Path::new(path)).map_err(|e| HiperfaceError::new_err(e.to_string()))
+}
+
+#[pymodule]
+fn _hiperface(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(checksum, m)?)?;
+    m.add_function(wrap_pyfunction!(seal, m)?)?;
+    m.add_function(wrap_pyfunction!(is_valid, m)?)?;
+    m.add_function(wrap_pyfunction!(decode_request, m)?)?;
+    m.add_function(wrap_pyfunction!(verify_vectors, m)?)?;
+    m.add_class::<Request>()?;
+    m.add_class::<Transmission>()?;
+    m.add_class::<Slave>()?;
+    m.add_class::<Grade>()?;
+    m.add_class::<Oracle>()?;
+    m.add("HiperfaceError", m.py().get_type::<HiperfaceError>())?;
+    m.add("MalformedRequest", m.py().get_type::<MalformedRequest>())?;
+    m.add("ProfileError", m.py().get_type::<ProfileError>())?;
+    Ok(())
+}
