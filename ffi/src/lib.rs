@@ -20,9 +20,8 @@
 
 use core::ffi::{c_char, c_void, CStr};
 use hiperface_model::frame::MAX_FRAME;
-use hiperface_model::request::RequestError;
 use hiperface_model::{
-    checksum, profiles, FaultCode, Grading, Oracle, Profile, RequestFrame, RxChar, Slave, Step, UartFault, Verdict,
+    checksum, profiles, Grading, Oracle, Profile, RequestFrame, RxChar, Slave, Step, UartFault, Verdict,
 };
 
 /// The longest frame: Store Data with 128 data bytes (000:T22).
@@ -262,13 +261,8 @@ pub unsafe extern "C" fn hf_request_decode(
         }
         Err(e) => {
             if !error_code.is_null() {
-                let code = match e {
-                    RequestError::TooShort { .. } | RequestError::WrongLength { .. } => FaultCode::WrongLength,
-                    RequestError::BadChecksum { .. } => FaultCode::Checksum,
-                    RequestError::UnknownCommand { .. } => FaultCode::UnknownCommand,
-                };
                 // SAFETY: not null, writable by the caller's promise.
-                unsafe { *error_code = code.byte() };
+                unsafe { *error_code = e.fault_code().byte() };
             }
             HfStatus::Invalid
         }

@@ -6,6 +6,7 @@
 use crate::address::AddressByte;
 use crate::checksum;
 use crate::command::{CommandByte, CommandId};
+use crate::fault::FaultCode;
 use crate::frame::{FieldBytes, Frame, FrameFull, Hex};
 use core::fmt;
 
@@ -94,6 +95,19 @@ pub enum RequestError {
     UnknownCommand { byte: u8 },
     /// The data length does not fit the command: 0Ch.
     WrongLength { command: CommandId, data_len: usize },
+}
+
+impl RequestError {
+    /// The error code a slave answers this request with, in the order of 000's
+    /// checks: 0Ch too short or wrong length, 0Ah checksum, 0Bh unknown command
+    /// (000:2.3.3, 000:T48-T49).
+    pub const fn fault_code(&self) -> FaultCode {
+        match self {
+            RequestError::TooShort { .. } | RequestError::WrongLength { .. } => FaultCode::WrongLength,
+            RequestError::BadChecksum { .. } => FaultCode::Checksum,
+            RequestError::UnknownCommand { .. } => FaultCode::UnknownCommand,
+        }
+    }
 }
 
 impl fmt::Display for RequestError {
@@ -345,6 +359,24 @@ mod tests {
     use crate::address::SlaveAddress;
 
     const A: AddressByte = AddressByte::Slave(SlaveAddress::DEFAULT);
+
+    /// A malformed request's code is the one the slave answers it with.
+    #[test]
+    fn a_decode_errors_code_is_the_slaves_answer() {
+        // Too short; a wrong checksum; 7Eh sealed (no such command); Read Position
+        // sealed with a data byte it does not take.
+        let frames: [&[u8]; 4] = [&[0x40, 0x42], &[0x40, 0x42, 0x03], &[0x40, 0x7E, 0x3E], &[0x40, 0x42, 0x00, 0x02]];
+        let codes = [FaultCode::WrongLength, FaultCode::Checksum, FaultCode::UnknownCommand, FaultCode::WrongLength];
+        for (frame, code) in frames.iter().zip(codes) {
+            let e = RequestFrame::decode(frame).expect_err("malformed");
+            assert_eq!(e.fault_code(), code, "{frame:02X?}");
+            let mut slave = crate::Slave::operational(crate::profiles::srs50());
+            match slave.handle_frame(frame, 0).reply {
+                crate::Reply::Frame(f) => assert_eq!(f.response, crate::Response::Error(code), "{frame:02X?}"),
+                other => panic!("{frame:02X?}: {other:?}"),
+            }
+        }
+    }
 
     #[test]
     fn documents_requests_decode() {

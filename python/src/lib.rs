@@ -4,8 +4,7 @@
 
 use hiperface_conformance::{profile_file, vectors};
 use hiperface_model::checksum::{is_valid as xor_is_zero, xor};
-use hiperface_model::request::RequestError;
-use hiperface_model::{FaultCode, Grading, Oracle as ModelOracle, RequestFrame, RxChar, Step, UartFault, Verdict};
+use hiperface_model::{Grading, Oracle as ModelOracle, RequestFrame, RxChar, Step, UartFault, Verdict};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyValueError};
 use pyo3::prelude::*;
@@ -79,14 +78,7 @@ fn decode_request(py: Python<'_>, frame: &[u8]) -> PyResult<Request> {
             command: rf.request.command().byte(),
             data: PyBytes::new(py, frame.get(2..frame.len().saturating_sub(1)).unwrap_or(&[])).unbind(),
         }),
-        Err(e) => {
-            let code = match e {
-                RequestError::TooShort { .. } | RequestError::WrongLength { .. } => FaultCode::WrongLength,
-                RequestError::BadChecksum { .. } => FaultCode::Checksum,
-                RequestError::UnknownCommand { .. } => FaultCode::UnknownCommand,
-            };
-            Err(MalformedRequest::new_err((e.to_string(), code.byte())))
-        }
+        Err(e) => Err(MalformedRequest::new_err((e.to_string(), e.fault_code().byte()))),
     }
 }
 
