@@ -194,7 +194,7 @@ impl Request {
     }
 
     /// Decode the data bytes of a known command whose length the table accepts.
-    fn from_data(command: CommandId, d: &[u8]) -> Result<Request, RequestError> {
+    pub(crate) fn from_data(command: CommandId, d: &[u8]) -> Result<Request, RequestError> {
         let wrong = RequestError::WrongLength { command, data_len: d.len() };
         let spec = command.spec().ok_or(RequestError::UnknownCommand { byte: command.byte() })?;
         if !spec.master_data.accepts(d.len()) {

@@ -194,22 +194,6 @@ pub fn request_round_trips(row: u8, data: &[u8]) -> bool {
     }
 }
 
-/// The longest frame the slave-step harnesses build: address, command, up to 6 data
-/// bytes, checksum.
-pub const STEP_FRAME: usize = 9;
-
-/// The frame of a slave-step harness: to address 40h with the command byte `command`,
-/// the first `len` (3 to 9) of `bytes` after those two, the last one replaced by the
-/// checksum when `sealed` (so that the commands run, not only the checksum test).
-pub fn step_frame(command: u8, mut bytes: [u8; STEP_FRAME], len: usize, sealed: bool) -> [u8; STEP_FRAME] {
-    bytes[0] = 0x40;
-    bytes[1] = command;
-    if sealed && (3..=STEP_FRAME).contains(&len) {
-        bytes[len - 1] = hiperface_model::checksum::xor(&bytes[..len - 1]);
-    }
-    bytes
-}
-
 fn reachable_states() -> Vec<Slave> {
     // Depth 2 of the model checker's alphabet: a few hundred distinct states.
     let mut out = vec![Slave::operational(profiles::sek37())];
@@ -380,6 +364,19 @@ pub const PROPERTIES: &[Property] = &[
         run: || {
             let s = Slave::operational(profiles::sek37());
             exhaust(0..=255u8, |cs| slave_step_is_total(&s, &[0x40, 0x50, *cs]))
+        },
+    },
+    Property {
+        name: "slave_step_no_data",
+        claim: "the slave's step never panics on any command without data, with any checksum byte; invariants hold",
+        domain: "every command of the table without data to 40h with any checksum byte, on a factory-state SEK37",
+        exhaustive: true,
+        harness: Some("slave_step_no_data"),
+        run: || {
+            let s = Slave::operational(profiles::sek37());
+            let no_data = hiperface_model::COMMAND_TABLE.iter().filter(|c| c.master_data.accepts(0));
+            let frames = no_data.flat_map(|c| (0..=255u8).map(move |cs| [0x40, c.id.byte(), cs]));
+            exhaust(frames, |f| slave_step_is_total(&s, f))
         },
     },
     Property {

@@ -168,12 +168,14 @@ impl DataFields {
         self.blocks_before(self.count)
     }
 
-    /// Blocks of the fields below `number`. Every slot of the table is visited (those
-    /// at or above `number` count 0): a loop of fixed length, which a bounded model
-    /// checker bounds whatever it knows of `number`.
+    /// Blocks of the fields below `number`. Every field in use is visited (those at or
+    /// above `number` count 0): the loop's length is the number of fields, whatever
+    /// `number` is, so that a bounded model checker that knows the table but not
+    /// `number` (a field number from a request) runs it once per field, not once per
+    /// slot of the table.
     fn blocks_before(&self, number: u8) -> u32 {
         let below = |(i, s): (usize, &u8)| if i < number as usize { FieldStatus(*s).blocks() as u32 } else { 0 };
-        self.statuses.iter().enumerate().map(below).sum()
+        self.statuses().iter().enumerate().map(below).sum()
     }
 
     pub fn free_blocks(&self) -> u8 {
