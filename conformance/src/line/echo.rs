@@ -14,14 +14,17 @@ use std::collections::VecDeque;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum EchoMode {
-    /// Found out at the first request (the request comes back byte for byte before
-    /// any reply) and taken off the line where it does.
+    /// Found out at the harness's first frame (its request, or as the encoder its
+    /// reply, comes back byte for byte before the other end could answer) and taken
+    /// off the line where it does.
     #[default]
     Auto,
-    /// The line echoes: every request comes back and is taken off the line.
+    /// The line echoes: every frame the harness sends comes back and is taken off the
+    /// line.
     On,
-    /// The line does not echo; a request that comes back is reported as a line fault
-    /// ("the line echoes: use --echo auto"), not graded as the device's reply.
+    /// The line does not echo; a frame of the harness's that comes back is reported
+    /// as a line fault ("the line echoes: use --echo auto"), not graded as the other
+    /// end's.
     Off,
 }
 
