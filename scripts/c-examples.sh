@@ -5,6 +5,9 @@
 #   tiny_encoder --defect   its checksum slip: FAILed, with the checksum clause
 #   garbage                 every function fed nulls, short buffers and random bytes,
 #                           under AddressSanitizer and UBSan: status codes, no crash
+#   vectors vectors/*.json  every golden vector replayed through the C API: each
+#                           gets the verdict it expects; and a copy with one reply
+#                           byte changed is caught
 #   bench                   exchanges graded per second (printed)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,6 +19,7 @@ lib=target/release/libhiperface.a
 flags=(-std=c11 -Wall -Wextra -Werror -Iffi/include)
 libs=("$lib" -lpthread -ldl -lm)
 "$CC" "${flags[@]}" -o "$out/tiny_encoder" examples/c/tiny_encoder.c "${libs[@]}"
+"$CC" "${flags[@]}" -o "$out/vectors" examples/c/vectors.c "${libs[@]}"
 "$CC" "${flags[@]}" -O2 -o "$out/bench" examples/c/bench.c "${libs[@]}"
 "$CC" "${flags[@]}" -g -fsanitize=address,undefined -fno-sanitize-recover=all -o "$out/garbage" examples/c/garbage.c "${libs[@]}"
 echo "-- tiny_encoder"
@@ -26,6 +30,36 @@ if "$out/tiny_encoder" --defect > "$out/defect.txt"; then
 fi
 cat "$out/defect.txt"
 grep -q "FAIL \[000:2.3.3\]" "$out/defect.txt" || { echo "no FAIL on the checksum clause"; exit 1; }
+echo "-- vectors: every golden vector file"
+files=()
+for f in vectors/*.json; do [ "$(basename "$f")" = schema.json ] || files+=("$f"); done
+"$out/vectors" "${files[@]}" | tee "$out/vectors.txt"
+# As many as `hiperface vectors verify` checks.
+verified=$(cargo run -q --release -p hiperface-conformance -- vectors verify vectors | grep -oE "^[0-9]+ vectors" | grep -oE "[0-9]+")
+grep -q "^$verified vectors replayed through the C API" "$out/vectors.txt" \
+    || { echo "the C replay did not replay the $verified vectors vectors verify checks"; exit 1; }
+echo "-- vectors on a copy of documents.json with one reply byte changed (expected to disagree)"
+python3 - vectors/documents.json "$out/tampered.json" <<'PY'
+import json, sys
+doc = json.load(open(sys.argv[1]))
+for group in doc["testGroups"]:
+    for t in group["tests"]:
+        if t.get("result") == "valid" and t.get("steps") and t["steps"][-1].get("response"):
+            reply = t["steps"][-1]["response"].split()
+            # a data byte and the checksum both changed: a well-formed reply with a wrong value
+            reply[-2] = "%02X" % (int(reply[-2], 16) ^ 0x01)
+            reply[-1] = "%02X" % (int(reply[-1], 16) ^ 0x01)
+            t["steps"][-1]["response"] = " ".join(reply)
+            print("changed", t["id"])
+            json.dump(doc, open(sys.argv[2], "w"))
+            sys.exit(0)
+sys.exit("no vector to change")
+PY
+if "$out/vectors" "$out/tampered.json" > "$out/tampered.txt"; then
+    cat "$out/tampered.txt"; echo "the changed reply was not caught"; exit 1
+fi
+cat "$out/tampered.txt"
+grep -q "the vector expects PASS" "$out/tampered.txt" || { echo "not caught as a wrong reply"; exit 1; }
 echo "-- garbage (AddressSanitizer, UBSan)"
 "$out/garbage"
 echo "-- bench (figures for the record, not a gate: a shared machine's speed varies)"

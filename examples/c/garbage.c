@@ -78,6 +78,90 @@ int main(void) {
         CHECK(hf_oracle_grade(s, buf, len, t, rand() % 4 ? buf + 1 : NULL, reply_len, rand() % 2, rand() % 2, &g) == HF_STATUS_OK);
         CHECK(g.verdict <= HF_VERDICT_FAIL && memchr(g.clause, 0, sizeof g.clause) && memchr(g.reason, 0, sizeof g.reason));
     }
+    /* A copy of a slave, and slaves of TOML text: nulls, short storage, broken text. */
+    void *copy = aligned_alloc(hf_slave_align(), (hf_slave_size() + hf_slave_align()) / hf_slave_align() * hf_slave_align());
+    HfSlave *c = NULL;
+    char error[64];
+    CHECK(copy != NULL);
+    CHECK(hf_slave_copy(NULL, copy, hf_slave_size(), &c) == HF_STATUS_NULL);
+    CHECK(hf_slave_copy(s, NULL, hf_slave_size(), &c) == HF_STATUS_NULL);
+    CHECK(hf_slave_copy(s, copy, hf_slave_size(), NULL) == HF_STATUS_NULL);
+    CHECK(hf_slave_copy(s, copy, 8, &c) == HF_STATUS_SHORT_BUFFER);
+    CHECK(hf_slave_copy(s, storage, hf_slave_size(), &c) == HF_STATUS_INVALID);
+    CHECK(hf_slave_copy(s, copy, hf_slave_size(), &c) == HF_STATUS_OK);
+    CHECK(hf_slave_poll(c, t, &tx) == HF_STATUS_OK || hf_slave_poll(c, t, &tx) == HF_STATUS_NOTHING);
+    CHECK(hf_slave_from_toml(NULL, NULL, 0, &c, error, sizeof error) == HF_STATUS_NULL);
+    CHECK(hf_slave_from_toml("x", NULL, 0, NULL, error, sizeof error) == HF_STATUS_NULL);
+    CHECK(hf_slave_from_toml("not = [toml", NULL, 0, &c, error, sizeof error) == HF_STATUS_INVALID);
+    CHECK(memchr(error, 0, sizeof error) != NULL && error[0] != 0);
+    CHECK(hf_slave_from_toml("not = [toml", NULL, 0, &c, NULL, 0) == HF_STATUS_INVALID);
+    CHECK(hf_slave_from_toml("not = [toml", NULL, 0, &c, error, 1) == HF_STATUS_INVALID && error[0] == 0);
+    CHECK(hf_slave_from_toml("\xff\xfe", NULL, 0, &c, error, sizeof error) == HF_STATUS_INVALID);
+    for (int round = 0; round < 2000; round++) {
+        char text[64];
+        size_t len = (size_t)(rand() % (int)(sizeof text - 1));
+        for (size_t i = 0; i < len; i++) text[i] = (char)(rand() % 255 + 1);
+        text[len] = 0;
+        HfStatus st = hf_slave_from_toml(text, copy, hf_slave_size(), &c, error, sizeof error);
+        CHECK(st == HF_STATUS_INVALID && memchr(error, 0, sizeof error) != NULL);
+    }
+    free(copy);
+
+    /* Vector files: nulls, files that are not vector files, indexes past the end. */
+    HfVectors *vs = NULL;
+    HfVector v;
+    HfVectorStep st;
+    HfChecksumExample ce;
+    HfTableCase tc;
+    char answer[8];
+    CHECK(hf_vectors_load(NULL, &vs, error, sizeof error) == HF_STATUS_NULL);
+    CHECK(hf_vectors_load("vectors/documents.json", NULL, error, sizeof error) == HF_STATUS_NULL);
+    CHECK(hf_vectors_load("/no/such/file.json", &vs, error, sizeof error) == HF_STATUS_INVALID && error[0] != 0);
+    CHECK(hf_vectors_load("vectors/schema.json", &vs, NULL, 0) == HF_STATUS_INVALID);
+    CHECK(hf_vectors_count(NULL) == 0);
+    CHECK(hf_vector_get(NULL, 0, &v) == HF_STATUS_NULL);
+    CHECK(hf_vector_step(NULL, 0, 0, &st) == HF_STATUS_NULL);
+    CHECK(hf_vector_start(NULL, 0, NULL, 0, &c) == HF_STATUS_NULL);
+    CHECK(hf_vector_checksum_example(NULL, 0, &ce) == HF_STATUS_NULL);
+    CHECK(hf_vector_table_case(NULL, 0, &tc) == HF_STATUS_NULL);
+    hf_vectors_free(NULL);
+    CHECK(hf_vectors_load("vectors/documents.json", &vs, error, sizeof error) == HF_STATUS_OK);
+    size_t count = hf_vectors_count(vs);
+    CHECK(count > 0);
+    CHECK(hf_vector_get(vs, count, &v) == HF_STATUS_INVALID);
+    CHECK(hf_vector_get(vs, 0, NULL) == HF_STATUS_NULL);
+    CHECK(hf_vector_step(vs, count, 0, &st) == HF_STATUS_INVALID);
+    CHECK(hf_vector_start(vs, count, NULL, 0, &c) == HF_STATUS_INVALID);
+    CHECK(hf_vector_start(vs, 0, NULL, 0, NULL) == HF_STATUS_NULL);
+    for (size_t i = 0; i < count; i++) {
+        CHECK(hf_vector_get(vs, i, &v) == HF_STATUS_OK);
+        CHECK(hf_vector_step(vs, i, v.steps, &st) == HF_STATUS_INVALID);
+        CHECK(hf_vector_step(vs, i, 0, NULL) == HF_STATUS_NULL || v.steps == 0);
+        CHECK(v.kind == HF_VECTOR_KIND_CHECKSUM_EXAMPLE || hf_vector_checksum_example(vs, i, &ce) == HF_STATUS_INVALID);
+        CHECK(v.kind == HF_VECTOR_KIND_TABLE_CASE || hf_vector_table_case(vs, i, &tc) == HF_STATUS_INVALID);
+        CHECK(v.kind == HF_VECTOR_KIND_STEPS || hf_vector_start(vs, i, NULL, 0, &c) == HF_STATUS_INVALID);
+        /* Storage too small for the vector's slave. */
+        CHECK(v.kind != HF_VECTOR_KIND_STEPS || hf_vector_start(vs, i, small, sizeof small, &c) == HF_STATUS_SHORT_BUFFER);
+    }
+    hf_vectors_free(vs);
+    CHECK(hf_table_evaluate(NULL, "0 0 0 0", answer, sizeof answer) == HF_STATUS_NULL);
+    CHECK(hf_table_evaluate("quadrature", NULL, answer, sizeof answer) == HF_STATUS_NULL);
+    CHECK(hf_table_evaluate("quadrature", "0 0 0 0", NULL, 8) == HF_STATUS_NULL);
+    CHECK(hf_table_evaluate("quadrature", "0 1 1 1", answer, sizeof answer) == HF_STATUS_OK);
+    CHECK(hf_table_evaluate("quadrature", "0 0 0 0", answer, 3) == HF_STATUS_SHORT_BUFFER && answer[2] == 0);
+    CHECK(hf_table_evaluate("quadrature", "0 0 0 0", answer, 0) == HF_STATUS_SHORT_BUFFER);
+    CHECK(hf_table_evaluate("no such table", "1", answer, sizeof answer) != HF_STATUS_OK);
+    for (int round = 0; round < 2000; round++) {
+        char table[16], input[32];
+        for (size_t i = 0; i + 1 < sizeof input; i++) input[i] = (char)(rand() % 255 + 1);
+        input[rand() % (int)sizeof input] = 0;
+        input[sizeof input - 1] = 0;
+        strcpy(table, (const char *[]){"quadrature", "sync", "octant", "fault-reaction", "x"}[rand() % 5]);
+        HfStatus e = hf_table_evaluate(table, input, answer, sizeof answer);
+        CHECK(e == HF_STATUS_INVALID || e == HF_STATUS_SHORT_BUFFER || e == HF_STATUS_OK);
+        CHECK(memchr(answer, 0, sizeof answer) != NULL);
+    }
+
     free(storage);
     printf("garbage: every call answered with a status code\n");
     return 0;

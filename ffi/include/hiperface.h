@@ -31,6 +31,41 @@
 #define HF_REASON_LEN 192
 
 /**
+ * Room for a vector's id in [`HfVector`], with its NUL.
+ */
+#define HF_ID_LEN 96
+
+/**
+ * Room for a profile's name, with its NUL.
+ */
+#define HF_NAME_LEN 32
+
+/**
+ * Room for a table row's text (its input, its printed output), with its NUL.
+ */
+#define HF_TEXT_LEN 192
+
+/**
+ * [`HfVectorStep::inputs_set`]: the step sets the position.
+ */
+#define HF_INPUT_POSITION 1
+
+/**
+ * ... the speed.
+ */
+#define HF_INPUT_SPEED 2
+
+/**
+ * ... the temperature.
+ */
+#define HF_INPUT_TEMPERATURE 4
+
+/**
+ * ... the LED current.
+ */
+#define HF_INPUT_LED_CURRENT 8
+
+/**
  * What a function did.
  */
 typedef enum HfStatus {
@@ -71,6 +106,25 @@ typedef enum HfVerdict {
 } HfVerdict;
 
 /**
+ * What a vector holds.
+ */
+typedef enum HfVectorKind {
+  /**
+   * Steps of request and reply, from the slave of its setup ([`hf_vector_start`],
+   * [`hf_vector_step`]).
+   */
+  HF_VECTOR_KIND_STEPS = 0,
+  /**
+   * A frame and its printed checksum ([`hf_vector_checksum_example`]).
+   */
+  HF_VECTOR_KIND_CHECKSUM_EXAMPLE = 1,
+  /**
+   * A row of a master-side table ([`hf_vector_table_case`]).
+   */
+  HF_VECTOR_KIND_TABLE_CASE = 2,
+} HfVectorKind;
+
+/**
  * A UART fault of a received character (000:T47).
  */
 typedef enum HfFault {
@@ -86,6 +140,11 @@ typedef enum HfFault {
  * [`hf_slave_size`] and [`hf_slave_align`].
  */
 typedef struct HfSlave HfSlave;
+
+/**
+ * The vectors of one file. Opaque to C.
+ */
+typedef struct HfVectors HfVectors;
 
 /**
  * A decoded request.
@@ -161,6 +220,85 @@ typedef struct HfGrade {
   char reason[HF_REASON_LEN];
 } HfGrade;
 
+/**
+ * A vector's header.
+ */
+typedef struct HfVector {
+  /**
+   * NUL-terminated, e.g. "001-5.1.4-example-01".
+   */
+  char id[HF_ID_LEN];
+  /**
+   * The built-in profile its slave is (NUL-terminated).
+   */
+  char profile[HF_NAME_LEN];
+  enum HfVectorKind kind;
+  /**
+   * How many steps (0 unless `kind` is steps).
+   */
+  size_t steps;
+  /**
+   * The verdict its last step's reply earns (every earlier step's: PASS); for a
+   * checksum example or a table row, PASS if the printed value is right, FAIL if it
+   * is printed wrong (an erratum).
+   */
+  enum HfVerdict expected;
+} HfVector;
+
+/**
+ * One step of a vector.
+ */
+typedef struct HfVectorStep {
+  /**
+   * When the request's frame ended, µs after power-on (0 for a slave long
+   * operational).
+   */
+  uint64_t at_us;
+  /**
+   * Which of `inputs` the step sets before its request ([`HF_INPUT_POSITION`] ...);
+   * the others stay as they are.
+   */
+  uint8_t inputs_set;
+  struct HfInputs inputs;
+  /**
+   * A character of the request arrives with a UART fault (000:T47).
+   */
+  bool uart_fault;
+  uint8_t request[HF_MAX_FRAME];
+  size_t request_len;
+  /**
+   * false: the device stays silent.
+   */
+  bool has_reply;
+  uint8_t reply[HF_MAX_FRAME];
+  size_t reply_len;
+} HfVectorStep;
+
+/**
+ * A frame and the checksum the document prints for it.
+ */
+typedef struct HfChecksumExample {
+  uint8_t frame[HF_MAX_FRAME];
+  size_t frame_len;
+  uint8_t printed;
+} HfChecksumExample;
+
+/**
+ * A printed row of a master-side table (000 chapter 3), in the document's words.
+ */
+typedef struct HfTableCase {
+  /**
+   * "quadrature", "sync", "octant", "transformation", "retransformation",
+   * "fault-reaction" (NUL-terminated).
+   */
+  char table[HF_NAME_LEN];
+  char input[HF_TEXT_LEN];
+  /**
+   * What the document prints (NUL-terminated).
+   */
+  char output[HF_TEXT_LEN];
+} HfTableCase;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -230,6 +368,21 @@ enum HfStatus hf_slave_init(void *storage,
                             struct HfSlave **out);
 
 /**
+ * A copy of `slave` in `storage` (`size` bytes, aligned to [`hf_slave_align`]); `out`
+ * gets it. Set a slave up once and copy it for each test: cheaper than building it
+ * again. A frame the source has closed but not yet given to [`hf_slave_poll`] is not
+ * copied.
+ *
+ * # Safety
+ * `slave` is null or a slave from this API; `storage` points to `size` writable bytes
+ * that outlive the copy and do not overlap `slave`; `out` is writable.
+ */
+enum HfStatus hf_slave_copy(const struct HfSlave *slave,
+                            void *storage,
+                            size_t size,
+                            struct HfSlave **out);
+
+/**
  * As [`hf_slave_init`], allocated; free it with [`hf_slave_free`]. (Not in a build
  * without the `std` feature, e.g. for firmware.)
  *
@@ -239,11 +392,12 @@ enum HfStatus hf_slave_init(void *storage,
 enum HfStatus hf_slave_new(const char *profile_name, struct HfSlave **out);
 
 /**
- * Free a slave made by [`hf_slave_new`] (null: nothing to do). (Not in a build
+ * Free a slave made on the heap by [`hf_slave_new`], [`hf_slave_from_toml`] or
+ * [`hf_vector_start`] (null: nothing to do). (Not in a build
  * without the `std` feature.)
  *
  * # Safety
- * `slave` is null or was made by `hf_slave_new` and is not used afterwards.
+ * `slave` is null or was made on the heap by this API and is not used afterwards.
  */
 void hf_slave_free(struct HfSlave *slave);
 
@@ -311,6 +465,131 @@ enum HfStatus hf_oracle_grade(struct HfSlave *slave,
                               bool exact,
                               bool uart_fault,
                               struct HfGrade *out);
+
+/**
+ * An operational slave of the profile in the TOML text `toml` (the format of
+ * `hiperface profiles --export`), in `storage` as [`hf_slave_init`](crate::hf_slave_init)
+ * places one, or on the heap (to free with [`hf_slave_free`](crate::hf_slave_free))
+ * where `storage` is null. A profile that does not load: `HF_STATUS_INVALID`, with the
+ * line, the field and why in `error` (`error_len` chars; may be null).
+ *
+ * # Safety
+ * `toml` is a NUL-terminated string; `storage` is null or points to `size` writable
+ * bytes that outlive the slave; `out` is writable; `error` is null or points to
+ * `error_len` writable chars.
+ */
+enum HfStatus hf_slave_from_toml(const char *toml,
+                                 void *storage,
+                                 size_t size,
+                                 struct HfSlave **out,
+                                 char *error,
+                                 size_t error_len);
+
+/**
+ * Read the vector file at `path` (checked against the vectors' JSON schema); `out`
+ * gets the vectors, to free with [`hf_vectors_free`]. A file that cannot be read or
+ * is not a vector file: `HF_STATUS_INVALID`, with why in `error` (`error_len`
+ * chars; may be null).
+ *
+ * # Safety
+ * `path` is a NUL-terminated string; `out` is writable; `error` is null or points to
+ * `error_len` writable chars.
+ */
+enum HfStatus hf_vectors_load(const char *path,
+                              struct HfVectors **out,
+                              char *error,
+                              size_t error_len);
+
+/**
+ * Free vectors from [`hf_vectors_load`] (null: nothing to do).
+ *
+ * # Safety
+ * `vectors` is null or from `hf_vectors_load`, and not used afterwards.
+ */
+void hf_vectors_free(struct HfVectors *vectors);
+
+/**
+ * How many vectors the file holds (0 for null).
+ *
+ * # Safety
+ * `vectors` is null or from [`hf_vectors_load`].
+ */
+size_t hf_vectors_count(const struct HfVectors *vectors);
+
+/**
+ * The header of vector `index` into `out`. `HF_STATUS_INVALID` for an index past the
+ * end, `HF_STATUS_SHORT_BUFFER` for an id or profile name too long for its field.
+ *
+ * # Safety
+ * `vectors` is null or from [`hf_vectors_load`]; `out` is writable.
+ */
+enum HfStatus hf_vector_get(const struct HfVectors *vectors, size_t index, struct HfVector *out);
+
+/**
+ * The slave of vector `index`'s setup (its profile, power-on or long operational,
+ * physical inputs, start-up and position faults, setup requests), in `storage` as
+ * [`hf_slave_init`](crate::hf_slave_init) places one, or on the heap (to free with
+ * [`hf_slave_free`](crate::hf_slave_free)) where `storage` is null. Grade its steps
+ * on it with [`hf_oracle_grade`](crate::hf_oracle_grade). `HF_STATUS_INVALID` for a
+ * vector without steps or a setup the model does not know.
+ *
+ * # Safety
+ * `vectors` is null or from [`hf_vectors_load`]; `storage` is null or points to `size`
+ * writable bytes that outlive the slave; `out` is writable.
+ */
+enum HfStatus hf_vector_start(const struct HfVectors *vectors,
+                              size_t index,
+                              void *storage,
+                              size_t size,
+                              struct HfSlave **out);
+
+/**
+ * Step `step` (from 0) of vector `index` into `out`. `HF_STATUS_INVALID` past the
+ * last step or for a frame that is not hex; `HF_STATUS_SHORT_BUFFER` for a frame
+ * longer than [`HF_MAX_FRAME`].
+ *
+ * # Safety
+ * `vectors` is null or from [`hf_vectors_load`]; `out` is writable.
+ */
+enum HfStatus hf_vector_step(const struct HfVectors *vectors,
+                             size_t index,
+                             size_t step,
+                             struct HfVectorStep *out);
+
+/**
+ * The checksum example of vector `index` into `out`: the frame and the checksum the
+ * document prints (000:2.3.3). `HF_STATUS_INVALID` for a vector of another kind.
+ *
+ * # Safety
+ * `vectors` is null or from [`hf_vectors_load`]; `out` is writable.
+ */
+enum HfStatus hf_vector_checksum_example(const struct HfVectors *vectors,
+                                         size_t index,
+                                         struct HfChecksumExample *out);
+
+/**
+ * The table row of vector `index` into `out`; answer it with [`hf_table_evaluate`].
+ * `HF_STATUS_INVALID` for a vector of another kind.
+ *
+ * # Safety
+ * `vectors` is null or from [`hf_vectors_load`]; `out` is writable.
+ */
+enum HfStatus hf_vector_table_case(const struct HfVectors *vectors,
+                                   size_t index,
+                                   struct HfTableCase *out);
+
+/**
+ * The model's answer to a row of a master-side table (000 chapter 3), in the printed
+ * table's words: `table` as in [`HfTableCase`], `input` the row's input ("0 1 1 1"
+ * for quadrature's A(n-1) B(n-1) A(n) B(n)). The answer (or, with
+ * `HF_STATUS_INVALID`, why there is none) goes into `out` (`capacity` chars);
+ * `HF_STATUS_SHORT_BUFFER` where it does not fit.
+ *
+ * # Safety
+ * `table` and `input` are NUL-terminated strings; `out` points to `capacity` writable
+ * chars.
+ */
+enum HfStatus hf_table_evaluate(const char *table, const char *input, char *out, size_t capacity);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -18,6 +18,13 @@
 #![cfg_attr(not(feature = "std"), no_std)]
 #![deny(unsafe_op_in_unsafe_fn)]
 
+#[cfg(feature = "std")]
+mod profile_toml;
+#[cfg(feature = "std")]
+mod vectors;
+#[cfg(feature = "std")]
+pub use {profile_toml::*, vectors::*};
+
 use core::ffi::{c_char, c_void, CStr};
 use hiperface_model::frame::MAX_FRAME;
 use hiperface_model::{
@@ -298,22 +305,60 @@ pub unsafe extern "C" fn hf_slave_init(
     if storage.is_null() || out.is_null() {
         return HfStatus::Null;
     }
-    if size < hf_slave_size() || (storage as usize) % hf_slave_align() != 0 {
-        return HfStatus::ShortBuffer;
-    }
     // SAFETY: the caller's promise.
     let profile = match unsafe { profile(profile_name) } {
         Ok(p) => p,
         Err(e) => return e,
     };
-    let slave = storage.cast::<HfSlave>();
+    // SAFETY: the caller's promise.
+    unsafe { place(storage, size, Slave::operational(profile), out) }
+}
+
+/// Put `slave` into `storage` (`size` bytes) as an [`HfSlave`]; `out` gets it.
+///
+/// # Safety
+/// `storage` is null or points to `size` writable bytes that outlive the slave; `out`
+/// is null or writable.
+pub(crate) unsafe fn place(storage: *mut c_void, size: usize, slave: Slave, out: *mut *mut HfSlave) -> HfStatus {
+    if storage.is_null() || out.is_null() {
+        return HfStatus::Null;
+    }
+    if size < hf_slave_size() || (storage as usize) % hf_slave_align() != 0 {
+        return HfStatus::ShortBuffer;
+    }
+    let at = storage.cast::<HfSlave>();
     // SAFETY: not null, large enough and aligned (checked above), writable by the
-    // caller's promise; HfSlave has no drop, so nothing there needs dropping first.
+    // caller's promise; whatever the storage held is not dropped (a slave made here
+    // holds no resource).
     unsafe {
-        slave.write(HfSlave { slave: Slave::operational(profile), pending: None });
-        *out = slave;
+        at.write(HfSlave { slave, pending: None });
+        *out = at;
     }
     HfStatus::Ok
+}
+
+/// A copy of `slave` in `storage` (`size` bytes, aligned to [`hf_slave_align`]); `out`
+/// gets it. Set a slave up once and copy it for each test: cheaper than building it
+/// again. A frame the source has closed but not yet given to [`hf_slave_poll`] is not
+/// copied.
+///
+/// # Safety
+/// `slave` is null or a slave from this API; `storage` points to `size` writable bytes
+/// that outlive the copy and do not overlap `slave`; `out` is writable.
+#[no_mangle]
+pub unsafe extern "C" fn hf_slave_copy(
+    slave: *const HfSlave,
+    storage: *mut c_void,
+    size: usize,
+    out: *mut *mut HfSlave,
+) -> HfStatus {
+    // SAFETY: the caller's promise.
+    let Some(s) = (unsafe { slave.as_ref() }) else { return HfStatus::Null };
+    if storage as *const HfSlave == slave {
+        return HfStatus::Invalid;
+    }
+    // SAFETY: the caller's promise.
+    unsafe { place(storage, size, s.slave.clone(), out) }
 }
 
 /// As [`hf_slave_init`], allocated; free it with [`hf_slave_free`]. (Not in a build
@@ -332,22 +377,52 @@ pub unsafe extern "C" fn hf_slave_new(profile_name: *const c_char, out: *mut *mu
         Ok(p) => p,
         Err(e) => return e,
     };
-    let slave = Box::new(HfSlave { slave: Slave::operational(profile), pending: None });
-    // SAFETY: not null, writable by the caller's promise.
-    unsafe { *out = Box::into_raw(slave) };
+    // SAFETY: the caller's promise.
+    unsafe { boxed(Slave::operational(profile), out) }
+}
+
+/// `slave` on the heap; `out` (not null) gets it.
+///
+/// # Safety
+/// `out` is writable.
+#[cfg(feature = "std")]
+pub(crate) unsafe fn boxed(slave: Slave, out: *mut *mut HfSlave) -> HfStatus {
+    // SAFETY: the caller's promise.
+    unsafe { *out = Box::into_raw(Box::new(HfSlave { slave, pending: None })) };
     HfStatus::Ok
 }
 
-/// Free a slave made by [`hf_slave_new`] (null: nothing to do). (Not in a build
+/// `slave` in `storage` as [`place`] puts it, or on the heap where `storage` is null.
+///
+/// # Safety
+/// As [`place`]; `out` is null or writable.
+#[cfg(feature = "std")]
+pub(crate) unsafe fn boxed_or_placed(
+    storage: *mut c_void,
+    size: usize,
+    slave: Slave,
+    out: *mut *mut HfSlave,
+) -> HfStatus {
+    match (storage.is_null(), out.is_null()) {
+        (_, true) => HfStatus::Null,
+        // SAFETY: the caller's promise.
+        (true, false) => unsafe { boxed(slave, out) },
+        // SAFETY: the caller's promise.
+        (false, false) => unsafe { place(storage, size, slave, out) },
+    }
+}
+
+/// Free a slave made on the heap by [`hf_slave_new`], [`hf_slave_from_toml`] or
+/// [`hf_vector_start`] (null: nothing to do). (Not in a build
 /// without the `std` feature.)
 ///
 /// # Safety
-/// `slave` is null or was made by `hf_slave_new` and is not used afterwards.
+/// `slave` is null or was made on the heap by this API and is not used afterwards.
 #[cfg(feature = "std")]
 #[no_mangle]
 pub unsafe extern "C" fn hf_slave_free(slave: *mut HfSlave) {
     if !slave.is_null() {
-        // SAFETY: made by hf_slave_new (Box::into_raw), freed once by the caller's promise.
+        // SAFETY: made on the heap (Box::into_raw), freed once by the caller's promise.
         drop(unsafe { Box::from_raw(slave) });
     }
 }
@@ -464,12 +539,14 @@ pub unsafe extern "C" fn hf_slave_set_inputs(slave: *mut HfSlave, inputs: *const
 struct CText<'a> {
     buf: &'a mut [c_char],
     len: usize,
+    cut: bool,
 }
 
 impl core::fmt::Write for CText<'_> {
     fn write_str(&mut self, s: &str) -> core::fmt::Result {
         for b in s.bytes() {
             if self.len + 1 >= self.buf.len() {
+                self.cut = true;
                 break;
             }
             if let Some(slot) = self.buf.get_mut(self.len) {
@@ -484,11 +561,14 @@ impl core::fmt::Write for CText<'_> {
     }
 }
 
-fn c_text(buf: &mut [c_char], value: impl core::fmt::Display) {
+/// `value` as a NUL-terminated string in `buf`, cut where it does not fit: false if it
+/// was cut (or `buf` has no room even for the NUL).
+pub(crate) fn c_text(buf: &mut [c_char], value: impl core::fmt::Display) -> bool {
     use core::fmt::Write;
-    let mut t = CText { buf, len: 0 };
+    let mut t = CText { buf, len: 0, cut: false };
     let _ = t.write_str("");
     let _ = write!(t, "{value}");
+    !t.cut && !t.buf.is_empty()
 }
 
 /// Grade a device's reply to `request` (its `reply_len` bytes; `reply` null for

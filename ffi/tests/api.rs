@@ -146,3 +146,93 @@ fn frame_helpers() {
     assert_eq!(sum, 0x02);
     assert_eq!(unsafe { hf_checksum(null(), 2, &mut sum) }, HfStatus::Null);
 }
+
+/// What a slave answers to a few requests, through the C API.
+fn answers(s: *mut HfSlave) -> Vec<Vec<u8>> {
+    let mut out = Vec::new();
+    let mut t = 1_000_000;
+    // Read Position, Read Encoder Status, Read Type, Read Serial Number, Read Data.
+    for request in
+        [&[0x40u8, 0x42][..], &[0x40, 0x50], &[0x40, 0x52], &[0x40, 0x53], &[0x40, 0x4A, 0x00, 0x00, 0x10, 0x55]]
+    {
+        let mut frame = request.to_vec();
+        frame.push(hiperface_model::checksum::xor(request));
+        for b in frame {
+            t += 1_146;
+            assert_eq!(unsafe { hf_slave_receive(s, b, t, 0) }, HfStatus::Ok);
+        }
+        t += 1_000_000;
+        let mut tx = HfTransmission { frame: [0; HF_MAX_FRAME], len: 0, earliest_start_us: 0, latest_start_us: 0 };
+        let got = unsafe { hf_slave_poll(s, t, &mut tx) };
+        out.push(if got == HfStatus::Ok { tx.frame[..tx.len].to_vec() } else { Vec::new() });
+    }
+    out
+}
+
+/// A copy answers as its source, and is a slave of its own: changing one leaves the
+/// other as it was. Storage that is the source itself, too small or null is refused.
+#[test]
+fn a_copy_of_a_slave() {
+    let s = new_slave("SRS50");
+    let moved = HfInputs { position: 12_345, speed: 0, temperature_c: 40, led_current_ma: 10 };
+    assert_eq!(unsafe { hf_slave_set_inputs(s, &moved) }, HfStatus::Ok);
+    let mut storage = vec![0u64; hf_slave_size() / 8 + 1];
+    let base = storage.as_mut_ptr().cast::<std::ffi::c_void>();
+    let mut c = null_mut();
+    assert_eq!(unsafe { hf_slave_copy(s, base, 8, &mut c) }, HfStatus::ShortBuffer);
+    assert_eq!(unsafe { hf_slave_copy(s, s.cast(), hf_slave_size(), &mut c) }, HfStatus::Invalid);
+    assert_eq!(unsafe { hf_slave_copy(null(), base, hf_slave_size(), &mut c) }, HfStatus::Null);
+    assert_eq!(unsafe { hf_slave_copy(s, base, hf_slave_size(), &mut c) }, HfStatus::Ok);
+    let mut inputs = HfInputs { position: 0, speed: 0, temperature_c: 0, led_current_ma: 0 };
+    assert_eq!(unsafe { hf_slave_inputs(c, &mut inputs) }, HfStatus::Ok);
+    assert_eq!(inputs, moved);
+    let fresh = new_slave("SRS50");
+    let (from_source, from_copy, from_fresh) = (answers(s), answers(c), answers(fresh));
+    assert_eq!(from_copy, from_source);
+    assert_ne!(from_copy[0], from_fresh[0], "the copy's position is its source's, not a fresh slave's");
+    let still = HfInputs { position: 1, ..moved };
+    assert_eq!(unsafe { hf_slave_set_inputs(c, &still) }, HfStatus::Ok);
+    assert_eq!(unsafe { hf_slave_inputs(s, &mut inputs) }, HfStatus::Ok);
+    assert_eq!(inputs.position, moved.position, "the source unchanged");
+    unsafe { hf_slave_free(s) };
+    unsafe { hf_slave_free(fresh) };
+}
+
+/// A slave of a profile's TOML text (as `hiperface profiles --export` writes it)
+/// answers as the built-in slave of that profile; a text that is not a profile is an
+/// error naming the line and the field.
+#[test]
+fn a_slave_of_a_profiles_toml_text() {
+    for (name, make) in profiles::BUILTIN {
+        let toml = std::ffi::CString::new(hiperface_conformance::profile_file::to_toml(&make())).unwrap();
+        let mut s = null_mut();
+        let mut error = [0 as std::ffi::c_char; 256];
+        let status =
+            unsafe { hf_slave_from_toml(toml.as_ptr(), null_mut(), 0, &mut s, error.as_mut_ptr(), error.len()) };
+        let why = unsafe { std::ffi::CStr::from_ptr(error.as_ptr()) }.to_string_lossy().into_owned();
+        assert_eq!(status, HfStatus::Ok, "{name}: {why}");
+        let builtin = new_slave(name);
+        assert_eq!(answers(s), answers(builtin), "{name}");
+        unsafe { hf_slave_free(s) };
+        unsafe { hf_slave_free(builtin) };
+    }
+    let srs50 = hiperface_conformance::profile_file::to_toml(&profiles::srs50());
+    let broken = std::ffi::CString::new(srs50.replace("address = 0x40", "address = 0x99")).unwrap();
+    assert_ne!(broken.as_bytes(), srs50.as_bytes(), "the test changes the address line");
+    let mut storage = vec![0u64; hf_slave_size() / 8 + 1];
+    let mut s = null_mut();
+    let mut error = [0 as std::ffi::c_char; 256];
+    let status = unsafe {
+        hf_slave_from_toml(
+            broken.as_ptr(),
+            storage.as_mut_ptr().cast(),
+            hf_slave_size(),
+            &mut s,
+            error.as_mut_ptr(),
+            error.len(),
+        )
+    };
+    let why = unsafe { std::ffi::CStr::from_ptr(error.as_ptr()) }.to_string_lossy().into_owned();
+    assert_eq!(status, HfStatus::Invalid);
+    assert!(why.contains("address") && why.contains("profile:"), "{why}");
+}
