@@ -468,7 +468,7 @@ enum HfStatus hf_oracle_grade(struct HfSlave *slave,
 
 /**
  * An operational slave of the profile in the TOML text `toml` (the format of
- * `hiperface profiles --export`), in `storage` as [`hf_slave_init`](crate::hf_slave_init)
+ * `hiperface export-profile`), in `storage` as [`hf_slave_init`](crate::hf_slave_init)
  * places one, or on the heap (to free with [`hf_slave_free`](crate::hf_slave_free))
  * where `storage` is null. A profile that does not load: `HF_STATUS_INVALID`, with the
  * line, the field and why in `error` (`error_len` chars; may be null).

@@ -198,7 +198,7 @@ fn a_copy_of_a_slave() {
     unsafe { hf_slave_free(fresh) };
 }
 
-/// A slave of a profile's TOML text (as `hiperface profiles --export` writes it)
+/// A slave of a profile's TOML text (as `hiperface export-profile` writes it)
 /// answers as the built-in slave of that profile; a text that is not a profile is an
 /// error naming the line and the field.
 #[test]

@@ -8,7 +8,10 @@
 - ``Oracle(exact=False).grade(slave, request, at_us, reply)``: a device's reply graded
   PASS, NON-STRICT or FAIL with the clause id and the reason, in lockstep with the model.
 - ``verify_vectors(dir)``: the golden vectors checked as ``hiperface vectors verify`` does.
-- ``read_report(path)``: a certification's ``report.json`` as Python objects.
+- ``decode(path)``: a capture file (wire log, logic analyser CSV, sigrok-cli) graded
+  as ``hiperface decode`` grades it: every exchange with its verdict and findings.
+- ``read_report(path)``: a ``report.json`` as Python objects (a certification's
+  ``Report``, a listening run's ``Listening``).
 """
 
 from ._hiperface import (
@@ -26,13 +29,15 @@ from ._hiperface import (
     seal,
     verify_vectors,
 )
-from .report import Case, Finding, Report, read_report
+from .report import Case, Exchange, Finding, Listening, Report, decode, read_report
 
 __all__ = [
     "Case",
+    "Exchange",
     "Finding",
     "Grade",
     "HiperfaceError",
+    "Listening",
     "MalformedRequest",
     "Oracle",
     "ProfileError",
@@ -41,6 +46,7 @@ __all__ = [
     "Slave",
     "Transmission",
     "checksum",
+    "decode",
     "decode_request",
     "is_valid",
     "read_report",

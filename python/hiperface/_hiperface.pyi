@@ -1,6 +1,6 @@
 """Typing stubs of the compiled module (python/src/lib.rs)."""
 
-from typing import List, Optional, Tuple
+from typing import Callable, List, Optional, Tuple
 
 class HiperfaceError(Exception): ...
 
@@ -16,6 +16,18 @@ def seal(frame: bytes) -> bytes: ...
 def is_valid(frame: bytes) -> bool: ...
 def decode_request(frame: bytes) -> Request: ...
 def verify_vectors(path: str) -> Tuple[int, List[str]]: ...
+def decode_capture(
+    path: str,
+    on_exchange: Callable[[str], None],
+    *,
+    profile: str = "SRS50",
+    baud: int = 9600,
+    format: Optional[str] = None,
+    samplerate: Optional[int] = None,
+    tolerance_ms: Optional[float] = None,
+    master_channel: Optional[str] = None,
+    polling_period_ms: Optional[int] = None,
+) -> str: ...
 
 class Request:
     address: int

@@ -1,13 +1,15 @@
 """A certification's ``report.json`` (``hiperface certify slave|master --report DIR``)
 as Python objects: the cases (or a master's scenarios) with their verdicts and
-findings, each finding with the clause it rests on."""
+findings, each finding with the clause it rests on. A listening run's report
+(``hiperface decode|monitor --report DIR``, or ``decode`` here) reads as a
+``Listening``: the exchanges heard, each graded with its findings."""
 
 from __future__ import annotations
 
 import json
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Dict, List, Union
+from typing import Any, Callable, Dict, List, Optional, Union
 
 #: Verdicts from worst to best, as the reports spell them.
 VERDICTS = ("FAIL", "ERROR", "NOT-EXERCISED", "UNKNOWN", "NON-STRICT", "PASS", "NOT-APPLICABLE")
@@ -58,30 +60,155 @@ class Report:
 
 
 def _case(c: Dict[str, Any]) -> Case:
-    findings = [Finding(f.get("verdict", ""), f.get("message", ""), f.get("clause") or "") for f in c.get("findings", [])]
+    findings = [_finding(f) for f in c.get("findings", [])]
     clauses = c.get("clauses", [])
     if isinstance(clauses, str):
         clauses = [x.strip() for x in clauses.split(",") if x.strip()]
     return Case(c["id"], c.get("title", ""), c["verdict"], list(clauses), findings)
 
 
-def read_report(path: Union[str, Path]) -> Report:
-    """Read ``report.json`` (or the directory that holds it). Raises ValueError naming
-    the file and what is missing for a file that is not a certification report."""
+def read_report(path: Union[str, Path]) -> Union[Report, "Listening"]:
+    """Read ``report.json`` (or the directory that holds it): a ``Report`` of a
+    certification, a ``Listening`` of ``decode`` or ``monitor``. Raises ValueError
+    naming the file and what is missing for a file that is neither."""
     p = Path(path)
     if p.is_dir():
         p = p / "report.json"
     doc = json.loads(p.read_text())
     if not isinstance(doc, dict):
         raise ValueError(f"{p}: not a certification report (a JSON object is expected)")
+    if "capture" in doc and "summary" in doc and "cases" not in doc:
+        try:
+            kept = [_exchange(e) for e in doc["summary"].get("exchanges_kept", [])]
+            return _listening(doc, kept)
+        except (KeyError, TypeError) as e:
+            raise ValueError(f"{p}: a listening report without {e}") from None
     if "cases" in doc:
         kind, items = "slave", doc["cases"]
     elif "scenarios" in doc:
         kind, items = "master", doc["scenarios"]
     else:
-        raise ValueError(f"{p}: not a certification report (no `cases` nor `scenarios`)")
+        raise ValueError(f"{p}: not a certification report (no `cases`, `scenarios` nor `capture`)")
     try:
         cases = [_case(c) for c in items]
     except KeyError as e:
         raise ValueError(f"{p}: a case without {e}") from None
     return Report(kind, doc.get("tool", ""), doc.get("profile", ""), cases, dict(doc.get("summary", {})), doc)
+
+
+@dataclass(frozen=True)
+class Exchange:
+    """One exchange heard on the bus: the master's request, the encoder's reply (None:
+    silence), graded as a listener grades it."""
+
+    #: End of the request, ms from the capture's start.
+    t_ms: float
+    #: The command's name ("Read Position").
+    command: str
+    request: bytes
+    reply: Optional[bytes]
+    #: From the end of the request's timeout to the reply's first start bit, ms.
+    response_ms: Optional[float]
+    verdict: str
+    findings: List[Finding]
+
+
+@dataclass(frozen=True)
+class Listening:
+    """A listening run (``hiperface decode`` of a capture, ``monitor`` of a live bus)."""
+
+    tool: str
+    capture: str
+    profile: str
+    #: The worst verdict heard.
+    verdict: str
+    #: "PASSED", "FAILED" or "INCOMPLETE" (nothing graded, or what could not be).
+    outcome: str
+    #: Why the run is not PASSED, where that is not a FAIL.
+    incomplete: Optional[str]
+    #: Every exchange heard (``decode``), or the first ones that were not PASS (a
+    #: report read from a file keeps only those).
+    exchanges: List[Exchange]
+    #: Counts: characters, exchanges, verdicts, per command, the master's rules, ...
+    summary: Dict[str, Any]
+    raw: Dict[str, Any] = field(repr=False)
+
+    @property
+    def passed(self) -> bool:
+        """PASSED as the command's exit code says."""
+        return self.outcome == "PASSED"
+
+
+def _bytes(text: Any) -> Optional[bytes]:
+    try:
+        return bytes.fromhex(text) if isinstance(text, str) else None
+    except ValueError:
+        return None
+
+
+def _finding(f: Dict[str, Any]) -> Finding:
+    return Finding(f.get("verdict", ""), f.get("message", ""), f.get("clause") or "")
+
+
+def _exchange(e: Dict[str, Any]) -> Exchange:
+    return Exchange(
+        e["t_ms"],
+        e["command"],
+        _bytes(e["request"]) or b"",
+        _bytes(e.get("reply")),
+        e.get("response_ms"),
+        e["verdict"],
+        [_finding(f) for f in e.get("findings", [])],
+    )
+
+
+def _listening(doc: Dict[str, Any], exchanges: List[Exchange]) -> Listening:
+    return Listening(
+        doc.get("tool", ""),
+        doc["capture"],
+        doc.get("profile", ""),
+        doc["verdict"],
+        doc["outcome"],
+        doc.get("incomplete"),
+        exchanges,
+        dict(doc.get("summary", {})),
+        doc,
+    )
+
+
+def decode(
+    path: Union[str, Path],
+    *,
+    profile: str = "SRS50",
+    baud: int = 9600,
+    format: Optional[str] = None,
+    samplerate: Optional[int] = None,
+    tolerance_ms: Optional[float] = None,
+    master_channel: Optional[str] = None,
+    polling_period_ms: Optional[int] = None,
+    on_exchange: Optional[Callable[[Exchange], None]] = None,
+) -> Listening:
+    """Grade a capture file as ``hiperface decode`` does: a wire log (a certify
+    report's ``report.json``, ``hiperface monitor --capture``), a logic analyser's CSV
+    export or sigrok-cli's UART decoder output. ``format``: None detects it
+    ("wirelog", "csv", "sigrok"). Every exchange is graded (000:2.2.2 timing, the
+    oracle's reply grades, the master's rules); with ``on_exchange`` each is handed
+    over as it is heard instead of kept in ``exchanges`` (a long capture).
+    Raises ``HiperfaceError`` naming the file and line for input that cannot be read,
+    ``ProfileError`` for a profile that does not load."""
+    from ._hiperface import decode_capture
+
+    kept: List[Exchange] = []
+    take = on_exchange if on_exchange is not None else kept.append
+    text = decode_capture(
+        str(path),
+        lambda e: take(_exchange(json.loads(e))),
+        profile=profile,
+        baud=baud,
+        format=format,
+        samplerate=samplerate,
+        tolerance_ms=tolerance_ms,
+        master_channel=master_channel,
+        polling_period_ms=polling_period_ms,
+    )
+    return _listening(json.loads(text), kept)

@@ -2,6 +2,8 @@
 //! package `hiperface` (python/hiperface) re-exports it with typing stubs and adds the
 //! certification report reader.
 
+use hiperface_conformance::capture::Format;
+use hiperface_conformance::listen::cli::{grade_capture, DecodeOptions};
 use hiperface_conformance::{profile_file, vectors};
 use hiperface_model::checksum::{is_valid as xor_is_zero, xor};
 use hiperface_model::{Grading, Oracle as ModelOracle, RequestFrame, RxChar, Step, UartFault, Verdict};
@@ -263,6 +265,66 @@ fn verify_vectors(path: &str) -> PyResult<(usize, Vec<String>)> {
     vectors::verify_dir(Path::new(path)).map_err(|e| HiperfaceError::new_err(e.to_string()))
 }
 
+/// Grade a capture file as `hiperface decode` does: `on_exchange(json)` is called with
+/// each exchange heard (JSON text), and the report comes back as the JSON text `decode
+/// --report` writes. The Python wrapper is `hiperface.decode`.
+#[pyfunction]
+#[pyo3(signature = (path, on_exchange, *, profile="SRS50", baud=9600, format=None, samplerate=None,
+                    tolerance_ms=None, master_channel=None, polling_period_ms=None))]
+#[allow(clippy::too_many_arguments)]
+fn decode_capture(
+    path: &str,
+    on_exchange: Bound<'_, PyAny>,
+    profile: &str,
+    baud: u32,
+    format: Option<&str>,
+    samplerate: Option<u64>,
+    tolerance_ms: Option<f64>,
+    master_channel: Option<String>,
+    polling_period_ms: Option<u32>,
+) -> PyResult<String> {
+    let profile = profile_file::resolve(profile).map_err(|e| ProfileError::new_err(e.to_string()))?;
+    let format = match format {
+        None | Some("auto") => None,
+        Some("wirelog") => Some(Format::Wirelog),
+        Some("csv") => Some(Format::Csv),
+        Some("sigrok") => Some(Format::Sigrok),
+        Some(other) => {
+            return Err(PyValueError::new_err(format!(
+                "format `{other}`: expected None, \"auto\", \"wirelog\", \"csv\" or \"sigrok\""
+            )))
+        }
+    };
+    let polling_period_ms = polling_period_ms.unwrap_or(hiperface_model::master::obligations::POLLING_PERIOD_MS).max(1);
+    let options = DecodeOptions {
+        profile,
+        baud,
+        format,
+        samplerate_hz: samplerate,
+        tolerance_ms,
+        master_channel,
+        polling_period_ms,
+    };
+    let file = std::fs::File::open(path).map_err(|e| HiperfaceError::new_err(format!("{path}: {e}")))?;
+    let input = Box::new(std::io::BufReader::with_capacity(1 << 16, file));
+    // The first error of the callback stops the calls and is raised at the end.
+    let mut failed: Option<PyErr> = None;
+    let report = grade_capture(input, path, &options, &mut |h| {
+        if failed.is_some() {
+            return;
+        }
+        let call = serde_json::to_string(h)
+            .map_err(|e| HiperfaceError::new_err(e.to_string()))
+            .and_then(|json| on_exchange.call1((json,)).map(drop));
+        failed = call.err();
+    })
+    .map_err(HiperfaceError::new_err)?;
+    if let Some(e) = failed {
+        return Err(e);
+    }
+    serde_json::to_string(&report).map_err(|e| HiperfaceError::new_err(e.to_string()))
+}
+
 #[pymodule]
 fn _hiperface(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(checksum, m)?)?;
@@ -270,6 +332,7 @@ fn _hiperface(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(is_valid, m)?)?;
     m.add_function(wrap_pyfunction!(decode_request, m)?)?;
     m.add_function(wrap_pyfunction!(verify_vectors, m)?)?;
+    m.add_function(wrap_pyfunction!(decode_capture, m)?)?;
     m.add_class::<Request>()?;
     m.add_class::<Transmission>()?;
     m.add_class::<Slave>()?;

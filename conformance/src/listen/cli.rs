@@ -68,8 +68,7 @@ pub struct ListeningArgs {
 
 /// Run `decode`; exit 0 with no FAIL, 1 with one, an error for input it cannot read.
 pub fn decode(args: &DecodeArgs) -> Result<ExitCode, String> {
-    let (profile, settings) = bus(&args.listening.profile, args.listening.baud)?;
-    let read = ReadOptions { baud: args.listening.baud, samplerate_hz: args.samplerate };
+    let (profile, _) = bus(&args.listening.profile, args.listening.baud)?;
     let input: capture::Input = if args.file.as_os_str() == "-" {
         Box::new(BufReader::new(std::io::stdin()))
     } else {
@@ -82,32 +81,80 @@ pub fn decode(args: &DecodeArgs) -> Result<ExitCode, String> {
         FormatArg::Csv => Some(Format::Csv),
         FormatArg::Sigrok => Some(Format::Sigrok),
     };
+    let name = args.file.display().to_string();
+    if let Some(vcd) = &args.vcd {
+        let read = ReadOptions { baud: args.listening.baud, samplerate_hz: args.samplerate };
+        let (_, mut capture) = capture::open(input, format, read).map_err(|e| format!("{name}: {e}"))?;
+        return write_vcd(capture.as_mut(), vcd, args.listening.baud, &name).map(|()| ExitCode::SUCCESS);
+    }
     if let Some(dir) = &args.listening.report {
         crate::report::prepare_dir(dir)?;
     }
-    let name = args.file.display().to_string();
-    let (format, mut capture) = capture::open(input, format, read).map_err(|e| format!("{name}: {e}"))?;
-    if let Some(vcd) = &args.vcd {
-        return write_vcd(capture.as_mut(), vcd, args.listening.baud, &name).map(|()| ExitCode::SUCCESS);
-    }
+    let options = DecodeOptions {
+        profile,
+        baud: args.listening.baud,
+        format,
+        samplerate_hz: args.samplerate,
+        tolerance_ms: args.tolerance_ms,
+        master_channel: args.master_channel.clone(),
+        polling_period_ms: args.listening.polling_period_ms,
+    };
+    let mut view = LiveView::new(args.listening.quiet, false);
+    let report = grade_capture(input, &name, &options, &mut |h| view.print(h))?;
+    drop(view);
+    conclude(report, args.listening.report.as_deref())
+}
+
+/// How to hear a capture file: what `decode`'s options say.
+#[derive(Debug, Clone)]
+pub struct DecodeOptions {
+    /// The encoder's profile.
+    pub profile: hiperface_model::Profile,
+    /// The bus's data rate, bits per second (8E1).
+    pub baud: u32,
+    /// `None`: detected from the first line.
+    pub format: Option<Format>,
+    /// The capture's sample rate (sigrok-cli's sample numbers).
+    pub samplerate_hz: Option<u64>,
+    /// The capture's timing uncertainty, ms (`None`: a certify report's own
+    /// tolerance, else one bit time).
+    pub tolerance_ms: Option<f64>,
+    /// The channel the master talks on, where the capture has one per direction.
+    pub master_channel: Option<String>,
+    /// The application's polling period, ms (000:3.2.2).
+    pub polling_period_ms: u32,
+}
+
+/// Grade a capture: every exchange heard is graded by the listener and given to
+/// `heard` as it is, and the run comes back as the report `decode --report` writes.
+/// The text is parsed on a thread of its own while the listener grades. An error for
+/// input that cannot be read (with the capture's `name` and the line).
+pub fn grade_capture(
+    input: capture::Input,
+    name: &str,
+    o: &DecodeOptions,
+    heard: &mut dyn FnMut(&HeardExchange),
+) -> Result<ListeningReport, String> {
+    let baud = Baud::from_bits_per_second(o.baud)
+        .ok_or_else(|| format!("{} Bd is not a HIPERFACE data rate (000:T7)", o.baud))?;
+    let settings = UartSettings { baud, ..UartSettings::DEFAULT };
+    let read = ReadOptions { baud: o.baud, samplerate_hz: o.samplerate_hz };
+    let (format, capture) = capture::open(input, o.format, read).map_err(|e| format!("{name}: {e}"))?;
     // The capture's own statement (a certify report's tolerance), else one bit time.
-    let tolerance_us = match args.tolerance_ms {
+    let tolerance_us = match o.tolerance_ms {
         Some(ms) => ms_to_us(ms),
         None => capture.tolerance_us().unwrap_or(read.bit_time_us()),
     };
     let mut options = Options {
-        profile,
+        profile: o.profile,
         settings,
         tolerance_us,
         master_channel: None,
-        polling_period_ms: args.listening.polling_period_ms,
+        polling_period_ms: o.polling_period_ms,
     };
-    // The text is parsed on a thread of its own while the listener grades.
     let (l, channels, assumptions) = std::thread::scope(|s| {
         let mut capture = capture::prefetch(s, capture);
         let mut listener: Option<Listener> = None;
-        let mut view = LiveView::new(args.listening.quiet, false);
-        let mut print = |h: &HeardExchange| view.print(h);
         let mut last_us = 0;
         while let Some(e) = capture.next() {
             let e = e.map_err(|e| format!("{name}: {e}"))?;
@@ -115,7 +162,7 @@ pub fn decode(args: &DecodeArgs) -> Result<ExitCode, String> {
             let l = match &mut listener {
                 Some(l) => l,
                 None => {
-                    if let Some(m) = &args.master_channel {
+                    if let Some(m) = &o.master_channel {
                         let names = capture.channels();
                         options.master_channel = Some(names.iter().position(|n| n == m).ok_or_else(|| {
                             format!(
@@ -128,14 +175,14 @@ pub fn decode(args: &DecodeArgs) -> Result<ExitCode, String> {
                 }
             };
             last_us = e.at_us;
-            l.feed(e, &mut print);
+            l.feed(e, &mut |h| heard(h));
         }
         let mut l = listener.unwrap_or_else(|| Listener::new(options.clone()));
-        l.finish(last_us, &mut print);
+        l.finish(last_us, &mut |h| heard(h));
         Ok::<_, String>((l, capture.channels(), capture.assumptions()))
     })?;
-    let source = Source { capture: name, format: format.to_string(), channels, assumptions };
-    conclude(l, source, &options, args.listening.report.as_deref())
+    let source = Source { capture: name.to_string(), format: format.to_string(), channels, assumptions };
+    Ok(report(l, source, &options))
 }
 
 /// Where a listening run heard its characters, for the report.
@@ -146,16 +193,10 @@ pub struct Source {
     pub assumptions: Vec<String>,
 }
 
-/// End a listening run (`decode`, `monitor`): the summary on standard output, the
-/// reports, and the exit code of the run's outcome (0 PASSED, 1 FAILED, 3 INCOMPLETE).
-pub fn conclude(
-    listener: Listener,
-    source: Source,
-    options: &Options,
-    report_dir: Option<&std::path::Path>,
-) -> Result<ExitCode, String> {
+/// What a listening run adds up to: the report its `--report` writes.
+pub fn report(listener: Listener, source: Source, options: &Options) -> ListeningReport {
     let (outcome, incomplete) = listener.summary.outcome();
-    let report = ListeningReport {
+    ListeningReport {
         tool: format!("hiperface {}", env!("CARGO_PKG_VERSION")),
         capture: source.capture,
         format: source.format,
@@ -168,7 +209,12 @@ pub fn conclude(
         outcome,
         incomplete,
         summary: listener.summary,
-    };
+    }
+}
+
+/// End a listening run (`decode`, `monitor`): the summary on standard output, the
+/// reports, and the exit code of the run's outcome (0 PASSED, 1 FAILED, 3 INCOMPLETE).
+pub fn conclude(report: ListeningReport, report_dir: Option<&std::path::Path>) -> Result<ExitCode, String> {
     print_summary(&report);
     if let Some(dir) = report_dir {
         crate::report::write_all(&report, dir).map_err(|e| format!("{}: {e}", dir.display()))?;

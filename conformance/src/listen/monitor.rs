@@ -2,7 +2,7 @@
 //! ([`super::tap`]). A line per exchange as it closes, a summary when the run ends
 //! (Ctrl-C, `--duration-ms`, or the port closing), and the reports.
 
-use super::cli::{conclude, ListeningArgs, LiveView, Source};
+use super::cli::{conclude, report, ListeningArgs, LiveView, Source};
 use super::tap::{Got, Marks, Stamps, Tap};
 use super::{Listener, Options};
 use crate::args::{ms_to_us, parse_ms};
@@ -179,7 +179,7 @@ pub fn monitor(args: &MonitorArgs, stop: &AtomicBool) -> Result<ExitCode, String
         assumptions.push(format!("every character heard is in {}", c.path.display()));
     }
     let source = Source { capture: tap.name.clone(), format: "live".into(), channels: vec!["bus".into()], assumptions };
-    conclude(listener, source, &options, args.listening.report.as_deref())
+    conclude(report(listener, source, &options), args.listening.report.as_deref())
 }
 
 /// What one read of the tap returned.
