@@ -1,6 +1,8 @@
 //! The harness over real pseudo-terminals, in real time (generous bounds): the whole
 //! catalogue against the simulator, and bad input of every kind.
 
+mod common;
+
 use hiperface_conformance::certify::{self, CaseVerdict, Options};
 use hiperface_conformance::line::serial::SerialLine;
 use hiperface_conformance::line::LineError;
@@ -15,6 +17,7 @@ const GENEROUS_US: u64 = 25_000;
 
 #[test]
 fn the_whole_catalogue_passes_against_the_simulator_over_a_pty() {
+    let _one = common::one_at_a_time();
     // TTK70 with every optional command: 67h switches the data rate on the PTY too.
     let mut profile = profiles::ttk70();
     profile.commands = hiperface_model::command::CommandSet::all_for(false);
@@ -50,6 +53,7 @@ fn busy_port_is_a_clear_error() {
 
 #[test]
 fn a_silent_device_stops_the_run_quickly_with_an_error() {
+    let _one = common::one_at_a_time();
     let (_silent_end, port) = serialport::TTYPort::pair().unwrap();
     let line = SerialLine::from_port(Box::new(port), "silent".into(), UartSettings::DEFAULT, true);
     let started = Instant::now();
@@ -70,6 +74,7 @@ fn a_silent_device_stops_the_run_quickly_with_an_error() {
 
 #[test]
 fn the_port_gone_mid_run_leaves_a_partial_report() {
+    let _one = common::one_at_a_time();
     let profile = profiles::srs50();
     let (sim, port) = PtySimulator::start(profile).unwrap();
     let line = SerialLine::from_port(port, sim.path.clone(), profile.settings, true).with_tolerance(GENEROUS_US);
@@ -96,6 +101,7 @@ fn the_port_gone_mid_run_leaves_a_partial_report() {
 /// certificate says what is true: restored, the case cut short, the run INCOMPLETE.
 #[test]
 fn an_interrupt_in_a_power_up_window_stops_at_once_and_reads_the_device_back() {
+    let _one = common::one_at_a_time();
     let profile = profiles::srs50();
     let (sim, port) = PtySimulator::start(profile).unwrap();
     let line = SerialLine::from_port(port, sim.path.clone(), profile.settings, true).with_tolerance(GENEROUS_US);
@@ -123,6 +129,7 @@ fn an_interrupt_in_a_power_up_window_stops_at_once_and_reads_the_device_back() {
 
 #[test]
 fn garbage_on_the_line_fails_without_hanging() {
+    let _one = common::one_at_a_time();
     let (mut noisy, port) = serialport::TTYPort::pair().unwrap();
     let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
     let flag = stop.clone();
@@ -181,6 +188,7 @@ fn cli_malformed_profile_and_unknown_port() {
 
 #[test]
 fn cli_certifies_the_simulator_and_writes_every_report() {
+    let _one = common::one_at_a_time();
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path().join("report");
     let exe = env!("CARGO_BIN_EXE_hiperface");

@@ -176,6 +176,7 @@ fn sigrok(vcd: &Path) -> String {
 /// the listener, knowing only what it heard, finds none either.
 #[test]
 fn decoding_a_certify_report_reproduces_its_slave_verdicts() {
+    let _one = common::one_at_a_time();
     let dir = tempfile::tempdir().unwrap();
     let report = dir.path().join("run");
     let out = Command::new(BIN)

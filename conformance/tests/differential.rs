@@ -114,6 +114,7 @@ fn step() -> impl Strategy<Value = Step> {
 /// Run `steps` against a fresh HX-1 (started with `args`) and the model; the first
 /// disagreement, if any. (`None` too where python3 is missing outside CI.)
 fn disagreement(steps: &[Step], args: &[&str]) -> Option<String> {
+    let _one = common::one_at_a_time();
     let hx1 = Hx1::start(args);
     let line = SerialLine::open(&hx1.path, UartSettings::DEFAULT).expect("HX-1's pseudo-terminal");
     let profile = profile();

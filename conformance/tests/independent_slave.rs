@@ -50,6 +50,7 @@ fn assert_no_fail(r: &Report) {
 #[test]
 #[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
 fn the_conformant_hx1_passes_over_a_pseudo_terminal() {
+    let _one = common::one_at_a_time();
     let hx1 = Hx1::start(&[]);
     let r = certify_pty(&hx1);
     assert_no_fail(&r);
@@ -70,6 +71,7 @@ fn the_conformant_hx1_passes_over_a_pseudo_terminal() {
 #[test]
 #[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
 fn a_pending_warning_is_the_devices_world() {
+    let _one = common::one_at_a_time();
     // 120 °C: 1Eh, a warning (000:T59) the model cannot see on a black box.
     let hx1 = Hx1::start(&["--temperature", "120"]);
     let r = certify_pty(&hx1);
@@ -83,6 +85,7 @@ fn a_pending_warning_is_the_devices_world() {
 #[test]
 #[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
 fn new_fields_cleared_to_00h_are_non_strict() {
+    let _one = common::one_at_a_time();
     // 000 does not say what a new field's unwritten bytes read; FFh is the project's
     // decision (erased EEPROM), so another value is NON-STRICT at most.
     let hx1 = Hx1::start(&["--erased-byte", "0x00"]);
@@ -102,6 +105,7 @@ fn new_fields_cleared_to_00h_are_non_strict() {
 #[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
 #[cfg_attr(not(has_ser2net), ignore = "ser2net is not installed (apt-get install ser2net)")]
 fn the_conformant_hx1_passes_through_ser2net() {
+    let _one = common::one_at_a_time();
     let hx1 = Hx1::start(&[]);
     let server = common::Ser2net::bridge(&hx1.path, "hx1");
     // The default tolerance, as `certify slave --port tcp://...` uses it.
@@ -183,6 +187,7 @@ const DEFECTS: &[Defect] = &[
 #[test]
 #[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
 fn every_defect_switch_fails_its_own_case() {
+    let _one = common::one_at_a_time();
     let mut table = vec!["| defect | its case | clause | collateral FAILs |".to_string(), "|---|---|---|---|".into()];
     let mut problems = Vec::new();
     // One at a time: real time on a shared machine.
