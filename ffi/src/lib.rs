@@ -571,6 +571,20 @@ pub(crate) fn c_text(buf: &mut [c_char], value: impl core::fmt::Display) -> bool
     !t.cut && !t.buf.is_empty()
 }
 
+/// Write `message` into the caller's `error` buffer (if any), cut where it does not
+/// fit.
+///
+/// # Safety
+/// `error` is null or points to `len` writable chars.
+#[cfg(feature = "std")]
+pub(crate) unsafe fn tell(error: *mut c_char, len: usize, message: impl core::fmt::Display) {
+    if !error.is_null() && len > 0 {
+        // SAFETY: not null, `len` writable chars by the caller's promise.
+        let buf = unsafe { core::slice::from_raw_parts_mut(error, len) };
+        c_text(buf, message);
+    }
+}
+
 /// Grade a device's reply to `request` (its `reply_len` bytes; `reply` null for
 /// silence), the request's frame having ended at `at_us` (µs on the slave's clock),
 /// against the model `slave`, which then takes the request itself (lockstep: the next

@@ -1,8 +1,7 @@
 //! A slave of a profile written as TOML (with the `std` feature): the encoder a
 //! firmware team describes in the same file `hiperface --profile` reads.
 
-use crate::vectors::tell;
-use crate::{boxed_or_placed, HfSlave, HfStatus};
+use crate::{boxed_or_placed, tell, HfSlave, HfStatus};
 use core::ffi::{c_char, c_void, CStr};
 use hiperface_conformance::profile_file;
 use hiperface_model::Slave;

@@ -4,7 +4,7 @@
 //! its steps (request, the device's reply, the verdict that reply earns), its checksum
 //! example or its printed table row.
 
-use crate::{boxed_or_placed, c_text, HfInputs, HfSlave, HfStatus, HfVerdict, HF_MAX_FRAME};
+use crate::{boxed_or_placed, c_text, tell, HfInputs, HfSlave, HfStatus, HfVerdict, HF_MAX_FRAME};
 use core::ffi::{c_char, c_void, CStr};
 use hiperface_conformance::vectors::{self, parse_hex, tables, Expected, Vector};
 use std::path::Path;
@@ -110,18 +110,6 @@ unsafe fn text<'a>(s: *const c_char) -> Result<&'a str, HfStatus> {
     }
     // SAFETY: not null, NUL-terminated by the caller's promise.
     unsafe { CStr::from_ptr(s) }.to_str().map_err(|_| HfStatus::Invalid)
-}
-
-/// Write `message` into the caller's `error` buffer (if any).
-///
-/// # Safety
-/// `error` is null or points to `len` writable chars.
-pub(crate) unsafe fn tell(error: *mut c_char, len: usize, message: impl core::fmt::Display) {
-    if !error.is_null() && len > 0 {
-        // SAFETY: not null, `len` writable chars by the caller's promise.
-        let buf = unsafe { core::slice::from_raw_parts_mut(error, len) };
-        c_text(buf, message);
-    }
 }
 
 /// Read the vector file at `path` (checked against the vectors' JSON schema); `out`

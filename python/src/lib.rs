@@ -295,7 +295,12 @@ fn decode_capture(
             )))
         }
     };
-    let polling_period_ms = polling_period_ms.unwrap_or(hiperface_model::master::obligations::POLLING_PERIOD_MS).max(1);
+    // As `decode --polling-period-ms`: at least 1 ms.
+    let polling_period_ms = match polling_period_ms {
+        None => hiperface_model::master::obligations::POLLING_PERIOD_MS,
+        Some(0) => return Err(PyValueError::new_err("polling_period_ms: at least 1 ms")),
+        Some(ms) => ms,
+    };
     let options = DecodeOptions {
         profile,
         baud,

@@ -66,6 +66,8 @@ def test_input_it_cannot_read_is_a_clear_error(tmp_path):
         decode(capture, format="pcap")
     with pytest.raises(ProfileError):
         decode(capture, profile=str(tmp_path / "missing.toml"))
+    with pytest.raises(ValueError, match="polling_period_ms: at least 1 ms"):
+        decode(capture, polling_period_ms=0)
 
 
 def test_the_same_verdicts_as_the_command(tmp_path, hiperface_bin):

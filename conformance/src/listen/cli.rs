@@ -135,9 +135,7 @@ pub fn grade_capture(
     o: &DecodeOptions,
     heard: &mut dyn FnMut(&HeardExchange),
 ) -> Result<ListeningReport, String> {
-    let baud = Baud::from_bits_per_second(o.baud)
-        .ok_or_else(|| format!("{} Bd is not a HIPERFACE data rate (000:T7)", o.baud))?;
-    let settings = UartSettings { baud, ..UartSettings::DEFAULT };
+    let settings = settings_at(o.baud)?;
     let read = ReadOptions { baud: o.baud, samplerate_hz: o.samplerate_hz };
     let (format, capture) = capture::open(input, o.format, read).map_err(|e| format!("{name}: {e}"))?;
     // The capture's own statement (a certify report's tolerance), else one bit time.
@@ -291,9 +289,14 @@ fn print_summary(r: &ListeningReport) {
 /// The profile and the bus's settings at `baud` (000:T7).
 pub fn bus(profile: &str, baud: u32) -> Result<(hiperface_model::Profile, UartSettings), String> {
     let profile = profile_file::resolve(profile).map_err(|e| e.to_string())?;
+    Ok((profile, settings_at(baud)?))
+}
+
+/// The bus's settings at `baud`, one of 000:T7's data rates (8E1).
+fn settings_at(baud: u32) -> Result<UartSettings, String> {
     let baud =
         Baud::from_bits_per_second(baud).ok_or_else(|| format!("{baud} Bd is not a HIPERFACE data rate (000:T7)"))?;
-    Ok((profile, UartSettings { baud, ..UartSettings::DEFAULT }))
+    Ok(UartSettings { baud, ..UartSettings::DEFAULT })
 }
 
 fn write_vcd(capture: &mut dyn capture::Capture, path: &std::path::Path, baud: u32, name: &str) -> Result<(), String> {
