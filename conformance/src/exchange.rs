@@ -33,12 +33,21 @@ pub struct Exchange {
     /// reply with a gap, a late reply, or noise. Empty on a conformant line.
     pub trailing: Vec<RxChar>,
     pub settings: UartSettings,
+    /// The slave's frame timeout, counted between character ends (the data link's).
     pub timeout_us: u64,
+    /// The shortest pause after the request's last stop bit that the edition lets a
+    /// reply follow (`UartSettings::pause_us`): the timeout in 000, 002's shorter
+    /// figure for a legacy device (DESIGN:legacy-timeout).
+    pub pause_us: u64,
     /// The longest the harness woke late from a timed wait during the exchange, or
     /// waited for a processor in it: its own scheduling delay, which bounds how late
     /// it may have noticed a character or written its request. What it could explain
     /// is never charged to the device.
     pub harness_late_us: u64,
+    /// How much the line itself may have delayed the exchange, both ways, as measured
+    /// beside it (a pseudo-terminal's delivery: `line::delivery`); 0 where nothing is
+    /// measured. Like the harness's own lateness, never charged to the device.
+    pub line_late_us: u64,
     /// How late a listener may have heard the request's end and the reply's start,
     /// measured for each (zero where the harness took the stamps itself).
     pub heard_late: HeardLate,
@@ -55,6 +64,12 @@ pub struct HeardLate {
 }
 
 impl Exchange {
+    /// What the harness could not see of the exchange's timing: its own lateness and
+    /// the line's measured delay, µs.
+    pub fn unseen_late_us(&self) -> u64 {
+        self.harness_late_us + self.line_late_us
+    }
+
     pub fn reply_bytes(&self) -> Option<Vec<u8>> {
         (!self.reply.is_empty()).then(|| self.reply.iter().map(|c| c.byte).collect())
     }
@@ -71,12 +86,35 @@ impl Exchange {
     }
 
     /// Reply start relative to the end of the request's timeout, µs (negative:
-    /// early): the least and the most the line's uncertainty allows.
+    /// early): the least and the most the line's uncertainty and the edition allow.
+    /// The most is counted from the earliest a reply may start (the request's end
+    /// and the edition's pause), the least from the latest the timeout can elapse.
     pub fn response_time_us(&self) -> Option<(i64, i64)> {
         let (s, c) = (self.reply_start?, self.complete());
-        Some((s.earliest_us as i64 - c.latest_us as i64, s.latest_us as i64 - c.earliest_us as i64))
+        let allowed_from = self.request_end.earliest_us + self.pause_us.min(self.timeout_us);
+        Some((s.earliest_us as i64 - c.latest_us as i64, s.latest_us as i64 - allowed_from as i64))
     }
 }
+
+/// What an exchange listens for after its request.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Listen {
+    /// How long after the request's timeout the reply's first character may start, ms.
+    pub reply_ms: u16,
+    /// Send the request with the wrong parity (see [`Line::send_with_wrong_parity`]).
+    pub wrong_parity: bool,
+    /// The slave goes into initialization after this request (Encoder Reset): with
+    /// no reply, the exchange ends with its reply window.
+    pub slave_initializes: bool,
+    /// Where a reply is expected and none began in the window: how much longer to
+    /// listen for a late one before the next request, ms (it costs only a device that
+    /// answers late or not at all).
+    pub late_grace_ms: u16,
+}
+
+/// How long past the reply window a harness that expects a reply still listens for a
+/// late one, ms: a reply later than that is heard by the next exchange.
+pub const LATE_REPLY_GRACE_MS: u16 = 1000;
 
 /// The harness in the bus master's seat on a line: it sends requests and frames the
 /// replies. (Not the drive-side model, `hiperface_model::master`, nor the reference
@@ -100,16 +138,16 @@ impl<L: Line> BusMaster<L> {
     /// Send `request` and collect the reply. `listen_ms` bounds the wait for the
     /// first character (after the request's timeout), with the line's tolerance.
     pub fn exchange(&mut self, request: &[u8], listen_ms: u16) -> Result<Exchange, LineError> {
-        self.exchange_sent(request, listen_ms, false)
+        self.exchange_sent(request, Listen { reply_ms: listen_ms, ..Listen::default() })
     }
 
-    /// [`BusMaster::exchange`] with the request sent with the wrong parity (see
-    /// [`Line::send_with_wrong_parity`]).
-    pub fn exchange_with_wrong_parity(&mut self, request: &[u8], listen_ms: u16) -> Result<Exchange, LineError> {
-        self.exchange_sent(request, listen_ms, true)
+    /// [`BusMaster::exchange`] with what to listen for said in full.
+    pub fn exchange_listening(&mut self, request: &[u8], listen: Listen) -> Result<Exchange, LineError> {
+        self.exchange_sent(request, listen)
     }
 
-    fn exchange_sent(&mut self, request: &[u8], listen_ms: u16, wrong_parity: bool) -> Result<Exchange, LineError> {
+    fn exchange_sent(&mut self, request: &[u8], listen: Listen) -> Result<Exchange, LineError> {
+        let Listen { reply_ms: listen_ms, wrong_parity, slave_initializes, late_grace_ms } = listen;
         let settings = self.line.settings();
         let timeout = self.timeout_us();
         let ct = settings.char_time_us();
@@ -131,11 +169,19 @@ impl<L: Line> BusMaster<L> {
         self.line.take_lateness_us();
         let sent = if wrong_parity { self.line.send_with_wrong_parity(request)? } else { self.line.send(request)? };
         let complete = sent.end.shifted(timeout);
-        let deadline = complete.latest_us + listen_ms as u64 * 1000 + ct + self.line.tolerance_us() + timeout;
+        // A reply that starts within the window has its first character complete one
+        // character time later; the line's tolerance covers the rest.
+        let deadline = complete.latest_us + listen_ms as u64 * 1000 + ct + self.line.tolerance_us();
         let mut reply = Vec::new();
         let mut trailing = Vec::new();
         let mut link = DataLink::new(timeout);
-        if let Some(first) = self.line.recv(deadline)? {
+        // Nothing in the window: a reply later still is this request's, late, and not
+        // the next request's (its clause and its request would be wrong).
+        let first = match self.line.recv(deadline)? {
+            None if late_grace_ms > 0 => self.line.recv(deadline + late_grace_ms as u64 * 1000)?,
+            first => first,
+        };
+        if let Some(first) = first {
             link.receive(first);
             reply.push(first);
             // Further characters belong to the reply until the data link's timeout
@@ -164,8 +210,17 @@ impl<L: Line> BusMaster<L> {
         // exchange's finding and not a collision with the next request.
         let bytes: Vec<u8> = reply.iter().map(|c| c.byte).collect();
         let cut = !bytes.is_empty() && (bytes.len() < 3 || !checksum::is_valid(&bytes));
-        let pause = if cut { timeout.max(listen_ms as u64 * 1000) } else { timeout };
-        while trailing.len() < 2 * MAX_FRAME {
+        // After a request that puts the slave into initialization (Encoder Reset) and
+        // no reply, nothing the slave sends can be a reply any more (000:T9: no UART
+        // communication): the next exchange hears whatever comes.
+        let pause = if cut {
+            timeout.max(listen_ms as u64 * 1000)
+        } else if slave_initializes && reply.is_empty() {
+            0
+        } else {
+            timeout
+        };
+        while pause > 0 && trailing.len() < 2 * MAX_FRAME {
             match self.line.recv(end + pause)? {
                 Some(c) => {
                     end = c.at_us;
@@ -186,7 +241,9 @@ impl<L: Line> BusMaster<L> {
             trailing,
             settings,
             timeout_us: timeout,
+            pause_us: settings.pause_us(self.edition),
             harness_late_us: self.line.take_lateness_us(),
+            line_late_us: self.line.delivery_late_us(sent_start_us, end.max(complete.latest_us)),
             heard_late: HeardLate::default(),
         })
     }

@@ -250,6 +250,7 @@ clauses! {
     [normative Legacy] LEGACY_DEFAULT_WINDOW = "002:57h": "After power-up each MFB is set to the default values for about 1 second; a plausible message keeps this setting.";
     [normative Legacy] LEGACY_COUNTER = "002:47h": "Any overflow is shown by the ERROR bit.";
     [normative Legacy] LEGACY_SET_POSITION_SYNC = "002:63h": "Set position with internal track synchronisation 63h: position offset + Code0; the MFB calculates internal angle offsets.";
+    [normative Legacy] LEGACY_ERROR_CODES = "002:50h": "The actual available errors vary according to MFB type and are always given on the data sheet.";
     [normative Legacy] LEGACY_VERSION = "002:56h": "The 9-digit serial number, the firmware version of up to 20 characters and the 8-digit firmware date in the DD.MM.YY format.";
     [Informative] DATAFIELD_EXAMPLE = "002:example": "Example data field definition: address 40h, codes 55h, 128 bytes free.";
     [Decision] CHECK_ORDER = "DESIGN:order": "1) not own address nor FFh: silent; 2) UART fault 09h; 3) < 3 bytes 0Ch; 4) checksum 0Ah; 5) unknown command 0Bh; 6) length 0Ch; 7) argument 0Dh; 8) access code 0Fh; 9) state and data checks.";
@@ -257,6 +258,7 @@ clauses! {
     [Decision] FIELD_POLICY = "DESIGN:fields": "Sizes and free memory in 16 byte blocks; new field contents read FFh; delete and resize only the last field; FFh is the Extended Type Label.";
     [Decision] POWER_UP_POLICY = "DESIGN:power-up": "A request addressed to the slave in the default window keeps the default settings until the next reset.";
     [Decision] POSITION_POLICY = "DESIGN:position": "offset = preset - raw (mod range); 6Ah keeps the raw 5 LSBs, nearest value, ties downward; 6Ch returns (-offset) mod 32.";
+    [Decision] LEGACY_TIMEOUT_READING = "DESIGN:legacy-timeout": "002's 11/44 bit times are the pause from a stop bit to the next start bit (000:2.2.2 note): a receiver counting from character ends times out after 22/55; a legacy reply may start after a pause of 11/44.";
     [Decision] TYPE_LABEL_SETTINGS = "DESIGN:52h": "Read Type Label reports the stored settings byte.";
     [Decision] MASTER_REPLY_WINDOW = "DESIGN:reply-window": "A master leaves the reply window open (the request's timeout plus the command's maximum response time) before its next request, and a pause of the timeout after a reply's end; otherwise it may talk over a late reply.";
 }

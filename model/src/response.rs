@@ -127,16 +127,16 @@ impl fmt::Display for ResponseError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             ResponseError::NoResponseExpected { to } => {
-                write!(f, "{to} draws no response (000:T29)")
+                write!(f, "{to} draws no response")
             }
             ResponseError::TooShort { len } => {
                 write!(f, "reply of {len} bytes is shorter than address, command and checksum")
             }
             ResponseError::BadChecksum { expected, found } => {
-                write!(f, "reply checksum {found:02X}h, the XOR of the other bytes is {expected:02X}h (000:2.3.3)")
+                write!(f, "reply checksum {found:02X}h, the XOR of the other bytes is {expected:02X}h")
             }
             ResponseError::BadCommandByte { byte } => {
-                write!(f, "reply command byte {byte:02X}h has bit 6 clear (000:T6)")
+                write!(f, "reply command byte {byte:02X}h has bit 6 clear")
             }
             ResponseError::WrongCommand { to, found } => {
                 write!(f, "reply command {found:02X}h answers neither {to} nor 50h")

@@ -7,7 +7,7 @@ use core::fmt;
 pub enum Edition {
     /// 000, the current SICK specification.
     Current,
-    /// 002, the older SICK-STEGMANN description: 11/44 bit-time timeouts, 63h, ~1 s default window.
+    /// 002, the older SICK-STEGMANN description: 11/44 bit-time pauses, 63h, ~1 s default window.
     Legacy,
 }
 
@@ -192,8 +192,28 @@ impl UartSettings {
         }
     }
 
-    /// The frame timeout in bit times. // 000:2.2.2 (22/55), 002 (11/44)
-    pub const fn timeout_bits(self, edition: Edition) -> u32 {
+    /// The frame timeout in bit times, as a receiver counts it: from the end of one
+    /// received character to the end of the next (its UART interrupt). 22 or 55 in
+    /// both editions. // 000:2.2.2, DESIGN:legacy-timeout
+    ///
+    /// 002 prints 11 and 44, and 000 (2.2.2, note) says that figure "did not consider
+    /// the fact that typical UART interrupts of microcontrollers are generated at the
+    /// end of the first received character": 002 counts the pause from a stop bit to
+    /// the next start bit, one character (11 bit times) less. Counted from character
+    /// ends, 002's 11 would split a request sent back to back. See [`Self::pause_bits`].
+    pub const fn timeout_bits(self, _edition: Edition) -> u32 {
+        match self.timeout {
+            TimeoutSelect::Short => 22,
+            TimeoutSelect::Long => 55,
+        }
+    }
+
+    /// The shortest pause, in bit times from a stop bit to the next start bit, that
+    /// ends a transmission: the master's before the reply (or its next request), the
+    /// slave's after its reply. 000:2.2.2 "a pause of at least the length of the
+    /// timeout condition": 22 or 55; 002: 11 or 44 ("TIMEOUT programmable, 11/baud
+    /// rate or 44/baud rate"). // 000:2.2.2, 002:timing, DESIGN:legacy-timeout
+    pub const fn pause_bits(self, edition: Edition) -> u32 {
         match (edition, self.timeout) {
             (Edition::Current, TimeoutSelect::Short) => 22,
             (Edition::Current, TimeoutSelect::Long) => 55,
@@ -221,6 +241,11 @@ impl UartSettings {
     /// The frame timeout in µs, rounded up (5729 µs for E4h: "5.73 ms for 9600 Baud").
     pub const fn timeout_us(self, edition: Edition) -> u64 {
         self.bits_us(self.timeout_bits(edition))
+    }
+
+    /// [`Self::pause_bits`] in µs, rounded up.
+    pub const fn pause_us(self, edition: Edition) -> u64 {
+        self.bits_us(self.pause_bits(edition))
     }
 }
 
@@ -293,12 +318,22 @@ mod tests {
     fn timing() {
         let d = UartSettings::DEFAULT;
         assert_eq!(d.timeout_us(Edition::Current), 5730, "000:2.2.2: 5.73 ms at 9600 Bd");
-        assert_eq!(d.timeout_bits(Edition::Legacy), 44);
+        // 002's 44 bit times are a pause; counted between character ends, 000's 55.
+        assert_eq!((d.pause_bits(Edition::Legacy), d.timeout_bits(Edition::Legacy)), (44, 55));
+        assert_eq!((d.pause_bits(Edition::Current), d.timeout_bits(Edition::Current)), (55, 55));
         assert_eq!(d.char_time_us(), 1146);
         let none = UartSettings { parity: Parity::None, ..d };
         assert_eq!(none.bits_per_char(), 10);
         let short = UartSettings { timeout: TimeoutSelect::Short, baud: Baud::B38400, ..d };
         assert_eq!(short.timeout_bits(Edition::Current), 22);
         assert_eq!(short.timeout_us(Edition::Current), 573);
+        assert_eq!((short.pause_bits(Edition::Legacy), short.timeout_bits(Edition::Legacy)), (11, 22));
+        assert_eq!((short.pause_bits(Edition::Current), short.timeout_bits(Edition::Current)), (22, 22));
+        assert_eq!(short.pause_us(Edition::Legacy), 287, "11 bit times at 38400 Bd, rounded up");
+        // Back to back, two characters' ends are one character apart: never a pause
+        // of the timeout, in either edition and with or without parity.
+        for e in [Edition::Current, Edition::Legacy] {
+            assert!(short.timeout_us(e) > short.char_time_us());
+        }
     }
 }

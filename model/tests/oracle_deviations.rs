@@ -37,6 +37,14 @@ fn a_wrong_error_code_is_named_as_such() {
     // The preferred code passes.
     let g = grade(&s, &[0x40, 0x4A, 0x07, 0x00, 0x01, 0x55], &error(0x40, 0x12), Grading::Exact);
     assert_eq!(g.verdict(), Verdict::Pass, "{g}");
+    // 002 leaves the codes to the data sheet: for a legacy device another error code
+    // is NON-STRICT, an error reply is still required.
+    let legacy = operational(profiles::legacy_srs());
+    let g = grade(&legacy, &[0x40, 0x4A, 0x07, 0x00, 0x01, 0x55], &error(0x40, 0x0D), Grading::Exact);
+    assert_eq!(verdict_and_deviation(&g), (Verdict::NonStrict, Some(Deviation::WrongError { expected, found })));
+    assert_eq!(g.clause().id(), "002:50h", "{g}");
+    let g = grade(&legacy, &[0x40, 0x4A, 0x07, 0x00, 0x01, 0x55], &reply(Response::Position(0)), Grading::Exact);
+    assert_eq!(g.verdict(), Verdict::Fail, "{g}");
 }
 
 #[test]

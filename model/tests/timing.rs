@@ -130,12 +130,59 @@ fn legacy_edition_timing() {
     let mut p = profiles::legacy_srs();
     p.settings = UartSettings::decode(0xE5).unwrap();
     let mut s = Slave::new(p);
-    // 002: timeout 44 bit times, "≈4.7 ms" at 9600 Bd.
-    assert_eq!(d.timeout_us(Edition::Legacy), 4584);
+    // 002: timeout 44 bit times, "≈4.7 ms" at 9600 Bd: a pause on the line, which a
+    // receiver counting from character ends sees as 55 (DESIGN:legacy-timeout).
+    assert_eq!(d.pause_us(Edition::Legacy), 4584);
+    assert_eq!(d.timeout_us(Edition::Legacy), 5730);
     let step = send(&mut s, &[0x40, 0x42, 0x02], 200 * MS, d).unwrap();
-    assert_eq!(step.received.complete_us, 200 * MS + 3 * d.char_time_us() + 4584);
+    assert_eq!(step.received.complete_us, 200 * MS + 3 * d.char_time_us() + 5730);
+    // The short setting (11 bit times): a request sent back to back is one frame.
+    let mut short_profile = p;
+    short_profile.settings = UartSettings::decode(0xA4).unwrap();
+    let mut s = Slave::new(short_profile);
+    s.settle();
+    let short = UartSettings::decode(0xA4).unwrap();
+    let step = send(&mut s, &[0x40, 0x42, 0x02], 2000 * MS, short).unwrap();
+    assert_eq!(reply_of(&Some(step)).map(|r| r.len()), Some(7), "Read Position answered whole");
+    assert_eq!(step.received.complete_us, 2000 * MS + 3 * short.char_time_us() + short.bits_us(22));
     // 002:57h: default settings for about 1 s, then the stored ones, with no silent gap.
     let s = Slave::new(p);
     assert_eq!(s.listening_settings(999 * MS), Some(d));
     assert_eq!(s.listening_settings(1000 * MS).map(|x| x.byte()), Some(0xE5));
+}
+
+/// What a master should talk in: the settings the slave listens with, or while it does
+/// not listen the ones it will listen with next (000:T9). And when the power-up state
+/// changes by itself.
+#[test]
+fn the_settings_heard_next_and_the_state_changes() {
+    let d = UartSettings::DEFAULT;
+    let mut p = profiles::srs50();
+    let stored = UartSettings::decode(0x64).unwrap(); // 9600 Bd, even, long, but not E4h's bus bit
+    p.settings = stored;
+    let s = Slave::new(p);
+    // Initialization (0-100 ms): not listening; next the defaults.
+    assert_eq!(s.listening_settings(50 * MS), None);
+    assert_eq!(s.settings_heard_next(50 * MS), d);
+    // Default window: the defaults.
+    assert_eq!(s.settings_heard_next(500 * MS), d);
+    // Change of settings (900-1100 ms): not listening; next the stored ones.
+    assert_eq!(s.listening_settings(1000 * MS), None);
+    assert_eq!(s.settings_heard_next(1000 * MS), stored);
+    assert_eq!(s.settings_heard_next(2000 * MS), stored);
+    // The changes at 100, 900 and 1100 ms: strictly after the start of the span, no
+    // later than its end.
+    assert!(s.state_changes_within(99 * MS, 100 * MS));
+    assert!(!s.state_changes_within(100 * MS, 899 * MS));
+    assert!(s.state_changes_within(100 * MS, 900 * MS));
+    assert!(!s.state_changes_within(900 * MS, 1099 * MS));
+    assert!(s.state_changes_within(1099 * MS, 1100 * MS));
+    assert!(!s.state_changes_within(1100 * MS, 9000 * MS));
+    // Legacy: no silent window before the stored settings.
+    let mut l = profiles::legacy_srs();
+    l.settings = UartSettings::decode(0x65).unwrap();
+    let s = Slave::new(l);
+    assert_eq!(s.settings_heard_next(10 * MS), d);
+    assert_eq!(s.settings_heard_next(1000 * MS).byte(), 0x65);
+    assert!(s.state_changes_within(999 * MS, 1000 * MS) && !s.state_changes_within(1000 * MS, 5000 * MS));
 }

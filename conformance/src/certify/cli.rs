@@ -228,14 +228,14 @@ fn summarize(report: &super::Report, profile: &Profile) {
     if report.line_kind == Some(LineKind::Virtual) {
         println!(
             "virtual time: {:.0} ms of line time run in {:.1} ms; EEPROM writes {}",
-            report.physical_minimum_ms, report.wall_time_ms, report.safety.eeprom_writes
+            report.line_time_ms, report.wall_time_ms, report.safety.eeprom_writes
         );
-    } else if report.physical_minimum_ms > 0.0 {
+    } else if report.line_time_ms > 0.0 {
         println!(
-            "wall time {:.0} ms; physical minimum from the wire log {:.0} ms (ratio {:.2}); EEPROM writes {}",
+            "wall time {:.0} ms; the same exchanges on a real line {:.0} ms (ratio {:.2}); EEPROM writes {}",
             report.wall_time_ms,
-            report.physical_minimum_ms,
-            report.wall_time_ms / report.physical_minimum_ms,
+            report.line_time_ms,
+            report.wall_time_ms / report.line_time_ms,
             report.safety.eeprom_writes
         );
     } else {

@@ -4,12 +4,13 @@
 
 use super::timing;
 use super::{CaseError, CaseResult, CaseVerdict, Finding, Identity, Options, WireEntry};
-use crate::exchange::{sealed, BusMaster, Exchange};
+use crate::exchange::{sealed, BusMaster, Exchange, Listen, LATE_REPLY_GRACE_MS};
 use crate::line::Line;
 use hiperface_model::address::AddressByte;
 use hiperface_model::clause::{self, Normative};
 use hiperface_model::request::{Request, RequestFrame};
 use hiperface_model::response::ResponseFrame;
+use hiperface_model::slave::powerup::CommState;
 use hiperface_model::{CommandId, Grading, Hex, Oracle, Profile, Reply, Slave};
 use std::collections::BTreeMap;
 use std::sync::atomic::Ordering;
@@ -23,8 +24,9 @@ pub const EVERY_EXCHANGE: [Normative; 2] = [clause::NO_UNSOLICITED, clause::REPL
 pub(crate) struct Tally {
     /// Response times per command byte (the most the line's uncertainty allows), µs.
     pub response_times: BTreeMap<u8, Vec<i64>>,
-    /// The physical minimum of the wire log: what a perfect master would need, µs.
-    pub physical_min_us: u64,
+    /// What the run's exchanges take on a real line, with a perfect master and the
+    /// device's own response times (a pseudo-terminal can be faster), µs.
+    pub line_time_us: u64,
     /// The device has answered at least once in this run.
     pub answered_any: bool,
     /// What the device said of itself.
@@ -33,12 +35,15 @@ pub(crate) struct Tally {
     pub notes: Vec<String>,
     /// The longest the harness woke late in any exchange, µs.
     pub harness_late_us: u64,
+    /// The most the line itself may have delayed any exchange, both ways, as measured
+    /// beside it, µs.
+    pub line_late_us: u64,
 }
 
 /// What a request costs on a real line at best (an ideal master, the device's own
 /// response time): the request, the slave's timeout, the reply (or, for silence,
-/// the whole response time and one character) and the pause after it. The sum over a run is the physical minimum a report compares its
-/// wall time with.
+/// the whole response time and one character) and the pause after it. The sum over a run is the line time a report
+/// compares its wall time with: a real line's, which a pseudo-terminal may beat.
 pub(crate) fn physical_time_us(x: &Exchange, max_ms: u16) -> u64 {
     let ct = x.settings.char_time_us();
     // On a real line the request takes its characters' time, whatever the harness's
@@ -50,13 +55,34 @@ pub(crate) fn physical_time_us(x: &Exchange, max_ms: u16) -> u64 {
     }
 }
 
-/// Whether the pause before an exchange's trailing characters could be the harness's
-/// own lateness: as read it is at least the timeout, but less without the time the
-/// harness may have noticed them late.
-fn pause_explained_by_lateness(x: &Exchange) -> bool {
-    let (Some(last), Some(next)) = (x.reply.last(), x.trailing.first()) else { return false };
-    let pause = next.at_us.saturating_sub(x.settings.char_time_us()).saturating_sub(last.at_us);
-    pause.saturating_sub(x.harness_late_us) < x.timeout_us
+/// The pause before an exchange's trailing characters, as the data link framed the
+/// reply (at least the timeout between two character ends).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum TrailingPause {
+    /// At least the timeout from a stop bit to the next start bit, whatever the
+    /// harness's lateness: the reply had ended (000:2.2.2).
+    Ended,
+    /// Less than the timeout without the time the harness may have noticed the
+    /// characters late: its lateness could explain it.
+    LatenessCouldExplain,
+    /// At least the timeout between character ends but less from stop bit to start
+    /// bit: a receiver counting from character ends (000:2.2.2 note) ends the reply
+    /// there, one watching the line does not.
+    WithinOneCharacter,
+}
+
+fn trailing_pause(x: &Exchange) -> Option<TrailingPause> {
+    let (last, next) = (x.reply.last()?, x.trailing.first()?);
+    let gap = next.at_us.saturating_sub(last.at_us);
+    let pause = gap.saturating_sub(x.settings.char_time_us());
+    let late = x.unseen_late_us();
+    Some(if late > 0 && gap.saturating_sub(late) < x.timeout_us {
+        TrailingPause::LatenessCouldExplain
+    } else if pause.saturating_sub(late) >= x.timeout_us {
+        TrailingPause::Ended
+    } else {
+        TrailingPause::WithinOneCharacter
+    })
 }
 
 /// The frame of `request` to the address byte `address`.
@@ -181,6 +207,29 @@ impl Ctx<'_> {
         Ok(n)
     }
 
+    /// Send a request meant to reach the slave in the power-up state `planned`
+    /// (000:T9), and grade it. Where the harness's own timing put it elsewhere (it
+    /// woke late), the case did not see what it is about: UNKNOWN, and the case is run
+    /// again. Never a verdict on the device.
+    pub fn request_in_state(&mut self, request: Request, planned: CommState) -> Result<Graded, CaseError> {
+        let state_before = self.model.clone();
+        let graded = self.request(request)?;
+        let x = &graded.exchange;
+        let first = x.request_end.earliest_us.saturating_sub((x.request.len() as u64 - 1) * x.settings.char_time_us());
+        let reached = [first, x.request_end.latest_us].map(|t| state_before.state(t));
+        if reached.iter().any(|s| *s != planned) {
+            self.disturbed = true;
+            self.push(Finding::unknown(format!(
+                "not observed: request [{}] was meant for the state {} but reached the slave in {} (the harness's \
+                 own timing)",
+                Hex(&x.request),
+                planned.name(),
+                reached[1].name()
+            )));
+        }
+        Ok(graded)
+    }
+
     /// Send a request to the device's address; grade the answer.
     pub fn request(&mut self, request: Request) -> Result<Graded, CaseError> {
         let address = self.address();
@@ -214,10 +263,14 @@ impl Ctx<'_> {
         if self.interrupted() {
             return Err(CaseError::Interrupted);
         }
-        // Talk in the settings the slave listens with now (67h, reset, power-up windows).
+        // Talk in the settings the slave listens with now (67h, reset, power-up windows),
+        // or will listen with next: a request into a silent window (initialization)
+        // must not run past its end in the settings before it (seen: 600 Bd stored,
+        // a request sent at 600 Bd after a reset reached the slave at 9600 Bd, 09h).
         let now = self.master.now_us();
-        if let Some(s) = self.model.listening_settings(now).filter(|s| *s != self.master.line.settings()) {
-            self.master.line.configure(s)?;
+        let heard = self.model.settings_heard_next(now);
+        if heard != self.master.line.settings() {
+            self.master.line.configure(heard)?;
         }
         let command = (frame.len() > 1).then(|| CommandId::of_frame(frame));
         let limits = self.model.profile().response_limit(command.unwrap_or(CommandId::Unknown(0)));
@@ -234,14 +287,27 @@ impl Ctx<'_> {
                 s.handle_frame(frame, at_us)
             }
         };
-        let expects_reply = matches!(handle(&mut before.clone(), estimate).reply, Reply::Frame(_));
-        let listen_ms = if expects_reply { timing::reply_awaited_ms(limits) } else { limits.max_ms };
-        let x = if wrong_parity {
-            self.master.exchange_with_wrong_parity(frame, listen_ms)?
-        } else {
-            self.master.exchange(frame, listen_ms)?
+        let mut after = before.clone();
+        let expects_reply = matches!(handle(&mut after, estimate).reply, Reply::Frame(_));
+        let listen = Listen {
+            reply_ms: if expects_reply { timing::reply_awaited_ms(limits) } else { limits.max_ms },
+            wrong_parity,
+            slave_initializes: after.listening_settings(estimate).is_none(),
+            late_grace_ms: if expects_reply { LATE_REPLY_GRACE_MS } else { 0 },
         };
-        let expected = handle(self.model, x.complete_us());
+        let x = self.master.exchange_listening(frame, listen)?;
+        // The slave takes a frame when its timeout elapsed, if it listened when the
+        // characters arrived; characters that arrive while it does not listen are lost
+        // (000:T9). A frame across a change of the power-up state is heard in part: the
+        // harness cannot say what a conformant slave made of it.
+        let last_char = x.request_end.earliest_us;
+        let first_char = last_char.saturating_sub((frame.len() as u64).saturating_sub(1) * x.settings.char_time_us());
+        let across_change = self.model.state_changes_within(first_char, x.request_end.latest_us);
+        let taken_at = match self.model.listening_settings(last_char) {
+            None => last_char,
+            Some(_) => x.complete_us(),
+        };
+        let expected = handle(self.model, taken_at);
         if self.model.eeprom_writes() > self.options.write_budget {
             return Err(CaseError::Budget(self.options.write_budget));
         }
@@ -254,16 +320,28 @@ impl Ctx<'_> {
         }
         self.log(frame, &x, observed.as_deref());
         self.tally.harness_late_us = self.tally.harness_late_us.max(x.harness_late_us);
-        self.tally.physical_min_us += physical_time_us(&x, limits.max_ms);
+        self.tally.line_late_us = self.tally.line_late_us.max(x.line_late_us);
+        self.tally.line_time_us += physical_time_us(&x, limits.max_ms);
         if let (Some(cmd), Some(t)) = (command, timing::at_most_us(&x)) {
             self.tally.response_times.entry(cmd.byte()).or_default().push(t);
         }
-        let grade = self.oracle.grade(&before, frame, x.complete_us(), &expected, observed.as_deref());
+        let grade = self.oracle.grade(&before, frame, taken_at, &expected, observed.as_deref());
         let graded = CaseVerdict::from(grade.verdict());
         if let (Some(bytes), Some(cmd)) = (&observed, command) {
             self.learn(cmd, bytes, graded);
         }
-        let mut found: Vec<Finding> = Finding::graded(&grade, frame).into_iter().collect();
+        let mut found: Vec<Finding> = if across_change {
+            // The harness's own timing put the request there (a case never plans it):
+            // not the device's; run the case again.
+            self.disturbed = true;
+            vec![Finding::unknown(format!(
+                "not graded: request [{}] reached the slave across a change of its power-up state (000:T9), \
+                 partly in one and partly in another",
+                Hex(frame)
+            ))]
+        } else {
+            Finding::graded(&grade, frame).into_iter().collect()
+        };
         let edition = self.model.profile().edition;
         if !x.stray.is_empty() {
             let bytes: Vec<u8> = x.stray.iter().map(|c| c.byte).collect();
@@ -275,25 +353,41 @@ impl Ctx<'_> {
             found.push(if x.reply.is_empty() {
                 let msg = format!("{} characters [{}] arrived after the reply window", bytes.len(), Hex(&bytes));
                 Finding::fail(msg, clause::NO_UNSOLICITED, edition)
-            } else if pause_explained_by_lateness(&x) {
-                self.disturbed = true;
-                Finding::unknown(format!(
-                    "cannot tell whether the reply had a pause of the timeout inside: {} more characters [{}] \
-                     came after one as read, but the harness itself was up to {:.3} ms late",
-                    bytes.len(),
-                    Hex(&bytes),
-                    x.harness_late_us as f64 / 1000.0
-                ))
             } else {
-                let msg = format!(
-                    "the reply went on after a pause of at least the timeout: {} more characters [{}]",
-                    bytes.len(),
-                    Hex(&bytes)
-                );
-                Finding::fail(msg, clause::REPLY_END, edition)
+                match trailing_pause(&x) {
+                    Some(TrailingPause::LatenessCouldExplain) => {
+                        self.disturbed = true;
+                        Finding::unknown(format!(
+                            "cannot tell whether the reply had a pause of the timeout inside: {} more characters \
+                             [{}] came after one as read, but the harness and the line may have been up to {:.3} \
+                             ms late",
+                            bytes.len(),
+                            Hex(&bytes),
+                            x.unseen_late_us() as f64 / 1000.0
+                        ))
+                    }
+                    Some(TrailingPause::WithinOneCharacter) => Finding::non_strict(
+                        format!(
+                            "the reply paused inside for less than the timeout from stop bit to start bit, but for \
+                             at least the timeout between character ends: {} more characters [{}] came after it, \
+                             which a receiver timing from character ends takes for another transmission",
+                            bytes.len(),
+                            Hex(&bytes)
+                        ),
+                        clause::REPLY_END,
+                    ),
+                    _ => {
+                        let msg = format!(
+                            "the reply went on after a pause of at least the timeout: {} more characters [{}]",
+                            bytes.len(),
+                            Hex(&bytes)
+                        );
+                        Finding::fail(msg, clause::REPLY_END, edition)
+                    }
+                }
             });
         }
-        if matches!(expected.reply, Reply::Frame(_)) {
+        if matches!(expected.reply, Reply::Frame(_)) && !across_change {
             let tol = self.master.line.tolerance_us();
             let timing = timing::grade(&x, limits, tol, self.options.timing, edition);
             // Timing is UNKNOWN only where the harness's lateness could explain it.
@@ -355,7 +449,7 @@ impl Ctx<'_> {
             }
             got.extend(self.master.listen_until(until.min(now + STEP_US))?);
         }
-        self.tally.physical_min_us += ms * 1000;
+        self.tally.line_time_us += ms * 1000;
         if !got.is_empty() {
             let bytes: Vec<u8> = got.iter().map(|c| c.byte).collect();
             self.fail(format!("unsolicited characters [{}]", Hex(&bytes)), clause::NO_UNSOLICITED);
@@ -392,7 +486,7 @@ mod tests {
     use hiperface_model::UartSettings;
 
     #[test]
-    fn a_pause_in_a_reply_is_charged_only_beyond_the_harness_lateness() {
+    fn a_pause_in_a_reply_is_charged_only_where_it_ended_the_reply_whatever_the_lateness() {
         let ct = UartSettings::DEFAULT.char_time_us();
         let timeout = UartSettings::DEFAULT.timeout_us(hiperface_model::Edition::Current);
         // The reply's last character ended at 10 ms; the next began a timeout + 0.5 ms later.
@@ -406,11 +500,19 @@ mod tests {
             trailing: vec![RxChar::ok(0x42, 10_000 + timeout + 500 + ct)],
             settings: UartSettings::DEFAULT,
             timeout_us: timeout,
+            pause_us: timeout,
             harness_late_us,
+            line_late_us: 0,
             heard_late: HeardLate::default(),
         };
-        assert!(!pause_explained_by_lateness(&x(0)));
-        assert!(!pause_explained_by_lateness(&x(400)));
-        assert!(pause_explained_by_lateness(&x(600)));
+        assert_eq!(trailing_pause(&x(0)), Some(TrailingPause::Ended));
+        assert_eq!(trailing_pause(&x(400)), Some(TrailingPause::Ended));
+        assert_eq!(trailing_pause(&x(600)), Some(TrailingPause::WithinOneCharacter));
+        // Late by more than the character and the half millisecond: lateness explains it.
+        assert_eq!(trailing_pause(&x(ct + 600)), Some(TrailingPause::LatenessCouldExplain));
+        // Not late at all, a pause of the timeout between character ends but less
+        // between stop and start bit: never charged to the harness's lateness.
+        let y = Exchange { trailing: vec![RxChar::ok(0x42, 10_000 + timeout + 100)], ..x(0) };
+        assert_eq!(trailing_pause(&y), Some(TrailingPause::WithinOneCharacter));
     }
 }

@@ -41,6 +41,10 @@ pub struct Report {
     /// The harness's own scheduling delay, at most, in any exchange, µs: added to the
     /// tolerance of that exchange's timing verdicts.
     pub harness_late_us: u64,
+    /// The most the line itself may have delayed any exchange (both ways), as measured
+    /// beside it, µs; and what the probe beside it saw over the run (a pseudo-terminal).
+    pub line_late_us: u64,
+    pub delivery: Option<crate::line::delivery::DeliveryStats>,
     pub grading: String,
     pub identity: Identity,
     pub cases: Vec<CaseResult>,
@@ -48,7 +52,7 @@ pub struct Report {
     pub response_times: Vec<TimingStats>,
     pub safety: Safety,
     pub wall_time_ms: f64,
-    pub physical_minimum_ms: f64,
+    pub line_time_ms: f64,
     pub notes: Vec<String>,
     /// Set when the run stopped early (port gone, Ctrl-C): the report is partial.
     pub aborted: Option<String>,
@@ -67,6 +71,8 @@ impl Report {
             timing: options.timing,
             tolerance_us: 0,
             harness_late_us: 0,
+            line_late_us: 0,
+            delivery: None,
             grading: format!("{:?}", options.grading),
             identity: Identity::default(),
             cases: Vec::new(),
@@ -74,7 +80,7 @@ impl Report {
             response_times: Vec::new(),
             safety: Safety::default(),
             wall_time_ms: 0.0,
-            physical_minimum_ms: 0.0,
+            line_time_ms: 0.0,
             notes: Vec::new(),
             aborted: None,
         }
@@ -200,6 +206,8 @@ pub fn run(
     report.safety.eeprom_writes = model.eeprom_writes();
     report.safety.notes.append(&mut tally.notes);
     report.harness_late_us = tally.harness_late_us;
+    report.line_late_us = tally.line_late_us;
+    report.delivery = master.line.delivery_stats();
     for r in &report.cases {
         *report.summary.entry(r.verdict.label()).or_insert(0) += 1;
     }
@@ -219,7 +227,7 @@ pub fn run(
         .collect();
     report.identity = tally.identity;
     report.wall_time_ms = started.elapsed().as_secs_f64() * 1000.0;
-    report.physical_minimum_ms = tally.physical_min_us as f64 / 1000.0;
+    report.line_time_ms = tally.line_time_us as f64 / 1000.0;
     report.notes.push(
         "Power cycling is out of reach on a serial line: the power-up cases start from an Encoder Reset (53h), which 000:T29 says leads to the same initialization as power-on.".into(),
     );

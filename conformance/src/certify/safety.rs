@@ -66,7 +66,7 @@ impl Snapshot {
             let frame = sealed(body);
             let command = CommandId::of_frame(body);
             let x = master.exchange(&frame, 30).ok()?;
-            tally.physical_min_us += physical_time_us(&x, 30);
+            tally.line_time_us += physical_time_us(&x, 30);
             let reply = x.reply_bytes()?;
             ResponseFrame::decode(&reply, command).ok().map(|r| r.response)
         };

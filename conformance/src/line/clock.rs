@@ -70,6 +70,11 @@ impl RealTime {
         self.epoch.elapsed().as_micros() as u64
     }
 
+    /// The instant the clock counts from.
+    pub fn epoch(&self) -> std::time::Instant {
+        self.epoch
+    }
+
     pub fn sleep_until(&self, t_us: u64) {
         let target = self.epoch + std::time::Duration::from_micros(t_us);
         if let Some(d) = target.checked_duration_since(std::time::Instant::now()) {

@@ -9,6 +9,7 @@
 
 pub mod adapter;
 pub mod clock;
+pub mod delivery;
 pub mod echo;
 pub mod reply_echo;
 pub mod rfc2217;
@@ -146,6 +147,17 @@ pub trait Line {
     fn take_lateness_us(&mut self) -> u64 {
         self.clock().map_or(0, RealTime::take_lateness_us)
     }
+    /// How much the line itself may have delayed an exchange that ran from `from_us` to
+    /// `to_us`, both ways (the request to the device, its reply to the harness), as
+    /// measured beside it (a pseudo-terminal's delivery, see [`delivery`]); 0 where
+    /// nothing is measured.
+    fn delivery_late_us(&mut self, _from_us: u64, _to_us: u64) -> u64 {
+        0
+    }
+    /// What the delivery probe beside the line saw over the run, where there is one.
+    fn delivery_stats(&self) -> Option<delivery::DeliveryStats> {
+        None
+    }
     fn kind(&self) -> LineKind;
     /// A short description for reports ("virtual", "/dev/pts/3", ...).
     fn describe(&self) -> String;
@@ -199,6 +211,12 @@ impl<L: Line + ?Sized> Line for Box<L> {
     }
     fn take_lateness_us(&mut self) -> u64 {
         (**self).take_lateness_us()
+    }
+    fn delivery_late_us(&mut self, from_us: u64, to_us: u64) -> u64 {
+        (**self).delivery_late_us(from_us, to_us)
+    }
+    fn delivery_stats(&self) -> Option<delivery::DeliveryStats> {
+        (**self).delivery_stats()
     }
     fn kind(&self) -> LineKind {
         (**self).kind()

@@ -31,6 +31,8 @@ pub struct SerialLine {
     /// (`--latency-ms`: a latency timer the harness cannot read), µs.
     declared_latency_us: u64,
     notes: Vec<String>,
+    /// On a pseudo-terminal: how late the kernel delivers, measured beside the line.
+    delivery: Option<super::delivery::DeliveryProbe>,
 }
 
 fn parity(s: UartSettings) -> Parity {
@@ -131,15 +133,25 @@ impl SerialLine {
         settings: UartSettings,
         pseudo_terminal: bool,
     ) -> SerialLine {
+        let time = clock::RealTime::new(DEFAULT_TOLERANCE_US);
+        let mut notes = Vec::new();
+        let delivery = if pseudo_terminal {
+            super::delivery::DeliveryProbe::start(time.epoch())
+                .map_err(|e| notes.push(format!("The pseudo-terminal's delivery could not be measured: {e}.")))
+                .ok()
+        } else {
+            None
+        };
         SerialLine {
             port,
             name,
-            time: clock::RealTime::new(DEFAULT_TOLERANCE_US),
+            time,
             settings,
             pseudo_terminal,
             adapter: None,
             declared_latency_us: 0,
-            notes: Vec::new(),
+            notes,
+            delivery,
         }
     }
 
@@ -265,6 +277,15 @@ impl Line for SerialLine {
         } else {
             Ok(())
         }
+    }
+
+    fn delivery_late_us(&mut self, from_us: u64, to_us: u64) -> u64 {
+        let Some(probe) = &self.delivery else { return 0 };
+        probe.late_both_ways_us(from_us, to_us, self.time.now_us())
+    }
+
+    fn delivery_stats(&self) -> Option<super::delivery::DeliveryStats> {
+        self.delivery.as_ref().map(|p| p.stats())
     }
 
     fn kind(&self) -> LineKind {

@@ -56,6 +56,7 @@ impl Listener {
         let mut request = open.bytes;
         if let (Some(r), Reply::Frame(_)) = (reply, expected.reply) {
             let heard_late = HeardLate { request_end_us: open.end_late_us, reply_start_us: r.first_late_us() };
+            let settings = self.shadow.listening_settings(open.end_us).unwrap_or(self.options.settings);
             let x = Exchange {
                 request,
                 stray: Vec::new(),
@@ -64,9 +65,11 @@ impl Listener {
                 reply_start: r.chars.first().map(|c| Window::exact(c.at_us.saturating_sub(self.char_us))),
                 reply: r.chars,
                 trailing: Vec::new(),
-                settings: self.shadow.listening_settings(open.end_us).unwrap_or(self.options.settings),
+                settings,
                 timeout_us,
+                pause_us: settings.pause_us(edition),
                 harness_late_us: 0,
+                line_late_us: 0,
                 heard_late,
             };
             let limits = self.options.profile.response_limit(command);

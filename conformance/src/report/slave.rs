@@ -82,7 +82,7 @@ fn header(r: &Report) -> Vec<(&'static str, String)> {
     rows.extend(r.identity.lines());
     rows.push((
         "wall time",
-        format!("{:.0} ms (physical minimum from the wire log {:.0} ms)", r.wall_time_ms, r.physical_minimum_ms),
+        format!("{:.0} ms (the same exchanges on a real line: {:.0} ms)", r.wall_time_ms, r.line_time_ms),
     ));
     let summary: Vec<String> = r.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
     rows.push(("verdicts", summary.join(", ")));
@@ -105,6 +105,16 @@ fn timing_text(r: &Report) -> String {
         r.tolerance_us as f64 / 1000.0,
         r.harness_late_us as f64 / 1000.0
     );
+    if let Some(d) = r.delivery {
+        t.push_str(&format!(
+            ", and the pseudo-terminal's own delivery, measured beside the line (at most {:.3} ms in an exchange, \
+             both ways; {} of {} probe writes more than 1 ms late, the latest {:.3} ms)",
+            r.line_late_us as f64 / 1000.0,
+            d.over_1ms,
+            d.samples,
+            d.max_us as f64 / 1000.0
+        ));
+    }
     for n in &r.line_notes {
         t.push_str("; ");
         t.push_str(n);

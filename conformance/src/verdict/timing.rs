@@ -60,13 +60,15 @@ pub fn grade(
     // How much later (after) and earlier (before) than measured the reply may truly
     // have started relative to the request's timeout.
     let after = x.heard_late.request_end_us as i64;
-    let before = (x.harness_late_us + x.heard_late.reply_start_us) as i64;
+    let before = (x.harness_late_us + x.line_late_us + x.heard_late.reply_start_us) as i64;
     let limit = limits.max_ms as i64 * 1000;
     let late_ms = |us: i64| us as f64 / 1000.0;
     let mut found = Vec::new();
     if hi + tol + after < 0 {
         let msg = format!("reply started at least {} µs before the request's timeout elapsed", -hi);
-        found.push(Finding::fail(msg, clause::FRAME_TIMING, edition));
+        // 002 words the timeout its own way (11/44 bit times, DESIGN:legacy-timeout).
+        let rule = if edition == Edition::Legacy { clause::LEGACY_TIMEOUT } else { clause::FRAME_TIMING };
+        found.push(Finding::fail(msg, rule, edition));
     } else if lo - tol - before > limit {
         let msg = format!(
             "reply started at least {:.3} ms after the request's timeout; the limit is {} ms",
@@ -75,10 +77,15 @@ pub fn grade(
         );
         found.push(Finding::fail(msg, clause::COMMANDS, edition));
     } else if lo - tol + after > limit {
+        let line = if x.line_late_us > 0 {
+            format!(", with the line's own delivery measured beside it ({:.3} ms),", late_ms(x.line_late_us as i64))
+        } else {
+            String::new()
+        };
         let msg = format!(
             "cannot tell whether the reply was on time: it started {:.3} ms after the request's timeout \
-             as measured, the limit is {} ms, and the harness's own lateness ({:.3} ms) could explain \
-             the difference either way",
+             as measured, the limit is {} ms, and the harness's own lateness{line} ({:.3} ms in all) could \
+             explain the difference either way",
             late_ms(lo),
             limits.max_ms,
             late_ms(after.max(before))
@@ -136,7 +143,9 @@ mod tests {
             trailing: Vec::new(),
             settings: UartSettings::DEFAULT,
             timeout_us: TIMEOUT,
+            pause_us: TIMEOUT,
             harness_late_us: 0,
+            line_late_us: 0,
             heard_late: Default::default(),
         }
     }
@@ -245,6 +254,28 @@ mod tests {
         // cannot tell.
         let heard_late = HeardLate { request_end_us: 7_000, reply_start_us: 0 };
         assert_eq!(verdicts(&Exchange { heard_late, ..x }, TimingMode::Strict), vec![CaseVerdict::Unknown]);
+    }
+
+    #[test]
+    fn what_the_line_delayed_as_measured_beside_it_is_unknown_and_beyond_it_a_fail() {
+        // A reply measured 38 ms after the timeout of a 30 ms command: late as measured.
+        let limits = ResponseLimit { max_ms: 30, strict_ms: None };
+        let end = Window::exact(100_000);
+        let x = exchange(end, Window::exact(100_000 + TIMEOUT + 38_000));
+        let grade = |x: &Exchange| -> Vec<CaseVerdict> {
+            grade(x, limits, 2_000, TimingMode::Strict, Edition::Current).iter().map(|f| f.verdict()).collect()
+        };
+        assert_eq!(grade(&x), vec![CaseVerdict::Fail]);
+        // The pseudo-terminal's delivery, measured beside the line, was up to 12 ms
+        // both ways: the reply may have been on time.
+        let delayed = Exchange { line_late_us: 12_000, ..x.clone() };
+        assert_eq!(grade(&delayed), vec![CaseVerdict::Unknown]);
+        assert!(super::grade(&delayed, limits, 2_000, TimingMode::Strict, Edition::Current)[0]
+            .message()
+            .contains("delivery"));
+        // 60 ms late is late whatever the line did.
+        let x = exchange(end, Window::exact(100_000 + TIMEOUT + 60_000));
+        assert_eq!(grade(&Exchange { line_late_us: 12_000, ..x }), vec![CaseVerdict::Fail]);
     }
 
     #[test]

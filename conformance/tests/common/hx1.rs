@@ -1,5 +1,6 @@
-//! HX-1 (`tests/independent/hx1_slave.py`), the independent slave, as a process on a
-//! pseudo-terminal, and its data sheet as a profile.
+//! The independent slaves as processes on a pseudo-terminal, and their data sheets as
+//! profiles: HX-1 (`tests/independent/hx1_slave.py`, written from 000) and HX-L
+//! (`hxl_slave.py`, a legacy-edition slave written from 002).
 
 use hiperface_conformance::profile_file;
 use hiperface_model::Profile;
@@ -16,6 +17,13 @@ pub fn profile() -> Profile {
     profile_file::load(&dir().join("hx1.toml")).unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// HX-L's data sheet, with its stored settings byte set to `settings`.
+pub fn legacy_profile(settings: u8) -> Profile {
+    let mut p = profile_file::load(&dir().join("hxl.toml")).unwrap_or_else(|e| panic!("{e}"));
+    p.settings = hiperface_model::UartSettings::decode(settings).expect("a valid settings byte");
+    p
+}
+
 /// A running HX-1; stopped (stdin closed, killed) on drop.
 pub struct Hx1 {
     child: Child,
@@ -29,6 +37,16 @@ impl Hx1 {
     /// the harness rightly FAILs (seen: late-reply's and store-read-only's replies 14 to
     /// 16 ms late in 1 of 3 runs with three busy loops on the two cores).
     pub fn start(args: &[&str]) -> Hx1 {
+        Hx1::start_program("hx1_slave.py", args, Duration::from_millis(250))
+    }
+
+    /// Start HX-L, the legacy-edition slave, past its power-up: 002 keeps the default
+    /// settings for about a second before the stored ones (002:57h).
+    pub fn start_legacy(args: &[&str]) -> Hx1 {
+        Hx1::start_program("hxl_slave.py", args, Duration::from_millis(1200))
+    }
+
+    fn start_program(program: &str, args: &[&str], power_up: Duration) -> Hx1 {
         let mut command = if super::real_time_permitted() {
             let mut c = Command::new("chrt");
             c.args(["-f", "50", "python3"]);
@@ -37,21 +55,22 @@ impl Hx1 {
             Command::new("python3")
         };
         let spawned = command
-            .arg(dir().join("hx1_slave.py"))
+            .arg(dir().join(program))
             .arg("--pty")
             .args(args)
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(Stdio::inherit())
             .spawn();
-        let mut child = spawned.expect("python3, to run HX-1");
+        let mut child = spawned.expect("python3, to run the independent slave");
         let mut path = String::new();
         BufReader::new(child.stdout.take().expect("piped")).read_line(&mut path).expect("the pty path");
         let path = path.trim().to_string();
-        assert!(path.starts_with("/dev/"), "HX-1 did not print its pseudo-terminal: {path:?}");
+        assert!(path.starts_with("/dev/"), "{program} did not print its pseudo-terminal: {path:?}");
         // It has just been powered on: past its initialization (000:T9, at most 200 ms)
-        // it is operational, as the harness expects a device under test to be.
-        std::thread::sleep(Duration::from_millis(250));
+        // and its window of default settings it is operational, as the harness
+        // expects a device under test to be.
+        std::thread::sleep(power_up);
         Hx1 { child, path }
     }
 }

@@ -100,6 +100,8 @@ DEFECTS = {
     "reply-checksum": "Read Version replies carry a wrong checksum",
     "no-timeout-wait": "Read Encoder Status is answered 0.5 ms after the request, not after its timeout",
     "late-reply": "Read Counter is answered 12 ms after the timeout (Table 10: 5 ms)",
+    "very-late-reply": "Read Version is answered 250 ms after the timeout (Table 10: 5 ms), "
+                       "after a harness's usual reply window",
     "gap-in-reply": "Read Type Label replies pause for twice the timeout after two bytes",
     "answers-other-address": "also answers requests for the neighbouring address",
     "ignores-broadcast": "stays silent on the broadcast address FFh",
@@ -558,6 +560,8 @@ def respond(fd, slave, request, end, log, follow=False):
     cmd = request[1] & 0x7F if len(request) > 1 else None
     if cmd == 0x46 and "late-reply" in slave.defects:
         time.sleep(0.012)
+    if cmd == 0x56 and "very-late-reply" in slave.defects:
+        time.sleep(0.250)
     if cmd == 0x52 and "gap-in-reply" in slave.defects:
         os.write(fd, reply[:2])
         time.sleep(2 * slave.timeout_s(time.monotonic()))

@@ -206,6 +206,12 @@ impl Oracle {
             (Response::Error(pref), Response::Error(got)) if expected.also.contains(got) => {
                 Grade::non_strict(Deviation::OtherApplicableError { preferred: pref, found: got }, clause::CHECK_ORDER)
             }
+            // 002 names no codes of its own: "The actual available errors vary
+            // according to MFB type and are always given on the data sheet." An
+            // error reply is what it asks for; another code than 000's is NON-STRICT.
+            (Response::Error(pref), Response::Error(got)) if edition == Edition::Legacy => {
+                Grade::non_strict(Deviation::WrongError { expected: pref, found: got }, clause::LEGACY_ERROR_CODES)
+            }
             (Response::Error(pref), Response::Error(got)) => {
                 wrong(Deviation::WrongError { expected: pref, found: got })
             }

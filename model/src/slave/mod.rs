@@ -290,6 +290,32 @@ impl Slave {
         Some(self.temp_settings.unwrap_or(base))
     }
 
+    /// The settings the slave listens with now or, while it does not listen
+    /// (initialization, the change of settings), the ones it will listen with next:
+    /// what a master that talks now should send in, so that no part of its frame
+    /// reaches the slave in other settings. // 000:T9
+    pub fn settings_heard_next(&self, now_us: u64) -> UartSettings {
+        let mut t = now_us;
+        // The power-up states change at most three times (000:T9).
+        for _ in 0..4 {
+            if let Some(s) = self.listening_settings(t) {
+                return s;
+            }
+            match self.power.next_change(&self.profile, t) {
+                Some(next) => t = next,
+                None => break,
+            }
+        }
+        UartSettings::DEFAULT
+    }
+
+    /// Whether the power-up state changes by itself after `from_us` and no later than
+    /// `to_us` (000:T9): a frame whose characters arrive across such a change is heard
+    /// in part, or in two settings.
+    pub fn state_changes_within(&self, from_us: u64, to_us: u64) -> bool {
+        self.power.next_change(&self.profile, from_us).is_some_and(|t| t <= to_us)
+    }
+
     /// The frame timeout now (with the listening settings, or the defaults).
     pub fn timeout_us(&self, now_us: u64) -> u64 {
         self.listening_settings(now_us).unwrap_or(UartSettings::DEFAULT).timeout_us(self.profile.edition)

@@ -2,6 +2,7 @@
 
 use super::{always, case, current_edition, wait_until};
 use crate::certify::Case;
+use hiperface_model::slave::powerup::CommState;
 use hiperface_model::Request;
 
 pub const RESET: Case = case!(
@@ -14,10 +15,10 @@ pub const RESET: Case = case!(
         let x = c.request(Request::EncoderReset)?.exchange;
         let reset_at = x.complete_us();
         wait_until(c, reset_at + 30_000)?;
-        c.request(Request::ReadPosition)?; // initialization: silence
+        c.request_in_state(Request::ReadPosition, CommState::Initialization)?; // silence
         let init = c.profile().init_ms as u64 * 1000;
         wait_until(c, reset_at + init + 50_000)?;
-        c.request(Request::ReadPosition)?;
+        c.request_in_state(Request::ReadPosition, CommState::DefaultCommunication)?;
         c.request(Request::ReadEncoderStatus).map(drop)
     }
 );
@@ -34,8 +35,8 @@ pub const WINDOW: Case = case!(
         let p = c.profile();
         let silent_at = (p.default_window_ms as u64 + p.user_settings_ms as u64) * 500;
         wait_until(c, reset_at + silent_at)?;
-        c.request(Request::ReadPosition)?; // change of settings: silence
+        c.request_in_state(Request::ReadPosition, CommState::ChangeOfSettings)?; // silence
         wait_until(c, reset_at + p.user_settings_ms as u64 * 1000 + 50_000)?;
-        c.request(Request::ReadPosition).map(drop)
+        c.request_in_state(Request::ReadPosition, CommState::OperationalUser).map(drop)
     }
 );

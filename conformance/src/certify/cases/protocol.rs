@@ -42,7 +42,7 @@ pub const PARITY: Case = case!(
 pub const UNKNOWN_COMMAND: Case = case!(
     "protocol.unknown-command",
     "Unknown commands draw 0Bh",
-    [UNKNOWN_COMMAND, COMMON_ERRORS],
+    [UNKNOWN_COMMAND, COMMON_ERRORS, LEGACY_ERROR_CODES],
     Nothing,
     always,
     |c| {
