@@ -8,12 +8,19 @@
 # device's verdicts differ between any two of its runs.
 #
 #   RUNS=5 scripts/verdicts-under-load.sh                 # everything
+#   LOADS=busy BUILD=1 RUNS=10 MASTERS=reference SLAVES="sim hx-1" scripts/verdicts-under-load.sh
 #   MASTERS="reference receive-idle" SLAVES="" RUNS=2 scripts/verdicts-under-load.sh
 #   LOADS=busy OUT=target/vul-busy scripts/verdicts-under-load.sh   # the busy half only
 #
 # The idle and the busy halves can be run apart (LOADS) into separate directories
 # (OUT) and compared afterwards with `scripts/verdicts-under-load.sh compare DIR...`.
 # The command is copied before the runs, so rebuilding meanwhile changes nothing.
+#
+# The busy half runs three busy loops; with BUILD=1 also a cargo build of the workspace
+# in a loop at normal priority (a copy of HEAD in $OUT/build-tree, its own target
+# directory). SLAVES may name HX-1 with a defect switch as `hx-1:NAME` (its own case
+# must FAIL in every run). Each line ends with what the harness measured of the line
+# itself: the pseudo-terminal's delivery (the probe beside the line, line::delivery).
 #
 # The device under test is protected from the load as a real device is (it runs with
 # `chrt -f`, a real-time priority: a drive's or an encoder's firmware has a processor of
@@ -34,7 +41,7 @@ SLAVES=${SLAVES:-"sim hx-1"}
 judge() {
     local runs distinct
     runs=$(cat)
-    distinct=$(echo "$runs" | cut -c7- | sed 's/  | runs:.*//' | sort -u | wc -l)
+    distinct=$(echo "$runs" | cut -c7- | sed 's/  | .*//' | sort -u | wc -l)
     echo "== $1: $([ "$distinct" = 1 ] && echo same || echo DIFFERENT) verdicts in $(echo "$runs" | wc -l) runs"
     echo "$runs"
     [ "$distinct" = 1 ]
@@ -52,15 +59,28 @@ if [ "${1:-}" = compare ]; then
 fi
 
 cargo build --release -q -p hiperface-conformance
-rm -rf "$OUT"; mkdir -p "$OUT"
+git worktree remove --force "$OUT/build-tree" 2>/dev/null || true
+rm -rf "$OUT"; mkdir -p "$OUT"; git worktree prune
 cp target/release/hiperface "$OUT/hiperface"
 H=$(cd "$OUT" && pwd)/hiperface
 
-busy() {  # start three busy loops; their PIDs in BUSY
+busy() {  # start three busy loops (and with BUILD=1 a build loop); their PIDs in BUSY
     BUSY=()
     for _ in 1 2 3; do (while :; do :; done) & BUSY+=($!); done
+    if [ "${BUILD:-0}" = 1 ]; then
+        [ -d "$OUT/build-tree" ] || git worktree add -q --detach "$OUT/build-tree" HEAD
+        (while :; do
+            CARGO_TARGET_DIR="$OUT/build-target" cargo build --release -q \
+                --manifest-path "$OUT/build-tree/Cargo.toml" -p hiperface-conformance >/dev/null 2>&1
+            touch "$OUT/build-tree/model/src/lib.rs"
+        done) & BUSY+=($!)
+    fi
 }
-calm() { for p in "${BUSY[@]:-}"; do kill "$p" 2>/dev/null || true; done; BUSY=(); }
+calm() {
+    for p in "${BUSY[@]:-}"; do pkill -P "$p" 2>/dev/null || true; kill "$p" 2>/dev/null || true; done
+    pkill -f "manifest-path $OUT/build-tree" 2>/dev/null || true
+    BUSY=()
+}
 trap calm EXIT
 
 # One line: every unit's verdict, in order, and the units run more than once.
@@ -77,7 +97,13 @@ short = {"PASS": "PASS", "NON-STRICT": "NONS", "FAIL": "FAIL", "NOT-APPLICABLE":
          "NOT-EXERCISED": "NOTX", "UNKNOWN": "UNKN", "ERROR": "ERR"}
 v = " ".join(short.get(u["verdict"], u["verdict"]) for u in units)
 again = [f'{u["id"]}x{u.get("attempts", 1)}' for u in units if u.get("attempts", 1) > 1]
-print(v + ("  | runs: " + ",".join(again) if again else ""))
+d = r.get("delivery") or {}
+probe = "  | line: %.1f ms (probe: %s writes, %s > 1 ms, latest %.1f ms)" % (
+    r.get("line_late_us", 0) / 1000, d.get("samples", 0), d.get("over_1ms", 0), d.get("max_us", 0) / 1000) if d else ""
+ratio = ""
+if r.get("needed_ms"):
+    ratio = "  | wall %.2fx" % (r["wall_time_ms"] / r["needed_ms"])
+print(v + ("  | runs: " + ",".join(again) if again else "") + probe + ratio)
 PY
 }
 
@@ -96,11 +122,14 @@ certify_master() {  # name, report dir
 }
 
 certify_slave() {  # name, report dir
+    local defect=()
+    case "$1" in hx-1:*) defect=(--defect "${1#hx-1:}") ;; esac
     case "$1" in
         sim) chrt -f 50 "$H" certify slave --port sim --report "$2" >/dev/null 2>&1 || true ;;
-        hx-1)
+        hx-1*)
             rm -f "$OUT/hx1.path"
-            (sleep 600 | chrt -f 50 python3 conformance/tests/independent/hx1_slave.py --pty > "$OUT/hx1.path") &
+            (sleep 600 | chrt -f 50 python3 conformance/tests/independent/hx1_slave.py --pty "${defect[@]}" \
+                > "$OUT/hx1.path") &
             local hx=$!
             for _ in $(seq 50); do [ -s "$OUT/hx1.path" ] && break; sleep 0.1; done
             sleep 0.3
@@ -132,4 +161,6 @@ for kind in master slave; do
         judge "$kind $d" < "$OUT/$kind-$d.txt" || status=1
     done
 done
+calm
+git worktree remove --force "$OUT/build-tree" 2>/dev/null || true
 exit $status

@@ -72,6 +72,11 @@ pub trait Hooks {
     }
     /// Whether the serving thread got the real-time priority it asked for.
     fn real_time(&mut self, _granted: bool) {}
+    /// A probe of the pseudo-terminal's own delivery beside the line, where there is
+    /// one: what it measures counts as the line unwatched (see `line::delivery`).
+    fn delivery(&self) -> Option<std::sync::Arc<crate::line::delivery::DeliveryProbe>> {
+        None
+    }
     /// How long one read may wait while the model has nothing due (no frame in
     /// progress, no state change): 50 ms by default, so that an idle simulator sleeps.
     /// The first character after such a stretch is stamped when the thread wakes; a
@@ -97,16 +102,22 @@ pub struct Planned {
     /// Set when sent: the longest pause inside the reply that was not planned (the
     /// harness wrote a character late), µs; 0 when none reached [`disturbed_from_us`].
     pub disturbed_us: u64,
+    /// Set when sent: the harness wrote a character so late that the reply has a pause
+    /// of the timeout inside, which it did not plan (`gap` then holds that pause).
+    pub split_by_harness: bool,
+    /// Set by the hooks: the request was read so late that the reply, answered late by
+    /// as much, started after the command's maximum response time (000:T10), µs late.
+    pub answered_late_us: u64,
 }
 
-/// An unplanned pause inside a paced reply this long or longer is a disturbance of
-/// the harness's own timing: half a character time at the reply's data rate (573 µs at
-/// 9600 Bd). A master that ends a reply on a short silence (a UART's receive-idle
-/// interrupt fires after one character time or more) may take a longer one for the
-/// reply's end where the harness meant none; half of the shortest such silence leaves
-/// room for the harness's own jitter.
+/// An unplanned pause inside a paced reply this long or longer is one a receiver can
+/// see: one character time at the reply's data rate (a UART's receive-idle interrupt
+/// fires after a character time of idle line or more; a shorter pause is invisible to
+/// any receiver). Below the timeout (000:2.2.2) it does not end the reply: a master
+/// that talks after it talks over the reply, which 000 forbids, so such a pause decides
+/// a run only where the master broke a rule after it (`drive::grade`).
 pub const fn disturbed_from_us(char_time_us: u64) -> u64 {
-    char_time_us / 2
+    char_time_us
 }
 
 /// The model as it is.
@@ -174,7 +185,11 @@ pub fn serve_with(
     let mut buf = [0u8; 64];
     let mut rx_clock = crate::line::RxClock::default();
     let mut port_settings = None;
-    let mut watched = Watched { read_us: now(epoch), run_delay: crate::sched::RunDelay::of_this_thread() };
+    let mut watched = Watched {
+        read_us: now(epoch),
+        run_delay: crate::sched::RunDelay::of_this_thread(),
+        delivery: hooks.delivery(),
+    };
     // What the master sent while a reply went out, as it was read.
     let mut heard: Vec<Chunk> = Vec::new();
     // The kernel's marks of UART faults, taken back across reads.
@@ -241,6 +256,8 @@ pub fn serve_with(
                 gap: None,
                 paced: false,
                 disturbed_us: 0,
+                split_by_harness: false,
+                answered_late_us: 0,
             };
             let Some(mut p) = hooks.reply(slave, &step, planned) else { continue };
             if line_rate(port.as_ref(), hooks).is_some_and(|bps| bps != p.settings.baud.bits_per_second()) {
@@ -280,6 +297,7 @@ pub fn serve_with(
                             // Written so late that the reply has a pause of the timeout
                             // inside: to the master it ended there (000:2.2.2).
                             p.gap = Some((index, late));
+                            p.split_by_harness = true;
                         }
                     }
                     start = written + run.len() as u64 * ct;
@@ -366,6 +384,8 @@ struct Watched {
     read_us: u64,
     /// The reading thread's wait for a processor (a read woken late on a busy machine).
     run_delay: crate::sched::RunDelay,
+    /// The pseudo-terminal's own delivery, measured beside the line.
+    delivery: Option<std::sync::Arc<crate::line::delivery::DeliveryProbe>>,
 }
 
 /// One read of the line, waiting at most `timeout_us`; `None` when the other end has
@@ -385,7 +405,11 @@ fn watch(
     // waited for a processor (what came may have waited as long).
     let waited = watched.run_delay.take_us().unwrap_or(0);
     let overdue = if since >= timeout_us + UNWATCHED_US { since } else { 0 };
-    let unwatched_us = overdue.max(if waited >= UNWATCHED_US { waited } else { 0 });
+    // What the kernel held back before this read (a pseudo-terminal's work queue on a
+    // busy machine) came that much earlier too.
+    let delivered_late = watched.delivery.as_ref().map_or(0, |p| p.recent_delay_us(Instant::now()));
+    let unwatched_us =
+        [overdue, waited, delivered_late].into_iter().filter(|us| *us >= UNWATCHED_US).max().unwrap_or(0);
     watched.read_us = at_us;
     let n = match result {
         Ok(0) => return Ok(None),

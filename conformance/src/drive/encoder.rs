@@ -18,6 +18,31 @@ use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
+/// A reply the harness's own timing disturbed (a busy machine, a hypervisor's pause).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Disturbance {
+    /// When the reply started, µs since power-on.
+    pub at_us: u64,
+    /// The longest pause inside it the harness did not plan, µs (0: none a receiver
+    /// could see).
+    pub pause_us: u64,
+    /// That pause was of the timeout or more: two transmissions to the master
+    /// (000:2.2.2), which the scenario did not plan.
+    pub split: bool,
+    /// How late the reply started after the command's maximum response time because
+    /// the harness read the request late, µs (0: within it).
+    pub answered_late_us: u64,
+}
+
+impl Disturbance {
+    /// Whether it changed what any master saw, whatever the master did: a reply in two
+    /// parts, or one past its command's limit. A shorter unplanned pause changed only
+    /// what a master that broke a rule after it may have made of it.
+    pub fn decides(&self) -> bool {
+        self.split || self.answered_late_us > 0
+    }
+}
+
 /// What happened on the line in one scenario, on one time axis (µs since power-on).
 #[derive(Debug, Default)]
 pub struct Timeline {
@@ -32,9 +57,9 @@ pub struct Timeline {
     pub situation_us: Option<u64>,
     /// When the scenario ended, µs.
     pub end_us: u64,
-    /// Replies the harness wrote with a pause it did not plan: when they started (µs),
-    /// and the longest such pause (µs). The master may have heard a reply end there.
-    pub disturbed: Vec<(u64, u64)>,
+    /// Replies the harness's own timing disturbed: a pause it did not plan, or an
+    /// answer late because the request was read late.
+    pub disturbed: Vec<Disturbance>,
     /// The encoder's thread ran at a real-time priority.
     pub real_time: bool,
     pub characters: usize,
@@ -127,6 +152,8 @@ pub struct DriveEncoder {
     /// A drive on a port: the port marks UART faults, and the echo of the replies is
     /// watched.
     port: Option<OnPort>,
+    /// A master on a pseudo-terminal: the kernel's delivery, measured beside the line.
+    delivery: Option<Arc<crate::line::delivery::DeliveryProbe>>,
 }
 
 /// What the encoder knows of a drive's port.
@@ -168,7 +195,15 @@ impl DriveEncoder {
             situation: scenario.situation,
             arisen: Arc::new(AtomicU64::new(u64::MAX)),
             port: None,
+            delivery: None,
         }
+    }
+
+    /// The master on a pseudo-terminal: what `probe` measures of the kernel's delivery
+    /// counts as the line unwatched (`line::delivery`).
+    pub fn with_delivery(mut self, probe: Option<Arc<crate::line::delivery::DeliveryProbe>>) -> DriveEncoder {
+        self.delivery = probe;
+        self
     }
 
     /// Served on a drive's port (`certify master --port`), opened marking UART faults.
@@ -399,8 +434,9 @@ impl Hooks for DriveEncoder {
         let last = step.received.last_us;
         let first = last.saturating_sub(bytes.len().saturating_sub(1) as u64 * ct);
         let late = self.timeline.late_in(first, last);
-        if late >= crate::simulate::disturbed_from_us(ct) {
-            planned.disturbed_us = planned.disturbed_us.max(late);
+        let limit_us = self.profile.response_limit(self.answered.unwrap_or(CommandId::Unknown(0))).max_ms as u64 * 1000;
+        if crate::simulate::REPLY_DELAY_US + late > limit_us {
+            planned.answered_late_us = planned.answered_late_us.max(late);
         }
         Some(planned)
     }
@@ -408,11 +444,23 @@ impl Hooks for DriveEncoder {
     fn sent(&mut self, planned: &Planned, end_us: u64) {
         let start_us = planned.start_us;
         self.note(start_us, "S<", Hex(&planned.frame).to_string());
-        if planned.disturbed_us > 0 {
-            self.timeline.disturbed.push((start_us, planned.disturbed_us));
-            let ms = planned.disturbed_us as f64 / 1000.0;
-            let what = "an unplanned pause in it, or its request read late";
-            self.note(start_us, "?", format!("the harness was {ms:.3} ms late with this reply ({what})"));
+        if planned.disturbed_us > 0 || planned.answered_late_us > 0 {
+            let d = Disturbance {
+                at_us: start_us,
+                pause_us: planned.disturbed_us,
+                split: planned.split_by_harness,
+                answered_late_us: planned.answered_late_us,
+            };
+            self.timeline.disturbed.push(d);
+            let what = if d.answered_late_us > 0 {
+                format!(
+                    "its request read {:.3} ms late, answered after the command's limit",
+                    d.answered_late_us as f64 / 1000.0
+                )
+            } else {
+                format!("an unplanned pause of {:.3} ms in it", d.pause_us as f64 / 1000.0)
+            };
+            self.note(start_us, "?", format!("the harness's own timing: {what}"));
         }
         // A reply with a pause of the timeout inside is two transmissions to the master
         // (000:2.2.2): the first ends at the pause, and what follows is unsolicited; a
@@ -435,6 +483,10 @@ impl Hooks for DriveEncoder {
             }
         }
         self.observer.encoder_reply(start_us, end_us, reply.as_ref());
+    }
+
+    fn delivery(&self) -> Option<Arc<crate::line::delivery::DeliveryProbe>> {
+        self.delivery.clone()
     }
 
     fn real_time(&mut self, granted: bool) {
@@ -518,11 +570,16 @@ mod tests {
                 gap: None,
                 paced: false,
                 disturbed_us: 0,
+                split_by_harness: false,
+                answered_late_us: 0,
             };
-            encoder.reply(&mut slave, &step, planned).map(|p| p.disturbed_us)
+            encoder.reply(&mut slave, &step, planned).map(|p| p.answered_late_us)
         };
         assert_eq!(reply_disturbance(0), Some(0));
         assert_eq!(reply_disturbance(36_000), Some(36_000));
+        // Read 5 ms late: answered 5.3 ms after the timeout, within Read Position's
+        // 10 ms: nothing any master could tell.
+        assert_eq!(reply_disturbance(5_000), Some(0));
     }
 
     /// A master's character read with a parity error (a port that marks them) is

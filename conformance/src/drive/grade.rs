@@ -98,7 +98,14 @@ fn grade(
     // harness wrote with a pause it did not plan (the master may have heard the reply
     // end there, and all it did after rests on that).
     let timeout = UartSettings::DEFAULT.timeout_us(edition);
-    let disturbed_from = timeline.disturbed.first().map(|&(at, _)| at);
+    // From where what the master did may rest on the harness's own timing: the first
+    // reply it disturbed in a way any master sees (in two parts, or past its limit),
+    // or the first unplanned pause a rule was broken after.
+    let disturbed_from = timeline
+        .disturbed
+        .iter()
+        .find(|d| d.decides() || timeline.observations.iter().any(|o| o.at_us >= d.at_us))
+        .map(|d| d.at_us);
     let unproven = |o: &Observation| -> Option<String> {
         if let Some(late) = timeline.unproven(o, timeout, hooks.profile()) {
             return Some(format!(
@@ -108,8 +115,8 @@ fn grade(
         }
         disturbed_from.filter(|&from| o.at_us >= from).map(|from| {
             format!(
-                "the harness wrote its reply at {:.3} ms with a pause it did not plan (a busy machine): \
-                 what the master did after it is not proven",
+                "the harness's own timing disturbed its reply at {:.3} ms (a busy machine): what the master did \
+                 after it is not proven",
                 from as f64 / 1000.0
             )
         })
@@ -148,16 +155,28 @@ fn grade(
             _ => finding,
         });
     }
-    // Why this run may not be the master's own: a disturbed reply, or a rule that only
-    // a late read broke.
-    let worst = timeline.disturbed.iter().map(|&(_, pause)| pause).max();
-    match (disturbed_from, worst) {
-        (Some(from), Some(pause)) => Some(format!(
-            "{} replies written with an unplanned pause (up to {:.3} ms), the first at {:.3} ms",
-            timeline.disturbed.len(),
+    // Why this run may not be the master's own: a reply disturbed in a way that could
+    // have changed what the master did, or a rule that only a late read broke. An
+    // unplanned pause under the timeout after which the master broke no rule changed
+    // nothing a conformant master could see: no reason to run the scenario again.
+    let deciding: Vec<_> = timeline.disturbed.iter().filter(|d| disturbed_from.is_some_and(|f| d.at_us >= f)).collect();
+    let pause = deciding.iter().map(|d| d.pause_us).max().unwrap_or(0);
+    let late = deciding.iter().map(|d| d.answered_late_us).max().unwrap_or(0);
+    match disturbed_from {
+        Some(from) if late > 0 => Some(format!(
+            "{} replies disturbed by the harness's own timing from {:.3} ms on (a request read up to {:.3} ms late, \
+             answered after its limit)",
+            deciding.len(),
+            from as f64 / 1000.0,
+            late as f64 / 1000.0
+        )),
+        Some(from) => Some(format!(
+            "{} replies written with an unplanned pause (up to {:.3} ms) from {:.3} ms on, and what the master did \
+             after them",
+            deciding.len(),
             pause as f64 / 1000.0,
             from as f64 / 1000.0
         )),
-        _ => any_unproven,
+        None => any_unproven,
     }
 }

@@ -124,6 +124,9 @@ pub struct DriveReport {
     pub echo: Option<(Echo, EchoMode)>,
     /// A drive on a port: the master's characters read with a parity or framing error.
     pub uart_faults: Option<usize>,
+    /// A master on a pseudo-terminal: what the probe beside the line saw of the
+    /// kernel's delivery.
+    pub delivery: Option<crate::line::delivery::DeliveryStats>,
 }
 
 impl DriveReport {
@@ -165,6 +168,7 @@ pub fn run_with(
         cut_short: None,
         echo: None,
         uart_faults: None,
+        delivery: None,
     };
     report.notes.push(match options.attach {
         Attach::Exec(_) => "The master's data rate was read from its pseudo-terminal's settings; parity and character \
@@ -206,6 +210,18 @@ pub fn run_with(
     let mut not_run = 0;
     // A drive on a port: the echo of the encoder's replies, found once for the run.
     let mut reply_echo: Option<ReplyEcho> = None;
+    // A master on a pseudo-terminal: the kernel's delivery, measured beside the line
+    // for the whole run (the reader at the encoder's real-time priority).
+    let delivery = match &options.attach {
+        Attach::Exec(_) => match crate::line::delivery::DeliveryProbe::start_with(Instant::now(), true) {
+            Ok(p) => Some(std::sync::Arc::new(p)),
+            Err(e) => {
+                report.notes.push(format!("The pseudo-terminal's delivery could not be measured: {e}."));
+                None
+            }
+        },
+        Attach::Port { .. } => None,
+    };
     for (i, scenario) in chosen.iter().enumerate() {
         let profile = scenario.encoder.map_or(profile, |make| make(profile));
         let result = if interrupted() {
@@ -220,7 +236,7 @@ pub fn run_with(
                 attempt += 1;
                 let run = match (&options.attach, &port) {
                     (Attach::Exec(exec), _) => {
-                        run_scenario(profile, scenario, exec, options.polling_period_ms, &interrupted)
+                        run_scenario(profile, scenario, exec, options.polling_period_ms, delivery.clone(), &interrupted)
                     }
                     (Attach::Port { power_on, echo: mode, path }, Some(Ok(port))) => {
                         let echo =
@@ -259,6 +275,17 @@ pub fn run_with(
         report.scenarios.push(result);
     }
     report.echo = reply_echo.map(|e| (e.echo(), e.mode()));
+    if let Some(d) = delivery.as_ref().map(|p| p.stats()) {
+        report.delivery = Some(d);
+        report.notes.push(format!(
+            "The pseudo-terminal's own delivery was measured beside the line ({} probe writes, {} more than 1 ms \
+             late, the latest {:.3} ms); a character the kernel may have held back is taken to have come that much \
+             earlier, and what that could explain is never a FAIL.",
+            d.samples,
+            d.over_1ms,
+            d.max_us as f64 / 1000.0
+        ));
+    }
     report.wall_time_ms = started.elapsed().as_secs_f64() * 1000.0;
     if interrupted() {
         let why = format!("interrupted (Ctrl-C or SIGTERM) with {} of {n} scenarios run", n - not_run);
@@ -267,8 +294,9 @@ pub fn run_with(
     }
     report.notes.push(format!(
         "The harness's encoder ran at a real-time priority in {} of {} scenarios (where not permitted it runs as any \
-         process); a scenario whose replies the harness wrote with a pause it did not plan is run again (at most {} \
-         times), and what such a pause could explain is never a FAIL.",
+         process). A scenario is run again (at most {} times) where the harness's own timing may have changed what \
+         the master did: a reply it wrote in two parts or past its limit, or an unplanned pause the master broke a \
+         rule after; what such a disturbance could explain is never a FAIL.",
         report.real_time_scenarios,
         n - not_run,
         MAX_ATTEMPTS

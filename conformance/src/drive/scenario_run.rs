@@ -144,6 +144,7 @@ pub(super) fn run_scenario(
     scenario: &Scenario,
     exec: &str,
     polling_period_ms: u32,
+    delivery: Option<std::sync::Arc<crate::line::delivery::DeliveryProbe>>,
     interrupted: &dyn Fn() -> bool,
 ) -> ScenarioRun {
     let started = Instant::now();
@@ -161,7 +162,7 @@ pub(super) fn run_scenario(
     // The master's settings are the pseudo-terminal's: the harness reads them through
     // its own end (on Linux both ends share them).
     let peer = encoder_end.try_clone().ok();
-    let mut hooks = DriveEncoder::new(profile, scenario, true, peer);
+    let mut hooks = DriveEncoder::new(profile, scenario, true, peer).with_delivery(delivery);
     hooks.set_polling_period_ms(polling_period_ms);
     let arisen = hooks.arisen();
     // Power-on is the master's start.

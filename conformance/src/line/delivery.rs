@@ -64,8 +64,15 @@ pub struct DeliveryProbe {
 }
 
 impl DeliveryProbe {
-    /// Start the probe; times are µs since `epoch` (the line's clock).
+    /// Start the probe; times are µs since `epoch` (the line's clock). Its reader runs
+    /// at the priority of the thread that starts it, as the harness's own reader does.
     pub fn start(epoch: Instant) -> Result<DeliveryProbe, String> {
+        DeliveryProbe::start_with(epoch, false)
+    }
+
+    /// As [`DeliveryProbe::start`]; with `reader_real_time` the reader asks for a
+    /// real-time priority too, as the encoder that certifies masters reads at one.
+    pub fn start_with(epoch: Instant, reader_real_time: bool) -> Result<DeliveryProbe, String> {
         let (writer_end, reader_end) =
             serialport::TTYPort::pair().map_err(|e| format!("cannot create the probe's pseudo-terminal pair: {e}"))?;
         let shared = Arc::new(Mutex::new(Shared::default()));
@@ -96,6 +103,9 @@ impl DeliveryProbe {
             let mut port = reader_end;
             let _ = serialport::SerialPort::set_timeout(&mut port, Duration::from_millis(50));
             std::thread::spawn(move || {
+                if reader_real_time {
+                    crate::sched::real_time_priority();
+                }
                 let mut pending: Vec<u8> = Vec::with_capacity(64);
                 let mut buf = [0u8; 256];
                 while !stop.load(Ordering::Relaxed) {
@@ -166,6 +176,18 @@ impl DeliveryProbe {
         request.max(overdue) + reply.max(overdue)
     }
 
+    /// How late what is read at `at` may have been delivered: the longest delay of the
+    /// probe's writes delivered in the few milliseconds before (the kernel delivers in
+    /// order: what reached the reader with them waited about as long), or the age of
+    /// writes still on their way.
+    pub fn recent_delay_us(&self, at: Instant) -> u64 {
+        let at_us = at.saturating_duration_since(self.epoch).as_micros() as u64;
+        let s = self.shared.lock().unwrap_or_else(|e| e.into_inner());
+        let delivered = s.max_delay_read_us(at_us.saturating_sub(3 * PERIOD.as_micros() as u64), at_us);
+        let overdue = s.newest_written_us().map_or(0, |w| at_us.saturating_sub(w + 2 * PERIOD.as_micros() as u64));
+        delivered.max(overdue)
+    }
+
     pub fn stats(&self) -> DeliveryStats {
         self.shared.lock().unwrap_or_else(|e| e.into_inner()).stats
     }
@@ -184,6 +206,19 @@ impl Shared {
 
     fn newest_written_us(&self) -> Option<u64> {
         self.samples.back().map(|s| s.written_us)
+    }
+
+    /// The longest delay of a write read in `[from_us, to_us]`; 0 where none was.
+    fn max_delay_read_us(&self, from_us: u64, to_us: u64) -> u64 {
+        let read_in = |s: &&Sample| (from_us..=to_us).contains(&(s.written_us + s.delay_us));
+        self.samples
+            .iter()
+            .rev()
+            .take_while(|s| s.written_us + KEEP_US >= from_us)
+            .filter(read_in)
+            .map(|s| s.delay_us)
+            .max()
+            .unwrap_or(0)
     }
 
     fn max_delay_us(&self, from_us: u64, to_us: u64) -> Option<u64> {
@@ -215,6 +250,10 @@ mod tests {
         assert_eq!(s.max_delay_us(1_500, 3_000), Some(9_000));
         assert_eq!(s.max_delay_us(4_000, 9_000), None);
         assert_eq!((s.stats.samples, s.stats.max_us, s.stats.over_1ms), (4, 9_000, 1));
+        // By when they were read: the 9 ms write arrived at 11 ms.
+        assert_eq!(s.max_delay_read_us(10_500, 11_000), 9_000);
+        assert_eq!(s.max_delay_read_us(3_000, 10_000), 200);
+        assert_eq!(s.max_delay_read_us(11_001, 20_000), 50);
         // Old samples go.
         s.record(Sample { written_us: 10_000 + KEEP_US + 1, delay_us: 1 });
         assert_eq!(s.max_delay_us(0, 3_000), None);
