@@ -57,7 +57,7 @@ pub struct Exchange {
 /// between: a live tap's read that returned them after its reader had waited for a
 /// processor (see `crate::sched`). A request heard late ended earlier than stamped
 /// (the reply came later after it than measured); a reply heard late began earlier.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct HeardLate {
     pub request_end_us: u64,
     pub reply_start_us: u64,
@@ -96,8 +96,79 @@ impl Exchange {
     }
 }
 
+/// The bus as the slave certification sees it: the harness in the master's seat
+/// ([`BusMaster`] on a live line), or a record of such a run played back
+/// (`crate::record::Replay`). Everything a verdict rests on comes through here.
+pub trait Bus {
+    fn now_us(&mut self) -> u64;
+    /// Send `request` and collect what came back (see [`BusMaster::exchange_listening`]).
+    fn exchange_listening(&mut self, request: &[u8], listen: Listen) -> Result<Exchange, LineError>;
+    /// Wait on an idle line until `t_us`, collecting anything that arrives.
+    fn listen_until(&mut self, t_us: u64) -> Result<Vec<RxChar>, LineError>;
+    fn configure(&mut self, settings: UartSettings) -> Result<(), LineError>;
+    fn settings(&self) -> UartSettings;
+    /// The slave's frame timeout in the current settings.
+    fn timeout_us(&self) -> u64;
+    /// What is known of the line for the whole run.
+    fn facts(&self) -> LineFacts;
+    /// What the run found out about the line by its end.
+    fn findings(&self) -> LineFindings;
+}
+
+/// What a run knows of its line from the start.
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct LineFacts {
+    pub describe: String,
+    pub kind: crate::line::LineKind,
+    pub tolerance_us: u64,
+    pub can_change_settings: bool,
+    /// `Err`: why a parity error cannot be sent on the line.
+    pub carries_parity: Result<(), String>,
+}
+
+/// What a run found out about its line by its end.
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct LineFindings {
+    pub notes: Vec<String>,
+    pub echo: Option<(crate::line::echo::Echo, crate::line::echo::EchoMode)>,
+    pub delivery: Option<crate::line::delivery::DeliveryStats>,
+}
+
+impl<L: Line> Bus for BusMaster<L> {
+    fn now_us(&mut self) -> u64 {
+        self.line.now_us()
+    }
+    fn exchange_listening(&mut self, request: &[u8], listen: Listen) -> Result<Exchange, LineError> {
+        self.exchange_sent(request, listen)
+    }
+    fn listen_until(&mut self, t_us: u64) -> Result<Vec<RxChar>, LineError> {
+        BusMaster::listen_until(self, t_us)
+    }
+    fn configure(&mut self, settings: UartSettings) -> Result<(), LineError> {
+        self.line.configure(settings)
+    }
+    fn settings(&self) -> UartSettings {
+        self.line.settings()
+    }
+    fn timeout_us(&self) -> u64 {
+        BusMaster::timeout_us(self)
+    }
+    fn facts(&self) -> LineFacts {
+        LineFacts {
+            describe: self.line.describe(),
+            kind: self.line.kind(),
+            tolerance_us: self.line.tolerance_us(),
+            can_change_settings: self.line.can_change_settings(),
+            carries_parity: self.line.carries_parity().map_err(str::to_string),
+        }
+    }
+    fn findings(&self) -> LineFindings {
+        LineFindings { notes: self.line.notes(), echo: self.line.echo(), delivery: self.line.delivery_stats() }
+    }
+}
+
 /// What an exchange listens for after its request.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Listen {
     /// How long after the request's timeout the reply's first character may start, ms.
     pub reply_ms: u16,

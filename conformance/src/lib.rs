@@ -14,6 +14,7 @@ pub mod line;
 pub mod listen;
 pub mod port;
 pub mod profile_file;
+pub mod record;
 pub mod report;
 pub mod sched;
 pub mod simulate;

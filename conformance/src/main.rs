@@ -64,7 +64,8 @@ enum Command {
     Master(drive::cli::MasterArgs),
     /// Grade a capture of a bus (a wire log, a logic analyzer's CSV, sigrok-cli's UART
     /// decoder output) without talking: both sides; exit 1 on a FAIL, 3 when nothing
-    /// could be graded.
+    /// could be graded. A certify report is played back from the record of its wire:
+    /// the run's verdicts, graded again.
     Decode(hiperface_conformance::listen::cli::DecodeArgs),
     /// Listen to a live bus without talking (the port is opened read-only) and grade
     /// both sides as it goes; Ctrl-C ends the run with a summary and the reports.

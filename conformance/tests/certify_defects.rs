@@ -1,6 +1,8 @@
 //! The catalogue against deliberately defective slaves, built here around the
 //! reference model: each defect makes the right cases FAIL.
 
+mod common;
+
 use hiperface_conformance::certify::{self, CaseVerdict, Options, Report};
 use hiperface_conformance::line::virtual_line::{SlaveDevice, VirtualLine};
 use hiperface_conformance::line::{Line, LineError, LineKind, Sent, Window};
@@ -101,7 +103,10 @@ impl SlaveDevice for Defective {
 
 fn certify(device: Defective) -> Report {
     let options = Options::all_allowed();
-    certify::run(Box::new(VirtualLine::new(device)), profiles::srs50(), &options, |_, _, _| {})
+    let report = certify::run(Box::new(VirtualLine::new(device)), profiles::srs50(), &options, |_, _, _| {});
+    // Decode reproduces the run: the defect's record played back FAILs as the run did.
+    common::replay::assert_replays(&report);
+    report
 }
 
 fn verdict(r: &Report, id: &str) -> CaseVerdict {

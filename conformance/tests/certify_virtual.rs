@@ -1,5 +1,7 @@
 //! The catalogue against the reference model in virtual time: every case passes.
 
+mod common;
+
 use hiperface_conformance::certify::{self, CaseVerdict, Options};
 use hiperface_conformance::line::virtual_line::VirtualLine;
 use hiperface_model::{profiles, Slave};
@@ -63,6 +65,7 @@ fn the_reference_passes_itself_with_every_settings_byte_of_every_profile() {
             configurations += 1;
             let line = VirtualLine::new(Slave::operational(p));
             let report = certify::run(Box::new(line), p, &Options::all_allowed(), |_, _, _| {});
+            common::replay::assert_replays(&report);
             let wrong: Vec<String> = report
                 .cases
                 .iter()
@@ -86,4 +89,67 @@ fn the_reference_passes_itself_with_every_settings_byte_of_every_profile() {
     assert!(failures.is_empty(), "{} of {configurations} did not pass:\n{}", failures.len(), failures.join("\n"));
     // 10 built-in profiles: 84 settings where 600 Bd is listed, 72 where it is not.
     assert!(configurations >= 768, "{configurations}");
+}
+
+/// The record of the wire played back gives the run's verdicts: the reference in
+/// virtual time with every built-in profile, and a run whose device FAILs (the
+/// record holds what a defect did, not what the model would have done).
+#[test]
+fn a_record_played_back_gives_the_runs_verdicts() {
+    for (_, make) in profiles::BUILTIN {
+        let live = certify::run(
+            Box::new(VirtualLine::new(Slave::operational(make()))),
+            make(),
+            &Options::all_allowed(),
+            |_, _, _| {},
+        );
+        common::replay::assert_replays(&live);
+    }
+}
+
+/// The playback grades the record, it does not copy the run's verdicts: a reply
+/// changed in the record FAILs where it was changed, and a record that does not fit
+/// the catalogue is refused where it departs.
+#[test]
+fn a_changed_record_is_graded_as_it_is() {
+    use hiperface_conformance::record::Event;
+    let p = profiles::srs50();
+    let live =
+        certify::run(Box::new(VirtualLine::new(Slave::operational(p))), p, &Options::all_allowed(), |_, _, _| {});
+    let record = live.record.clone().expect("a record");
+    // The first Read Position reply of the catalogue, one data byte changed.
+    let mut changed = record.clone();
+    let x = changed
+        .events
+        .iter_mut()
+        .find_map(|e| match e {
+            Event::Exchange { exchange, .. } if exchange.request == "40 42 02" && !exchange.reply.is_empty() => {
+                Some(exchange)
+            }
+            _ => None,
+        })
+        .expect("a Read Position");
+    x.reply[2].0 ^= 0x01;
+    let again = certify::replay(&changed, |_, _, _| {}).expect("plays back");
+    let read = again.cases.iter().find(|c| c.id == "identity.type-label" || c.id == "position.read");
+    assert!(!again.outcome().passed(), "{:?}", again.summary);
+    assert!(
+        again
+            .cases
+            .iter()
+            .any(|c| c.verdict == CaseVerdict::Fail && c.findings.iter().any(|f| f.clause_id() == "000:2.3.3")),
+        "a reply whose checksum no longer fits: {read:#?}"
+    );
+    // An exchange taken out: the catalogue asks for it, the record holds the next.
+    let mut short = record;
+    let i = short.events.iter().position(|e| matches!(e, Event::Exchange { .. })).expect("an exchange");
+    short.events.remove(i);
+    let again = certify::replay(&short, |_, _, _| {}).expect("plays back");
+    let why = again.aborted.clone().unwrap_or_default();
+    assert!(
+        why.contains("departs") || again.cases.iter().any(|c| c.verdict == CaseVerdict::Error),
+        "{why} {:?}",
+        again.summary
+    );
+    assert!(!again.outcome().passed());
 }

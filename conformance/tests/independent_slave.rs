@@ -33,7 +33,10 @@ fn certify_pty_as(hx1: &Hx1, profile: hiperface_model::Profile) -> Report {
         port::open_for_slave(&PortSpec::Path(hx1.path.clone()), profile, &Default::default(), Default::default())
             .unwrap_or_else(|e| panic!("{e}"));
     let options = Options { timing: opened.default_timing.0, ..options() };
-    certify::run(opened.line, profile, &options, |_, _, _| {})
+    let report = certify::run(opened.line, profile, &options, |_, _, _| {});
+    // Decode reproduces the run: its record played back gives its verdicts.
+    common::replay::assert_replays(&report);
+    report
 }
 
 fn with_verdict(r: &Report, v: CaseVerdict) -> Vec<&'static str> {

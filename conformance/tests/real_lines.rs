@@ -19,7 +19,9 @@ const GENEROUS_US: u64 = 25_000;
 fn certify_through(emulator: &LineEmulator, profile: Profile, echo: EchoMode, options: &Options) -> Report {
     let line = SerialLine::open(&emulator.path, UartSettings::DEFAULT).unwrap_or_else(|e| panic!("{e}"));
     let line = EchoLine::new(line.with_tolerance(GENEROUS_US), echo);
-    certify::run(Box::new(line), profile, options, |_, _, _| {})
+    let report = certify::run(Box::new(line), profile, options, |_, _, _| {});
+    common::replay::assert_replays(&report);
+    report
 }
 
 /// The simulator (SRS50) behind the emulator behaving as `behaviour`, certified with

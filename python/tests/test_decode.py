@@ -82,7 +82,7 @@ def test_the_same_verdicts_as_the_command(tmp_path, hiperface_bin):
     assert run.returncode == 0, run.stdout + run.stderr
     wire_log = tmp_path / "c" / "report.json"
     run = subprocess.run(
-        [str(hiperface_bin), "decode", str(wire_log), "--quiet", "--report", str(tmp_path / "d")],
+        [str(hiperface_bin), "decode", str(wire_log), "--listen", "--quiet", "--report", str(tmp_path / "d")],
         capture_output=True,
         text=True,
     )

@@ -4,8 +4,7 @@
 
 use super::timing;
 use super::{CaseError, CaseResult, CaseVerdict, Finding, Identity, Options, WireEntry};
-use crate::exchange::{sealed, BusMaster, Exchange, Listen, LATE_REPLY_GRACE_MS};
-use crate::line::Line;
+use crate::exchange::{sealed, Bus, Exchange, Listen, LATE_REPLY_GRACE_MS};
 use hiperface_model::address::AddressByte;
 use hiperface_model::clause::{self, Normative};
 use hiperface_model::request::{Request, RequestFrame};
@@ -103,7 +102,7 @@ pub struct Graded {
 }
 
 pub struct Ctx<'a> {
-    master: &'a mut BusMaster<Box<dyn Line>>,
+    master: &'a mut dyn Bus,
     pub model: &'a mut Slave,
     oracle: Oracle,
     result: &'a mut CaseResult,
@@ -121,7 +120,7 @@ pub struct Ctx<'a> {
 
 impl<'a> Ctx<'a> {
     pub(crate) fn new(
-        master: &'a mut BusMaster<Box<dyn Line>>,
+        master: &'a mut dyn Bus,
         model: &'a mut Slave,
         result: &'a mut CaseResult,
         tally: &'a mut Tally,
@@ -269,8 +268,8 @@ impl Ctx<'_> {
         // a request sent at 600 Bd after a reset reached the slave at 9600 Bd, 09h).
         let now = self.master.now_us();
         let heard = self.model.settings_heard_next(now);
-        if heard != self.master.line.settings() {
-            self.master.line.configure(heard)?;
+        if heard != self.master.settings() {
+            self.master.configure(heard)?;
         }
         let command = (frame.len() > 1).then(|| CommandId::of_frame(frame));
         let limits = self.model.profile().response_limit(command.unwrap_or(CommandId::Unknown(0)));
@@ -278,7 +277,7 @@ impl Ctx<'_> {
         // Where the model expects a reply, listen well past the limit so that a late
         // reply is measured and graded; where it expects silence, only to the limit.
         let estimate = self.master.now_us()
-            + frame.len() as u64 * self.master.line.settings().char_time_us()
+            + frame.len() as u64 * self.master.settings().char_time_us()
             + self.master.timeout_us();
         let handle = |s: &mut Slave, at_us| {
             if wrong_parity {
@@ -388,7 +387,7 @@ impl Ctx<'_> {
             });
         }
         if matches!(expected.reply, Reply::Frame(_)) && !across_change {
-            let tol = self.master.line.tolerance_us();
+            let tol = self.master.facts().tolerance_us;
             let timing = timing::grade(&x, limits, tol, self.options.timing, edition);
             // Timing is UNKNOWN only where the harness's lateness could explain it.
             self.disturbed |= timing.iter().any(|f| f.verdict() == CaseVerdict::Unknown);
@@ -400,7 +399,7 @@ impl Ctx<'_> {
             self.push(f);
         }
         if let Some(s) = expected.then_settings {
-            self.master.line.configure(s)?;
+            self.master.configure(s)?;
         }
         Ok(Graded { exchange: x, verdict, reply: observed })
     }
@@ -464,12 +463,12 @@ impl Ctx<'_> {
 
     /// Whether the line can follow the device to another data rate (67h).
     pub fn line_can_change_settings(&self) -> bool {
-        self.master.line.can_change_settings()
+        self.master.facts().can_change_settings
     }
 
     /// Whether a parity error can be sent on the line; `Err` says why not.
-    pub fn line_carries_parity(&self) -> Result<(), &'static str> {
-        self.master.line.carries_parity()
+    pub fn line_carries_parity(&self) -> Result<(), String> {
+        self.master.facts().carries_parity
     }
 
     pub fn allow_counter_change(&self) -> bool {

@@ -22,7 +22,7 @@ pub use crate::world::World;
 pub use case::{Case, CaseError};
 pub use ctx::{Ctx, Graded, Guard};
 pub use identity::Identity;
-pub use run::{run, select, Report, TimingStats};
+pub use run::{replay, run, select, Report, TimingStats};
 pub use safety::Safety;
 
 use hiperface_model::Grading;

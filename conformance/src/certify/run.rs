@@ -5,8 +5,9 @@ use super::ctx::Tally;
 use super::safety::Snapshot;
 use super::{cases, glob_match, Case, CaseError, CaseResult, Ctx, Finding, Identity, Needs, Options, Outcome};
 use super::{Safety, TimingMode};
-use crate::exchange::BusMaster;
+use crate::exchange::{Bus, BusMaster};
 use crate::line::{Line, LineError, LineKind};
+use crate::record::{Record, RecordError, Recorder, Replay};
 use crate::verdict::MAX_ATTEMPTS;
 use hiperface_model::{CommandId, Grading, Profile, Slave};
 use serde::Serialize;
@@ -56,6 +57,9 @@ pub struct Report {
     pub notes: Vec<String>,
     /// Set when the run stopped early (port gone, Ctrl-C): the report is partial.
     pub aborted: Option<String>,
+    /// The record of the wire: what `decode` grades again (see `crate::record`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub record: Option<Record>,
 }
 
 impl Report {
@@ -83,6 +87,7 @@ impl Report {
             line_time_ms: 0.0,
             notes: Vec::new(),
             aborted: None,
+            record: None,
         }
     }
 
@@ -105,23 +110,57 @@ impl Report {
     }
 }
 
-/// Run the catalogue. `progress` is called after each case.
+/// Run the catalogue. `progress` is called after each case. The report holds the
+/// record of the wire (`Report::record`).
 pub fn run(
     line: Box<dyn Line>,
+    profile: Profile,
+    options: &Options,
+    progress: impl FnMut(usize, usize, &CaseResult),
+) -> Report {
+    let mut live = BusMaster::new(line, profile.edition);
+    let mut recorder = Recorder::new(&mut live);
+    let mut report = run_on(&mut recorder, profile, options, progress);
+    report.record = Some(recorder.finish(&profile, options));
+    report
+}
+
+/// What a record played back to the catalogue gives: the run again, from the record
+/// of its wire, with the record's profile, options and line. `Err` where the record
+/// cannot be read; a record that departs from this catalogue ends the run there with
+/// the reason (`Report::aborted`), its verdicts ERROR from that point.
+pub fn replay(record: &Record, progress: impl FnMut(usize, usize, &CaseResult)) -> Result<Report, RecordError> {
+    if record.format != crate::record::FORMAT {
+        return Err(RecordError::Format(record.format.clone()));
+    }
+    let profile = crate::profile_file::parse(&record.profile, std::path::Path::new("the record's profile"))
+        .map_err(|e| RecordError::Profile(e.to_string()))?;
+    let options = record.options.options()?;
+    let mut bus = Replay::new(record, profile.edition);
+    let mut report = run_on(&mut bus, profile, &options, progress);
+    if let (None, Some(why)) = (&report.aborted, bus.departure()) {
+        report.aborted = Some(why);
+    }
+    Ok(report)
+}
+
+/// Run the catalogue on a bus, live or played back.
+fn run_on(
+    master: &mut dyn Bus,
     profile: Profile,
     options: &Options,
     mut progress: impl FnMut(usize, usize, &CaseResult),
 ) -> Report {
     let started = Instant::now();
-    let mut report = Report::empty(&profile, &line.describe(), options);
-    report.line_kind = Some(line.kind());
-    report.tolerance_us = line.tolerance_us();
-    let mut master = BusMaster::new(line, profile.edition);
+    let facts = master.facts();
+    let mut report = Report::empty(&profile, &facts.describe, options);
+    report.line_kind = Some(facts.kind);
+    report.tolerance_us = facts.tolerance_us;
     let mut model = Slave::operational(profile);
     options.world.apply(&mut model);
     let mut tally = Tally::default();
     // What the device reports of its stored state, before anything is changed.
-    let before = Snapshot::read(&mut master, &model, &mut tally);
+    let before = Snapshot::read(master, &model, &mut tally);
     // A real device is not in its factory state: adopt what it reports.
     if options.grading == Grading::Range {
         report.notes.extend(adopt(&mut model, &before));
@@ -154,7 +193,7 @@ pub fn run(
                 if attempt > 1 {
                     result = case.result();
                 }
-                let mut ctx = Ctx::new(&mut master, &mut model, &mut result, &mut tally, options);
+                let mut ctx = Ctx::new(master, &mut model, &mut result, &mut tally, options);
                 let outcome = (case.run)(&mut ctx);
                 let gone = matches!(outcome, Err(CaseError::Line(LineError::Gone(_))) | Err(CaseError::Silent));
                 if let Err(e) = &outcome {
@@ -194,10 +233,11 @@ pub fn run(
         report.cases.push(result);
     }
     // Read at the end: what the run found out about the line (its echo) is known now.
-    report.line_notes = master.line.notes();
-    report.echo = master.line.echo();
+    let found = master.findings();
+    report.line_notes = found.notes;
+    report.echo = found.echo;
     let after = match not_read_back {
-        None => Ok(Snapshot::read(&mut master, &model, &mut tally)),
+        None => Ok(Snapshot::read(master, &model, &mut tally)),
         Some(why) => Err(why),
     };
     let after = after.as_ref().map_err(String::as_str);
@@ -207,7 +247,7 @@ pub fn run(
     report.safety.notes.append(&mut tally.notes);
     report.harness_late_us = tally.harness_late_us;
     report.line_late_us = tally.line_late_us;
-    report.delivery = master.line.delivery_stats();
+    report.delivery = found.delivery;
     for r in &report.cases {
         *report.summary.entry(r.verdict.label()).or_insert(0) += 1;
     }

@@ -12,8 +12,7 @@
 //! operator's safety information, printed apart from the verdicts.
 
 use super::ctx::{physical_time_us, Tally};
-use crate::exchange::{sealed, BusMaster};
-use crate::line::Line;
+use crate::exchange::{sealed, Bus, Listen};
 use hiperface_model::response::{Response, ResponseFrame};
 use hiperface_model::slave::powerup::CommState;
 use hiperface_model::slave::NonVolatile;
@@ -37,7 +36,7 @@ pub struct Snapshot {
 impl Snapshot {
     /// Read it, ungraded, from the slave at `address`, in the settings the model says
     /// it listens with.
-    pub(crate) fn read(master: &mut BusMaster<Box<dyn Line>>, model: &Slave, tally: &mut Tally) -> Snapshot {
+    pub(crate) fn read(master: &mut dyn Bus, model: &Slave, tally: &mut Tally) -> Snapshot {
         let address = model.nonvolatile().address.byte();
         // A run cut short in a power-up window (an interrupt during Encoder Reset's
         // wait) leaves the device initializing or switching its settings: wait, as the
@@ -57,15 +56,15 @@ impl Snapshot {
             }
         }
         let now = master.now_us();
-        if let Some(s) = model.listening_settings(now).filter(|s| *s != master.line.settings()) {
-            if master.line.configure(s).is_err() {
+        if let Some(s) = model.listening_settings(now).filter(|s| *s != master.settings()) {
+            if master.configure(s).is_err() {
                 return Snapshot::default();
             }
         }
         let mut ask = |body: &[u8]| -> Option<Response> {
             let frame = sealed(body);
             let command = CommandId::of_frame(body);
-            let x = master.exchange(&frame, 30).ok()?;
+            let x = master.exchange_listening(&frame, Listen { reply_ms: 30, ..Listen::default() }).ok()?;
             tally.line_time_us += physical_time_us(&x, 30);
             let reply = x.reply_bytes()?;
             ResponseFrame::decode(&reply, command).ok().map(|r| r.response)

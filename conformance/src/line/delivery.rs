@@ -39,7 +39,7 @@ pub struct Sample {
 }
 
 /// What the probe saw over a run.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct DeliveryStats {
     pub samples: u64,
     pub max_us: u64,

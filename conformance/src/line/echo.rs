@@ -11,7 +11,7 @@ use hiperface_model::{Hex, UartSettings};
 use std::collections::VecDeque;
 
 /// Whether the line echoes what the harness sends (`--echo`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum EchoMode {
     /// Found out at the harness's first frame (its request, or as the encoder its
@@ -29,7 +29,7 @@ pub enum EchoMode {
 }
 
 /// What the harness knows about the line's echo.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Echo {
     /// No request sent yet (`auto`).

@@ -24,7 +24,7 @@ use hiperface_model::datalink::RxChar;
 use hiperface_model::UartSettings;
 
 /// A time known to lie between two bounds, µs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Window {
     pub earliest_us: u64,
     pub latest_us: u64,
@@ -48,7 +48,7 @@ pub struct Sent {
 }
 
 /// What kind of line it is, for reports and for what timing verdicts are worth.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum LineKind {
     /// In-process, virtual time: exact.
@@ -87,6 +87,9 @@ pub enum LineError {
     Echo(String),
     #[error("cannot apply UART settings {settings}: {reason}")]
     Settings { settings: UartSettings, reason: String },
+    /// A record played back (`decode` of a report) does not hold what the run asked.
+    #[error("{0}")]
+    Record(String),
 }
 
 /// A half-duplex serial line as the master sees it. Times are µs since the line

@@ -41,6 +41,10 @@ pub struct DecodeArgs {
     /// Instead of grading: write the capture's UART waveform as a VCD file.
     #[arg(long)]
     pub vcd: Option<PathBuf>,
+    /// A certify report: grade its wire log as a listener on the bus would (both sides,
+    /// without what the harness knew), instead of playing back the record of its run.
+    #[arg(long)]
+    pub listen: bool,
     #[command(flatten)]
     pub listening: ListeningArgs,
 }
@@ -67,7 +71,13 @@ pub struct ListeningArgs {
 }
 
 /// Run `decode`; exit 0 with no FAIL, 1 with one, an error for input it cannot read.
+/// A certify report with the record of its wire is played back to the catalogue
+/// instead (`crate::record`): the run's verdicts, graded again, and its exit code.
 pub fn decode(args: &DecodeArgs) -> Result<ExitCode, String> {
+    let recorded = if args.listen || args.vcd.is_some() { None } else { crate::report::recorded::read(&args.file)? };
+    if let Some(recorded) = recorded {
+        return crate::report::recorded::decode(recorded, args.listening.report.as_deref(), args.listening.quiet);
+    }
     let (profile, _) = bus(&args.listening.profile, args.listening.baud)?;
     let input: capture::Input = if args.file.as_os_str() == "-" {
         Box::new(BufReader::new(std::io::stdin()))

@@ -9,6 +9,7 @@ use std::path::Path;
 
 pub mod listening;
 pub mod master;
+pub mod recorded;
 pub mod slave;
 
 /// A run's report in the four forms every front end writes.

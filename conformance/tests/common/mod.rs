@@ -5,6 +5,7 @@
 
 pub mod hx1;
 pub mod line_emulator;
+pub mod replay;
 pub mod session;
 
 use hiperface_conformance::line::tcp::TcpLine;
