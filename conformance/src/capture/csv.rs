@@ -11,11 +11,17 @@
 //! character (`read late [s]`, what `hiperface monitor --capture` writes). The time
 //! is the start of the character's start bit, as those exports stamp it; its stop bit
 //! ends a character time later.
+//!
+//! Lines starting with `#` are comments. The monitor's capture opens with one that
+//! states its timing tolerance (`# hiperface monitor capture: tolerance_us=2000`), so
+//! that `decode` grades it with the tolerance the live run had.
 
 use super::merge::Merge;
 use super::{Capture, Event, Input, Mark, ParseError, ReadOptions};
 
 pub struct Reader<'a> {
+    /// The tolerance the capture states (the monitor's own), µs.
+    tolerance_us: Option<u64>,
     records: csv::StringRecordsIntoIter<Input<'a>>,
     columns: Columns,
     options: ReadOptions,
@@ -60,11 +66,15 @@ fn flag(s: Option<&str>) -> bool {
 }
 
 impl<'a> Reader<'a> {
-    pub fn new(input: Input<'a>, options: ReadOptions) -> Result<Reader<'a>, ParseError> {
-        let mut reader = csv::ReaderBuilder::new().has_headers(true).flexible(true).from_reader(input);
+    pub fn new(mut input: Input<'a>, options: ReadOptions) -> Result<Reader<'a>, ParseError> {
+        let first = super::peek_first_line(&mut input).map_err(|e| ParseError::at(0, e.to_string()))?;
+        let tolerance_us = stated_tolerance_us(&first);
+        let mut reader =
+            csv::ReaderBuilder::new().has_headers(true).flexible(true).comment(Some(b'#')).from_reader(input);
         let header = reader.headers().map_err(|e| ParseError::at(1, format!("expected a CSV header: {e}")))?.clone();
         let columns = Columns::of(&header)?;
         Ok(Reader {
+            tolerance_us,
             records: reader.into_records(),
             columns,
             options,
@@ -146,7 +156,19 @@ impl Iterator for Reader<'_> {
     }
 }
 
+/// The marker of the monitor's capture, on its first line.
+pub const MONITOR_CAPTURE: &str = "# hiperface monitor capture:";
+
+/// The tolerance a capture's first line states (`tolerance_us=N`), where it does.
+fn stated_tolerance_us(first_line: &str) -> Option<u64> {
+    let rest = first_line.strip_prefix(MONITOR_CAPTURE)?;
+    rest.split_whitespace().find_map(|w| w.strip_prefix("tolerance_us=")?.parse().ok())
+}
+
 impl Capture for Reader<'_> {
+    fn tolerance_us(&self) -> Option<u64> {
+        self.tolerance_us
+    }
     fn channels(&self) -> Vec<String> {
         self.names.clone()
     }
@@ -165,6 +187,20 @@ mod tests {
 
     fn read(text: &str) -> Vec<Result<Event, ParseError>> {
         crate::capture::tests::read(super::super::Format::Csv, text)
+    }
+
+    #[test]
+    fn the_monitors_capture_states_its_tolerance() {
+        assert_eq!(stated_tolerance_us("# hiperface monitor capture: tolerance_us=2000 baud=9600"), Some(2000));
+        assert_eq!(stated_tolerance_us("# hiperface monitor capture: baud=9600"), None);
+        assert_eq!(stated_tolerance_us("Time [s],Value"), None);
+        let text = "# hiperface monitor capture: tolerance_us=4000\nTime [s],Value\n0.001,0x40\n";
+        let ev: Vec<Event> = read(text).into_iter().map(Result::unwrap).collect();
+        assert_eq!(ev.len(), 1);
+        assert_eq!(
+            super::super::Format::detect("# hiperface monitor capture: tolerance_us=4000"),
+            Some(super::super::Format::Csv)
+        );
     }
 
     #[test]

@@ -102,7 +102,9 @@ impl Format {
     /// Tell the format from the first line that is not blank.
     pub fn detect(first_line: &str) -> Option<Format> {
         let l = first_line.trim();
-        if l.starts_with('{') || wirelog::is_line(l) {
+        if l.starts_with(csv::MONITOR_CAPTURE) {
+            Some(Format::Csv)
+        } else if l.starts_with('{') || wirelog::is_line(l) {
             Some(Format::Wirelog)
         } else if sigrok::is_line(l) {
             Some(Format::Sigrok)

@@ -64,7 +64,7 @@ pub fn monitor(args: &MonitorArgs, stop: &AtomicBool) -> Result<ExitCode, String
         polling_period_ms: args.listening.polling_period_ms,
     };
     let mut capture = match &args.capture {
-        Some(p) => Some(CaptureFile::create(p, settings.char_time_us())?),
+        Some(p) => Some(CaptureFile::create(p, settings.char_time_us(), tolerance_us)?),
         None => None,
     };
     eprintln!("listening on {} at {settings} (read-only); Ctrl-C ends the run with a summary", tap.name);
@@ -229,10 +229,13 @@ struct CaptureFile {
 }
 
 impl CaptureFile {
-    fn create(path: &std::path::Path, char_us: u64) -> Result<CaptureFile, String> {
+    /// The capture opens with the tolerance the monitor grades with, which `decode`
+    /// then grades with too (the same verdicts later, no flag needed).
+    fn create(path: &std::path::Path, char_us: u64, tolerance_us: u64) -> Result<CaptureFile, String> {
         let f = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
         let mut out = std::io::BufWriter::new(f);
-        writeln!(out, "Time [s],Value,Parity Error,Framing Error,Read Late [s]")
+        writeln!(out, "{} tolerance_us={tolerance_us}", crate::capture::csv::MONITOR_CAPTURE)
+            .and_then(|()| writeln!(out, "Time [s],Value,Parity Error,Framing Error,Read Late [s]"))
             .map_err(|e| format!("{}: {e}", path.display()))?;
         Ok(CaptureFile { path: path.to_path_buf(), out, char_us })
     }
