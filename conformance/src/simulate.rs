@@ -49,7 +49,7 @@ pub trait Hooks {
     /// writing a reply, or not scheduled). They may have come any time in that
     /// stretch; they are stamped when read.
     fn read(&mut self, _unwatched_us: u64) {}
-    /// Time passes with nothing received.
+    /// Time passes with nothing received; the model was polled at `now_us` just before.
     fn idle(&mut self, _now_us: u64) {}
     /// The model processed a frame (whether it replies or not).
     fn frame(&mut self, _slave: &mut Slave, _step: &Step) {}
@@ -118,6 +118,21 @@ pub struct Planned {
 /// a run only where the master broke a rule after it (`drive::grade`).
 pub const fn disturbed_from_us(char_time_us: u64) -> u64 {
     char_time_us
+}
+
+/// The model's reply as the serving loop plans it before the hooks see it: at the
+/// earliest start plus [`REPLY_DELAY_US`].
+pub fn planned_reply(tx: &hiperface_model::slave::Transmission) -> Planned {
+    Planned {
+        frame: tx.frame.as_bytes().to_vec(),
+        start_us: tx.earliest_start_us + REPLY_DELAY_US,
+        settings: tx.settings,
+        gap: None,
+        paced: false,
+        disturbed_us: 0,
+        split_by_harness: false,
+        answered_late_us: 0,
+    }
 }
 
 /// The model as it is.
@@ -244,21 +259,15 @@ pub fn serve_with(
             echo.idle(now(epoch), &mut master_chars);
         }
         feed(slave, hooks, &mut master_chars, None, &mut steps);
-        steps.extend(slave.poll(now(epoch)));
-        hooks.idle(now(epoch));
+        // One instant for the model and the hooks: a record of the hooks' inputs
+        // (`drive::record`) then holds when the model was polled too.
+        let t = now(epoch);
+        steps.extend(slave.poll(t));
+        hooks.idle(t);
         for step in steps {
             hooks.frame(slave, &step);
             let Some(tx) = step.transmission else { continue };
-            let planned = Planned {
-                frame: tx.frame.as_bytes().to_vec(),
-                start_us: tx.earliest_start_us + REPLY_DELAY_US,
-                settings: tx.settings,
-                gap: None,
-                paced: false,
-                disturbed_us: 0,
-                split_by_harness: false,
-                answered_late_us: 0,
-            };
+            let planned = planned_reply(&tx);
             let Some(mut p) = hooks.reply(slave, &step, planned) else { continue };
             if line_rate(port.as_ref(), hooks).is_some_and(|bps| bps != p.settings.baud.bits_per_second()) {
                 continue; // sent at a rate the line is not at: nobody hears it

@@ -133,7 +133,7 @@ pub fn replay(record: &Record, progress: impl FnMut(usize, usize, &CaseResult)) 
     if record.format != crate::record::FORMAT {
         return Err(RecordError::Format(record.format.clone()));
     }
-    let profile = crate::profile_file::parse(&record.profile, std::path::Path::new("the record's profile"))
+    let profile = crate::profile_file::parse_recorded(&record.profile, std::path::Path::new("the record's profile"))
         .map_err(|e| RecordError::Profile(e.to_string()))?;
     let options = record.options.options()?;
     let mut bus = Replay::new(record, profile.edition);

@@ -154,6 +154,10 @@ pub struct DriveEncoder {
     port: Option<OnPort>,
     /// A master on a pseudo-terminal: the kernel's delivery, measured beside the line.
     delivery: Option<Arc<crate::line::delivery::DeliveryProbe>>,
+    /// Everything taken in, in order, for the record of the wire (`drive::record`).
+    log: Vec<super::record::Input>,
+    /// Taken in again from a record: the master's data rates as they were read.
+    replayed_rates: Option<std::collections::VecDeque<Option<u32>>>,
 }
 
 /// What the encoder knows of a drive's port.
@@ -196,7 +200,21 @@ impl DriveEncoder {
             arisen: Arc::new(AtomicU64::new(u64::MAX)),
             port: None,
             delivery: None,
+            log: Vec::new(),
+            replayed_rates: None,
         }
+    }
+
+    /// Taking a record in again: the master's data rate is read from `rates`, in
+    /// order, as the run read it from the pseudo-terminal.
+    pub fn replaying(mut self, rates: std::collections::VecDeque<Option<u32>>) -> DriveEncoder {
+        self.replayed_rates = Some(rates);
+        self
+    }
+
+    /// What the encoder took in, in order (the record of the wire).
+    pub fn take_log(&mut self) -> Vec<super::record::Input> {
+        std::mem::take(&mut self.log)
     }
 
     /// The master on a pseudo-terminal: what `probe` measures of the kernel's delivery
@@ -243,16 +261,27 @@ impl DriveEncoder {
         self.observer.set_polling_period_ms(ms);
     }
 
-    /// The master's data rate now, where the harness can read it.
-    fn peer_bps(&self) -> Option<u32> {
-        self.peer.as_ref().and_then(|p| p.baud_rate().ok())
+    /// The master's data rate now, where the harness can read it (kept in the record).
+    fn peer_bps(&mut self) -> Option<u32> {
+        let bps = match self.replayed_rates.as_mut() {
+            Some(rates) => rates.pop_front().flatten(),
+            None => self.peer.as_ref().and_then(|p| p.baud_rate().ok()),
+        };
+        self.log.push(super::record::Input::PeerRate { bps });
+        bps
+    }
+
+    /// Whether the master's data rate can be read (the master's end of a
+    /// pseudo-terminal, or a record of it).
+    fn reads_peer(&self) -> bool {
+        self.peer.is_some() || self.replayed_rates.is_some()
     }
 
     /// A frame of the master begins at `start_us`: grade its data rate if the
     /// master's settings held still since the line was last quiet (otherwise the
     /// harness cannot tell which settings the characters were sent with).
     fn frame_begins(&mut self, start_us: u64) {
-        if self.peer.is_none() || self.listening.is_none() {
+        if !self.reads_peer() || self.listening.is_none() {
             return;
         }
         match (self.peer_bps, self.peer_bps()) {
@@ -301,6 +330,8 @@ impl DriveEncoder {
 
 impl Hooks for DriveEncoder {
     fn received(&mut self, ch: RxChar, listening: Option<UartSettings>) {
+        let listening_hex = super::record::settings_hex(listening);
+        self.log.push(super::record::Input::Received { ch: ch.into(), listening: listening_hex });
         if listening != self.listening {
             if let Some(s) = listening {
                 self.observer.encoder_listens(s);
@@ -338,14 +369,16 @@ impl Hooks for DriveEncoder {
     }
 
     fn sets_port(&self) -> bool {
-        self.peer.is_none()
+        !self.reads_peer()
     }
 
     fn read(&mut self, unwatched_us: u64) {
+        self.log.push(super::record::Input::Read { unwatched_us });
         self.read_late_us = unwatched_us;
     }
 
     fn idle(&mut self, now_us: u64) {
+        self.log.push(super::record::Input::Idle { now_us });
         if self.heard.is_empty() {
             self.peer_bps = self.peer_bps();
         }
@@ -355,6 +388,7 @@ impl Hooks for DriveEncoder {
     }
 
     fn frame(&mut self, slave: &mut Slave, step: &Step) {
+        self.log.push(super::record::Input::Frame);
         let bytes = step.received.bytes.as_bytes();
         let decoded = RequestFrame::decode(bytes).ok();
         self.answered = decoded.map(|r| r.request.command());
@@ -381,6 +415,7 @@ impl Hooks for DriveEncoder {
     }
 
     fn reply(&mut self, slave: &mut Slave, step: &Step, mut planned: Planned) -> Option<Planned> {
+        self.log.push(super::record::Input::Reply);
         // A master reads the reply as a UART would deliver it.
         planned.paced = true;
         // `frame` saw this frame first: its command, and how many of it so far.
@@ -442,6 +477,14 @@ impl Hooks for DriveEncoder {
     }
 
     fn sent(&mut self, planned: &Planned, end_us: u64) {
+        self.log.push(super::record::Input::Sent {
+            frame: Hex(&planned.frame).to_string(),
+            start_us: planned.start_us,
+            end_us,
+            gap: planned.gap,
+            disturbed_us: planned.disturbed_us,
+            split_by_harness: planned.split_by_harness,
+        });
         let start_us = planned.start_us;
         self.note(start_us, "S<", Hex(&planned.frame).to_string());
         if planned.disturbed_us > 0 || planned.answered_late_us > 0 {
@@ -490,6 +533,7 @@ impl Hooks for DriveEncoder {
     }
 
     fn real_time(&mut self, granted: bool) {
+        self.log.push(super::record::Input::RealTime { granted });
         self.timeline.real_time = granted;
     }
 

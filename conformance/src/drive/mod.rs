@@ -9,6 +9,7 @@ pub mod cli;
 pub mod encoder;
 mod grade;
 pub mod process;
+pub mod record;
 pub mod reference;
 pub mod scenario;
 mod scenario_run;
@@ -127,6 +128,10 @@ pub struct DriveReport {
     /// A master on a pseudo-terminal: what the probe beside the line saw of the
     /// kernel's delivery.
     pub delivery: Option<crate::line::delivery::DeliveryStats>,
+    /// The record of the wire: every scenario run as the encoder took it in, which
+    /// `decode` takes in again (`drive::record`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub record: Option<record::MasterRecord>,
 }
 
 impl DriveReport {
@@ -169,6 +174,14 @@ pub fn run_with(
         echo: None,
         uart_faults: None,
         delivery: None,
+        record: Some(record::MasterRecord {
+            format: record::FORMAT.into(),
+            tool: format!("hiperface {}", env!("CARGO_PKG_VERSION")),
+            profile: crate::profile_file::to_toml(&profile),
+            polling_period_ms: options.polling_period_ms,
+            runs: Vec::new(),
+            interrupted: false,
+        }),
     };
     report.notes.push(match options.attach {
         Attach::Exec(_) => "The master's data rate was read from its pseudo-terminal's settings; parity and character \
@@ -229,6 +242,9 @@ pub fn run_with(
             let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
             result.push(Finding::not_exercised("not run: the run was interrupted"));
             not_run += 1;
+            if let Some(r) = report.record.as_mut() {
+                r.runs.push(ScenarioRun::early(result.clone()).record);
+            }
             result
         } else {
             let mut attempt = 0;
@@ -253,6 +269,9 @@ pub fn run_with(
                         ScenarioRun::early(result)
                     }
                 };
+                if let Some(r) = report.record.as_mut() {
+                    r.runs.push(record::ScenarioRecord { attempt, ..run.record.clone() });
+                }
                 // The harness's own timing was disturbed: run the scenario again, so
                 // that the verdict rests on an undisturbed run where one can be had.
                 match &run.disturbed {
@@ -291,6 +310,9 @@ pub fn run_with(
         let why = format!("interrupted (Ctrl-C or SIGTERM) with {} of {n} scenarios run", n - not_run);
         report.notes.push(format!("The run was {why}: the master was stopped with everything it started."));
         report.cut_short = Some(why);
+        if let Some(r) = report.record.as_mut() {
+            r.interrupted = true;
+        }
     }
     report.notes.push(format!(
         "The harness's encoder ran at a real-time priority in {} of {} scenarios (where not permitted it runs as any \

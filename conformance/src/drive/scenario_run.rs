@@ -5,6 +5,7 @@
 use super::encoder::{DriveEncoder, OnPort};
 use super::grade::finish;
 use super::process::MasterProcess;
+use super::record::{Fact, ScenarioRecord, Start};
 use super::scenarios::Scenario;
 use super::{Operator, PowerOn};
 use crate::line::reply_echo::ReplyEcho;
@@ -28,28 +29,61 @@ pub(super) struct ScenarioRun {
     pub(super) real_time: bool,
     /// The master's characters read with a parity or framing error.
     pub(super) uart_faults: usize,
+    /// The record of the run's wire (`drive::record`).
+    pub(super) record: ScenarioRecord,
 }
 
 impl ScenarioRun {
     /// A run that ended before the encoder served (it could not start).
     pub(super) fn early(result: CaseResult) -> ScenarioRun {
-        ScenarioRun { result, output: String::new(), length_ms: 0, disturbed: None, real_time: false, uart_faults: 0 }
+        let record = ScenarioRecord {
+            id: result.id.to_string(),
+            attempt: 1,
+            early: true,
+            start: Start::PowerOnAtStart,
+            facts: result.findings.iter().map(Fact::of).collect(),
+            inputs: Vec::new(),
+            end_us: 0,
+            cut_short: false,
+        };
+        ScenarioRun {
+            result,
+            output: String::new(),
+            length_ms: 0,
+            disturbed: None,
+            real_time: false,
+            uart_faults: 0,
+            record,
+        }
     }
 
     /// A run the encoder served to its end: graded, with what the timeline measured.
+    /// `start`: how its encoder was set up, for the record.
+    #[allow(clippy::too_many_arguments)]
     fn graded(
         mut result: CaseResult,
         mut hooks: DriveEncoder,
         scenario: &Scenario,
         started: Instant,
-        by_operator: bool,
+        start: Start,
         cut_short: bool,
         output: String,
     ) -> ScenarioRun {
+        let record = ScenarioRecord {
+            id: scenario.id.to_string(),
+            attempt: 1,
+            early: false,
+            start,
+            facts: result.findings.iter().map(Fact::of).collect(),
+            inputs: super::record::compact(hooks.take_log()),
+            end_us: hooks.timeline.end_us,
+            cut_short,
+        };
+        let by_operator = start == Start::PowerOnByOperator;
         let disturbed = finish(&mut result, &mut hooks, scenario, started, by_operator, cut_short);
         let (length_ms, real_time) = (hooks.timeline.end_us / 1000, hooks.timeline.real_time);
         let uart_faults = hooks.timeline.uart_faults;
-        ScenarioRun { result, output, length_ms, disturbed, real_time, uart_faults }
+        ScenarioRun { result, output, length_ms, disturbed, real_time, uart_faults, record }
     }
 }
 
@@ -135,7 +169,8 @@ pub(super) fn on_port(
     if let Some(f) = served_finding(served) {
         result.push(f);
     }
-    ScenarioRun::graded(result, hooks, scenario, started, power_on == PowerOn::Prompt, cut_short, String::new())
+    let start = if power_on == PowerOn::Prompt { Start::PowerOnByOperator } else { Start::Operational };
+    ScenarioRun::graded(result, hooks, scenario, started, start, cut_short, String::new())
 }
 
 /// One scenario: a fresh encoder on a fresh pseudo-terminal, the master started on it.
@@ -197,7 +232,7 @@ pub(super) fn run_scenario(
         result
             .push(Finding::error(format!("the master exited after {at:.0} ms ({s}) before the scenario ended{said}")));
     }
-    ScenarioRun::graded(result, hooks, scenario, started, false, cut_short, output)
+    ScenarioRun::graded(result, hooks, scenario, started, Start::PowerOnAtStart, cut_short, output)
 }
 
 /// What ended the encoder's serving, where it was not the scenario's end.

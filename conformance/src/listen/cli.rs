@@ -74,9 +74,14 @@ pub struct ListeningArgs {
 /// A certify report with the record of its wire is played back to the catalogue
 /// instead (`crate::record`): the run's verdicts, graded again, and its exit code.
 pub fn decode(args: &DecodeArgs) -> Result<ExitCode, String> {
-    let recorded = if args.listen || args.vcd.is_some() { None } else { crate::report::recorded::read(&args.file)? };
-    if let Some(recorded) = recorded {
-        return crate::report::recorded::decode(recorded, args.listening.report.as_deref(), args.listening.quiet);
+    use crate::report::recorded::{self, AnyRecorded};
+    let recorded = if args.listen || args.vcd.is_some() { None } else { recorded::read_any(&args.file)? };
+    match recorded {
+        Some(AnyRecorded::Slave(r)) => {
+            return recorded::decode(*r, args.listening.report.as_deref(), args.listening.quiet)
+        }
+        Some(AnyRecorded::Master(r)) => return recorded::decode_master(r, args.listening.quiet),
+        None => {}
     }
     let (profile, _) = bus(&args.listening.profile, args.listening.baud)?;
     let input: capture::Input = if args.file.as_os_str() == "-" {

@@ -26,8 +26,102 @@ struct Stated {
     record: Record,
 }
 
+/// A certify master report with its record, and the verdicts it states.
+pub struct MasterRecorded {
+    pub name: String,
+    pub record: crate::drive::record::MasterRecord,
+    pub stated: Vec<(String, String)>,
+}
+
+#[derive(serde::Deserialize)]
+struct StatedMaster {
+    scenarios: Vec<StatedCase>,
+    record: crate::drive::record::MasterRecord,
+}
+
+/// What a report with a record holds: a slave run's or a master run's.
+pub enum AnyRecorded {
+    Slave(Box<Recorded>),
+    Master(MasterRecorded),
+}
+
 /// The report at `path`, if it is a certify report with a record (`None` for any
 /// other file: a capture, an older report without one).
+pub fn read_any(path: &Path) -> Result<Option<AnyRecorded>, String> {
+    if path.as_os_str() == "-" || path.extension().is_none_or(|e| e != "json") {
+        return Ok(None);
+    }
+    let Ok(text) = std::fs::read_to_string(path) else { return Ok(None) };
+    let Ok(value) = serde_json::from_str::<serde_json::Value>(&text) else { return Ok(None) };
+    let format = value.get("record").and_then(|r| r.get("format")).and_then(|f| f.as_str()).map(str::to_string);
+    let name = path.display().to_string();
+    match format.as_deref() {
+        Some(crate::drive::record::FORMAT) => {
+            let stated: StatedMaster = serde_json::from_value(value)
+                .map_err(|e| format!("{name}: the report's record cannot be read: {e}"))?;
+            let stated_cases = stated.scenarios.into_iter().map(|c| (c.id, c.verdict)).collect();
+            Ok(Some(AnyRecorded::Master(MasterRecorded { name, record: stated.record, stated: stated_cases })))
+        }
+        Some(_) => Ok(read(path)?.map(|r| AnyRecorded::Slave(Box::new(r)))),
+        None if value.get("capture").is_some() && value.get("summary").is_some() => Err(format!(
+            "{name}: a listening report (decode, monitor): what it heard is in its capture; decode the capture \
+             (monitor --capture FILE) to grade it again"
+        )),
+        None if value.get("scenarios").is_some() => Err(format!(
+            "{name}: a certify master report without the record of its wire (written by an older version): \
+             there is nothing to grade again; certify the master again to get one"
+        )),
+        None => Ok(None),
+    }
+}
+
+/// Take a master run's record in again, print each scenario and whether the verdicts
+/// are the report's; exit as the run did.
+pub fn decode_master(recorded: MasterRecorded, quiet: bool) -> Result<ExitCode, String> {
+    let MasterRecorded { name, record, stated } = recorded;
+    eprintln!(
+        "{name}: the record of a certify master run ({}, {} scenario runs), taken in again",
+        record.tool,
+        record.runs.len()
+    );
+    let (profile, again, notes) = crate::drive::record::replay(&record).map_err(|e| format!("{name}: {e}"))?;
+    let n = again.len();
+    for (i, r) in again.iter().enumerate() {
+        if quiet {
+            break;
+        }
+        let mut text = format!("[{:>2}/{n}] {:<16} {}", i + 1, r.verdict.label(), r.id);
+        for f in r.findings.iter().filter(|f| matches!(f.verdict(), CaseVerdict::Fail | CaseVerdict::Error)) {
+            text.push_str(&format!("\n          {f}"));
+        }
+        println!("{text}");
+    }
+    let differing = crate::drive::record::compare(&stated, &again);
+    if differing.is_empty() && stated.len() == again.len() {
+        println!(
+            "the run's verdicts: {n} scenarios graded again from the record, every verdict as the report states it"
+        );
+    } else {
+        println!("taken in again, the record gives other verdicts than the report states:");
+        for (id, was, now) in &differing {
+            println!("  {id}: {was} in the report, {now} taken in again");
+        }
+    }
+    for note in &notes {
+        println!("note: {note}");
+    }
+    let outcome = crate::verdict::Outcome::of(again.iter().map(|r| r.verdict), !record.interrupted);
+    let mut summary = std::collections::BTreeMap::new();
+    for r in &again {
+        *summary.entry(r.verdict.label()).or_insert(0) += 1;
+    }
+    let summary: Vec<String> = summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
+    println!("master (encoder {}): {}", profile.name, summary.join(", "));
+    println!("{}", outcome.label());
+    Ok(outcome.exit())
+}
+
+/// The report at `path`, if it is a certify slave report with a record.
 pub fn read(path: &Path) -> Result<Option<Recorded>, String> {
     if path.as_os_str() == "-" || path.extension().is_none_or(|e| e != "json") {
         return Ok(None);

@@ -1,0 +1,426 @@
+//! The record of a master certification's wire: per scenario run, everything the
+//! encoder took in, in order (each character of the master with its stamp and the
+//! settings the encoder listened with, how long the line had gone unwatched before it,
+//! when the model was polled, each reply as it really went out, the master's data rate
+//! as read), so that `decode` of a master report takes it all in again: a fresh model
+//! and a fresh encoder fed the same inputs reach the same timeline, and the scenario is
+//! graded again as the run graded it. What is not on the wire (the master process
+//! exiting, a port failing) is kept as the run's findings about it.
+//!
+//! The counterpart of `crate::record` (the slave side), at the boundary the master's
+//! verdicts pass through: the serving loop's calls into its hooks.
+
+use super::encoder::DriveEncoder;
+use super::scenarios::Scenario;
+use crate::record::Char;
+use crate::simulate::{Hooks, Planned};
+use crate::verdict::{CaseResult, Finding};
+use hiperface_model::{Hex, Profile, Slave, Step, UartSettings};
+use serde::{Deserialize, Serialize};
+use std::collections::VecDeque;
+
+/// One input of the encoder, as the serving loop gave it.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(tag = "in", rename_all = "kebab-case")]
+pub enum Input {
+    /// The serving thread got a real-time priority, or did not.
+    RealTime { granted: bool },
+    /// The characters of one read follow; the line had gone unwatched this long.
+    Read { unwatched_us: u64 },
+    /// A character of the master, and the settings the encoder listened with (hex).
+    Received {
+        ch: Char,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        listening: Option<String>,
+    },
+    /// The model was polled at `now_us`, then the hooks told the time.
+    Idle { now_us: u64 },
+    /// The model's next step was shown to the hooks.
+    Frame,
+    /// The hooks were asked for the reply to it.
+    Reply,
+    /// A reply went out as it did (hex frame; its start, pauses the harness did not
+    /// plan, the gap it had) and ended at `end_us`.
+    Sent {
+        frame: String,
+        start_us: u64,
+        end_us: u64,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        gap: Option<(usize, u64)>,
+        disturbed_us: u64,
+        split_by_harness: bool,
+    },
+    /// The master's data rate as read from its end of the pseudo-terminal.
+    PeerRate {
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        bps: Option<u32>,
+    },
+    /// Turns of the serving loop with nothing read (the line watched), one per time in
+    /// `at` (the first in µs, each next as the µs after the one before): a read that
+    /// returned nothing, the model polled and the hooks told the time, and where
+    /// `rate_read` the master's data rate read as `bps`. The record's short form of
+    /// `Read {0}, Idle {t}, PeerRate {bps}`, which a loop repeats every 500 µs.
+    Quiet {
+        at: String,
+        #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+        rate_read: bool,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        bps: Option<u32>,
+    },
+}
+
+/// A run of quiet turns being gathered: its signature (rate read, bps), its times
+/// so far (the short form), the last time.
+type QuietRun = Option<((bool, Option<u32>), String, u64)>;
+
+/// The inputs with every run of quiet turns of the loop in its short form.
+pub fn compact(inputs: Vec<Input>) -> Vec<Input> {
+    let mut out: Vec<Input> = Vec::with_capacity(inputs.len() / 4);
+    let mut run: QuietRun = None;
+    let flush = |run: &mut QuietRun, out: &mut Vec<Input>| {
+        if let Some(((rate_read, bps), at, _)) = run.take() {
+            out.push(Input::Quiet { at, rate_read, bps });
+        }
+    };
+    let mut i = 0;
+    while i < inputs.len() {
+        let quiet = match (inputs.get(i), inputs.get(i + 1), inputs.get(i + 2)) {
+            (Some(Input::Read { unwatched_us: 0 }), Some(Input::Idle { now_us }), Some(Input::PeerRate { bps })) => {
+                Some((*now_us, (true, *bps), 3))
+            }
+            (Some(Input::Read { unwatched_us: 0 }), Some(Input::Idle { now_us }), _) => {
+                Some((*now_us, (false, None), 2))
+            }
+            _ => None,
+        };
+        match quiet {
+            Some((t, sig, n)) => {
+                match run.as_mut() {
+                    Some((s, at, last)) if *s == sig && t >= *last => {
+                        at.push_str(&format!(" {}", t - *last));
+                        *last = t;
+                    }
+                    _ => {
+                        flush(&mut run, &mut out);
+                        run = Some((sig, t.to_string(), t));
+                    }
+                }
+                i += n;
+            }
+            None => {
+                flush(&mut run, &mut out);
+                if let Some(input) = inputs.get(i) {
+                    out.push(input.clone());
+                }
+                i += 1;
+            }
+        }
+    }
+    flush(&mut run, &mut out);
+    out
+}
+
+/// The inputs with every short form written out again.
+pub fn expand(inputs: &[Input]) -> Result<Vec<Input>, String> {
+    let mut out = Vec::with_capacity(inputs.len() * 2);
+    for input in inputs {
+        let Input::Quiet { at, rate_read, bps } = input else {
+            out.push(input.clone());
+            continue;
+        };
+        let mut t = 0u64;
+        for (k, word) in at.split_whitespace().enumerate() {
+            let n: u64 = word.parse().map_err(|_| format!("a quiet turn's time `{word}`"))?;
+            t = if k == 0 { n } else { t.saturating_add(n) };
+            out.push(Input::Read { unwatched_us: 0 });
+            out.push(Input::Idle { now_us: t });
+            if *rate_read {
+                out.push(Input::PeerRate { bps: *bps });
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// A finding about the run that is not on the wire (the master process, the port).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Fact {
+    pub verdict: String,
+    pub message: String,
+}
+
+impl Fact {
+    pub fn of(f: &Finding) -> Fact {
+        Fact { verdict: f.verdict().label().to_string(), message: f.message().to_string() }
+    }
+
+    fn finding(&self) -> Finding {
+        match self.verdict.as_str() {
+            "NOT-APPLICABLE" => Finding::not_applicable(self.message.clone()),
+            "NOT-EXERCISED" => Finding::not_exercised(self.message.clone()),
+            "UNKNOWN" => Finding::unknown(self.message.clone()),
+            _ => Finding::error(self.message.clone()),
+        }
+    }
+}
+
+/// How the scenario run's encoder was set up.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Start {
+    /// The master process's start is power-on (`--exec`).
+    PowerOnAtStart,
+    /// A drive on a port whose power-on the operator switched.
+    PowerOnByOperator,
+    /// A drive on a port whose power-on was not seen: operational from the start.
+    Operational,
+}
+
+/// One run of one scenario.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ScenarioRecord {
+    pub id: String,
+    pub attempt: u32,
+    /// The encoder never served (it could not start): the run's findings as they were.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub early: bool,
+    pub start: Start,
+    /// Findings about what is not on the wire, before the grade (the master exited,
+    /// the port failed), in the order the run made them.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub facts: Vec<Fact>,
+    pub inputs: Vec<Input>,
+    pub end_us: u64,
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub cut_short: bool,
+}
+
+/// Why a master record cannot be taken in again.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ReplayError {
+    #[error("scenario {id}: {why}")]
+    Departs { id: String, why: String },
+    #[error("the record names scenario `{0}`, which this catalogue does not have")]
+    Unknown(String),
+}
+
+/// The settings byte of `s`, hex, as a record keeps it.
+pub fn settings_hex(s: Option<UartSettings>) -> Option<String> {
+    s.map(|s| format!("{:02X}", s.byte()))
+}
+
+/// Take one scenario run in again: a fresh model and encoder, fed the recorded inputs
+/// in order. Returns the graded result and why the harness's timing may have decided
+/// something in it (a re-run), as the run itself did.
+pub fn replay_scenario(
+    profile: Profile,
+    scenario: &Scenario,
+    polling_period_ms: u32,
+    r: &ScenarioRecord,
+) -> Result<(CaseResult, Option<String>), ReplayError> {
+    let departs = |why: String| ReplayError::Departs { id: r.id.clone(), why };
+    let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
+    for f in &r.facts {
+        result.push(f.finding());
+    }
+    if r.early {
+        return Ok((result, None));
+    }
+    let world = (scenario.world)(&profile);
+    let mut slave = match r.start {
+        Start::Operational => {
+            let mut s = Slave::operational(profile);
+            world.apply(&mut s);
+            s
+        }
+        _ => {
+            let mut s = Slave::new(profile);
+            world.apply_at_power_on(&mut s);
+            s
+        }
+    };
+    let inputs = expand(&r.inputs).map_err(|why| departs(format!("the record's inputs: {why}")))?;
+    let rates: VecDeque<Option<u32>> = inputs
+        .iter()
+        .filter_map(|i| match i {
+            Input::PeerRate { bps } => Some(*bps),
+            _ => None,
+        })
+        .collect();
+    let mut hooks = DriveEncoder::new(profile, scenario, r.start != Start::Operational, None).replaying(rates);
+    hooks.set_polling_period_ms(polling_period_ms);
+    let mut pending: VecDeque<Step> = VecDeque::new();
+    let mut current: Option<Step> = None;
+    let mut reply: Option<Planned> = None;
+    for (n, input) in inputs.iter().enumerate() {
+        match input {
+            Input::RealTime { granted } => hooks.real_time(*granted),
+            Input::Read { unwatched_us } => hooks.read(*unwatched_us),
+            Input::Received { ch, listening } => {
+                let listening = match listening {
+                    Some(hex) => {
+                        let byte = u8::from_str_radix(hex, 16).map_err(|_| departs(format!("input {n}: settings")))?;
+                        Some(UartSettings::decode(byte).map_err(|_| departs(format!("input {n}: settings")))?)
+                    }
+                    None => None,
+                };
+                let ch = (*ch).into();
+                hooks.received(ch, listening);
+                pending.extend(slave.receive(ch));
+            }
+            Input::Idle { now_us } => {
+                pending.extend(slave.poll(*now_us));
+                hooks.idle(*now_us);
+            }
+            Input::Frame => {
+                let step = pending.pop_front().ok_or_else(|| departs(format!("input {n}: no frame of the model")))?;
+                hooks.frame(&mut slave, &step);
+                current = Some(step);
+            }
+            Input::Reply => {
+                let step = current.as_ref().ok_or_else(|| departs(format!("input {n}: a reply to no frame")))?;
+                let tx = step.transmission.ok_or_else(|| departs(format!("input {n}: the model has no reply")))?;
+                let planned = crate::simulate::planned_reply(&tx);
+                reply = hooks.reply(&mut slave, step, planned);
+            }
+            Input::Sent { frame, start_us, end_us, gap, disturbed_us, split_by_harness } => {
+                let mut p =
+                    reply.take().ok_or_else(|| departs(format!("input {n}: a reply sent that was not planned")))?;
+                if Hex(&p.frame).to_string() != *frame {
+                    return Err(departs(format!(
+                        "input {n}: the record sent [{frame}], the encoder planned [{}]",
+                        Hex(&p.frame)
+                    )));
+                }
+                p.start_us = *start_us;
+                p.gap = *gap;
+                p.disturbed_us = *disturbed_us;
+                p.split_by_harness = *split_by_harness;
+                hooks.sent(&p, *end_us);
+            }
+            Input::PeerRate { .. } | Input::Quiet { .. } => {}
+        }
+    }
+    hooks.finish(r.end_us);
+    let by_operator = r.start == Start::PowerOnByOperator;
+    let started = std::time::Instant::now();
+    let disturbed = super::grade::finish(&mut result, &mut hooks, scenario, started, by_operator, r.cut_short);
+    Ok((result, disturbed))
+}
+
+/// The verdicts of a master report and of its record taken in again, scenario by
+/// scenario: `(id, stated, again)` where they differ.
+pub fn compare(stated: &[(String, String)], again: &[CaseResult]) -> Vec<(String, String, String)> {
+    let mut out = Vec::new();
+    for (i, (id, was)) in stated.iter().enumerate() {
+        let now = again.get(i).map_or("missing".to_string(), |r| r.verdict.label().to_string());
+        if *was != now {
+            out.push((id.clone(), was.clone(), now));
+        }
+    }
+    out
+}
+
+/// The record's format, as written into it.
+pub const FORMAT: &str = "hiperface-master-record/1";
+
+/// The record of a master certification: the encoder's profile and every scenario run,
+/// repeated runs too, in order.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MasterRecord {
+    pub format: String,
+    pub tool: String,
+    /// The encoder's profile, as TOML.
+    pub profile: String,
+    pub polling_period_ms: u32,
+    pub runs: Vec<ScenarioRecord>,
+    /// The run was cut short by the operator (its outcome cannot be PASSED).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub interrupted: bool,
+}
+
+/// The scenarios of a record taken in again: each run graded as the run graded it,
+/// the last run of each scenario its result (with the number of runs). `Err` where
+/// the record names a scenario this catalogue lacks or departs from what the encoder
+/// does; a repeated run whose grade no longer asks for a repetition is named.
+pub fn replay(record: &MasterRecord) -> Result<(Profile, Vec<CaseResult>, Vec<String>), String> {
+    if record.format != FORMAT {
+        return Err(format!("not a record of this tool's format: {}", record.format));
+    }
+    let profile = crate::profile_file::parse_recorded(&record.profile, std::path::Path::new("the record's profile"))
+        .map_err(|e| format!("the record's profile does not load: {e}"))?;
+    let catalogue = super::scenarios::catalogue();
+    let mut results: Vec<CaseResult> = Vec::new();
+    let mut notes = Vec::new();
+    let mut runs = record.runs.iter().peekable();
+    while let Some(first) = runs.next() {
+        let scenario = catalogue
+            .iter()
+            .find(|s| s.id == first.id)
+            .ok_or_else(|| ReplayError::Unknown(first.id.clone()).to_string())?;
+        let encoder = scenario.encoder.map_or(profile, |make| make(profile));
+        let mut attempts = vec![first];
+        while let Some(next) = runs.next_if(|r| r.id == first.id) {
+            attempts.push(next);
+        }
+        let mut last = None;
+        for (i, run) in attempts.iter().enumerate() {
+            let (mut result, disturbed) =
+                replay_scenario(encoder, scenario, record.polling_period_ms, run).map_err(|e| e.to_string())?;
+            let repeated = i + 1 < attempts.len();
+            if repeated && disturbed.is_none() {
+                notes.push(format!(
+                    "{}: run {} was repeated, but graded again it asks for no repetition",
+                    first.id,
+                    i + 1
+                ));
+            }
+            result.attempts = attempts.len() as u32;
+            last = Some(result);
+        }
+        results.extend(last);
+    }
+    Ok((profile, results, notes))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quiet_turns_are_kept_short_and_written_out_alike() {
+        let ch = Char(0x40, 1_000, None);
+        let log = vec![
+            Input::RealTime { granted: true },
+            Input::Read { unwatched_us: 0 },
+            Input::Idle { now_us: 500 },
+            Input::PeerRate { bps: Some(9600) },
+            Input::Read { unwatched_us: 0 },
+            Input::Idle { now_us: 1_001 },
+            Input::PeerRate { bps: Some(9600) },
+            Input::Read { unwatched_us: 700 },
+            Input::Received { ch, listening: Some("E4".into()) },
+            Input::Idle { now_us: 1_600 },
+            Input::Read { unwatched_us: 0 },
+            Input::Idle { now_us: 2_100 },
+            Input::Read { unwatched_us: 0 },
+            Input::Idle { now_us: 2_600 },
+            Input::PeerRate { bps: None },
+        ];
+        let short = compact(log.clone());
+        assert_eq!(
+            short,
+            vec![
+                Input::RealTime { granted: true },
+                Input::Quiet { at: "500 501".into(), rate_read: true, bps: Some(9600) },
+                Input::Read { unwatched_us: 700 },
+                Input::Received { ch, listening: Some("E4".into()) },
+                Input::Idle { now_us: 1_600 },
+                Input::Quiet { at: "2100".into(), rate_read: false, bps: None },
+                Input::Quiet { at: "2600".into(), rate_read: true, bps: None },
+            ]
+        );
+        assert_eq!(expand(&short).unwrap(), log);
+        assert!(expand(&[Input::Quiet { at: "1 x".into(), rate_read: false, bps: None }]).is_err());
+    }
+}
