@@ -253,7 +253,8 @@ mod tests {
         // By when they were read: the 9 ms write arrived at 11 ms.
         assert_eq!(s.max_delay_read_us(10_500, 11_000), 9_000);
         assert_eq!(s.max_delay_read_us(3_000, 10_000), 200);
-        assert_eq!(s.max_delay_read_us(11_001, 20_000), 50);
+        assert_eq!(s.max_delay_read_us(10_001, 10_100), 50);
+        assert_eq!(s.max_delay_read_us(11_001, 20_000), 0);
         // Old samples go.
         s.record(Sample { written_us: 10_000 + KEEP_US + 1, delay_us: 1 });
         assert_eq!(s.max_delay_us(0, 3_000), None);
