@@ -36,10 +36,13 @@ pub struct Disturbance {
 
 impl Disturbance {
     /// Whether it changed what any master saw, whatever the master did: a reply in two
-    /// parts, or one past its command's limit. A shorter unplanned pause changed only
-    /// what a master that broke a rule after it may have made of it.
+    /// parts (two transmissions, 000:2.2.2: the scenario's reply was not the one it
+    /// planned). A reply past its command's limit, or a shorter unplanned pause,
+    /// changed only what a master that then broke a rule, or missed its reaction, may
+    /// have made of it: a master that did neither was graded on what it did, in
+    /// harder conditions, and its PASS stands.
     pub fn decides(&self) -> bool {
-        self.split || self.answered_late_us > 0
+        self.split
     }
 }
 

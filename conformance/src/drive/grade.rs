@@ -88,9 +88,13 @@ fn grade(
     if timeline.characters >= encoder::MAX_CHARACTERS {
         result.push(Finding::error(format!("the master flooded the line ({} characters)", timeline.characters)));
     }
+    let before_reaction = result.findings.len();
     if !cut_short {
         exercised(result, timeline, scenario, edition);
     }
+    // The scenario's situation did not arise or its reaction was not seen: a
+    // disturbance anywhere in the run may be why.
+    let reaction_missed = result.findings.len() > before_reaction;
     // One finding per rule, with the count and the first observation that stands. An
     // observation the harness's own timing may explain is not charged to the master:
     // the rule is then NON-STRICT at most, with the reason. That is one the harness
@@ -104,7 +108,7 @@ fn grade(
     let disturbed_from = timeline
         .disturbed
         .iter()
-        .find(|d| d.decides() || timeline.observations.iter().any(|o| o.at_us >= d.at_us))
+        .find(|d| d.decides() || reaction_missed || timeline.observations.iter().any(|o| o.at_us >= d.at_us))
         .map(|d| d.at_us);
     let unproven = |o: &Observation| -> Option<String> {
         if let Some(late) = timeline.unproven(o, timeout, hooks.profile()) {
