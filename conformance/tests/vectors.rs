@@ -98,6 +98,28 @@ fn every_command_and_error_code_has_a_vector_per_edition() {
     }
 }
 
+/// A character-timed vector is replayed through the data link: a request taken at
+/// another time than the model takes it, or characters that the model frames
+/// otherwise, do not replay.
+#[test]
+fn character_timing_is_replayed_through_the_data_link() {
+    let file = vectors::load(&dir().join("generated-legacy.json")).unwrap_or_else(|e| panic!("{e}"));
+    let short = file.vectors.iter().find(|v| v.id == "legacy.frame-timing.short-timeout").expect("the vector");
+    assert!(vectors::replay(short).is_ok());
+    // 002's 11 bit times counted from character ends would take it here: not the model.
+    let mut early = short.clone();
+    let step = &mut early.steps[0];
+    step.at_us = step.chars_at_us.last().map(|t| t + 1146);
+    let e = vectors::replay(&early).unwrap_err().to_string();
+    assert!(e.contains("took the request at"), "{e}");
+    // The last character a timeout later: two frames, not one.
+    let mut split = short.clone();
+    let step = &mut split.steps[0];
+    step.chars_at_us[2] = step.chars_at_us[1] + 2292;
+    let e = vectors::replay(&split).unwrap_err().to_string();
+    assert!(e.contains("frames"), "{e}");
+}
+
 /// The documents' examples, as written in the repository.
 fn documents() -> vectors::VectorFile {
     vectors::load(&dir().join("documents.json")).unwrap()

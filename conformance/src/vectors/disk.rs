@@ -89,6 +89,7 @@ impl Flag {
             Flag::BadChecksum => "A request's checksum is wrong on purpose (000:2.3.3).",
             Flag::UartFault => "A request character arrives with a UART fault (parity or framing, 000:T47).",
             Flag::Timed => "The slave starts from power-on and each step happens at its `at_us` (000:T9).",
+            Flag::CharacterTiming => "Each request's characters arrive at the times in `chars_at_us` (the end of each stop bit, µs): the slave frames them by its timeout, counted from character end to character end (000:2.2.2, DESIGN:legacy-timeout), and takes the request at `at_us`, the timeout after the last character. A replay that hands over whole frames uses `at_us`.",
             Flag::Latitude => "The documents leave the device a choice here: this answer is acceptable but not the preferred one; a device that gives it is graded NON-STRICT, never FAIL.",
         }
     }

@@ -9,7 +9,7 @@ use super::{hex, parse_hex, prepare, Expected, Flag, Inputs, Setup, Vector, Vect
 use crate::exchange::sealed;
 use hiperface_model::command::COMMAND_TABLE;
 use hiperface_model::response::{Response, ResponseFrame};
-use hiperface_model::{checksum, profiles, CommandId, FaultCode, Profile, Reply};
+use hiperface_model::{checksum, profiles, CommandId, FaultCode, Profile, Reply, UartSettings};
 
 /// A request step to be completed with the model's response.
 struct Ask {
@@ -18,6 +18,9 @@ struct Ask {
     uart_fault: bool,
     frame: Vec<u8>,
     note: Option<String>,
+    /// The characters' arrival (end of stop bit), µs: the request through the data
+    /// link, taken when the model's timeout elapsed (`at_us` is then the model's).
+    chars_at_us: Vec<u64>,
 }
 
 fn ask(body: &[u8]) -> Ask {
@@ -25,7 +28,7 @@ fn ask(body: &[u8]) -> Ask {
 }
 
 fn ask_frame(frame: Vec<u8>) -> Ask {
-    Ask { at_us: None, inputs: None, uart_fault: false, frame, note: None }
+    Ask { at_us: None, inputs: None, uart_fault: false, frame, note: None, chars_at_us: Vec::new() }
 }
 
 fn ask_at(at_us: u64, body: &[u8], note: &str) -> Ask {
@@ -59,9 +62,42 @@ fn vector(
             i.apply(&mut now);
             slave.set_inputs(now);
         }
-        let at = a.at_us.unwrap_or(0);
-        let outcome =
-            if a.uart_fault { slave.handle_faulty_frame(&a.frame, at) } else { slave.handle_frame(&a.frame, at) };
+        let mut at = a.at_us.unwrap_or(0);
+        let outcome = if a.chars_at_us.is_empty() {
+            if a.uart_fault {
+                slave.handle_faulty_frame(&a.frame, at)
+            } else {
+                slave.handle_frame(&a.frame, at)
+            }
+        } else {
+            // The model's data link frames the characters: when it took the request is
+            // the vector's `at_us`.
+            let mut steps = Vec::new();
+            for (b, t) in a.frame.iter().zip(&a.chars_at_us) {
+                steps.extend(slave.receive(hiperface_model::datalink::RxChar::ok(*b, *t)));
+            }
+            let last = a.chars_at_us.last().copied().unwrap_or(0);
+            steps.extend(slave.poll(last.saturating_add(1_000_000)));
+            match steps.as_slice() {
+                [step] => {
+                    at = step.received.complete_us;
+                    step.outcome
+                }
+                // Lost while the slave does not listen (000:T9): nothing taken.
+                [] => {
+                    at = last;
+                    slave.handle_frame(&a.frame, last)
+                }
+                _ => {
+                    v.meaning =
+                        format!("GENERATOR ERROR: the characters of {} made {} frames", hex(&a.frame), steps.len());
+                    return v;
+                }
+            }
+        };
+        if !v.flags.contains(&Flag::CharacterTiming) && !a.chars_at_us.is_empty() {
+            v.flags.push(Flag::CharacterTiming);
+        }
         // The clause the model followed in its answer is one the vector exercises.
         let followed = outcome.clause.id();
         if !v.clauses.iter().any(|c| c == followed) {
@@ -86,7 +122,8 @@ fn vector(
             v.flags.push(Flag::Broadcast);
         }
         v.steps.push(VectorStep {
-            at_us: a.at_us,
+            at_us: if a.chars_at_us.is_empty() { a.at_us } else { Some(at) },
+            chars_at_us: a.chars_at_us,
             inputs: a.inputs,
             uart_fault: a.uart_fault,
             request: hex(&a.frame),
@@ -200,7 +237,8 @@ fn check_order(p: &Profile, edition: &str) -> Vec<Vector> {
     ];
     for (name, frame, uart_fault, init_fault, meaning) in cases {
         let setup = Setup { init_faults: init_fault.into_iter().map(str::to_string).collect(), ..Setup::default() };
-        let a = Ask { at_us: None, inputs: None, uart_fault, frame: frame.clone(), note: None };
+        let a =
+            Ask { at_us: None, inputs: None, uart_fault, frame: frame.clone(), note: None, chars_at_us: Vec::new() };
         let v = vector(&e(name), p, "order", &["DESIGN:order"], setup.clone(), vec![a], meaning);
         // The alternatives the model names, as acceptable vectors.
         if let Ok(mut slave) = prepare(&v) {
@@ -389,6 +427,137 @@ fn power_up(p: &Profile, edition: &str) -> Vec<Vector> {
     out
 }
 
+/// A frame sent back to back from `start_us` in `settings`: when each character ends.
+fn back_to_back(frame_len: usize, start_us: u64, settings: UartSettings) -> Vec<u64> {
+    let ct = settings.char_time_us();
+    (1..=frame_len as u64).map(|i| start_us + i * ct).collect()
+}
+
+/// A request (body, checksum added) whose characters arrive at `chars_at_us`.
+fn ask_chars(body: &[u8], chars_at_us: Vec<u64>, note: &str) -> Ask {
+    Ask { chars_at_us, note: Some(note.into()), ..ask(body) }
+}
+
+/// Frame timing through the data link, character by character: the timeout at both
+/// settings of bit 6 (000:2.2.2; 002's pauses, DESIGN:legacy-timeout), a pause that
+/// splits a request and one a microsecond shorter that does not; and power-up with
+/// stored settings at 600 Bd, where the default window still talks at 9600 Bd.
+fn frame_timing(p: &Profile, edition: &str) -> Vec<Vector> {
+    let e = |s: &str| format!("{edition}.frame-timing.{s}");
+    let timeout_clause = if p.edition == hiperface_model::Edition::Legacy { "002:timing" } else { "000:2.2.2" };
+    let (Ok(long), Ok(short), Ok(slow)) =
+        (UartSettings::decode(0xE4), UartSettings::decode(0xA4), UartSettings::decode(0x20))
+    else {
+        return Vec::new();
+    };
+    let with = |s: UartSettings, power_on: bool| Setup {
+        settings: Some(format!("{:02X}", s.byte())),
+        power_on,
+        ..Setup::default()
+    };
+    let read = [0x40, 0x42];
+    let t0 = 2_000_000;
+    // "40 42" then "02" a pause later: the pause, end to end, of the short timeout.
+    let split = |gap_us: u64| {
+        let first = back_to_back(2, t0, short);
+        let second_end = first.last().copied().unwrap_or(t0) + gap_us;
+        (first, vec![second_end])
+    };
+    let (apart, last) = split(short.timeout_us(p.edition));
+    let (together, _) = split(short.timeout_us(p.edition) - 1);
+    let mut joined = together.clone();
+    joined.push(together.last().copied().unwrap_or(t0) + short.timeout_us(p.edition) - 1);
+    let mut out = vec![
+        vector(
+            &e("long-timeout"),
+            p,
+            "42h",
+            &[timeout_clause, "DESIGN:legacy-timeout"],
+            with(long, false),
+            vec![ask_chars(
+                &read,
+                back_to_back(3, t0, long),
+                "back to back: one frame, taken 55 bit times after its end",
+            )],
+            "settings bit 6 set: the request is taken 55 bit times (5.73 ms at 9600 Bd) after its last character ended",
+        ),
+        vector(
+            &e("short-timeout"),
+            p,
+            "42h",
+            &[timeout_clause, "DESIGN:legacy-timeout"],
+            with(short, false),
+            vec![ask_chars(
+                &read,
+                back_to_back(3, t0, short),
+                "back to back: still one frame, taken 22 bit times after its end",
+            )],
+            "settings bit 6 clear: the request is taken 22 bit times (2.29 ms at 9600 Bd) after its last character; \
+             back to back it is one frame (002's 11 bit times are the pause from stop bit to start bit)",
+        ),
+        vector(
+            &e("pause-splits"),
+            p,
+            "42h",
+            &[timeout_clause, "000:T50"],
+            with(short, false),
+            vec![
+                Ask {
+                    chars_at_us: apart,
+                    note: Some(
+                        "a pause of the timeout, end to end, after the second character: it ends the frame".into(),
+                    ),
+                    ..ask_frame(read.to_vec())
+                },
+                Ask {
+                    chars_at_us: last,
+                    note: Some("the third character alone: no address of this slave, silence".into()),
+                    ..ask_frame(vec![0x02])
+                },
+            ],
+            "a pause of the timeout between two characters' ends splits a request: the first part is too short (0Ch)",
+        ),
+        vector(
+            &e("pause-just-under"),
+            p,
+            "42h",
+            &[timeout_clause],
+            with(short, false),
+            vec![ask_chars(&read, joined, "each next character ends 1 µs before the timeout: one frame")],
+            "characters whose ends are a microsecond less than the timeout apart are one request",
+        ),
+    ];
+    // Stored 600 Bd: the slave talks at 9600 Bd in its default window and at 600 Bd
+    // after it; an Encoder Reset at 600 Bd starts it again at 9600 Bd.
+    let after_windows = p.user_settings_ms as u64 * 1000 + 400_000;
+    let reset_chars = back_to_back(3, after_windows + 100_000, slow);
+    let reset_end = reset_chars.last().copied().unwrap_or(0) + slow.timeout_us(p.edition);
+    out.push(vector(
+        &e("stored-600bd"),
+        p,
+        "53h",
+        &["000:T9", "000:T29", "000:T32"],
+        with(slow, true),
+        vec![
+            ask_chars(&read, back_to_back(3, after_windows, slow), "after the windows: the stored 600 Bd"),
+            Ask {
+                chars_at_us: reset_chars,
+                note: Some("Encoder Reset at 600 Bd: no reply; initialization".into()),
+                ..ask(&[0x40, 0x53])
+            },
+            ask_chars(
+                &read,
+                back_to_back(3, reset_end + 30_000, long),
+                "initialization: characters at 9600 Bd are lost",
+            ),
+            ask_chars(&read, back_to_back(3, reset_end + 300_000, long), "the default window: 9600 Bd again"),
+        ],
+        "stored settings at 600 Bd: after power-on and after a reset the default window still talks at 9600 Bd \
+         (a request in it keeps the defaults), after the windows at 600 Bd",
+    ));
+    out
+}
+
 /// Every generated file: (file name, contents).
 pub fn files() -> Vec<(&'static str, VectorFile)> {
     let current = profiles::reference();
@@ -420,6 +589,7 @@ pub fn files() -> Vec<(&'static str, VectorFile)> {
         }
         vectors.extend(check_order(&p, edition));
         vectors.extend(scenarios(&p, edition));
+        vectors.extend(frame_timing(&p, edition));
         out.push((
             name,
             VectorFile {

@@ -54,6 +54,9 @@ pub enum Flag {
     UartFault,
     /// Steps happen at given times after power-on.
     Timed,
+    /// Each request's characters arrive at given times: the slave frames them by its
+    /// timeout (000:2.2.2).
+    CharacterTiming,
     /// The documents leave the device a choice; the answer is acceptable (NON-STRICT).
     Latitude,
 }
@@ -112,6 +115,10 @@ pub struct Setup {
     pub i2c_fault: bool,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub counter: Option<u32>,
+    /// The stored settings byte (hex), where not the profile's: the settings the slave
+    /// listens with once operational (000:T28).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub settings: Option<String>,
     /// Requests (hex, checksum included) sent first; their responses are not part of the vector.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub requests: Vec<String>,
@@ -124,6 +131,11 @@ pub struct VectorStep {
     /// Time after power-on (timed vectors), µs; when the request's timeout elapsed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub at_us: Option<u64>,
+    /// When each of the request's characters ended (its stop bit), µs: the request as
+    /// the line delivers it. Where given, `at_us` is when the slave took it, the
+    /// timeout after the last (000:2.2.2); a replay of whole frames uses `at_us`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub chars_at_us: Vec<u64>,
     /// New physical inputs before this step.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub inputs: Option<Inputs>,

@@ -24,6 +24,10 @@ pub enum VectorError {
     InitFault(String),
     #[error("unknown position fault `{0}`")]
     PositionFault(String),
+    #[error("`{0}` is no settings byte (000:T28)")]
+    Settings(String),
+    #[error("step {step}: {reason}")]
+    Timing { step: usize, reason: String },
     #[error("table row `{table}` / `{input}`: {reason}")]
     TableRow { table: String, input: String, reason: String },
     #[error("no steps, checksum example or table case")]
@@ -51,7 +55,11 @@ pub fn prepare(v: &Vector) -> Result<Slave, VectorError> {
 }
 
 /// A slave of `profile` in the starting state `setup` describes.
-pub fn start(profile: Profile, setup: &Setup) -> Result<Slave, VectorError> {
+pub fn start(mut profile: Profile, setup: &Setup) -> Result<Slave, VectorError> {
+    if let Some(s) = &setup.settings {
+        let byte = u8::from_str_radix(s, 16).map_err(|_| VectorError::Hex(s.clone()))?;
+        profile.settings = hiperface_model::UartSettings::decode(byte).map_err(|_| VectorError::Settings(s.clone()))?;
+    }
     let mut slave = if setup.power_on { Slave::new(profile) } else { Slave::operational(profile) };
     if let Some(i) = setup.inputs {
         let mut inputs = slave.inputs();
@@ -121,8 +129,16 @@ pub fn replay(v: &Vector) -> Result<(), Mismatch> {
         let expected = step.response.as_deref().map(parse_hex).transpose().map_err(fail)?;
         let at = step.at_us.unwrap_or(0);
         let before = slave.clone();
-        let outcome =
-            if step.uart_fault { slave.handle_faulty_frame(&request, at) } else { slave.handle_frame(&request, at) };
+        let outcome = if step.chars_at_us.is_empty() {
+            if step.uart_fault {
+                slave.handle_faulty_frame(&request, at)
+            } else {
+                slave.handle_frame(&request, at)
+            }
+        } else {
+            receive(&mut slave, &request, &step.chars_at_us, at)
+                .map_err(|reason| fail(VectorError::Timing { step: i + 1, reason }))?
+        };
         let got = match outcome.reply {
             Reply::Frame(f) => Some(f.encode().as_bytes().to_vec()),
             Reply::Silent(_) => None,
@@ -150,6 +166,44 @@ pub fn replay(v: &Vector) -> Result<(), Mismatch> {
         }
     }
     Ok(())
+}
+
+/// The request's characters through the slave's data link at their times: it must
+/// take them as one frame at `at_us` (the timeout after the last, 000:2.2.2), and its
+/// outcome is the step's. `Err` says where the vector and the model part.
+pub fn receive(
+    slave: &mut Slave,
+    request: &[u8],
+    chars_at_us: &[u64],
+    at_us: u64,
+) -> Result<hiperface_model::Outcome, String> {
+    if chars_at_us.len() != request.len() {
+        return Err(format!("{} character times for a request of {} bytes", chars_at_us.len(), request.len()));
+    }
+    let mut steps = Vec::new();
+    for (b, t) in request.iter().zip(chars_at_us) {
+        steps.extend(slave.receive(hiperface_model::datalink::RxChar::ok(*b, *t)));
+    }
+    // Nothing else arrives: the frame is taken when its timeout elapses.
+    let last = chars_at_us.last().copied().unwrap_or(0);
+    steps.extend(slave.poll(last.saturating_add(1_000_000)));
+    let step = match steps.as_slice() {
+        [step] => step,
+        // Characters that arrive while the slave does not listen are lost (000:T9):
+        // nothing is taken, and the vector says so with the last character's time.
+        [] if at_us == last => return Ok(slave.handle_frame(request, last)),
+        _ => return Err(format!("the model took {} frames of these characters, the vector one", steps.len())),
+    };
+    if step.received.bytes.as_bytes() != request {
+        return Err(format!("the model framed [{}]", hex(step.received.bytes.as_bytes())));
+    }
+    if step.received.complete_us != at_us {
+        return Err(format!(
+            "the model took the request at {} µs, the vector says {at_us} µs",
+            step.received.complete_us
+        ));
+    }
+    Ok(step.outcome)
 }
 
 /// Frames whose checksum must be right: all but those flagged otherwise.
