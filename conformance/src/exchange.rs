@@ -47,7 +47,7 @@ pub struct Exchange {
     /// How much the line itself may have delayed the exchange, both ways, as measured
     /// beside it (a pseudo-terminal's delivery: `line::delivery`); 0 where nothing is
     /// measured. Like the harness's own lateness, never charged to the device.
-    pub line_late_us: u64,
+    pub line_late: crate::line::delivery::LineLate,
     /// How late a listener may have heard the request's end and the reply's start,
     /// measured for each (zero where the harness took the stamps itself).
     pub heard_late: HeardLate,
@@ -64,12 +64,6 @@ pub struct HeardLate {
 }
 
 impl Exchange {
-    /// What the harness could not see of the exchange's timing: its own lateness and
-    /// the line's measured delay, µs.
-    pub fn unseen_late_us(&self) -> u64 {
-        self.harness_late_us + self.line_late_us
-    }
-
     pub fn reply_bytes(&self) -> Option<Vec<u8>> {
         (!self.reply.is_empty()).then(|| self.reply.iter().map(|c| c.byte).collect())
     }
@@ -314,7 +308,7 @@ impl<L: Line> BusMaster<L> {
             timeout_us: timeout,
             pause_us: settings.pause_us(self.edition),
             harness_late_us: self.line.take_lateness_us(),
-            line_late_us: self.line.delivery_late_us(sent_start_us, end.max(complete.latest_us)),
+            line_late: self.line.delivery_late(sent_start_us, end.max(complete.latest_us)),
             heard_late: HeardLate::default(),
         })
     }

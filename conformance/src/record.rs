@@ -96,7 +96,8 @@ pub struct RecordedExchange {
     pub pause_us: u64,
     /// What the harness could not see: its own lateness and the line's measured delay.
     pub harness_late_us: u64,
-    pub line_late_us: u64,
+    #[serde(default)]
+    pub line_late: crate::line::delivery::LineLate,
 }
 
 impl RecordedExchange {
@@ -114,7 +115,7 @@ impl RecordedExchange {
             timeout_us: x.timeout_us,
             pause_us: x.pause_us,
             harness_late_us: x.harness_late_us,
-            line_late_us: x.line_late_us,
+            line_late: x.line_late,
         }
     }
 
@@ -135,7 +136,7 @@ impl RecordedExchange {
             timeout_us: self.timeout_us,
             pause_us: self.pause_us,
             harness_late_us: self.harness_late_us,
-            line_late_us: self.line_late_us,
+            line_late: self.line_late,
             heard_late: HeardLate::default(),
         })
     }

@@ -263,7 +263,19 @@ fn every_defective_master_is_caught_where_it_breaks_a_rule() {
             profile.init_ms = 500;
         }
         let globs = [Some(d.scenario), d.untouched].into_iter().flatten().collect::<Vec<_>>().join(",");
-        let report = certify(profile, &exec, Some(&globs));
+        // Where the harness's own timing left a verdict untold (UNKNOWN: on a busy
+        // machine every re-run of a scenario was disturbed), the defect is certified
+        // again: the assertions below are about what the harness saw.
+        let mut tries = 0;
+        let report = loop {
+            tries += 1;
+            let report = certify(profile, &exec, Some(&globs));
+            let untold = report.scenarios.iter().any(|s| s.verdict == CaseVerdict::Unknown);
+            if !untold || tries == 4 {
+                break report;
+            }
+            eprintln!("{}: certified again, the harness could not tell: {:#?}", d.name, report.scenarios);
+        };
         let own = report.scenarios.iter().find(|s| s.id == d.scenario).expect("the scenario ran");
         let cited = own.findings.iter().any(|f| f.verdict() == d.verdict && f.clause_id() == d.clause);
         if own.verdict != d.verdict || !cited {

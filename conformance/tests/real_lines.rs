@@ -5,7 +5,7 @@
 mod common;
 
 use common::hx1::{self, Hx1};
-use common::line_emulator::{Behaviour, LineEmulator};
+use common::line_emulator::{faithfully, Behaviour, LineEmulator};
 use hiperface_conformance::certify::{self, CaseVerdict, Options, Report};
 use hiperface_conformance::drive;
 use hiperface_conformance::line::echo::{Echo, EchoLine, EchoMode};
@@ -28,9 +28,12 @@ fn certify_through(emulator: &LineEmulator, profile: Profile, echo: EchoMode, op
 /// `echo`.
 fn simulator_through(behaviour: Behaviour, echo: EchoMode) -> Report {
     let profile = profiles::srs50();
-    let (_sim, device) = PtySimulator::start(profile).unwrap();
-    let emulator = LineEmulator::start(device, behaviour);
-    certify_through(&emulator, profile, echo, &Options::all_allowed())
+    faithfully(|| {
+        let (_sim, device) = PtySimulator::start(profile).unwrap();
+        let emulator = LineEmulator::start(device, behaviour);
+        let r = certify_through(&emulator, profile, echo, &Options::all_allowed());
+        (emulator.was_faithful(), r)
+    })
 }
 
 /// The cases that FAILed or ERRORed, with their findings.
@@ -39,13 +42,19 @@ fn failed(r: &Report) -> Vec<String> {
     bad.map(|c| format!("{}: {:?}", c.id, c.findings.iter().map(|f| f.to_string()).collect::<Vec<_>>())).collect()
 }
 
+/// The cases neither PASSED nor NOT-APPLICABLE, with their findings.
+fn not_passed(r: &Report) -> Vec<String> {
+    let bad = r.cases.iter().filter(|c| !matches!(c.verdict, CaseVerdict::Pass | CaseVerdict::NotApplicable));
+    bad.map(|c| {
+        format!("{} {}: {:?}", c.verdict.label(), c.id, c.findings.iter().map(|f| f.to_string()).collect::<Vec<_>>())
+    })
+    .collect()
+}
+
 #[test]
 fn an_echoing_line_is_found_and_its_echo_taken_off_against_the_simulator() {
     let _one = common::one_at_a_time();
-    let profile = profiles::srs50();
-    let (_sim, device) = PtySimulator::start(profile).unwrap();
-    let emulator = LineEmulator::start(device, Behaviour { echo: true, ..Behaviour::default() });
-    let r = certify_through(&emulator, profile, EchoMode::Auto, &Options::all_allowed());
+    let r = simulator_through(Behaviour { echo: true, ..Behaviour::default() }, EchoMode::Auto);
     assert_eq!(
         failed(&r),
         Vec::<&str>::new(),
@@ -61,10 +70,13 @@ fn an_echoing_line_is_found_and_its_echo_taken_off_against_the_simulator() {
 #[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
 fn an_echoing_line_is_found_and_its_echo_taken_off_against_hx1() {
     let _one = common::one_at_a_time();
-    let hx1 = Hx1::start(&[]);
-    let emulator = LineEmulator::open(&hx1.path, Behaviour { echo: true, ..Behaviour::default() });
     let options = Options { grading: Grading::Range, ..Options::all_allowed() };
-    let r = certify_through(&emulator, hx1::profile(), EchoMode::Auto, &options);
+    let r = faithfully(|| {
+        let hx1 = Hx1::start(&[]);
+        let emulator = LineEmulator::open(&hx1.path, Behaviour { echo: true, ..Behaviour::default() });
+        let r = certify_through(&emulator, hx1::profile(), EchoMode::Auto, &options);
+        (emulator.was_faithful(), r)
+    });
     assert_eq!(failed(&r), Vec::<String>::new());
     assert!(r.outcome().passed(), "{:?} {:?}", r.summary, r.aborted);
     assert_eq!(r.echo, Some((Echo::Echoes, EchoMode::Auto)));
@@ -100,18 +112,22 @@ fn a_declared_latency_timer_is_no_fail_and_is_on_the_certificate() {
     let _one = common::one_at_a_time();
     let profile = profiles::srs50();
     let run = |latency_us: Option<u64>| {
-        let (_sim, device) = PtySimulator::start(profile).unwrap();
-        let emulator = LineEmulator::start(device, Behaviour { latency_ms: 16, ..Behaviour::default() });
-        let spec = PortSpec::Path(emulator.path.clone());
-        let opened =
-            open_for_slave(&spec, profile, &Default::default(), LineOptions { latency_us, ..Default::default() })
-                .unwrap_or_else(|e| panic!("{e}"));
-        let options = Options { timing: opened.default_timing.0, ..Options::all_allowed() };
-        certify::run(opened.line, profile, &options, |_, _, _| {})
+        faithfully(|| {
+            let (_sim, device) = PtySimulator::start(profile).unwrap();
+            let emulator = LineEmulator::start(device, Behaviour { latency_ms: 16, ..Behaviour::default() });
+            let spec = PortSpec::Path(emulator.path.clone());
+            let opened =
+                open_for_slave(&spec, profile, &Default::default(), LineOptions { latency_us, ..Default::default() })
+                    .unwrap_or_else(|e| panic!("{e}"));
+            let options = Options { timing: opened.default_timing.0, ..Options::all_allowed() };
+            let r = certify::run(opened.line, profile, &options, |_, _, _| {});
+            common::replay::assert_replays(&r);
+            (emulator.was_faithful(), r)
+        })
     };
     let declared = run(Some(16_000));
     assert_eq!(failed(&declared), Vec::<String>::new());
-    assert!(declared.outcome().passed(), "{:?}", declared.summary);
+    assert!(declared.outcome().passed(), "{:?} {:?}", declared.summary, not_passed(&declared));
     assert!(declared.line_notes.iter().any(|n| n.contains("16.0 ms")), "{:?}", declared.line_notes);
     let undeclared = run(None);
     assert!(
@@ -128,7 +144,7 @@ fn a_gap_before_each_character_is_no_fail() {
     let _one = common::one_at_a_time();
     let r = simulator_through(Behaviour { gap_us: 300, ..Behaviour::default() }, EchoMode::Auto);
     assert_eq!(failed(&r), Vec::<String>::new());
-    assert!(r.outcome().passed(), "{:?} {:?}", r.summary, r.aborted);
+    assert!(r.outcome().passed(), "{:?} {:?} {:?}", r.summary, r.aborted, not_passed(&r));
 }
 
 /// A drive (the reference master) behind the emulator behaving as `behaviour`,
@@ -136,21 +152,25 @@ fn a_gap_before_each_character_is_no_fail() {
 fn drive_through(behaviour: Behaviour, echo: EchoMode) -> drive::DriveReport {
     use serialport::SerialPort as _;
     let profile = profiles::srs50();
-    let (drive_end, line_end) = serialport::TTYPort::pair().unwrap();
-    let _name = line_end.name();
-    let running = common::reference_drive(Box::new(drive_end), profile);
-    let emulator = LineEmulator::start(Box::new(line_end), behaviour);
-    let options = drive::Options {
-        attach: drive::Attach::Port { path: emulator.path.clone(), power_on: drive::PowerOn::Unseen, echo },
-        scenarios: Some("protocol.checksum-error,protocol.parity,reply.corrupt".into()),
-        polling_period_ms: drive::POLLING_PERIOD_MS,
-        interrupt: None,
-    };
-    let report = drive::run(profile, &options, |_, _, _| {});
-    // The drive ends when its line goes.
-    drop(emulator);
-    let _ = running.join();
-    report
+    faithfully(|| {
+        let (drive_end, line_end) = serialport::TTYPort::pair().unwrap();
+        let _name = line_end.name();
+        let running = common::reference_drive(Box::new(drive_end), profile);
+        let emulator = LineEmulator::start(Box::new(line_end), behaviour);
+        let options = drive::Options {
+            attach: drive::Attach::Port { path: emulator.path.clone(), power_on: drive::PowerOn::Unseen, echo },
+            scenarios: Some("protocol.checksum-error,protocol.parity,reply.corrupt".into()),
+            polling_period_ms: drive::POLLING_PERIOD_MS,
+            interrupt: None,
+        };
+        let report = drive::run(profile, &options, |_, _, _| {});
+        common::replay::assert_master_replays(&report);
+        let faithful = emulator.was_faithful();
+        // The drive ends when its line goes.
+        drop(emulator);
+        let _ = running.join();
+        (faithful, report)
+    })
 }
 
 /// The start of a scenario's timeline, for a failed assertion's message.

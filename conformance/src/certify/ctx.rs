@@ -74,7 +74,9 @@ fn trailing_pause(x: &Exchange) -> Option<TrailingPause> {
     let (last, next) = (x.reply.last()?, x.trailing.first()?);
     let gap = next.at_us.saturating_sub(last.at_us);
     let pause = gap.saturating_sub(x.settings.char_time_us());
-    let late = x.unseen_late_us();
+    // Both parts of the reply came the same way: only the reply's own delivery, not
+    // the request's, can have moved one against the other.
+    let late = x.harness_late_us + x.line_late.reply_us;
     Some(if late > 0 && gap.saturating_sub(late) < x.timeout_us {
         TrailingPause::LatenessCouldExplain
     } else if pause.saturating_sub(late) >= x.timeout_us {
@@ -319,7 +321,7 @@ impl Ctx<'_> {
         }
         self.log(frame, &x, observed.as_deref());
         self.tally.harness_late_us = self.tally.harness_late_us.max(x.harness_late_us);
-        self.tally.line_late_us = self.tally.line_late_us.max(x.line_late_us);
+        self.tally.line_late_us = self.tally.line_late_us.max(x.line_late.both_ways_us());
         self.tally.line_time_us += physical_time_us(&x, limits.max_ms);
         if let (Some(cmd), Some(t)) = (command, timing::at_most_us(&x)) {
             self.tally.response_times.entry(cmd.byte()).or_default().push(t);
@@ -362,7 +364,7 @@ impl Ctx<'_> {
                              ms late",
                             bytes.len(),
                             Hex(&bytes),
-                            x.unseen_late_us() as f64 / 1000.0
+                            (x.harness_late_us + x.line_late.reply_us) as f64 / 1000.0
                         ))
                     }
                     Some(TrailingPause::WithinOneCharacter) => Finding::non_strict(
@@ -501,7 +503,7 @@ mod tests {
             timeout_us: timeout,
             pause_us: timeout,
             harness_late_us,
-            line_late_us: 0,
+            line_late: Default::default(),
             heard_late: HeardLate::default(),
         };
         assert_eq!(trailing_pause(&x(0)), Some(TrailingPause::Ended));

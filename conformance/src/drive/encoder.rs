@@ -592,7 +592,7 @@ mod tests {
     /// master (rightly) gave up, asked again and met the reply. That reply is disturbed.
     #[test]
     fn a_reply_to_a_request_read_late_is_disturbed() {
-        use crate::simulate::{Hooks, Planned};
+        use crate::simulate::Hooks;
         let p = hiperface_model::profiles::srs50();
         let scenario = crate::drive::scenarios::catalogue().into_iter().next().unwrap();
         let reply_disturbance = |read_late_us| {
@@ -610,16 +610,7 @@ mod tests {
             let step = steps.into_iter().find(|s| s.transmission.is_some()).unwrap();
             encoder.frame(&mut slave, &step);
             let tx = step.transmission.unwrap();
-            let planned = Planned {
-                frame: tx.frame.as_bytes().to_vec(),
-                start_us: tx.earliest_start_us,
-                settings: tx.settings,
-                gap: None,
-                paced: false,
-                disturbed_us: 0,
-                split_by_harness: false,
-                answered_late_us: 0,
-            };
+            let planned = crate::simulate::planned_reply(&tx);
             encoder.reply(&mut slave, &step, planned).map(|p| p.answered_late_us)
         };
         assert_eq!(reply_disturbance(0), Some(0));

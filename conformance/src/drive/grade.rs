@@ -97,7 +97,7 @@ fn grade(
     let reaction_missed = result.findings.len() > before_reaction;
     // One finding per rule, with the count and the first observation that stands. An
     // observation the harness's own timing may explain is not charged to the master:
-    // the rule is then NON-STRICT at most, with the reason. That is one the harness
+    // the rule is then UNKNOWN, with the reason. That is one the harness
     // read late by as much as the rule was broken by, and anything after a reply the
     // harness wrote with a pause it did not plan (the master may have heard the reply
     // end there, and all it did after rests on that).
@@ -147,7 +147,7 @@ fn grade(
         let message = format!("{} at {:.3} ms{figure}{times}", rule.text(), at_us as f64 / 1000.0);
         let mut finding = Finding::broken(rule.clause(), message, edition);
         if let (None, Some(why)) = (standing, shown.and_then(unproven)) {
-            finding = finding.softened(&why);
+            finding = finding.untold(&why);
             any_unproven.get_or_insert(why);
         }
         // A request in the settings-change window by the encoder's clock may be in the

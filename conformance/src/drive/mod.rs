@@ -318,7 +318,7 @@ pub fn run_with(
         "The harness's encoder ran at a real-time priority in {} of {} scenarios (where not permitted it runs as any \
          process). A scenario is run again (at most {} times) where the harness's own timing may have changed what \
          the master did: a reply it wrote in two parts or past its limit, or an unplanned pause the master broke a \
-         rule after; what such a disturbance could explain is never a FAIL.",
+         rule after; what such a disturbance could explain is UNKNOWN, never charged to the master.",
         report.real_time_scenarios,
         n - not_run,
         MAX_ATTEMPTS

@@ -193,6 +193,10 @@ pub struct ScenarioRecord {
     pub end_us: u64,
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub cut_short: bool,
+    /// Faults of the line itself found in the run (an echo unlike the reply, one with
+    /// `--echo off`): when (µs), and what. Facts about the line, never the master's.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub line_faults: Vec<(u64, String)>,
 }
 
 /// Why a master record cannot be taken in again.
@@ -302,6 +306,7 @@ pub fn replay_scenario(
         }
     }
     hooks.finish(r.end_us);
+    hooks.timeline.line_faults.extend(r.line_faults.iter().cloned());
     let by_operator = r.start == Start::PowerOnByOperator;
     let started = std::time::Instant::now();
     let disturbed = super::grade::finish(&mut result, &mut hooks, scenario, started, by_operator, r.cut_short);

@@ -45,6 +45,7 @@ impl ScenarioRun {
             inputs: Vec::new(),
             end_us: 0,
             cut_short: false,
+            line_faults: Vec::new(),
         };
         ScenarioRun {
             result,
@@ -78,6 +79,7 @@ impl ScenarioRun {
             inputs: super::record::compact(hooks.take_log()),
             end_us: hooks.timeline.end_us,
             cut_short,
+            line_faults: hooks.timeline.line_faults.clone(),
         };
         let by_operator = start == Start::PowerOnByOperator;
         let disturbed = finish(&mut result, &mut hooks, scenario, started, by_operator, cut_short);

@@ -11,10 +11,10 @@
 //!
 //! The probe is a second pseudo-terminal beside the line: a writer at the priority a
 //! device's processor would have (a real-time priority where permitted) writes the time
-//! every millisecond; a reader at the harness's own priority notes how late each write
+//! every 2 ms; a reader at the harness's own priority notes how late each write
 //! arrived. Around an exchange, the longest of those delays bounds how late the line
 //! may have delivered what the device wrote, and how late the device may have received
-//! the request: both are folded into the harness's own lateness (`Exchange::line_late_us`),
+//! the request: both are folded into the harness's own lateness (`Exchange::line_late`),
 //! so that a reply the line may have delayed past its limit is UNKNOWN and its case is
 //! run again, never a FAIL. A device late by more than the line could explain still
 //! FAILs.
@@ -26,10 +26,26 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 /// How often the probe writes.
-pub const PERIOD: Duration = Duration::from_millis(1);
+pub const PERIOD: Duration = Duration::from_millis(2);
 
 /// How long samples are kept: longer than any exchange's window.
 const KEEP_US: u64 = 5_000_000;
+
+/// How much the line itself may have delayed an exchange, each way, as measured beside
+/// it, µs.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct LineLate {
+    /// The request on its way to the device.
+    pub request_us: u64,
+    /// The reply on its way back.
+    pub reply_us: u64,
+}
+
+impl LineLate {
+    pub const fn both_ways_us(self) -> u64 {
+        self.request_us + self.reply_us
+    }
+}
 
 /// One write of the probe: when it was written and how late it was read, µs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -167,13 +183,13 @@ impl DeliveryProbe {
     /// written) and the reply to the harness (its writes over the exchange). Writes
     /// still on their way at `now_us` (given a moment to arrive) count as late as they
     /// are old.
-    pub fn late_both_ways_us(&self, from_us: u64, to_us: u64, now_us: u64) -> u64 {
+    pub fn late_both_ways(&self, from_us: u64, to_us: u64, now_us: u64) -> LineLate {
         let period = PERIOD.as_micros() as u64;
         let newest = self.settle(now_us, Duration::from_millis(20));
         let overdue = newest.map_or(0, |w| now_us.saturating_sub(w + 2 * period));
         let request = self.max_delay_us(from_us.saturating_sub(2 * period), from_us + 2 * period).unwrap_or(0);
         let reply = self.max_delay_us(from_us, to_us).unwrap_or(0);
-        request.max(overdue) + reply.max(overdue)
+        LineLate { request_us: request.max(overdue), reply_us: reply.max(overdue) }
     }
 
     /// How late what is read at `at` may have been delivered: the longest delay of the

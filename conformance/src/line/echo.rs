@@ -219,8 +219,8 @@ impl<L: Line> Line for EchoLine<L> {
     fn take_lateness_us(&mut self) -> u64 {
         self.inner.take_lateness_us()
     }
-    fn delivery_late_us(&mut self, from_us: u64, to_us: u64) -> u64 {
-        self.inner.delivery_late_us(from_us, to_us)
+    fn delivery_late(&mut self, from_us: u64, to_us: u64) -> super::delivery::LineLate {
+        self.inner.delivery_late(from_us, to_us)
     }
     fn delivery_stats(&self) -> Option<super::delivery::DeliveryStats> {
         self.inner.delivery_stats()

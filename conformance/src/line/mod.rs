@@ -154,8 +154,8 @@ pub trait Line {
     /// `to_us`, both ways (the request to the device, its reply to the harness), as
     /// measured beside it (a pseudo-terminal's delivery, see [`delivery`]); 0 where
     /// nothing is measured.
-    fn delivery_late_us(&mut self, _from_us: u64, _to_us: u64) -> u64 {
-        0
+    fn delivery_late(&mut self, _from_us: u64, _to_us: u64) -> delivery::LineLate {
+        delivery::LineLate::default()
     }
     /// What the delivery probe beside the line saw over the run, where there is one.
     fn delivery_stats(&self) -> Option<delivery::DeliveryStats> {
@@ -215,8 +215,8 @@ impl<L: Line + ?Sized> Line for Box<L> {
     fn take_lateness_us(&mut self) -> u64 {
         (**self).take_lateness_us()
     }
-    fn delivery_late_us(&mut self, from_us: u64, to_us: u64) -> u64 {
-        (**self).delivery_late_us(from_us, to_us)
+    fn delivery_late(&mut self, from_us: u64, to_us: u64) -> delivery::LineLate {
+        (**self).delivery_late(from_us, to_us)
     }
     fn delivery_stats(&self) -> Option<delivery::DeliveryStats> {
         (**self).delivery_stats()

@@ -279,9 +279,9 @@ impl Line for SerialLine {
         }
     }
 
-    fn delivery_late_us(&mut self, from_us: u64, to_us: u64) -> u64 {
-        let Some(probe) = &self.delivery else { return 0 };
-        probe.late_both_ways_us(from_us, to_us, self.time.now_us())
+    fn delivery_late(&mut self, from_us: u64, to_us: u64) -> super::delivery::LineLate {
+        let Some(probe) = &self.delivery else { return Default::default() };
+        probe.late_both_ways(from_us, to_us, self.time.now_us())
     }
 
     fn delivery_stats(&self) -> Option<super::delivery::DeliveryStats> {

@@ -69,7 +69,7 @@ impl Listener {
                 timeout_us,
                 pause_us: settings.pause_us(edition),
                 harness_late_us: 0,
-                line_late_us: 0,
+                line_late: Default::default(),
                 heard_late,
             };
             let limits = self.options.profile.response_limit(command);

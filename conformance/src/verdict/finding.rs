@@ -100,6 +100,18 @@ impl Finding {
         self
     }
 
+    /// A broken rule the harness's own timing could explain (a busy machine read the
+    /// line late, or wrote a reply with a pause it did not plan): the harness cannot
+    /// tell whether the device broke it, so it is UNKNOWN, with the reason, never
+    /// charged to the device. Only a FAIL or a NON-STRICT changes.
+    pub fn untold(mut self, reason: &str) -> Finding {
+        if matches!(self.verdict, CaseVerdict::Fail | CaseVerdict::NonStrict) {
+            self.verdict = CaseVerdict::Unknown;
+            self.message.push_str(&format!(" ({reason})"));
+        }
+        self
+    }
+
     pub fn verdict(&self) -> CaseVerdict {
         self.verdict
     }

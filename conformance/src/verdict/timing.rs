@@ -60,7 +60,7 @@ pub fn grade(
     // How much later (after) and earlier (before) than measured the reply may truly
     // have started relative to the request's timeout.
     let after = x.heard_late.request_end_us as i64;
-    let before = (x.harness_late_us + x.line_late_us + x.heard_late.reply_start_us) as i64;
+    let before = (x.harness_late_us + x.line_late.both_ways_us() + x.heard_late.reply_start_us) as i64;
     let limit = limits.max_ms as i64 * 1000;
     let late_ms = |us: i64| us as f64 / 1000.0;
     let mut found = Vec::new();
@@ -77,8 +77,11 @@ pub fn grade(
         );
         found.push(Finding::fail(msg, clause::COMMANDS, edition));
     } else if lo - tol + after > limit {
-        let line = if x.line_late_us > 0 {
-            format!(", with the line's own delivery measured beside it ({:.3} ms),", late_ms(x.line_late_us as i64))
+        let line = if x.line_late.both_ways_us() > 0 {
+            format!(
+                ", with the line's own delivery measured beside it ({:.3} ms),",
+                late_ms(x.line_late.both_ways_us() as i64)
+            )
         } else {
             String::new()
         };
@@ -145,7 +148,7 @@ mod tests {
             timeout_us: TIMEOUT,
             pause_us: TIMEOUT,
             harness_late_us: 0,
-            line_late_us: 0,
+            line_late: Default::default(),
             heard_late: Default::default(),
         }
     }
@@ -268,14 +271,15 @@ mod tests {
         assert_eq!(grade(&x), vec![CaseVerdict::Fail]);
         // The pseudo-terminal's delivery, measured beside the line, was up to 12 ms
         // both ways: the reply may have been on time.
-        let delayed = Exchange { line_late_us: 12_000, ..x.clone() };
+        let both = crate::line::delivery::LineLate { request_us: 6_000, reply_us: 6_000 };
+        let delayed = Exchange { line_late: both, ..x.clone() };
         assert_eq!(grade(&delayed), vec![CaseVerdict::Unknown]);
         assert!(super::grade(&delayed, limits, 2_000, TimingMode::Strict, Edition::Current)[0]
             .message()
             .contains("delivery"));
         // 60 ms late is late whatever the line did.
         let x = exchange(end, Window::exact(100_000 + TIMEOUT + 60_000));
-        assert_eq!(grade(&Exchange { line_late_us: 12_000, ..x }), vec![CaseVerdict::Fail]);
+        assert_eq!(grade(&Exchange { line_late: both, ..x }), vec![CaseVerdict::Fail]);
     }
 
     #[test]
