@@ -130,7 +130,7 @@ pub(super) fn on_port(
         ));
         return ScenarioRun::early(result);
     }
-    let port = match port.try_clone() {
+    let mut port = match port.try_clone() {
         Ok(p) => p,
         Err(e) => {
             result.push(Finding::error(format!("cannot use the port: {e}")));
@@ -153,7 +153,15 @@ pub(super) fn on_port(
             slave
         }
     };
-    let on_port = OnPort { echo: echo.clone().carried_over() };
+    let mut on_port = OnPort { echo: echo.clone().carried_over() };
+    if power_on == PowerOn::Unseen {
+        // The drive talks on from one scenario to the next: the scenario starts at a
+        // pause of the timeout, so that a request begun before it is not cut in two
+        // and its tail charged to this scenario as a frame that is no request. What
+        // comes meanwhile is the last reply's echo, if one is owed, or the drive's.
+        let timeout = Duration::from_micros(profile.settings.timeout_us(profile.edition));
+        wait_for_quiet(port.as_mut(), &mut on_port.echo, timeout, Duration::from_secs(1));
+    }
     let mut hooks = DriveEncoder::new(profile, scenario, power_on == PowerOn::Prompt, None).on_port(on_port);
     hooks.set_polling_period_ms(polling_period_ms);
     let arisen = hooks.arisen();
@@ -173,6 +181,27 @@ pub(super) fn on_port(
     }
     let start = if power_on == PowerOn::Prompt { Start::PowerOnByOperator } else { Start::Operational };
     ScenarioRun::graded(result, hooks, scenario, started, start, cut_short, String::new())
+}
+
+/// Read what arrives until the line has been quiet for `quiet` (at most `limit`: a
+/// master that never pauses starts its scenario talking, and is graded on it): an
+/// owed echo is taken off by `echo` (its faults stay the line's), the rest dropped.
+fn wait_for_quiet(port: &mut dyn SerialPort, echo: &mut ReplyEcho, quiet: Duration, limit: Duration) {
+    let before = port.timeout();
+    let _ = port.set_timeout(Duration::from_millis(1));
+    let started = Instant::now();
+    let mut last = Instant::now();
+    let mut buf = [0u8; 64];
+    let mut dropped = Vec::new();
+    while last.elapsed() < quiet && started.elapsed() < limit {
+        if let Ok(n) = std::io::Read::read(port, &mut buf) {
+            for &byte in buf.get(..n).unwrap_or_default() {
+                echo.take(hiperface_model::datalink::RxChar { byte, at_us: 0, fault: None }, &mut dropped);
+                last = Instant::now();
+            }
+        }
+    }
+    let _ = port.set_timeout(before);
 }
 
 /// One scenario: a fresh encoder on a fresh pseudo-terminal, the master started on it.
