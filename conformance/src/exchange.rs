@@ -7,12 +7,7 @@ use hiperface_model::datalink::{DataLink, RxChar};
 use hiperface_model::frame::MAX_FRAME;
 use hiperface_model::{checksum, Edition, UartSettings};
 
-/// A request body with its checksum appended. // 000:2.3.3
-pub fn sealed(body: &[u8]) -> Vec<u8> {
-    let mut frame = body.to_vec();
-    frame.push(checksum::xor(body));
-    frame
-}
+pub use hiperface_suite::frame::sealed;
 
 /// One request and what came back.
 #[derive(Debug, Clone)]

@@ -77,7 +77,13 @@ int main(void) {
         size_t reply_len = (size_t)(rand() % 12);
         CHECK(hf_oracle_grade(s, buf, len, t, rand() % 4 ? buf + 1 : NULL, reply_len, rand() % 2, rand() % 2, &g) == HF_STATUS_OK);
         CHECK(g.verdict <= HF_VERDICT_FAIL && memchr(g.clause, 0, sizeof g.clause) && memchr(g.reason, 0, sizeof g.reason));
+        /* The enums' names: any int, a static string ("?" outside the enum). */
+        int any = rand() - RAND_MAX / 2;
+        CHECK(strlen(hf_status_name(any)) > 0 && strlen(hf_verdict_name(any)) > 0);
+        CHECK(strlen(hf_fault_name(any)) > 0 && strlen(hf_vector_kind_name(any)) > 0);
     }
+    CHECK(strcmp(hf_verdict_name(HF_VERDICT_NON_STRICT), "NON-STRICT") == 0 && strcmp(hf_verdict_name(3), "?") == 0);
+    CHECK(strcmp(hf_status_name(HF_STATUS_SHORT_BUFFER), "SHORT_BUFFER") == 0 && strcmp(hf_status_name(-1), "?") == 0);
     /* A copy of a slave, and slaves of TOML text: nulls, short storage, broken text. */
     void *copy = aligned_alloc(hf_slave_align(), (hf_slave_size() + hf_slave_align()) / hf_slave_align() * hf_slave_align());
     HfSlave *c = NULL;

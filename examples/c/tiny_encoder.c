@@ -60,7 +60,7 @@ int main(int argc, char **argv) {
             fprintf(stderr, "grade: status %d\n", (int)s);
             return 2;
         }
-        const char *v = g.verdict == HF_VERDICT_PASS ? "PASS" : g.verdict == HF_VERDICT_NON_STRICT ? "NON-STRICT" : "FAIL";
+        const char *v = hf_verdict_name((int)g.verdict);
         printf("%02X %02X %02X -> %s [%s] %s\n", requests[i][0], requests[i][1], requests[i][2], v, g.clause, g.reason);
         failed |= g.verdict == HF_VERDICT_FAIL;
         at_us += 20000;

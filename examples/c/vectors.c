@@ -14,14 +14,7 @@
 #include <string.h>
 #include "hiperface.h"
 
-static const char *verdict_name(HfVerdict v) {
-    switch (v) {
-    case HF_VERDICT_PASS: return "PASS";
-    case HF_VERDICT_NON_STRICT: return "NON-STRICT";
-    case HF_VERDICT_FAIL: return "FAIL";
-    }
-    return "?";
-}
+static const char *verdict_name(HfVerdict v) { return hf_verdict_name((int)v); }
 
 /* The step's physical inputs over the slave's (only those the step sets). */
 static int apply_inputs(HfSlave *s, const HfVectorStep *st) {

@@ -196,11 +196,11 @@ typedef struct HfInputs {
    */
   int32_t speed;
   /**
-   * Temperature, °C (000:T16).
+   * Temperature, °C: what Read Analog Value answers for source 48h (000:T14).
    */
   int16_t temperature_c;
   /**
-   * LED current, mA (000:T16).
+   * LED (transmitter) current, mA: its critical value is fault 1Dh (000:T58).
    */
   uint16_t led_current_ma;
 } HfInputs;
@@ -467,6 +467,25 @@ enum HfStatus hf_oracle_grade(struct HfSlave *slave,
                               struct HfGrade *out);
 
 /**
+ * The name of an [`HfStatus`] as the header spells its constant without the prefix
+ * ("OK", "NULL", "SHORT_BUFFER", "INVALID", "UNKNOWN_PROFILE", "NOTHING"); "?" for
+ * any other value. A static NUL-terminated string: never freed.
+ */
+const char *hf_status_name(int status);
+
+/**
+ * The name of an [`HfVerdict`] as the reports write it ("PASS", "NON-STRICT",
+ * "FAIL"); "?" for any other value. A static NUL-terminated string: never freed.
+ */
+const char *hf_verdict_name(int verdict);
+
+/**
+ * The name of an [`HfFault`] ("NONE", "PARITY", "FRAMING", "NOISE", "OVERRUN",
+ * 000:T47); "?" for any other value. A static NUL-terminated string: never freed.
+ */
+const char *hf_fault_name(int fault);
+
+/**
  * An operational slave of the profile in the TOML text `toml` (the format of
  * `hiperface export-profile`), in `storage` as [`hf_slave_init`](crate::hf_slave_init)
  * places one, or on the heap (to free with [`hf_slave_free`](crate::hf_slave_free))
@@ -484,6 +503,12 @@ enum HfStatus hf_slave_from_toml(const char *toml,
                                  struct HfSlave **out,
                                  char *error,
                                  size_t error_len);
+
+/**
+ * The name of an [`HfVectorKind`] ("STEPS", "CHECKSUM_EXAMPLE", "TABLE_CASE"); "?"
+ * for any other value. A static NUL-terminated string: never freed.
+ */
+const char *hf_vector_kind_name(int kind);
 
 /**
  * Read the vector file at `path` (checked against the vectors' JSON schema); `out`

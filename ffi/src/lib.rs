@@ -18,10 +18,12 @@
 #![cfg_attr(not(feature = "std"), no_std)]
 #![deny(unsafe_op_in_unsafe_fn)]
 
+mod names;
 #[cfg(feature = "std")]
 mod profile_toml;
 #[cfg(feature = "std")]
 mod vectors;
+pub use names::*;
 #[cfg(feature = "std")]
 pub use {profile_toml::*, vectors::*};
 
@@ -128,9 +130,9 @@ pub struct HfInputs {
     pub position: u64,
     /// Shaft speed (rpm, or mm/s on a linear device); any non-zero value is motion.
     pub speed: i32,
-    /// Temperature, °C (000:T16).
+    /// Temperature, °C: what Read Analog Value answers for source 48h (000:T14).
     pub temperature_c: i16,
-    /// LED current, mA (000:T16).
+    /// LED (transmitter) current, mA: its critical value is fault 1Dh (000:T58).
     pub led_current_ma: u16,
 }
 

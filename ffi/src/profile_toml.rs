@@ -3,8 +3,8 @@
 
 use crate::{boxed_or_placed, tell, HfSlave, HfStatus};
 use core::ffi::{c_char, c_void, CStr};
-use hiperface_conformance::profile_file;
 use hiperface_model::Slave;
+use hiperface_suite::profile_file;
 use std::path::Path;
 
 /// An operational slave of the profile in the TOML text `toml` (the format of

@@ -6,7 +6,7 @@
 
 use crate::{boxed_or_placed, c_text, tell, HfInputs, HfSlave, HfStatus, HfVerdict, HF_MAX_FRAME};
 use core::ffi::{c_char, c_void, CStr};
-use hiperface_conformance::vectors::{self, parse_hex, tables, Expected, Vector};
+use hiperface_suite::vectors::{self, parse_hex, tables, Expected, Vector};
 use std::path::Path;
 
 /// Room for a vector's id in [`HfVector`], with its NUL.
@@ -41,6 +41,19 @@ pub enum HfVectorKind {
     ChecksumExample = 1,
     /// A row of a master-side table ([`hf_vector_table_case`]).
     TableCase = 2,
+}
+
+/// The name of an [`HfVectorKind`] ("STEPS", "CHECKSUM_EXAMPLE", "TABLE_CASE"); "?"
+/// for any other value. A static NUL-terminated string: never freed.
+#[no_mangle]
+pub extern "C" fn hf_vector_kind_name(kind: core::ffi::c_int) -> *const c_char {
+    let name = match kind {
+        k if k == HfVectorKind::Steps as core::ffi::c_int => c"STEPS",
+        k if k == HfVectorKind::ChecksumExample as core::ffi::c_int => c"CHECKSUM_EXAMPLE",
+        k if k == HfVectorKind::TableCase as core::ffi::c_int => c"TABLE_CASE",
+        _ => c"?",
+    };
+    name.as_ptr()
 }
 
 /// A vector's header.

@@ -204,7 +204,7 @@ fn a_copy_of_a_slave() {
 #[test]
 fn a_slave_of_a_profiles_toml_text() {
     for (name, make) in profiles::BUILTIN {
-        let toml = std::ffi::CString::new(hiperface_conformance::profile_file::to_toml(&make())).unwrap();
+        let toml = std::ffi::CString::new(hiperface_suite::profile_file::to_toml(&make())).unwrap();
         let mut s = null_mut();
         let mut error = [0 as std::ffi::c_char; 256];
         let status =
@@ -216,7 +216,7 @@ fn a_slave_of_a_profiles_toml_text() {
         unsafe { hf_slave_free(s) };
         unsafe { hf_slave_free(builtin) };
     }
-    let srs50 = hiperface_conformance::profile_file::to_toml(&profiles::srs50());
+    let srs50 = hiperface_suite::profile_file::to_toml(&profiles::srs50());
     let broken = std::ffi::CString::new(srs50.replace("address = 0x40", "address = 0x99")).unwrap();
     assert_ne!(broken.as_bytes(), srs50.as_bytes(), "the test changes the address line");
     let mut storage = vec![0u64; hf_slave_size() / 8 + 1];
@@ -235,4 +235,24 @@ fn a_slave_of_a_profiles_toml_text() {
     let why = unsafe { std::ffi::CStr::from_ptr(error.as_ptr()) }.to_string_lossy().into_owned();
     assert_eq!(status, HfStatus::Invalid);
     assert!(why.contains("address") && why.contains("profile:"), "{why}");
+}
+
+#[test]
+fn every_enum_has_its_name_and_any_other_value_a_question_mark() {
+    use std::ffi::{c_int, CStr};
+    let text = |p: *const std::ffi::c_char| unsafe { CStr::from_ptr(p) }.to_str().unwrap().to_string();
+    let verdicts: Vec<_> = (0..3).map(|v| text(hf_verdict_name(v))).collect();
+    assert_eq!(verdicts, ["PASS", "NON-STRICT", "FAIL"]);
+    let statuses: Vec<_> = (0..6).map(|v| text(hf_status_name(v))).collect();
+    assert_eq!(statuses, ["OK", "NULL", "SHORT_BUFFER", "INVALID", "UNKNOWN_PROFILE", "NOTHING"]);
+    let faults: Vec<_> = (0..5).map(|v| text(hf_fault_name(v))).collect();
+    assert_eq!(faults, ["NONE", "PARITY", "FRAMING", "NOISE", "OVERRUN"]);
+    let kinds: Vec<_> = (0..3).map(|v| text(hf_vector_kind_name(v))).collect();
+    assert_eq!(kinds, ["STEPS", "CHECKSUM_EXAMPLE", "TABLE_CASE"]);
+    assert_eq!(text(hf_status_name(HfStatus::ShortBuffer as c_int)), "SHORT_BUFFER");
+    for other in [-1, 3, 6, 7, c_int::MAX, c_int::MIN] {
+        let names = [hf_verdict_name(other), hf_fault_name(other.max(5)), hf_status_name(other.max(6))];
+        assert!(names.iter().all(|&n| text(n) == "?"), "{other}");
+    }
+    assert_eq!(text(hf_vector_kind_name(-1)), "?");
 }

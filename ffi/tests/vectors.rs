@@ -6,7 +6,7 @@
 //! rows of the master-side tables. The same replay in C: `examples/c/vectors.c`.
 
 use hiperface::*;
-use hiperface_conformance::vectors;
+use hiperface_suite::vectors;
 use std::ffi::{CStr, CString};
 use std::path::{Path, PathBuf};
 use std::ptr::{null, null_mut};

@@ -7,7 +7,11 @@
   to send and in which window (000:2.2.2, 000:T8).
 - ``Oracle(exact=False).grade(slave, request, at_us, reply)``: a device's reply graded
   PASS, NON-STRICT or FAIL with the clause id and the reason, in lockstep with the model.
-- ``verify_vectors(dir)``: the golden vectors checked as ``hiperface vectors verify`` does.
+- ``verify_vectors(dir)``: the golden vectors checked as ``hiperface vectors verify`` does
+  (a directory without a vector is an error); ``load_vectors(file)`` gives a file's
+  vectors one by one, each with ``verify()``.
+- Frames may be ``bytes``, ``bytearray`` or ``memoryview``; a missing file raises
+  ``FileNotFoundError`` everywhere.
 - ``decode(path)``: a capture file (wire log, logic analyser CSV, sigrok-cli) graded
   as ``hiperface decode`` grades it: every exchange with its verdict and findings.
 - ``read_report(path)``: a ``report.json`` as Python objects (a certification's
@@ -23,9 +27,11 @@ from ._hiperface import (
     Request,
     Slave,
     Transmission,
+    Vector,
     checksum,
     decode_request,
     is_valid,
+    load_vectors,
     seal,
     verify_vectors,
 )
@@ -45,11 +51,13 @@ __all__ = [
     "Request",
     "Slave",
     "Transmission",
+    "Vector",
     "checksum",
     "decode",
     "decode_request",
     "is_valid",
     "read_report",
+    "load_vectors",
     "seal",
     "verify_vectors",
 ]

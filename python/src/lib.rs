@@ -4,13 +4,13 @@
 
 use hiperface_conformance::capture::Format;
 use hiperface_conformance::listen::cli::{grade_capture, DecodeOptions};
-use hiperface_conformance::{profile_file, vectors};
+use hiperface_suite::{profile_file, vectors};
 use hiperface_model::checksum::{is_valid as xor_is_zero, xor};
 use hiperface_model::{Grading, Oracle as ModelOracle, RequestFrame, RxChar, Step, UartFault, Verdict};
 use pyo3::create_exception;
-use pyo3::exceptions::{PyException, PyValueError};
+use pyo3::exceptions::{PyException, PyFileNotFoundError, PyOSError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::PyBytes;
+use pyo3::types::{PyByteArray, PyBytes, PyMemoryView};
 use std::path::Path;
 
 create_exception!(_hiperface, HiperfaceError, PyException, "An error of the hiperface package.");
@@ -28,24 +28,68 @@ create_exception!(
     "A profile that cannot be loaded: the file, line and field."
 );
 
+/// Any bytes-like object a test bench holds a frame in: `bytes`, `bytearray` or a
+/// `memoryview` (copied: frames are short). Anything else is a `TypeError`.
+struct Frame(Vec<u8>);
+
+impl<'py> FromPyObject<'py> for Frame {
+    fn extract_bound(ob: &Bound<'py, PyAny>) -> PyResult<Self> {
+        if let Ok(b) = ob.downcast::<PyBytes>() {
+            return Ok(Frame(b.as_bytes().to_vec()));
+        }
+        if let Ok(b) = ob.downcast::<PyByteArray>() {
+            return Ok(Frame(b.to_vec()));
+        }
+        if ob.is_instance_of::<PyMemoryView>() {
+            let copy = ob.call_method0("tobytes")?;
+            return Ok(Frame(copy.downcast::<PyBytes>()?.as_bytes().to_vec()));
+        }
+        let name = ob.get_type().name().map(|n| n.to_string()).unwrap_or_default();
+        Err(PyTypeError::new_err(format!("a bytes-like object (bytes, bytearray, memoryview) is required, not {name}")))
+    }
+}
+
+/// A file that could not be read: `FileNotFoundError` where it is missing (as
+/// `open` raises), another `OSError` for other reasons of the system.
+fn io_error(e: &std::io::Error, message: String) -> PyErr {
+    match e.kind() {
+        std::io::ErrorKind::NotFound => PyFileNotFoundError::new_err(message),
+        _ => PyOSError::new_err(message),
+    }
+}
+
+fn profile_error(e: profile_file::ProfileLoadError) -> PyErr {
+    match &e {
+        profile_file::ProfileLoadError::Io { source, .. } => io_error(source, e.to_string()),
+        _ => ProfileError::new_err(e.to_string()),
+    }
+}
+
+fn vectors_error(e: vectors::LoadError) -> PyErr {
+    match &e {
+        vectors::LoadError::Io { source, .. } => io_error(source, e.to_string()),
+        _ => HiperfaceError::new_err(e.to_string()),
+    }
+}
+
 /// The XOR checksum of `data` (000:2.3.3).
 #[pyfunction]
-fn checksum(data: &[u8]) -> u8 {
-    xor(data)
+fn checksum(data: Frame) -> u8 {
+    xor(&data.0)
 }
 
 /// `frame` with its checksum appended (000:2.3.3).
 #[pyfunction]
-fn seal<'py>(py: Python<'py>, frame: &[u8]) -> Bound<'py, PyBytes> {
-    let mut sealed = frame.to_vec();
-    sealed.push(xor(frame));
+fn seal<'py>(py: Python<'py>, frame: Frame) -> Bound<'py, PyBytes> {
+    let mut sealed = frame.0;
+    sealed.push(xor(&sealed));
     PyBytes::new(py, &sealed)
 }
 
 /// Whether `frame` (checksum included, 2 bytes or more) XORs to 0 (000:2.3.3).
 #[pyfunction]
-fn is_valid(frame: &[u8]) -> bool {
-    frame.len() >= 2 && xor_is_zero(frame)
+fn is_valid(frame: Frame) -> bool {
+    frame.0.len() >= 2 && xor_is_zero(&frame.0)
 }
 
 /// A decoded request.
@@ -73,7 +117,8 @@ impl Request {
 
 /// Decode a request; raises `MalformedRequest(message, code)` for one a slave refuses.
 #[pyfunction]
-fn decode_request(py: Python<'_>, frame: &[u8]) -> PyResult<Request> {
+fn decode_request(py: Python<'_>, frame: Frame) -> PyResult<Request> {
+    let frame = frame.0.as_slice();
     match RequestFrame::decode(frame) {
         Ok(rf) => Ok(Request {
             address: rf.address.byte(),
@@ -145,7 +190,7 @@ impl Slave {
     /// of a profile's TOML file. Raises `ProfileError` naming the file, line and field.
     #[new]
     fn new(profile: &str) -> PyResult<Slave> {
-        let p = profile_file::resolve(profile).map_err(|e| ProfileError::new_err(e.to_string()))?;
+        let p = profile_file::resolve(profile).map_err(profile_error)?;
         Ok(Slave { slave: hiperface_model::Slave::operational(p), pending: None })
     }
 
@@ -167,8 +212,8 @@ impl Slave {
     }
 
     /// The reply to a whole frame ended at `at_us`, or None for silence.
-    fn handle_frame<'py>(&mut self, py: Python<'py>, frame: &[u8], at_us: u64) -> Option<Bound<'py, PyBytes>> {
-        match self.slave.handle_frame(frame, at_us).reply {
+    fn handle_frame<'py>(&mut self, py: Python<'py>, frame: Frame, at_us: u64) -> Option<Bound<'py, PyBytes>> {
+        match self.slave.handle_frame(&frame.0, at_us).reply {
             hiperface_model::Reply::Frame(f) => Some(PyBytes::new(py, f.encode().as_bytes())),
             hiperface_model::Reply::Silent(_) => None,
         }
@@ -238,7 +283,8 @@ impl Oracle {
     /// Grade a device's `reply` (None: silence) to `request`, whose frame ended at
     /// `at_us`, against `slave`, which then takes the request itself (lockstep).
     #[pyo3(signature = (slave, request, at_us, reply, uart_fault=false))]
-    fn grade(&self, slave: &mut Slave, request: &[u8], at_us: u64, reply: Option<&[u8]>, uart_fault: bool) -> Grade {
+    fn grade(&self, slave: &mut Slave, request: Frame, at_us: u64, reply: Option<Frame>, uart_fault: bool) -> Grade {
+        let (request, reply) = (request.0.as_slice(), reply.as_ref().map(|r| r.0.as_slice()));
         let before = slave.slave.clone();
         let expected = if uart_fault {
             slave.slave.handle_faulty_frame(request, at_us)
@@ -259,10 +305,83 @@ impl Oracle {
 }
 
 /// Verify a directory of golden vectors as `hiperface vectors verify` does: returns
-/// (vectors checked, mismatches), each mismatch a line naming the vector.
+/// (vectors checked, mismatches), each mismatch a line naming the vector. A directory
+/// without a vector raises `HiperfaceError` (nothing verified is no pass), a missing
+/// one `FileNotFoundError`.
 #[pyfunction]
 fn verify_vectors(path: &str) -> PyResult<(usize, Vec<String>)> {
-    vectors::verify_dir(Path::new(path)).map_err(|e| HiperfaceError::new_err(e.to_string()))
+    vectors::verify_dir(Path::new(path)).map_err(vectors_error)
+}
+
+/// One golden vector of a file (`load_vectors`): what it is about, and `verify()`.
+#[pyclass(module = "hiperface", frozen)]
+struct Vector {
+    vector: vectors::Vector,
+}
+
+#[pymethods]
+impl Vector {
+    /// The vector's id, e.g. "001-5.1.4-example-01".
+    #[getter]
+    fn id(&self) -> &str {
+        &self.vector.id
+    }
+    /// Document file and section, or "generated".
+    #[getter]
+    fn source(&self) -> &str {
+        &self.vector.source
+    }
+    /// The clause ids it rests on.
+    #[getter]
+    fn clauses(&self) -> Vec<String> {
+        self.vector.clauses.clone()
+    }
+    /// The built-in profile its slave is.
+    #[getter]
+    fn profile(&self) -> &str {
+        &self.vector.profile
+    }
+    /// The command it is about.
+    #[getter]
+    fn command(&self) -> &str {
+        &self.vector.command
+    }
+    /// What it shows, in a sentence.
+    #[getter]
+    fn meaning(&self) -> &str {
+        &self.vector.meaning
+    }
+    /// "valid", "acceptable" or "invalid": what its last reply is.
+    #[getter]
+    fn result(&self) -> &'static str {
+        match self.vector.result {
+            vectors::Expected::Valid => "valid",
+            vectors::Expected::Acceptable => "acceptable",
+            vectors::Expected::Invalid => "invalid",
+        }
+    }
+    /// How many steps of request and reply it has (0 for a checksum example or a
+    /// table row).
+    #[getter]
+    fn steps(&self) -> usize {
+        self.vector.steps.len()
+    }
+    /// Replay it against the model, with its printed checksums: what is wrong, one
+    /// line each (an empty list: it agrees), as `vectors verify` checks it.
+    fn verify(&self) -> Vec<String> {
+        vectors::verify(&self.vector)
+    }
+    fn __repr__(&self) -> String {
+        format!("Vector(id={:?}, profile={:?}, result={:?})", self.vector.id, self.vector.profile, self.result())
+    }
+}
+
+/// The vectors of one file, schema-checked, in order. A missing file raises
+/// `FileNotFoundError`; one that is not a vector file `HiperfaceError`.
+#[pyfunction]
+fn load_vectors(path: &str) -> PyResult<Vec<Vector>> {
+    let file = vectors::load(Path::new(path)).map_err(vectors_error)?;
+    Ok(file.vectors.into_iter().map(|vector| Vector { vector }).collect())
 }
 
 /// Grade a capture file as `hiperface decode` does: `on_exchange(json)` is called with
@@ -283,7 +402,7 @@ fn decode_capture(
     master_channel: Option<String>,
     polling_period_ms: Option<u32>,
 ) -> PyResult<String> {
-    let profile = profile_file::resolve(profile).map_err(|e| ProfileError::new_err(e.to_string()))?;
+    let profile = profile_file::resolve(profile).map_err(profile_error)?;
     let format = match format {
         None | Some("auto") => None,
         Some("wirelog") => Some(Format::Wirelog),
@@ -310,7 +429,7 @@ fn decode_capture(
         master_channel,
         polling_period_ms,
     };
-    let file = std::fs::File::open(path).map_err(|e| HiperfaceError::new_err(format!("{path}: {e}")))?;
+    let file = std::fs::File::open(path).map_err(|e| io_error(&e, format!("{path}: {e}")))?;
     let input = Box::new(std::io::BufReader::with_capacity(1 << 16, file));
     // The first error of the callback stops the calls and is raised at the end.
     let mut failed: Option<PyErr> = None;
@@ -337,12 +456,14 @@ fn _hiperface(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(is_valid, m)?)?;
     m.add_function(wrap_pyfunction!(decode_request, m)?)?;
     m.add_function(wrap_pyfunction!(verify_vectors, m)?)?;
+    m.add_function(wrap_pyfunction!(load_vectors, m)?)?;
     m.add_function(wrap_pyfunction!(decode_capture, m)?)?;
     m.add_class::<Request>()?;
     m.add_class::<Transmission>()?;
     m.add_class::<Slave>()?;
     m.add_class::<Grade>()?;
     m.add_class::<Oracle>()?;
+    m.add_class::<Vector>()?;
     m.add("HiperfaceError", m.py().get_type::<HiperfaceError>())?;
     m.add("MalformedRequest", m.py().get_type::<MalformedRequest>())?;
     m.add("ProfileError", m.py().get_type::<ProfileError>())?;

@@ -60,12 +60,18 @@ def test_input_it_cannot_read_is_a_clear_error(tmp_path):
     capture.write_text("garbage\n")
     with pytest.raises(HiperfaceError, match="garbage.log: line 1: cannot tell the format"):
         decode(capture)
-    with pytest.raises(HiperfaceError, match="no-such-file"):
+    # A missing file is FileNotFoundError, as everywhere in the package.
+    with pytest.raises(FileNotFoundError, match="no-such-file"):
         decode(tmp_path / "no-such-file.log")
+    with pytest.raises(FileNotFoundError):
+        read_report(tmp_path / "no-such-report.json")
     with pytest.raises(ValueError, match="format `pcap`"):
         decode(capture, format="pcap")
-    with pytest.raises(ProfileError):
+    with pytest.raises(FileNotFoundError, match="missing.toml"):
         decode(capture, profile=str(tmp_path / "missing.toml"))
+    (tmp_path / "broken.toml").write_text("name = ")
+    with pytest.raises(ProfileError, match="broken.toml"):
+        decode(capture, profile=str(tmp_path / "broken.toml"))
     with pytest.raises(ValueError, match="polling_period_ms: at least 1 ms"):
         decode(capture, polling_period_ms=0)
 

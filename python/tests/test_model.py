@@ -17,6 +17,21 @@ def test_checksum_seal_and_validity_follow_000_table_7():
     assert not hiperface.is_valid(b"")
 
 
+def test_every_bytes_like_object_is_a_frame_and_nothing_else():
+    frame = bytes([0x40, 0x42, 0x02])
+    for like in (frame, bytearray(frame), memoryview(frame), memoryview(bytearray(b"\x00" + frame))[1:]):
+        assert hiperface.checksum(like) == 0x00 and hiperface.is_valid(like)
+        assert hiperface.seal(like[:2]) == frame
+        assert hiperface.decode_request(like).command == 0x42
+        s = Slave("SRS50")
+        reply = s.handle_frame(like, 0)
+        assert reply is not None
+        assert Oracle().grade(Slave("SRS50"), like, 0, bytearray(reply)).verdict == "PASS"
+    for wrong in ("40 42 02", [0x40, 0x42, 0x02], 3, None):
+        with pytest.raises(TypeError, match="bytes-like object"):
+            hiperface.checksum(wrong)
+
+
 def test_decode_request_and_its_errors_carry_the_slaves_code():
     r = hiperface.decode_request(bytes([0x40, 0x42, 0x02]))
     assert (r.address, r.command, r.data) == (0x40, 0x42, b"")

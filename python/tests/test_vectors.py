@@ -5,6 +5,8 @@
 import json
 import subprocess
 
+import pytest
+
 from hiperface import Oracle, Slave, verify_vectors
 
 
@@ -56,3 +58,45 @@ def test_a_corrupted_example_fails():
     graded.set_inputs(position=0, temperature_c=37)
     g = Oracle(exact=True).grade(graded, bytes.fromhex("40 42 02"), 0, reply[:-2] + bytes([reply[-2] ^ 4, reply[-1] ^ 4]))
     assert g.verdict == "FAIL", g
+
+
+def test_one_vector_at_a_time_as_vectors_verify_checks_it(root, tmp_path):
+    """The per-vector API: a file's vectors, each verified; a changed reply caught."""
+    from hiperface import HiperfaceError, load_vectors
+
+    vectors = load_vectors(str(root / "vectors/documents.json"))
+    assert len(vectors) > 20 and all(v.verify() == [] for v in vectors), [v for v in vectors if v.verify()]
+    first = vectors[0]
+    assert first.id and first.profile and first.result in ("valid", "acceptable", "invalid")
+    assert repr(first).startswith("Vector(id=")
+    # The same file with one reply byte and its checksum changed: that vector disagrees.
+    doc = json.loads((root / "vectors/documents.json").read_text())
+    changed = None
+    for group in doc["testGroups"]:
+        for t in group["tests"]:
+            if changed is None and t.get("result") == "valid" and t.get("steps") and t["steps"][-1].get("response"):
+                reply = t["steps"][-1]["response"].split()
+                reply[-2] = "%02X" % (int(reply[-2], 16) ^ 1)
+                reply[-1] = "%02X" % (int(reply[-1], 16) ^ 1)
+                t["steps"][-1]["response"] = " ".join(reply)
+                changed = t["id"]
+    tampered = tmp_path / "tampered.json"
+    tampered.write_text(json.dumps(doc))
+    wrong = [v.id for v in load_vectors(str(tampered)) if v.verify()]
+    assert wrong == [changed]
+    # Not a vector file, and no file at all.
+    (tmp_path / "not.json").write_text("{}")
+    with pytest.raises(HiperfaceError):
+        load_vectors(str(tmp_path / "not.json"))
+    with pytest.raises(FileNotFoundError):
+        load_vectors(str(tmp_path / "missing.json"))
+
+
+def test_nothing_to_verify_is_an_error_and_a_missing_directory_is_not_found(tmp_path):
+    """As the command: an empty directory verifies nothing, which is no pass."""
+    from hiperface import HiperfaceError
+
+    with pytest.raises(HiperfaceError, match="no vectors to verify"):
+        verify_vectors(str(tmp_path))
+    with pytest.raises(FileNotFoundError):
+        verify_vectors(str(tmp_path / "missing"))

@@ -2,7 +2,7 @@
 //! from command X", used by the vector generator and the tests.
 
 use super::{hex, Inputs, Setup};
-use crate::exchange::sealed;
+use crate::frame::sealed;
 use hiperface_model::command::AccessCodeRule;
 use hiperface_model::{CommandId, FaultCode, Profile};
 

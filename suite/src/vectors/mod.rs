@@ -240,28 +240,43 @@ pub enum LoadError {
     Io { path: PathBuf, source: std::io::Error },
     #[error("{path}: {message}")]
     Invalid { path: PathBuf, message: String },
+    /// Nothing verified is not a pass.
+    #[error("{}: no vectors to verify (no *.json vector file)", path.display())]
+    NoVectors { path: PathBuf },
 }
 
 /// The JSON Schema of vector files.
 pub const SCHEMA: &str = include_str!("../../../vectors/schema.json");
 
-/// Read a vector file: JSON Schema first (errors name the vector id where there is one), then the types.
+/// Read a vector file: JSON Schema first (with the `schema` feature; errors name the
+/// vector id where there is one), then the types.
 pub fn load(path: &Path) -> Result<VectorFile, LoadError> {
     let text = std::fs::read_to_string(path).map_err(|source| LoadError::Io { path: path.into(), source })?;
     let invalid = |message: String| LoadError::Invalid { path: path.into(), message };
     let json: serde_json::Value = serde_json::from_str(&text).map_err(|e| invalid(format!("not JSON: {e}")))?;
-    let schema: serde_json::Value = serde_json::from_str(SCHEMA).map_err(|e| invalid(format!("schema: {e}")))?;
-    let validator = jsonschema::validator_for(&schema).map_err(|e| invalid(format!("schema: {e}")))?;
-    if let Some(e) = validator.iter_errors(&json).next() {
-        let pointer = e.instance_path.to_string();
-        let id = vector_id_at(&json, &pointer);
-        return Err(invalid(format!("{}at {pointer}: {e}", id.map_or(String::new(), |i| format!("vector `{i}` ")))));
-    }
+    #[cfg(feature = "schema")]
+    check_schema(&json).map_err(invalid)?;
     serde_json::from_value(json).map_err(|e| invalid(e.to_string()))
+}
+
+/// The file against [`SCHEMA`]: the first error, naming the vector where there is one.
+#[cfg(feature = "schema")]
+fn check_schema(json: &serde_json::Value) -> Result<(), String> {
+    let schema: serde_json::Value = serde_json::from_str(SCHEMA).map_err(|e| format!("schema: {e}"))?;
+    let validator = jsonschema::validator_for(&schema).map_err(|e| format!("schema: {e}"))?;
+    let first = validator.iter_errors(json).next().map(|e| (e.instance_path.to_string(), e.to_string()));
+    match first {
+        Some((pointer, e)) => {
+            let id = vector_id_at(json, &pointer);
+            Err(format!("{}at {pointer}: {e}", id.map_or(String::new(), |i| format!("vector `{i}` "))))
+        }
+        None => Ok(()),
+    }
 }
 
 /// The id of the test that a JSON pointer such as `/testGroups/1/tests/3/steps/0`
 /// points into.
+#[cfg(feature = "schema")]
 fn vector_id_at(json: &serde_json::Value, pointer: &str) -> Option<String> {
     let mut parts = pointer.strip_prefix("/testGroups/")?.split('/');
     let group: usize = parts.next()?.parse().ok()?;
@@ -280,9 +295,20 @@ pub fn files(dir: &Path) -> Result<Vec<PathBuf>, LoadError> {
     Ok(out)
 }
 
+/// What is wrong with one vector: its printed checksums, then its replay against the
+/// model (empty: it agrees).
+pub fn verify(v: &Vector) -> Vec<String> {
+    let mut problems = checksum_problems(v);
+    if let Err(m) = replay(v) {
+        problems.push(m.error.to_string());
+    }
+    problems
+}
+
 /// Verify every file of a directory: schema, checksums, agreement with the model.
 /// Returns how many vectors were verified and the failing ones, one line each (file,
-/// id, every reason): a vector with two problems is one failing vector.
+/// id, every reason): a vector with two problems is one failing vector. A directory
+/// without a vector is an error (`LoadError::NoVectors`): nothing verified is no pass.
 pub fn verify_dir(dir: &Path) -> Result<(usize, Vec<String>), LoadError> {
     let mut count = 0;
     let mut failures = Vec::new();
@@ -292,17 +318,17 @@ pub fn verify_dir(dir: &Path) -> Result<(usize, Vec<String>), LoadError> {
         let mut seen = std::collections::BTreeSet::new();
         for v in &file.vectors {
             count += 1;
-            let mut problems = checksum_problems(v);
+            let mut problems = verify(v);
             if !seen.insert(v.id.clone()) {
                 problems.insert(0, "duplicate id".into());
-            }
-            if let Err(m) = replay(v) {
-                problems.push(m.error.to_string());
             }
             if !problems.is_empty() {
                 failures.push(format!("{name}: {}: {}", v.id, problems.join("; ")));
             }
         }
+    }
+    if count == 0 {
+        return Err(LoadError::NoVectors { path: dir.into() });
     }
     Ok((count, failures))
 }

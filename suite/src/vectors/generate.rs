@@ -6,7 +6,7 @@
 
 use super::fixtures::{provoke, valid_request, with_field_0, Provocation};
 use super::{hex, parse_hex, prepare, Expected, Flag, Inputs, Setup, Vector, VectorFile, VectorStep};
-use crate::exchange::sealed;
+use crate::frame::sealed;
 use hiperface_model::command::COMMAND_TABLE;
 use hiperface_model::response::{Response, ResponseFrame};
 use hiperface_model::{checksum, profiles, CommandId, FaultCode, Profile, Reply, UartSettings};

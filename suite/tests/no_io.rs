@@ -1,0 +1,37 @@
+//! The core without I/O: neither the suite nor the C library it serves has an
+//! operating system's port, a terminal, a process or a progress bar in its tree
+//! (issue 39). `cargo tree` reads the lock file: no build.
+
+use std::process::Command;
+
+/// Crates of the harness that the core must never pull in.
+const HARNESS_ONLY: [&str; 8] =
+    ["serialport", "serial2", "nix", "clap", "indicatif", "ctrlc", "thread-priority", "hiperface-conformance"];
+
+fn tree(package: &str) -> Vec<String> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let out = Command::new(cargo)
+        .args(["tree", "-p", package, "-e", "normal", "--prefix", "none", "--format", "{p}"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("cargo runs");
+    assert!(out.status.success(), "cargo tree -p {package}: {}", String::from_utf8_lossy(&out.stderr));
+    String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .filter_map(|l| l.split_whitespace().next().map(str::to_string))
+        .collect()
+}
+
+#[test]
+fn the_suite_and_the_c_library_have_no_io_crate_in_their_tree() {
+    // The check sees them where they are: the harness has every one.
+    let harness = tree("hiperface-conformance");
+    let missing: Vec<_> = HARNESS_ONLY[..7].iter().filter(|c| !harness.iter().any(|h| h == *c)).collect();
+    assert!(missing.is_empty(), "the harness's tree as read lacks {missing:?}");
+    for package in ["hiperface-suite", "hiperface-ffi"] {
+        let crates = tree(package);
+        assert!(crates.iter().any(|c| c == "hiperface-model"), "{package}: the tree was read: {crates:?}");
+        let io: Vec<_> = crates.iter().filter(|c| HARNESS_ONLY.contains(&c.as_str())).collect();
+        assert!(io.is_empty(), "{package} pulls in {io:?}");
+    }
+}
