@@ -194,8 +194,9 @@ def decode(
     ("wirelog", "csv", "sigrok"). Every exchange is graded (000:2.2.2 timing, the
     oracle's reply grades, the master's rules); with ``on_exchange`` each is handed
     over as it is heard instead of kept in ``exchanges`` (a long capture).
-    Raises ``HiperfaceError`` naming the file and line for input that cannot be read,
-    ``ProfileError`` for a profile that does not load."""
+    Raises ``FileNotFoundError`` for a missing capture or profile file,
+    ``HiperfaceError`` naming the file and line for input that cannot be read,
+    ``ProfileError`` for a profile file that does not load."""
     from ._hiperface import decode_capture
 
     kept: List[Exchange] = []
