@@ -18,7 +18,6 @@ pub mod report;
 pub mod sched;
 pub mod simulate;
 pub mod verdict;
-pub mod world;
 
-// The suite's data without I/O lives in hiperface-suite; the harness names it as its own.
-pub use hiperface_suite::{profile_file, vectors};
+// The suite's core without I/O lives in hiperface-suite; the harness names it as its own.
+pub use hiperface_suite::{profile_file, vectors, world};

@@ -1,5 +1,6 @@
 //! hiperface-suite: the conformance suite without I/O. What a certification reads and
-//! writes as data (profiles as TOML, the golden vectors) on top of the model, with no
+//! writes as data (profiles as TOML, the golden vectors), the vocabulary of verdicts
+//! and the simulated world of a case, on top of the model, with no
 //! operating system, terminal or process in its tree: the harness
 //! (`hiperface-conformance`) adds the lines, the processes and the command line, and
 //! the C and Python libraries link this alone.
@@ -9,3 +10,5 @@
 pub mod frame;
 pub mod profile_file;
 pub mod vectors;
+pub mod verdict;
+pub mod world;

@@ -1,0 +1,234 @@
+//! The one vocabulary of verdicts that every front end uses: `certify slave`,
+//! `certify master` and the listener (`decode`, `monitor`).
+//!
+//! - [`CaseVerdict`]: the verdict of one graded unit (a slave case, a master scenario,
+//!   an exchange heard), and the rule that a result only gets worse as findings come;
+//! - [`Finding`], [`CaseResult`]: what a unit found, and its result;
+//! - [`Outcome`]: what a whole run adds up to, and its exit code;
+//! - timing grades (a reply's timing against the windows the line can vouch for) are
+//!   the harness's `verdict::timing` until the line's core moves here (issue 39);
+//! - [`glob_match`]: which units `--cases` and `--scenarios` select.
+//!
+//! A verdict is earned: PASS only for what was observed. A unit that never met its
+//! situation is NOT-EXERCISED, what the harness cannot tell is UNKNOWN, and a run with
+//! either (or with nothing graded at all) is INCOMPLETE, never PASSED.
+
+mod finding;
+
+pub use finding::{CaseResult, Finding, WireEntry};
+
+use hiperface_model::oracle::Verdict;
+use serde::Serialize;
+use std::process::ExitCode;
+
+/// The verdict of one graded unit.
+///
+/// - PASS: observed, as preferred; NON-STRICT: observed, acceptable where the
+///   documents leave latitude (with the reason);
+/// - FAIL: observed, against a normative clause that binds the device's edition;
+/// - NOT-APPLICABLE: never run: the profile or the options exclude it;
+/// - NOT-EXERCISED: run, but the situation it is about never arose (the master never
+///   sent the request a fault is injected on), so nothing about it was seen;
+/// - UNKNOWN: heard, but the harness cannot tell (the listener does not know the
+///   encoder's stored state; a character carried a line error);
+/// - ERROR: the harness could not run it (port gone, the master exited).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "SCREAMING-KEBAB-CASE")]
+pub enum CaseVerdict {
+    Pass,
+    NonStrict,
+    Fail,
+    NotApplicable,
+    NotExercised,
+    Unknown,
+    Error,
+}
+
+impl CaseVerdict {
+    /// Every verdict, from the best to the worst.
+    pub const ALL: [CaseVerdict; 7] = [
+        CaseVerdict::NotApplicable,
+        CaseVerdict::Pass,
+        CaseVerdict::NonStrict,
+        CaseVerdict::Unknown,
+        CaseVerdict::NotExercised,
+        CaseVerdict::Error,
+        CaseVerdict::Fail,
+    ];
+
+    /// Severity for "worst of": FAIL > ERROR > NOT-EXERCISED > UNKNOWN > NON-STRICT >
+    /// PASS > NOT-APPLICABLE.
+    fn rank(self) -> u8 {
+        match self {
+            CaseVerdict::NotApplicable => 0,
+            CaseVerdict::Pass => 1,
+            CaseVerdict::NonStrict => 2,
+            CaseVerdict::Unknown => 3,
+            CaseVerdict::NotExercised => 4,
+            CaseVerdict::Error => 5,
+            CaseVerdict::Fail => 6,
+        }
+    }
+
+    /// The worse of two verdicts.
+    pub fn worst(self, other: CaseVerdict) -> CaseVerdict {
+        if other.rank() > self.rank() {
+            other
+        } else {
+            self
+        }
+    }
+
+    pub fn label(self) -> &'static str {
+        match self {
+            CaseVerdict::Pass => "PASS",
+            CaseVerdict::NonStrict => "NON-STRICT",
+            CaseVerdict::Fail => "FAIL",
+            CaseVerdict::NotApplicable => "NOT-APPLICABLE",
+            CaseVerdict::NotExercised => "NOT-EXERCISED",
+            CaseVerdict::Unknown => "UNKNOWN",
+            CaseVerdict::Error => "ERROR",
+        }
+    }
+
+    /// Something was observed and graded: PASS, NON-STRICT or FAIL.
+    pub fn graded(self) -> bool {
+        matches!(self, CaseVerdict::Pass | CaseVerdict::NonStrict | CaseVerdict::Fail)
+    }
+}
+
+impl From<Verdict> for CaseVerdict {
+    fn from(v: Verdict) -> Self {
+        match v {
+            Verdict::Pass => CaseVerdict::Pass,
+            Verdict::NonStrict => CaseVerdict::NonStrict,
+            Verdict::Fail => CaseVerdict::Fail,
+        }
+    }
+}
+
+/// What a whole run adds up to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "SCREAMING-KEBAB-CASE")]
+pub enum Outcome {
+    /// Every unit that ran was observed and graded PASS or NON-STRICT, and something was.
+    Passed,
+    /// At least one FAIL.
+    Failed,
+    /// No FAIL, but not everything selected was observed: a unit NOT-EXERCISED, in
+    /// ERROR, or UNKNOWN where the run must be complete; nothing graded at all; or the
+    /// run stopped early.
+    Incomplete,
+}
+
+impl Outcome {
+    /// The outcome of units with `verdicts`; `complete`: the run was not cut short.
+    pub fn of(verdicts: impl IntoIterator<Item = CaseVerdict>, complete: bool) -> Outcome {
+        let mut any_graded = false;
+        let mut missing = !complete;
+        for v in verdicts {
+            match v {
+                CaseVerdict::Fail => return Outcome::Failed,
+                CaseVerdict::Pass | CaseVerdict::NonStrict => any_graded = true,
+                CaseVerdict::NotApplicable => {}
+                CaseVerdict::NotExercised | CaseVerdict::Unknown | CaseVerdict::Error => missing = true,
+            }
+        }
+        if missing || !any_graded {
+            Outcome::Incomplete
+        } else {
+            Outcome::Passed
+        }
+    }
+
+    pub fn label(self) -> &'static str {
+        match self {
+            Outcome::Passed => "PASSED",
+            Outcome::Failed => "FAILED",
+            Outcome::Incomplete => "INCOMPLETE",
+        }
+    }
+
+    pub fn passed(self) -> bool {
+        self == Outcome::Passed
+    }
+
+    /// The process's exit code: 0 PASSED, 1 FAILED, 3 INCOMPLETE ([`EXIT_USAGE`] is for
+    /// a run that could not start).
+    pub fn exit_code(self) -> u8 {
+        match self {
+            Outcome::Passed => 0,
+            Outcome::Failed => 1,
+            Outcome::Incomplete => EXIT_INCOMPLETE,
+        }
+    }
+
+    pub fn exit(self) -> ExitCode {
+        ExitCode::from(self.exit_code())
+    }
+}
+
+/// The exit code of a run that could not start: bad arguments, a profile that does not
+/// load, a port that cannot be opened, nothing selected.
+pub const EXIT_USAGE: u8 = 2;
+/// The exit code of an INCOMPLETE run.
+pub const EXIT_INCOMPLETE: u8 = 3;
+
+/// How often a unit (a slave case, a master scenario) is run at most when the
+/// harness's own timing was disturbed; its result is its last run's.
+pub const MAX_ATTEMPTS: u32 = 3;
+
+/// `*` and `?` glob matching, comma-separated alternatives: which units `--cases`
+/// and `--scenarios` select.
+pub fn glob_match(pattern: &str, text: &str) -> bool {
+    fn go(p: &[u8], t: &[u8]) -> bool {
+        match (p.first(), t.first()) {
+            (None, None) => true,
+            (Some(b'*'), _) => go(&p[1..], t) || (!t.is_empty() && go(p, &t[1..])),
+            (Some(b'?'), Some(_)) => go(&p[1..], &t[1..]),
+            (Some(a), Some(b)) if a == b => go(&p[1..], &t[1..]),
+            _ => false,
+        }
+    }
+    pattern.split(',').any(|p| go(p.trim().as_bytes(), text.as_bytes()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::CaseVerdict::*;
+
+    #[test]
+    fn a_pattern_selects_by_glob_with_alternatives() {
+        use super::glob_match;
+        assert!(glob_match("position.*", "position.read"));
+        assert!(glob_match("reply.?ap", "reply.gap"));
+        assert!(glob_match("fault.*, reply.gap", "reply.gap"));
+        assert!(!glob_match("position.*", "powerup.window"));
+        assert!(!glob_match("reply.gap", "reply.gap-under-timeout"));
+        assert!(glob_match("*", ""));
+    }
+    use super::*;
+
+    #[test]
+    fn worst_is_a_total_order_from_not_applicable_to_fail() {
+        for (i, a) in CaseVerdict::ALL.iter().enumerate() {
+            for (j, b) in CaseVerdict::ALL.iter().enumerate() {
+                assert_eq!(a.worst(*b), CaseVerdict::ALL[i.max(j)], "{a:?} {b:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_run_passes_only_with_something_graded_and_nothing_missing() {
+        assert_eq!(Outcome::of([Pass, NonStrict, NotApplicable], true), Outcome::Passed);
+        assert_eq!(Outcome::of([Pass, Fail, Error], true), Outcome::Failed);
+        assert_eq!(Outcome::of([Pass, Error], true), Outcome::Incomplete);
+        assert_eq!(Outcome::of([Pass, NotExercised], true), Outcome::Incomplete);
+        assert_eq!(Outcome::of([Pass, Unknown], true), Outcome::Incomplete);
+        assert_eq!(Outcome::of([Pass], false), Outcome::Incomplete, "cut short");
+        assert_eq!(Outcome::of([], true), Outcome::Incomplete, "zero units");
+        assert_eq!(Outcome::of([NotApplicable, NotApplicable], true), Outcome::Incomplete, "nothing ran");
+        assert_eq!(Outcome::Failed.exit_code(), 1);
+        assert_eq!(Outcome::Incomplete.exit_code(), 3);
+    }
+}
