@@ -101,7 +101,7 @@ pub fn replay(v: &Vector) -> Result<(), Mismatch> {
     }
     if let Some(t) = &v.table_case {
         let row = |reason| VectorError::TableRow { table: t.table.clone(), input: t.input.clone(), reason };
-        let got = tables::evaluate(&t.table, &t.input).map_err(|reason| fail(row(reason)))?;
+        let got = tables::evaluate(&t.table, &t.input).map_err(|reason| fail(row(reason.0)))?;
         return if got == t.output {
             Ok(())
         } else {

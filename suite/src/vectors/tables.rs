@@ -10,9 +10,19 @@ use hiperface_model::master::quadrature::{self, Ab, Count};
 use hiperface_model::master::sync::{self, Correction};
 use std::ops::Neg;
 
+/// A row the table cannot take (an unknown table, or an input not in its words), and
+/// why.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct RowError(pub String);
+
 /// Evaluate a table row's input against the model; the answer in the printed table's
 /// vocabulary.
-pub fn evaluate(table: &str, input: &str) -> Result<String, String> {
+pub fn evaluate(table: &str, input: &str) -> Result<String, RowError> {
+    answer(table, input).map_err(RowError)
+}
+
+fn answer(table: &str, input: &str) -> Result<String, String> {
     let words: Vec<&str> = input.split_whitespace().collect();
     match (table, words.as_slice()) {
         ("quadrature", [a1, b1, a, b]) => {
