@@ -59,6 +59,13 @@ pub struct HeardLate {
 }
 
 impl Exchange {
+    /// How much of the reply's timing the harness could not see: its own lateness and
+    /// the line's delay of the reply (the request's delivery moves the whole reply,
+    /// not one part of it against another), µs.
+    pub fn reply_unseen_late_us(&self) -> u64 {
+        self.harness_late_us + self.line_late.reply_us
+    }
+
     pub fn reply_bytes(&self) -> Option<Vec<u8>> {
         (!self.reply.is_empty()).then(|| self.reply.iter().map(|c| c.byte).collect())
     }

@@ -5,7 +5,8 @@
 use super::{HfFault, HfStatus, HfVerdict};
 use core::ffi::{c_char, c_int, CStr};
 
-fn name(names: &[(c_int, &'static CStr)], value: c_int) -> *const c_char {
+/// The name of `value` in `names`, or "?".
+pub(crate) fn name(names: &[(c_int, &'static CStr)], value: c_int) -> *const c_char {
     names.iter().find(|(v, _)| *v == value).map_or(c"?", |(_, n)| n).as_ptr()
 }
 

@@ -47,13 +47,14 @@ pub enum HfVectorKind {
 /// for any other value. A static NUL-terminated string: never freed.
 #[no_mangle]
 pub extern "C" fn hf_vector_kind_name(kind: core::ffi::c_int) -> *const c_char {
-    let name = match kind {
-        k if k == HfVectorKind::Steps as core::ffi::c_int => c"STEPS",
-        k if k == HfVectorKind::ChecksumExample as core::ffi::c_int => c"CHECKSUM_EXAMPLE",
-        k if k == HfVectorKind::TableCase as core::ffi::c_int => c"TABLE_CASE",
-        _ => c"?",
-    };
-    name.as_ptr()
+    crate::names::name(
+        &[
+            (HfVectorKind::Steps as core::ffi::c_int, c"STEPS"),
+            (HfVectorKind::ChecksumExample as core::ffi::c_int, c"CHECKSUM_EXAMPLE"),
+            (HfVectorKind::TableCase as core::ffi::c_int, c"TABLE_CASE"),
+        ],
+        kind,
+    )
 }
 
 /// A vector's header.

@@ -74,9 +74,7 @@ fn trailing_pause(x: &Exchange) -> Option<TrailingPause> {
     let (last, next) = (x.reply.last()?, x.trailing.first()?);
     let gap = next.at_us.saturating_sub(last.at_us);
     let pause = gap.saturating_sub(x.settings.char_time_us());
-    // Both parts of the reply came the same way: only the reply's own delivery, not
-    // the request's, can have moved one against the other.
-    let late = x.harness_late_us + x.line_late.reply_us;
+    let late = x.reply_unseen_late_us();
     Some(if late > 0 && gap.saturating_sub(late) < x.timeout_us {
         TrailingPause::LatenessCouldExplain
     } else if pause.saturating_sub(late) >= x.timeout_us {
@@ -364,7 +362,7 @@ impl Ctx<'_> {
                              ms late",
                             bytes.len(),
                             Hex(&bytes),
-                            (x.harness_late_us + x.line_late.reply_us) as f64 / 1000.0
+                            x.reply_unseen_late_us() as f64 / 1000.0
                         ))
                     }
                     Some(TrailingPause::WithinOneCharacter) => Finding::non_strict(
