@@ -139,12 +139,60 @@ fn a_declared_latency_timer_is_no_fail_and_is_on_the_certificate() {
 
 /// A line that adds 0.3 ms before each character it passes on, both ways (a slow
 /// device server): within every timeout, no FAIL.
+///
+/// The emulator writes each character on its own, and on a busy machine one now and
+/// then comes a timeout after the one before it: a request split by the test's line,
+/// not by the harness. A case run while that happened is no evidence, so each case is
+/// judged on the runs where the emulator was faithful throughout it: in at least one,
+/// and in every such run, it PASSED (or does not apply).
 #[test]
 fn a_gap_before_each_character_is_no_fail() {
+    use std::collections::BTreeMap;
+    use std::time::Instant;
     let _one = common::one_at_a_time();
-    let r = simulator_through(Behaviour { gap_us: 300, ..Behaviour::default() }, EchoMode::Auto);
-    assert_eq!(failed(&r), Vec::<String>::new());
-    assert!(r.outcome().passed(), "{:?} {:?} {:?}", r.summary, r.aborted, not_passed(&r));
+    let profile = profiles::srs50();
+    let behaviour = Behaviour { gap_us: 300, ..Behaviour::default() };
+    // Case id -> its verdicts (with findings) in the runs faithful throughout it.
+    let mut evidence: BTreeMap<String, Vec<(CaseVerdict, Vec<String>)>> = BTreeMap::new();
+    let mut unseen = Vec::new();
+    for _ in 0..5 {
+        let (_sim, device) = PtySimulator::start(profile).unwrap();
+        let emulator = LineEmulator::start(device, behaviour);
+        let line = SerialLine::open(&emulator.path, UartSettings::DEFAULT).unwrap_or_else(|e| panic!("{e}"));
+        let line = EchoLine::new(line.with_tolerance(GENEROUS_US), EchoMode::Auto);
+        let mut ends = vec![Instant::now()];
+        let r = certify::run(Box::new(line), profile, &Options::all_allowed(), |_, _, _| ends.push(Instant::now()));
+        common::replay::assert_replays(&r);
+        assert!(r.aborted.is_none(), "{:?}", r.aborted);
+        assert_eq!(ends.len(), r.cases.len() + 1);
+        let late = emulator.late_moments();
+        for (i, case) in r.cases.iter().enumerate() {
+            // A character passed on late in this case, or at the end of the one
+            // before (the harness may read it only now).
+            let from = ends[i.saturating_sub(1)];
+            if late.iter().any(|&t| from <= t && t <= ends[i + 1]) {
+                continue;
+            }
+            let findings: Vec<String> = case.findings.iter().map(|f| f.to_string()).collect();
+            evidence.entry(case.id.to_string()).or_default().push((case.verdict, findings));
+        }
+        unseen = r.cases.iter().map(|c| c.id.to_string()).filter(|id| !evidence.contains_key(id)).collect();
+        if unseen.is_empty() {
+            break;
+        }
+    }
+    assert_eq!(
+        unseen,
+        Vec::<String>::new(),
+        "cases the emulator was never faithful throughout: the machine is too busy"
+    );
+    let bad: Vec<String> = evidence
+        .iter()
+        .flat_map(|(id, seen)| seen.iter().map(move |(verdict, findings)| (id, verdict, findings)))
+        .filter(|(_, verdict, _)| !matches!(verdict, CaseVerdict::Pass | CaseVerdict::NotApplicable))
+        .map(|(id, verdict, findings)| format!("{} {id}: {findings:?}", verdict.label()))
+        .collect();
+    assert_eq!(bad, Vec::<String>::new());
 }
 
 /// A drive (the reference master) behind the emulator behaving as `behaviour`,
