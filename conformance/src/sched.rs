@@ -87,6 +87,23 @@ impl RunDelay {
     }
 }
 
+/// How long the threads of process `pid` have waited for a processor since each
+/// started, µs (the sum of `/proc/<pid>/task/*/schedstat`): a master under test
+/// started as a process (`certify master --exec`) runs on the harness's machine, and
+/// on a busy one its timing is partly the machine's. `None` where it is not counted
+/// (no such process, no delay accounting). Threads that ended are not counted.
+pub fn process_run_delay_us(pid: u32) -> Option<u64> {
+    let tasks = std::fs::read_dir(format!("/proc/{pid}/task")).ok()?;
+    let mut total = None;
+    for task in tasks.flatten() {
+        let Ok(text) = std::fs::read(task.path().join("schedstat")) else { continue };
+        if let Some(us) = parse_schedstat(&text) {
+            total = Some(total.unwrap_or(0) + us);
+        }
+    }
+    total
+}
+
 /// `/proc/<pid>/schedstat`: time on a processor, time waiting for one (ns), and the
 /// number of time slices. The wait in µs, or `None` for all zeros (no accounting) or
 /// text that is not three numbers.
@@ -107,6 +124,16 @@ mod tests {
         assert_eq!(parse_schedstat(b"0 0 0\n"), None);
         assert_eq!(parse_schedstat(b"12 x 3\n"), None);
         assert_eq!(parse_schedstat(b"12 3"), None);
+    }
+
+    #[test]
+    #[cfg(target_os = "linux")]
+    fn a_process_run_delay_is_read_for_a_live_process_only() {
+        if !RunDelay::of_this_thread().available() {
+            return;
+        }
+        assert!(process_run_delay_us(std::process::id()).is_some_and(|us| us < 60_000_000));
+        assert_eq!(process_run_delay_us(u32::MAX), None);
     }
 
     /// On this Linux machine the kernel counts run delays, and a thread that never

@@ -7,7 +7,9 @@ use hiperface_conformance::certify::{self, CaseVerdict, Options, Report};
 use hiperface_conformance::line::virtual_line::{SlaveDevice, VirtualLine};
 use hiperface_conformance::line::{Line, LineError, LineKind, Sent, Window};
 use hiperface_model::datalink::RxChar;
-use hiperface_model::{checksum, profiles, Edition, Frame, Response, ResponseFrame, Slave, Step, UartSettings};
+use hiperface_model::{
+    checksum, profiles, Edition, Frame, Response, ResponseFrame, Slave, Step, Transmission, UartSettings,
+};
 
 /// A defect: a function that may rewrite a step's transmission, plus timing quirks.
 struct Defective {
@@ -67,18 +69,18 @@ fn replace_reply(step: &mut Step, f: impl FnOnce(&mut Vec<u8>)) {
 }
 
 impl SlaveDevice for Defective {
-    fn receive(&mut self, ch: RxChar) -> Option<Step> {
+    fn receive(&mut self, ch: RxChar) -> Option<Transmission> {
         let ch = (self.incoming)(ch, self.model.timeout_us(ch.at_us), &mut self.last_rx);
         let mut step = self.model.receive(ch)?;
         (self.rewrite)(&mut step);
         self.answer_from_shadow_stack(&mut step);
-        Some(step)
+        step.transmission
     }
-    fn poll(&mut self, now_us: u64) -> Option<Step> {
+    fn poll(&mut self, now_us: u64) -> Option<Transmission> {
         let mut step = self.model.poll(now_us)?;
         (self.rewrite)(&mut step);
         self.answer_from_shadow_stack(&mut step);
-        Some(step)
+        step.transmission
     }
     fn next_deadline(&self, now_us: u64) -> Option<u64> {
         self.model.next_deadline(now_us)

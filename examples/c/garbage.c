@@ -11,6 +11,22 @@
 
 #define CHECK(cond) do { if (!(cond)) { fprintf(stderr, "%s:%d: %s\n", __FILE__, __LINE__, #cond); return 1; } } while (0)
 
+/* An encoder that answers anything: random lengths (past the buffer's too), random
+ * bytes, random start times and settings bytes. */
+static void random_answer(void *context, const HfHeard *heard, HfAnswer *answer) {
+    unsigned *calls = context;
+    ++*calls;
+    (void)heard;
+    answer->len = (size_t)(rand() % (HF_MAX_FRAME + 40));
+    for (size_t i = 0; i < HF_MAX_FRAME; i++) answer->reply[i] = (uint8_t)rand();
+    answer->start_us = (rand() % 4 == 0) ? (uint64_t)rand() << 20 : heard->complete_us + (uint64_t)(rand() % 3000);
+    answer->then_settings = (int16_t)(rand() % 400 - 100);
+}
+
+static void silent(void *context, const HfHeard *heard, HfAnswer *answer) {
+    (void)context; (void)heard; (void)answer;
+}
+
 int main(void) {
     uint8_t out8 = 0, buf[HF_MAX_FRAME + 8];
     size_t n = 0;
@@ -169,6 +185,49 @@ int main(void) {
     }
 
     free(storage);
+    /* Certification in-process: nulls, bad profiles and globs, a garbage encoder. */
+    HfReport *report = (HfReport *)&n;
+    CHECK(hf_certify("SRS50", silent, NULL, NULL, NULL, error, sizeof error) == HF_STATUS_NULL);
+    CHECK(hf_certify("SRS50", NULL, NULL, NULL, &report, error, sizeof error) == HF_STATUS_NULL && report == NULL);
+    CHECK(hf_certify(NULL, silent, NULL, NULL, &report, NULL, 0) == HF_STATUS_NULL);
+    CHECK(hf_certify("NO-SUCH", silent, NULL, NULL, &report, error, sizeof error) == HF_STATUS_UNKNOWN_PROFILE);
+    HfCertifyOptions bad = {0};
+    bad.profile_toml = "name = [";
+    CHECK(hf_certify(NULL, silent, NULL, &bad, &report, error, 3) == HF_STATUS_INVALID && strlen(error) < 3);
+    HfCertifyOptions none = {0};
+    none.cases = "no.such.case";
+    CHECK(hf_certify("SRS50", silent, NULL, &none, &report, error, sizeof error) == HF_STATUS_INVALID);
+    CHECK(hf_report_outcome(NULL) == HF_OUTCOME_INCOMPLETE);
+    CHECK(hf_report_case_count(NULL) == 0);
+    CHECK(hf_report_text(NULL, HF_REPORT_FORM_JSON) == NULL);
+    hf_report_free(NULL);
+    for (int run = 0; run < 3; run++) {
+        unsigned calls = 0;
+        srand(7 + run);
+        CHECK(hf_certify("SRS50", random_answer, &calls, NULL, &report, error, sizeof error) == HF_STATUS_OK);
+        CHECK(calls > 0 && hf_report_outcome(report) != HF_OUTCOME_PASSED);
+        size_t cases = hf_report_case_count(report);
+        HfCase c;
+        HfFinding f;
+        CHECK(hf_report_case(report, cases, &c) == HF_STATUS_INVALID);
+        CHECK(hf_report_case(report, 0, NULL) == HF_STATUS_NULL);
+        for (size_t i = 0; i < cases; i++) {
+            CHECK(hf_report_case(report, i, &c) == HF_STATUS_OK && strlen(c.id) > 0);
+            CHECK(hf_report_finding(report, i, c.findings, &f) == HF_STATUS_INVALID);
+            for (size_t k = 0; k < c.findings; k++) CHECK(hf_report_finding(report, i, k, &f) == HF_STATUS_OK);
+        }
+        for (int form = -2; form < 6; form++) {
+            const char *text = hf_report_text(report, form);
+            CHECK((text != NULL) == (form >= 0 && form < 4));
+            CHECK(text == NULL || text == hf_report_text(report, form));
+        }
+        hf_report_free(report);
+    }
+    for (int v = -3; v < 10; v++) {
+        CHECK(hf_case_verdict_name(v) != NULL && hf_outcome_name(v) != NULL && hf_report_form_name(v) != NULL);
+    }
+    CHECK(strcmp(hf_case_verdict_name(99), "?") == 0 && strcmp(hf_outcome_name(HF_OUTCOME_FAILED), "FAILED") == 0);
+
     printf("garbage: every call answered with a status code\n");
     return 0;
 }

@@ -106,6 +106,49 @@ typedef enum HfVerdict {
 } HfVerdict;
 
 /**
+ * A UART fault of a received character (000:T47).
+ */
+typedef enum HfFault {
+  HF_FAULT_NONE = 0,
+  HF_FAULT_PARITY = 1,
+  HF_FAULT_FRAMING = 2,
+  HF_FAULT_NOISE = 3,
+  HF_FAULT_OVERRUN = 4,
+} HfFault;
+
+/**
+ * What a whole run adds up to.
+ */
+typedef enum HfOutcome {
+  /**
+   * Every case graded, none failed.
+   */
+  HF_OUTCOME_PASSED = 0,
+  /**
+   * A case FAILed: the encoder broke a normative clause.
+   */
+  HF_OUTCOME_FAILED = 1,
+  /**
+   * Nothing failed, but not everything was observed (UNKNOWN, NOT-EXERCISED,
+   * ERROR, or nothing graded): not a pass.
+   */
+  HF_OUTCOME_INCOMPLETE = 2,
+} HfOutcome;
+
+/**
+ * The verdict of a case (the reports' labels: [`hf_case_verdict_name`]).
+ */
+typedef enum HfCaseVerdict {
+  HF_CASE_VERDICT_PASS = 0,
+  HF_CASE_VERDICT_NON_STRICT = 1,
+  HF_CASE_VERDICT_FAIL = 2,
+  HF_CASE_VERDICT_NOT_APPLICABLE = 3,
+  HF_CASE_VERDICT_NOT_EXERCISED = 4,
+  HF_CASE_VERDICT_UNKNOWN = 5,
+  HF_CASE_VERDICT_ERROR = 6,
+} HfCaseVerdict;
+
+/**
  * What a vector holds.
  */
 typedef enum HfVectorKind {
@@ -125,15 +168,28 @@ typedef enum HfVectorKind {
 } HfVectorKind;
 
 /**
- * A UART fault of a received character (000:T47).
+ * The forms of a report, as `hiperface certify slave --report` writes them.
  */
-typedef enum HfFault {
-  HF_FAULT_NONE = 0,
-  HF_FAULT_PARITY = 1,
-  HF_FAULT_FRAMING = 2,
-  HF_FAULT_NOISE = 3,
-  HF_FAULT_OVERRUN = 4,
-} HfFault;
+typedef enum HfReportForm {
+  /**
+   * report.json: everything, with the record `hiperface decode` plays back.
+   */
+  HF_REPORT_FORM_JSON = 0,
+  /**
+   * junit.xml, for CI.
+   */
+  HF_REPORT_FORM_JUNIT = 1,
+  /**
+   * The certificate for people.
+   */
+  HF_REPORT_FORM_MARKDOWN = 2,
+  HF_REPORT_FORM_HTML = 3,
+} HfReportForm;
+
+/**
+ * A certification's report. Opaque to C; freed with [`hf_report_free`].
+ */
+typedef struct HfReport HfReport;
 
 /**
  * A slave: the reference model of an encoder. Opaque to C; its size and alignment are
@@ -219,6 +275,118 @@ typedef struct HfGrade {
    */
   char reason[HF_REASON_LEN];
 } HfGrade;
+
+/**
+ * A request as the encoder under test received it: the characters the character
+ * timeout delimited (000:2.2.2), and when. Times are µs on the run's virtual clock.
+ */
+typedef struct HfHeard {
+  /**
+   * The first `len` characters (at most [`HF_MAX_FRAME`]).
+   */
+  uint8_t bytes[HF_MAX_FRAME];
+  size_t len;
+  /**
+   * How many characters the frame had (more than `len` if it overflowed).
+   */
+  size_t char_count;
+  /**
+   * The first UART fault among them (a character sent in other settings than the
+   * encoder listens with arrives with one, 000:T47).
+   */
+  enum HfFault uart_fault;
+  /**
+   * When its first and last characters were received (the end of their stop bits).
+   */
+  uint64_t first_us;
+  uint64_t last_us;
+  /**
+   * When it was known whole: the timeout after its last character. Now.
+   */
+  uint64_t complete_us;
+} HfHeard;
+
+/**
+ * The encoder's answer to a request. It comes zeroed, with `then_settings` -1.
+ */
+typedef struct HfAnswer {
+  /**
+   * The reply's characters; `len` 0 is silence.
+   */
+  uint8_t reply[HF_MAX_FRAME];
+  size_t len;
+  /**
+   * When the reply's first character starts (its start bit), µs. Not before the
+   * request ended; a conformant encoder waits for the timeout (000:2.2.2) and
+   * starts within the command's response time (000:T8).
+   */
+  uint64_t start_us;
+  /**
+   * The settings byte (000:T33) the encoder listens with after this answer (67h; the
+   * stored settings again after an Encoder Reset), or -1: unchanged.
+   */
+  int16_t then_settings;
+} HfAnswer;
+
+/**
+ * The encoder under test: answer `heard` into `answer`. `context` is the pointer given
+ * to [`hf_certify`].
+ */
+typedef void (*HfEncoderFn)(void *context, const struct HfHeard *heard, struct HfAnswer *answer);
+
+/**
+ * What [`hf_certify`] may do; a zeroed struct (or null) runs every case.
+ */
+typedef struct HfCertifyOptions {
+  /**
+   * The encoder's profile as TOML text (the format of `hiperface export-profile`),
+   * NUL-terminated; null: the built-in profile named in the call.
+   */
+  const char *profile_toml;
+  /**
+   * Only the cases whose id matches this glob (`*`, `?`, `{a,b}`); null: all.
+   */
+  const char *cases;
+  /**
+   * Leave out the cases that write EEPROM (restored after each) ...
+   */
+  bool skip_writes;
+  /**
+   * ... and those that change the counter (not restorable). An encoder in a unit
+   * test has nothing to lose: by default both run.
+   */
+  bool skip_counter_change;
+} HfCertifyOptions;
+
+/**
+ * A case of a report.
+ */
+typedef struct HfCase {
+  /**
+   * NUL-terminated, e.g. "position.read".
+   */
+  char id[HF_ID_LEN];
+  enum HfCaseVerdict verdict;
+  /**
+   * How many findings ([`hf_report_finding`]).
+   */
+  size_t findings;
+} HfCase;
+
+/**
+ * A finding of a case: its verdict, the clause it rests on, and what was seen.
+ */
+typedef struct HfFinding {
+  enum HfCaseVerdict verdict;
+  /**
+   * NUL-terminated, e.g. "000:2.3.3".
+   */
+  char clause[HF_CLAUSE_LEN];
+  /**
+   * NUL-terminated; cut where it does not fit.
+   */
+  char message[HF_REASON_LEN];
+} HfFinding;
 
 /**
  * A vector's header.
@@ -465,6 +633,107 @@ enum HfStatus hf_oracle_grade(struct HfSlave *slave,
                               bool exact,
                               bool uart_fault,
                               struct HfGrade *out);
+
+/**
+ * Certify the encoder `encoder` (called with `context` for each request) with the
+ * whole slave catalogue, in virtual time, against the built-in profile named
+ * `profile` (or the TOML text in `options->profile_toml`). The report is the same as
+ * the command's; `*out` holds it until [`hf_report_free`] (null where no report was
+ * made). A profile that does not load or a bad glob: `HF_STATUS_UNKNOWN_PROFILE` or
+ * `HF_STATUS_INVALID`, with why in `error` (`error_len` chars; may be null).
+ *
+ * Physical values (the position, the temperature) are graded by range, as on a real
+ * device: the encoder's world is its own and the run does not know it.
+ *
+ * The encoder is handed each request once the character timeout after its last
+ * character has passed (000:2.2.2), as a slave's UART driver finds it; it listens
+ * from the start in the profile's stored settings, already past its power-up.
+ *
+ * # Safety
+ * `profile` is null or NUL-terminated; `encoder` is a function that reads `*heard`
+ * and writes `*answer` only; `options` is null or points to a valid struct whose
+ * strings are null or NUL-terminated; `out` is writable; `error` is null or points
+ * to `error_len` writable chars.
+ */
+enum HfStatus hf_certify(const char *profile,
+                         HfEncoderFn encoder,
+                         void *context,
+                         const struct HfCertifyOptions *options,
+                         struct HfReport **out,
+                         char *error,
+                         size_t error_len);
+
+/**
+ * Free a report (null: nothing). Every string it gave is freed with it.
+ *
+ * # Safety
+ * `report` is null or came from [`hf_certify`] and was not freed.
+ */
+void hf_report_free(struct HfReport *report);
+
+/**
+ * What the run adds up to; `HF_OUTCOME_INCOMPLETE` for a null report.
+ *
+ * # Safety
+ * `report` is null or a live report.
+ */
+enum HfOutcome hf_report_outcome(const struct HfReport *report);
+
+/**
+ * How many cases the report has (0 for a null report).
+ *
+ * # Safety
+ * `report` is null or a live report.
+ */
+size_t hf_report_case_count(const struct HfReport *report);
+
+/**
+ * Case `index` of the report into `out`.
+ *
+ * # Safety
+ * `report` is null or a live report; `out` is null or writable.
+ */
+enum HfStatus hf_report_case(const struct HfReport *report, size_t index, struct HfCase *out);
+
+/**
+ * Finding `finding` of case `index` into `out`.
+ *
+ * # Safety
+ * `report` is null or a live report; `out` is null or writable.
+ */
+enum HfStatus hf_report_finding(const struct HfReport *report,
+                                size_t index,
+                                size_t finding,
+                                struct HfFinding *out);
+
+/**
+ * The report in the form `form` (an [`HfReportForm`] as an int), NUL-terminated and
+ * kept by the report until [`hf_report_free`]; null for a null report or another
+ * form.
+ *
+ * # Safety
+ * `report` is null or a live report, not used from another thread meanwhile.
+ */
+const char *hf_report_text(const struct HfReport *report, int form);
+
+/**
+ * The name of an [`HfOutcome`] ("PASSED", "FAILED", "INCOMPLETE"); "?" for any other
+ * value. A static NUL-terminated string: never freed.
+ */
+const char *hf_outcome_name(int outcome);
+
+/**
+ * The name of an [`HfCaseVerdict`] as the reports write it ("PASS", "NON-STRICT",
+ * "FAIL", "NOT-APPLICABLE", "NOT-EXERCISED", "UNKNOWN", "ERROR"); "?" for any other
+ * value. A static NUL-terminated string: never freed.
+ */
+const char *hf_case_verdict_name(int verdict);
+
+/**
+ * The name of an [`HfReportForm`] ("JSON", "JUNIT", "MARKDOWN", "HTML"); "?" for any
+ * other value. A static NUL-terminated string: never freed.
+ */
+const char *hf_report_form_name(int form);
 
 /**
  * The name of an [`HfStatus`] as the header spells its constant without the prefix

@@ -18,6 +18,8 @@
 #![cfg_attr(not(feature = "std"), no_std)]
 #![deny(unsafe_op_in_unsafe_fn)]
 
+#[cfg(feature = "std")]
+mod certify;
 mod names;
 #[cfg(feature = "std")]
 mod profile_toml;
@@ -25,7 +27,7 @@ mod profile_toml;
 mod vectors;
 pub use names::*;
 #[cfg(feature = "std")]
-pub use {profile_toml::*, vectors::*};
+pub use {certify::*, profile_toml::*, vectors::*};
 
 use core::ffi::{c_char, c_void, CStr};
 use hiperface_model::frame::MAX_FRAME;

@@ -16,10 +16,15 @@
   as ``hiperface decode`` grades it: every exchange with its verdict and findings.
 - ``read_report(path)``: a ``report.json`` as Python objects (a certification's
   ``Report``, a listening run's ``Listening``).
+- ``certify(encoder, profile)``: an encoder written in Python (a callable, or an
+  object with an ``answer`` method, handed each request as a ``Heard``) certified
+  in-process with the whole slave catalogue in virtual time: a ``Report`` with its
+  verdicts, clauses and findings, which ``write(dir)`` writes as the command does.
 """
 
 from ._hiperface import (
     Grade,
+    Heard,
     HiperfaceError,
     MalformedRequest,
     Oracle,
@@ -35,13 +40,14 @@ from ._hiperface import (
     seal,
     verify_vectors,
 )
-from .report import Case, Exchange, Finding, Listening, Report, decode, read_report
+from .report import Case, Exchange, Finding, Listening, Report, certify, decode, read_report
 
 __all__ = [
     "Case",
     "Exchange",
     "Finding",
     "Grade",
+    "Heard",
     "HiperfaceError",
     "Listening",
     "MalformedRequest",
@@ -52,6 +58,7 @@ __all__ = [
     "Slave",
     "Transmission",
     "Vector",
+    "certify",
     "checksum",
     "decode",
     "decode_request",

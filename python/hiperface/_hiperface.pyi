@@ -1,6 +1,6 @@
 """Typing stubs of the compiled module (python/src/lib.rs)."""
 
-from typing import Callable, List, Optional, Tuple, Union
+from typing import Any, Callable, List, Optional, Tuple, Union
 
 # What a frame may be given as: copied, never kept.
 BytesLike = Union[bytes, bytearray, memoryview]
@@ -43,6 +43,28 @@ def decode_capture(
     master_channel: Optional[str] = None,
     polling_period_ms: Optional[int] = None,
 ) -> str: ...
+
+class Heard:
+    """A request as the encoder under test received it (µs on the run's clock)."""
+
+    bytes: bytes
+    char_count: int
+    #: "parity", "framing", "noise", "overrun" or None (000:T47).
+    uart_fault: Optional[str]
+    #: The ends (stop bits) of its first and last characters.
+    first_us: int
+    last_us: int
+    #: The timeout after its last character: when it was known whole, now.
+    complete_us: int
+
+def certify_encoder(
+    encoder: Any,
+    profile: str = "SRS50",
+    *,
+    cases: Optional[str] = None,
+    skip_writes: bool = False,
+    skip_counter_change: bool = False,
+) -> Tuple[str, str, str, str]: ...
 
 class Request:
     address: int

@@ -42,6 +42,29 @@ class Report:
     summary: Dict[str, int]
     #: The whole JSON document, for what these fields leave out.
     raw: Dict[str, Any] = field(repr=False)
+    #: The report's files as the command writes them ("report.json", "junit.xml",
+    #: "certificate.md", "certificate.html"): a report from ``certify`` has them all.
+    files: Dict[str, str] = field(default_factory=dict, repr=False)
+
+    @property
+    def outcome(self) -> str:
+        """"PASSED", "FAILED" (a case FAILed) or "INCOMPLETE" (nothing failed, but not
+        everything was observed), as the command's last line says."""
+        if any(c.verdict == "FAIL" for c in self.cases):
+            return "FAILED"
+        return "PASSED" if self.passed else "INCOMPLETE"
+
+    def write(self, directory: Union[str, Path]) -> Path:
+        """Write the report's files into ``directory`` (created if need be), as
+        ``hiperface certify slave --report DIR`` does; returns the directory. A report
+        read from a file has only its JSON: ValueError."""
+        if not self.files:
+            raise ValueError("a report read from report.json has only its JSON; certify() gives every file")
+        d = Path(directory)
+        d.mkdir(parents=True, exist_ok=True)
+        for name, text in self.files.items():
+            (d / name).write_text(text)
+        return d
 
     @property
     def passed(self) -> bool:
@@ -65,6 +88,47 @@ def _case(c: Dict[str, Any]) -> Case:
     if isinstance(clauses, str):
         clauses = [x.strip() for x in clauses.split(",") if x.strip()]
     return Case(c["id"], c.get("title", ""), c["verdict"], list(clauses), findings)
+
+
+def _slave_report(doc: Dict[str, Any], files: Dict[str, str]) -> Report:
+    cases = [_case(c) for c in doc["cases"]]
+    return Report("slave", doc.get("tool", ""), doc.get("profile", ""), cases, dict(doc.get("summary", {})), doc, files)
+
+
+def certify(
+    encoder: Any,
+    profile: str = "SRS50",
+    *,
+    cases: Optional[str] = None,
+    skip_writes: bool = False,
+    skip_counter_change: bool = False,
+) -> Report:
+    """Certify an encoder written in Python with the whole slave catalogue, in
+    virtual time, in-process: the same cases, verdicts and report as ``hiperface
+    certify slave``. ``encoder`` is a callable, or an object with an ``answer``
+    method, handed each request as a ``Heard`` (its bytes, UART fault and times in
+    µs, once the character timeout after its last character has passed, 000:2.2.2);
+    it returns None (silence) or ``(reply, start_us)`` (a bytes-like reply, the time
+    its first character starts), or ``(reply, start_us, then_settings)`` with the
+    settings byte it listens with afterwards (67h, 000:T33; the stored settings again
+    after an Encoder Reset). It listens from the start in the profile's stored
+    settings, past its power-up. ``profile``: a built-in name or a profile's TOML
+    file. ``cases``: only the cases whose id matches this glob. EEPROM writes and
+    counter changes run unless skipped. An exception the encoder raises ends the run's
+    answers (silence) and is raised when the run is over."""
+    from ._hiperface import certify_encoder
+
+    texts = certify_encoder(
+        encoder,
+        profile,
+        cases=cases,
+        skip_writes=skip_writes,
+        skip_counter_change=skip_counter_change,
+    )
+    names = ("report.json", "junit.xml", "certificate.md", "certificate.html")
+    files = dict(zip(names, texts))
+    files["report.json"] += "\n"
+    return _slave_report(json.loads(texts[0]), files)
 
 
 def read_report(path: Union[str, Path]) -> Union[Report, "Listening"]:

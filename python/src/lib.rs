@@ -4,14 +4,16 @@
 
 use hiperface_conformance::capture::Format;
 use hiperface_conformance::listen::cli::{grade_capture, DecodeOptions};
-use hiperface_suite::{profile_file, vectors};
 use hiperface_model::checksum::{is_valid as xor_is_zero, xor};
 use hiperface_model::{Grading, Oracle as ModelOracle, RequestFrame, RxChar, Step, UartFault, Verdict};
+use hiperface_suite::{profile_file, vectors};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyFileNotFoundError, PyOSError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyByteArray, PyBytes, PyMemoryView};
 use std::path::Path;
+
+mod certify;
 
 create_exception!(_hiperface, HiperfaceError, PyException, "An error of the hiperface package.");
 create_exception!(
@@ -30,7 +32,7 @@ create_exception!(
 
 /// Any bytes-like object a test bench holds a frame in: `bytes`, `bytearray` or a
 /// `memoryview` (copied: frames are short). Anything else is a `TypeError`.
-struct Frame(Vec<u8>);
+pub(crate) struct Frame(pub(crate) Vec<u8>);
 
 impl<'py> FromPyObject<'py> for Frame {
     fn extract_bound(ob: &Bound<'py, PyAny>) -> PyResult<Self> {
@@ -58,7 +60,7 @@ fn io_error(e: &std::io::Error, message: String) -> PyErr {
     }
 }
 
-fn profile_error(e: profile_file::ProfileLoadError) -> PyErr {
+pub(crate) fn profile_error(e: profile_file::ProfileLoadError) -> PyErr {
     match &e {
         profile_file::ProfileLoadError::Io { source, .. } => io_error(source, e.to_string()),
         _ => ProfileError::new_err(e.to_string()),
@@ -458,6 +460,8 @@ fn _hiperface(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(verify_vectors, m)?)?;
     m.add_function(wrap_pyfunction!(load_vectors, m)?)?;
     m.add_function(wrap_pyfunction!(decode_capture, m)?)?;
+    m.add_function(wrap_pyfunction!(certify::certify_encoder, m)?)?;
+    m.add_class::<certify::Heard>()?;
     m.add_class::<Request>()?;
     m.add_class::<Transmission>()?;
     m.add_class::<Slave>()?;

@@ -7,8 +7,13 @@
 
 #![forbid(unsafe_code)]
 
+pub mod certify;
+pub mod exchange;
 pub mod frame;
+pub mod line;
 pub mod profile_file;
+pub mod record;
+pub mod report;
 pub mod vectors;
 pub mod verdict;
 pub mod world;

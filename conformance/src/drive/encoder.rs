@@ -51,6 +51,9 @@ impl Disturbance {
 pub struct Timeline {
     pub entries: Vec<WireEntry>,
     pub observations: Vec<Observation>,
+    /// The master's process's wait for a processor since it started, sampled: (µs
+    /// since power-on, µs waited); empty where the master is not a process here.
+    pub master_waited: Vec<(u64, u64)>,
     /// Requests seen per command.
     pub requests: BTreeMap<u8, u32>,
     /// The master's well-formed requests as the encoder framed them: the end of the
@@ -80,6 +83,35 @@ pub struct Timeline {
 }
 
 impl Timeline {
+    /// How long the master's process waited for a processor between `from_us` and
+    /// `to_us`, at most (the samples around them), µs; 0 where it was not measured.
+    pub fn master_waited_in(&self, from_us: u64, to_us: u64) -> u64 {
+        let before = self.master_waited.iter().rev().find(|(at, _)| *at <= from_us).map_or(0, |(_, w)| *w);
+        let after = self.master_waited.iter().find(|(at, _)| *at >= to_us).or(self.master_waited.last());
+        after.map_or(0, |(_, w)| w.saturating_sub(before))
+    }
+
+    /// Whether `o` may be the machine's doing rather than the master's, where the
+    /// master is a process on it: a rule a slow master breaks (a request too late, a
+    /// pause too long) broken by less than the master's process waited for a processor
+    /// before it. The wait, µs, or `None` when the observation stands.
+    pub fn master_slowed(&self, o: &Observation, timeout_us: u64, profile: &Profile, period_us: u64) -> Option<u64> {
+        let measured = o.measured_us?;
+        let (window, margin) = match o.rule {
+            // The first request came in the settings-change window: since power-on.
+            Rule::DuringSettingsChange => {
+                ((0, o.at_us), measured.saturating_sub(profile.default_window_ms as u64 * 1000))
+            }
+            // A request written in two parts: the pause between them.
+            Rule::GapInRequest => ((o.at_us, o.at_us + measured), measured.saturating_sub(timeout_us)),
+            // No request within the polling period: the gap.
+            Rule::NoCyclicRequest => ((o.at_us, o.at_us + measured), measured.saturating_sub(period_us)),
+            _ => return None,
+        };
+        let waited = self.master_waited_in(window.0, window.1);
+        (waited > 0 && waited >= margin).then_some(waited)
+    }
+
     /// The longest time unwatched before any character stamped in `from_us..=to_us`.
     fn late_in(&self, from_us: u64, to_us: u64) -> u64 {
         let inside = |&&(at, _): &&(u64, u64)| at >= from_us && at <= to_us;
@@ -132,6 +164,8 @@ impl Timeline {
 /// The hooks: observe, inject, record.
 pub struct DriveEncoder {
     observer: Observer,
+    /// The application's polling period the observer was given, µs (000:3.2.2).
+    polling_period_us: u64,
     plan: &'static [Injection],
     pub timeline: Timeline,
     profile: Profile,
@@ -190,6 +224,7 @@ impl DriveEncoder {
         }
         DriveEncoder {
             observer,
+            polling_period_us: hiperface_model::master::obligations::POLLING_PERIOD_MS as u64 * 1000,
             plan: scenario.plan,
             timeline: Timeline::default(),
             profile,
@@ -262,6 +297,12 @@ impl DriveEncoder {
     /// The application's polling period (000:3.2.2).
     pub fn set_polling_period_ms(&mut self, ms: u32) {
         self.observer.set_polling_period_ms(ms);
+        self.polling_period_us = ms as u64 * 1000;
+    }
+
+    /// The application's polling period, µs (000:3.2.2).
+    pub fn polling_period_us(&self) -> u64 {
+        self.polling_period_us
     }
 
     /// The master's data rate now, where the harness can read it (kept in the record).
@@ -553,6 +594,30 @@ mod tests {
 
     fn observation(rule: Rule, at_us: u64, measured_us: u64) -> Observation {
         Observation { rule, at_us, measured_us: Some(measured_us), command: None, data_rates: None }
+    }
+
+    #[test]
+    fn a_late_request_from_a_master_process_that_waited_as_long_for_a_processor_is_not_proven() {
+        let p = hiperface_model::profiles::srs50();
+        let timeout = UartSettings::DEFAULT.timeout_us(p.edition);
+        // The first request 32.8 ms into the settings-change window (seen under load).
+        let late = observation(Rule::DuringSettingsChange, 932_810, 932_810);
+        let mut t = Timeline::default();
+        assert_eq!(t.master_slowed(&late, timeout, &p, 1_000_000), None, "not measured: it stands");
+        // The master's process waited 5 ms for a processor since it started: it stands.
+        t.master_waited = vec![(100_000, 2_000), (935_000, 5_000)];
+        assert_eq!(t.master_slowed(&late, timeout, &p, 1_000_000), None);
+        // It waited 600 ms (a busy machine): a master on time may have been pushed there.
+        t.master_waited = vec![(100_000, 90_000), (935_000, 600_000)];
+        assert_eq!(t.master_slowed(&late, timeout, &p, 1_000_000), Some(600_000));
+        // A gap in the polling: only the wait within the gap counts.
+        let gap = observation(Rule::NoCyclicRequest, 2_000_000, 1_200_000);
+        t.master_waited = vec![(1_990_000, 500_000), (3_300_000, 520_000)];
+        assert_eq!(t.master_slowed(&gap, timeout, &p, 1_000_000), None, "20 ms waited, 200 ms over");
+        t.master_waited = vec![(1_990_000, 500_000), (3_300_000, 750_000)];
+        assert_eq!(t.master_slowed(&gap, timeout, &p, 1_000_000), Some(250_000));
+        // Rules a slow master cannot break (too early) always stand.
+        assert_eq!(t.master_slowed(&observation(Rule::NoPause, 2_000_000, 0), timeout, &p, 1_000_000), None);
     }
 
     #[test]

@@ -111,6 +111,13 @@ fn grade(
         .find(|d| d.decides() || reaction_missed || timeline.observations.iter().any(|o| o.at_us >= d.at_us))
         .map(|d| d.at_us);
     let unproven = |o: &Observation| -> Option<String> {
+        if let Some(waited) = timeline.master_slowed(o, timeout, hooks.profile(), hooks.polling_period_us()) {
+            return Some(format!(
+                "the master's own process waited {:.1} ms for a processor before it (a busy machine): its timing \
+                 was the machine's, not proven the master's",
+                waited as f64 / 1000.0
+            ));
+        }
         if let Some(late) = timeline.unproven(o, timeout, hooks.profile()) {
             return Some(format!(
                 "the harness did not read the line for up to {:.1} ms around it (a busy machine): the timing is not proven",

@@ -82,6 +82,11 @@ impl MasterProcess {
         Ok(MasterProcess { child, output, readers, reaped: false })
     }
 
+    /// The master's process id (the shell `exec`s the command line: the master's own).
+    pub fn id(&self) -> u32 {
+        self.child.id()
+    }
+
     /// The exit status if the master has ended.
     pub fn exited(&mut self) -> Option<std::process::ExitStatus> {
         self.child.try_wait().ok().flatten()

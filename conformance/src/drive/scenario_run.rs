@@ -242,10 +242,17 @@ pub(super) fn run_scenario(
     };
     let deadline = || epoch + Duration::from_millis(end_ms(scenario, &arisen, polling_period_ms));
     let mut exited = None;
+    // How long the master's process has waited for a processor, every 5 ms: what a
+    // busy machine did to its timing.
+    let mut waited = Vec::new();
     let served = serve_until(Box::new(encoder_end), &mut slave, &mut hooks, epoch, deadline, || {
+        if let Some(us) = crate::sched::process_run_delay_us(master.id()) {
+            waited.push((epoch.elapsed().as_micros() as u64, us));
+        }
         exited = master.exited();
         exited.is_some() || interrupted()
     });
+    hooks.timeline.master_waited = waited;
     let cut_short = interrupted();
     let (status, output) = master.stop();
     // The encoder has stopped before its line closes: nothing it writes is lost in a pipe.

@@ -42,6 +42,24 @@ impl RxClock {
     }
 }
 
+/// The [`super::Line`] methods of a line in real time, answered by its [`RealTime`]
+/// field: sleeping until a time, the jitter graded with, and the harness's lateness.
+macro_rules! real_time_methods {
+    ($field:ident) => {
+        fn wait_until(&mut self, t_us: u64) -> Result<(), LineError> {
+            self.$field.sleep_until(t_us);
+            Ok(())
+        }
+        fn tolerance_us(&self) -> u64 {
+            self.$field.tolerance_us
+        }
+        fn take_lateness_us(&mut self) -> u64 {
+            self.$field.take_lateness_us()
+        }
+    };
+}
+pub(crate) use real_time_methods;
+
 /// The clock of a real-time line: µs since the line opened, sleeping until a time,
 /// receive stamps, the timing jitter graded with, and how late the harness itself
 /// was (its scheduling delay on a busy machine: measured on every timed wait, and as

@@ -19,6 +19,8 @@
 //! run again, never a FAIL. A device late by more than the line could explain still
 //! FAILs.
 
+pub use hiperface_suite::line::delivery::{DeliveryStats, LineLate};
+
 use std::collections::VecDeque;
 use std::io::{Read, Write};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -31,36 +33,11 @@ pub const PERIOD: Duration = Duration::from_millis(2);
 /// How long samples are kept: longer than any exchange's window.
 const KEEP_US: u64 = 5_000_000;
 
-/// How much the line itself may have delayed an exchange, each way, as measured beside
-/// it, µs.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub struct LineLate {
-    /// The request on its way to the device.
-    pub request_us: u64,
-    /// The reply on its way back.
-    pub reply_us: u64,
-}
-
-impl LineLate {
-    pub const fn both_ways_us(self) -> u64 {
-        self.request_us + self.reply_us
-    }
-}
-
 /// One write of the probe: when it was written and how late it was read, µs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Sample {
     pub written_us: u64,
     pub delay_us: u64,
-}
-
-/// What the probe saw over a run.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub struct DeliveryStats {
-    pub samples: u64,
-    pub max_us: u64,
-    /// Samples delayed by more than a millisecond.
-    pub over_1ms: u64,
 }
 
 #[derive(Debug, Default)]

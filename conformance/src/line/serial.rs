@@ -7,7 +7,7 @@
 //! received characters at least a character time apart, as a UART delivers them.
 
 use super::adapter::Adapter;
-use super::{clock, Line, LineError, LineKind, RealTime, Sent, Window};
+use super::{clock, Line, LineError, LineKind, Sent, Window};
 use hiperface_model::datalink::RxChar;
 use hiperface_model::settings::Parity as HfParity;
 use hiperface_model::UartSettings;
@@ -254,9 +254,7 @@ impl Line for SerialLine {
         Window { earliest_us: ch.at_us.saturating_sub(ct + latency), latest_us: ch.at_us.saturating_sub(ct) }
     }
 
-    fn clock(&self) -> Option<&RealTime> {
-        Some(&self.time)
-    }
+    clock::real_time_methods!(time);
 
     fn configure(&mut self, settings: UartSettings) -> Result<(), LineError> {
         if !self.pseudo_terminal {

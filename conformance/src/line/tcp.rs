@@ -5,7 +5,7 @@
 //! and stamps received bytes like on a pseudo-terminal (see [`super::clock`]).
 
 use super::rfc2217::{self, Event, Telnet};
-use super::{clock, Line, LineError, LineKind, RealTime, Sent, Window};
+use super::{clock, Line, LineError, LineKind, Sent, Window};
 use hiperface_model::datalink::RxChar;
 use hiperface_model::UartSettings;
 use std::io::{ErrorKind, Read, Write};
@@ -135,9 +135,7 @@ impl Line for TcpLine {
         Window { earliest_us: ch.at_us.saturating_sub(self.settings.char_time_us()), latest_us: ch.at_us }
     }
 
-    fn clock(&self) -> Option<&RealTime> {
-        Some(&self.time)
-    }
+    clock::real_time_methods!(time);
 
     fn configure(&mut self, settings: UartSettings) -> Result<(), LineError> {
         if self.telnet.is_some() {

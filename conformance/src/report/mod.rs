@@ -1,26 +1,17 @@
 //! The reports of every front end, written one way: `report.json` for programs,
-//! `junit.xml` for CI, and a certificate for people as Markdown and HTML. Each run's
-//! report (a slave's, a master's, a listening run's) says what goes into each file
-//! (`slave.rs`, `master.rs`, `listening.rs`); the files, their names and the checks
-//! before a run are here.
+//! `junit.xml` for CI, and a certificate for people as Markdown and HTML. The forms
+//! and the slave's report are the suite's core (`hiperface_suite::report`, re-exported
+//! here); a master's and a listening run's report (`master.rs`, `listening.rs`,
+//! `recorded.rs`) are still the harness's. The files, their names and the checks before
+//! a run are here.
 
-use crate::verdict::CaseVerdict;
 use std::path::Path;
+
+pub use hiperface_suite::report::{escape, junit_suite, page_head, slave, wire_text, Reports};
 
 pub mod listening;
 pub mod master;
 pub mod recorded;
-pub mod slave;
-
-/// A run's report in the four forms every front end writes.
-pub trait Reports {
-    /// The people's certificate's file name, without extension.
-    const CERTIFICATE: &'static str;
-    fn json(&self) -> serde_json::Result<String>;
-    fn junit(&self) -> String;
-    fn markdown(&self) -> String;
-    fn html(&self) -> String;
-}
 
 /// Write report.json, junit.xml and the certificate as .md and .html into `dir`.
 pub fn write_all<R: Reports>(r: &R, dir: &Path) -> std::io::Result<()> {
@@ -44,64 +35,4 @@ pub fn prepare_dir(dir: &Path) -> Result<(), String> {
     std::fs::write(&probe, b"").map_err(|e| format!("--report {shown}: cannot write in the directory: {e}"))?;
     let _ = std::fs::remove_file(probe);
     Ok(())
-}
-
-/// One JUnit suite of cases (slave cases or master scenarios).
-pub fn junit_suite(name: String, cases: &[crate::certify::CaseResult]) -> String {
-    use quick_junit::{NonSuccessKind, Report as JReport, TestCase, TestCaseStatus, TestSuite};
-    let mut suite = TestSuite::new(name);
-    for c in cases {
-        let detail: String = c.findings.iter().map(|f| format!("[{}] {f}\n", f.verdict().label())).collect();
-        let status = match c.verdict {
-            CaseVerdict::Pass | CaseVerdict::NonStrict => TestCaseStatus::success(),
-            CaseVerdict::NotApplicable => {
-                let mut s = TestCaseStatus::skipped();
-                s.set_message(detail.trim().to_string());
-                s
-            }
-            CaseVerdict::Fail => {
-                let mut s = TestCaseStatus::non_success(NonSuccessKind::Failure);
-                s.set_message(detail.trim().to_string());
-                s.set_description(wire_text(c));
-                s
-            }
-            // Not observed: neither a pass nor the device's failure (INCOMPLETE).
-            CaseVerdict::Error | CaseVerdict::NotExercised | CaseVerdict::Unknown => {
-                let mut s = TestCaseStatus::non_success(NonSuccessKind::Error);
-                s.set_message(format!("{}: {}", c.verdict.label(), detail.trim()));
-                s
-            }
-        };
-        let mut t = TestCase::new(c.id, status);
-        t.set_classname(format!("hiperface.{}", c.id.split('.').next().unwrap_or("case")));
-        t.set_time(std::time::Duration::from_secs_f64(c.duration_ms / 1000.0));
-        if c.verdict == CaseVerdict::NonStrict {
-            t.set_system_out(detail);
-        }
-        suite.add_test_case(t);
-    }
-    let mut r = JReport::new("hiperface");
-    r.add_test_suite(suite);
-    r.to_string().unwrap_or_else(|e| format!("<!-- cannot serialise: {e} -->"))
-}
-
-/// A case's wire log as text, a line per frame.
-pub(crate) fn wire_text(c: &crate::certify::CaseResult) -> String {
-    c.wire.iter().map(|w| format!("{:>12.3} ms  {}  {}\n", w.t_us as f64 / 1000.0, w.direction, w.bytes)).collect()
-}
-
-pub(crate) fn escape(t: &str) -> String {
-    t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
-}
-
-/// The head of every HTML certificate: one style, a class per verdict.
-pub(crate) fn page_head(title: &str) -> String {
-    format!(
-        "<!doctype html><html><head><meta charset=\"utf-8\"><title>{}</title>\
-         <style>body{{font-family:sans-serif;max-width:75em;margin:2em auto}}table{{border-collapse:collapse}}\
-         td,th{{border:1px solid #ccc;padding:.2em .5em;text-align:left}}.PASS{{color:#070}}\
-         .FAIL{{color:#b00;font-weight:bold}}.NON-STRICT{{color:#a60}}.ERROR{{color:#b0b}}.UNKNOWN{{color:#066}}\
-         pre{{background:#f4f4f4;padding:.5em}}svg{{border:1px solid #ddd}}</style></head><body>",
-        escape(title)
-    )
 }

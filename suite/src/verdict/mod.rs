@@ -5,8 +5,7 @@
 //!   an exchange heard), and the rule that a result only gets worse as findings come;
 //! - [`Finding`], [`CaseResult`]: what a unit found, and its result;
 //! - [`Outcome`]: what a whole run adds up to, and its exit code;
-//! - timing grades (a reply's timing against the windows the line can vouch for) are
-//!   the harness's `verdict::timing` until the line's core moves here (issue 39);
+//! - [`timing`]: a reply's timing against the windows the line can vouch for;
 //! - [`glob_match`]: which units `--cases` and `--scenarios` select.
 //!
 //! A verdict is earned: PASS only for what was observed. A unit that never met its
@@ -14,6 +13,7 @@
 //! either (or with nothing graded at all) is INCOMPLETE, never PASSED.
 
 mod finding;
+pub mod timing;
 
 pub use finding::{CaseResult, Finding, WireEntry};
 

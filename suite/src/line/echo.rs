@@ -5,13 +5,14 @@
 //! from the request is the line's fault (a collision, a broken transceiver): an ERROR
 //! of the line, never charged to the device.
 
-use super::{Line, LineError, LineKind, RealTime, Sent, Window};
+use super::{Line, LineError, LineKind, Sent, Window};
 use hiperface_model::datalink::RxChar;
 use hiperface_model::{Hex, UartSettings};
 use std::collections::VecDeque;
 
 /// Whether the line echoes what the harness sends (`--echo`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum EchoMode {
     /// Found out at the harness's first frame (its request, or as the encoder its
@@ -180,9 +181,6 @@ impl<L: Line> Line for EchoLine<L> {
 
     fn start_of(&self, ch: &RxChar) -> Window {
         self.inner.start_of(ch)
-    }
-    fn clock(&self) -> Option<&RealTime> {
-        self.inner.clock()
     }
     fn wait_until(&mut self, t_us: u64) -> Result<(), LineError> {
         self.inner.wait_until(t_us)

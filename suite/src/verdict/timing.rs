@@ -21,7 +21,8 @@ use hiperface_model::Edition;
 use serde::Serialize;
 
 /// How reply timing is graded (`--timing`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum TimingMode {
     /// A reply outside its window FAILs.

@@ -7,7 +7,7 @@ use hiperface_model::datalink::{DataLink, RxChar};
 use hiperface_model::frame::MAX_FRAME;
 use hiperface_model::{checksum, Edition, UartSettings};
 
-pub use hiperface_suite::frame::sealed;
+pub use crate::frame::sealed;
 
 /// One request and what came back.
 #[derive(Debug, Clone)]

@@ -6,6 +6,8 @@ use super::safety::Snapshot;
 use super::{cases, glob_match, Case, CaseError, CaseResult, Ctx, Finding, Identity, Needs, Options, Outcome};
 use super::{Safety, TimingMode};
 use crate::exchange::{Bus, BusMaster};
+use crate::line::frame_encoder::{FrameEncoder, FramedEncoder};
+use crate::line::virtual_line::VirtualLine;
 use crate::line::{Line, LineError, LineKind};
 use crate::record::{Record, RecordError, Recorder, Replay};
 use crate::verdict::MAX_ATTEMPTS;
@@ -108,6 +110,17 @@ impl Report {
     pub fn rerun_cases(&self) -> Vec<String> {
         self.cases.iter().filter(|c| c.attempts > 1).map(|c| format!("{} ({} runs)", c.id, c.attempts)).collect()
     }
+}
+
+/// Certify an encoder under test in-process: the catalogue in virtual time against
+/// `encoder`, given frame by frame (see [`FrameEncoder`]), as [`run`] certifies a
+/// device on a line; the report is the same, with the record `decode` plays back.
+/// Physical values are graded by range, as on a real device: the encoder's world
+/// (its shaft, its temperature) is its own, and the run does not know it.
+pub fn in_process<E: FrameEncoder + 'static>(encoder: E, profile: Profile, options: &Options) -> Report {
+    let line = VirtualLine::new(FramedEncoder::new(encoder, &profile));
+    let options = Options { grading: hiperface_model::Grading::Range, ..options.clone() };
+    run(Box::new(line), profile, &options, |_, _, _| {})
 }
 
 /// Run the catalogue. `progress` is called after each case. The report holds the

@@ -1,17 +1,21 @@
 //! An in-process line in virtual time: the master's characters go straight into a
 //! sans-IO slave with their receive times, and the slave's transmissions come back
-//! character by character. No sleeping: a whole catalogue runs in milliseconds.
+//! character by character. No sleeping: a whole catalogue runs in milliseconds. The
+//! slave is the reference model, a defective variant of it built for tests, or an
+//! encoder under test given frame by frame (see [`super::frame_encoder`]).
 
 use super::{Line, LineError, LineKind, Sent, Window};
 use hiperface_model::datalink::RxChar;
-use hiperface_model::{Edition, Slave, Step, UartSettings};
+use hiperface_model::{Edition, Slave, Transmission, UartSettings};
 use std::collections::VecDeque;
 
-/// A slave as a sans-IO state machine: the reference model, or a defective variant
-/// built for tests.
+/// A slave as a sans-IO state machine: characters in with their receive times, and
+/// what it puts on the wire.
 pub trait SlaveDevice {
-    fn receive(&mut self, ch: RxChar) -> Option<Step>;
-    fn poll(&mut self, now_us: u64) -> Option<Step>;
+    /// A character received; what the device transmits because of it, if anything.
+    fn receive(&mut self, ch: RxChar) -> Option<Transmission>;
+    /// Time has come to `now_us` (a deadline the device named); what it transmits.
+    fn poll(&mut self, now_us: u64) -> Option<Transmission>;
     fn next_deadline(&self, now_us: u64) -> Option<u64>;
     /// The UART settings the device listens with at `now_us` (`None`: it is not
     /// listening). A character sent in other settings arrives with a UART fault.
@@ -25,14 +29,18 @@ pub trait SlaveDevice {
         0
     }
     fn edition(&self) -> Edition;
+    /// What the line is, for reports.
+    fn describe(&self) -> String {
+        format!("in-process virtual line ({:?} edition)", self.edition())
+    }
 }
 
 impl SlaveDevice for Slave {
-    fn receive(&mut self, ch: RxChar) -> Option<Step> {
-        Slave::receive(self, ch)
+    fn receive(&mut self, ch: RxChar) -> Option<Transmission> {
+        Slave::receive(self, ch)?.transmission
     }
-    fn poll(&mut self, now_us: u64) -> Option<Step> {
-        Slave::poll(self, now_us)
+    fn poll(&mut self, now_us: u64) -> Option<Transmission> {
+        Slave::poll(self, now_us)?.transmission
     }
     fn next_deadline(&self, now_us: u64) -> Option<u64> {
         Slave::next_deadline(self, now_us)
@@ -68,8 +76,8 @@ impl<D: SlaveDevice> VirtualLine<D> {
     /// Let the device act on everything due up to `t_us`.
     fn advance(&mut self, t_us: u64) {
         while let Some(deadline) = self.device.next_deadline(self.now).filter(|d| *d <= t_us) {
-            if let Some(step) = self.device.poll(deadline) {
-                self.transmit(step);
+            if let Some(t) = self.device.poll(deadline) {
+                self.transmit(t);
             }
             if self.device.next_deadline(deadline) == Some(deadline) {
                 break;
@@ -79,8 +87,7 @@ impl<D: SlaveDevice> VirtualLine<D> {
         self.now = self.now.max(t_us);
     }
 
-    fn transmit(&mut self, step: Step) {
-        let Some(t) = step.transmission else { return };
+    fn transmit(&mut self, t: Transmission) {
         // A reply in other settings than the master listens with is garbage to it.
         let garbled = t.settings != self.settings;
         let ct = t.settings.char_time_us();
@@ -123,8 +130,8 @@ impl<D: SlaveDevice> Line for VirtualLine<D> {
             last = start + (i as u64 + 1) * ct;
             self.advance(last.saturating_sub(1));
             let fault = self.device.listening_settings(last).and_then(|heard| arrives_with(self.settings, heard));
-            if let Some(step) = self.device.receive(RxChar { byte: *b, at_us: last, fault }) {
-                self.transmit(step);
+            if let Some(t) = self.device.receive(RxChar { byte: *b, at_us: last, fault }) {
+                self.transmit(t);
             }
         }
         self.now = last;
@@ -181,6 +188,6 @@ impl<D: SlaveDevice> Line for VirtualLine<D> {
     }
 
     fn describe(&self) -> String {
-        format!("in-process virtual line ({:?} edition)", self.device.edition())
+        self.device.describe()
     }
 }

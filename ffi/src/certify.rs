@@ -1,0 +1,439 @@
+//! Certify an encoder written in C in-process (with the `std` feature): the whole slave
+//! catalogue in virtual time against a function that answers each request, the same
+//! report as `hiperface certify slave` writes (verdicts, clauses, findings, JSON, JUnit,
+//! the certificate as Markdown and HTML), in milliseconds. A firmware's unit tests
+//! link their protocol code with this and certify it on every build.
+
+use crate::{c_text, profile, tell, HfStatus, HF_CLAUSE_LEN, HF_MAX_FRAME, HF_REASON_LEN};
+use crate::{HfFault, HF_ID_LEN};
+use core::ffi::{c_char, c_int, c_void, CStr};
+use hiperface_model::datalink::ReceivedFrame;
+use hiperface_model::{Frame, Profile, UartFault, UartSettings};
+use hiperface_suite::certify::{self, CaseVerdict, Options, Outcome, Report};
+use hiperface_suite::line::frame_encoder::Answer;
+use hiperface_suite::profile_file;
+use hiperface_suite::report::Reports;
+use std::ffi::CString;
+use std::path::Path;
+
+/// A request as the encoder under test received it: the characters the character
+/// timeout delimited (000:2.2.2), and when. Times are µs on the run's virtual clock.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct HfHeard {
+    /// The first `len` characters (at most [`HF_MAX_FRAME`]).
+    pub bytes: [u8; HF_MAX_FRAME],
+    pub len: usize,
+    /// How many characters the frame had (more than `len` if it overflowed).
+    pub char_count: usize,
+    /// The first UART fault among them (a character sent in other settings than the
+    /// encoder listens with arrives with one, 000:T47).
+    pub uart_fault: HfFault,
+    /// When its first and last characters were received (the end of their stop bits).
+    pub first_us: u64,
+    pub last_us: u64,
+    /// When it was known whole: the timeout after its last character. Now.
+    pub complete_us: u64,
+}
+
+/// The encoder's answer to a request. It comes zeroed, with `then_settings` -1.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct HfAnswer {
+    /// The reply's characters; `len` 0 is silence.
+    pub reply: [u8; HF_MAX_FRAME],
+    pub len: usize,
+    /// When the reply's first character starts (its start bit), µs. Not before the
+    /// request ended; a conformant encoder waits for the timeout (000:2.2.2) and
+    /// starts within the command's response time (000:T8).
+    pub start_us: u64,
+    /// The settings byte (000:T33) the encoder listens with after this answer (67h; the
+    /// stored settings again after an Encoder Reset), or -1: unchanged.
+    pub then_settings: i16,
+}
+
+/// The encoder under test: answer `heard` into `answer`. `context` is the pointer given
+/// to [`hf_certify`].
+pub type HfEncoderFn = Option<unsafe extern "C" fn(context: *mut c_void, heard: *const HfHeard, answer: *mut HfAnswer)>;
+
+/// What [`hf_certify`] may do; a zeroed struct (or null) runs every case.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct HfCertifyOptions {
+    /// The encoder's profile as TOML text (the format of `hiperface export-profile`),
+    /// NUL-terminated; null: the built-in profile named in the call.
+    pub profile_toml: *const c_char,
+    /// Only the cases whose id matches this glob (`*`, `?`, `{a,b}`); null: all.
+    pub cases: *const c_char,
+    /// Leave out the cases that write EEPROM (restored after each) ...
+    pub skip_writes: bool,
+    /// ... and those that change the counter (not restorable). An encoder in a unit
+    /// test has nothing to lose: by default both run.
+    pub skip_counter_change: bool,
+}
+
+/// What a whole run adds up to.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum HfOutcome {
+    /// Every case graded, none failed.
+    Passed = 0,
+    /// A case FAILed: the encoder broke a normative clause.
+    Failed = 1,
+    /// Nothing failed, but not everything was observed (UNKNOWN, NOT-EXERCISED,
+    /// ERROR, or nothing graded): not a pass.
+    Incomplete = 2,
+}
+
+/// The verdict of a case (the reports' labels: [`hf_case_verdict_name`]).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum HfCaseVerdict {
+    Pass = 0,
+    NonStrict = 1,
+    Fail = 2,
+    NotApplicable = 3,
+    NotExercised = 4,
+    Unknown = 5,
+    Error = 6,
+}
+
+/// A case of a report.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct HfCase {
+    /// NUL-terminated, e.g. "position.read".
+    pub id: [c_char; HF_ID_LEN],
+    pub verdict: HfCaseVerdict,
+    /// How many findings ([`hf_report_finding`]).
+    pub findings: usize,
+}
+
+/// A finding of a case: its verdict, the clause it rests on, and what was seen.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct HfFinding {
+    pub verdict: HfCaseVerdict,
+    /// NUL-terminated, e.g. "000:2.3.3".
+    pub clause: [c_char; HF_CLAUSE_LEN],
+    /// NUL-terminated; cut where it does not fit.
+    pub message: [c_char; HF_REASON_LEN],
+}
+
+/// The forms of a report, as `hiperface certify slave --report` writes them.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum HfReportForm {
+    /// report.json: everything, with the record `hiperface decode` plays back.
+    Json = 0,
+    /// junit.xml, for CI.
+    Junit = 1,
+    /// The certificate for people.
+    Markdown = 2,
+    Html = 3,
+}
+
+/// A certification's report. Opaque to C; freed with [`hf_report_free`].
+pub struct HfReport {
+    report: Report,
+    /// The forms asked for, kept until the report is freed.
+    texts: [std::cell::OnceCell<CString>; 4],
+}
+
+fn case_verdict(v: CaseVerdict) -> HfCaseVerdict {
+    match v {
+        CaseVerdict::Pass => HfCaseVerdict::Pass,
+        CaseVerdict::NonStrict => HfCaseVerdict::NonStrict,
+        CaseVerdict::Fail => HfCaseVerdict::Fail,
+        CaseVerdict::NotApplicable => HfCaseVerdict::NotApplicable,
+        CaseVerdict::NotExercised => HfCaseVerdict::NotExercised,
+        CaseVerdict::Unknown => HfCaseVerdict::Unknown,
+        CaseVerdict::Error => HfCaseVerdict::Error,
+    }
+}
+
+fn hf_fault(f: Option<UartFault>) -> HfFault {
+    match f {
+        None => HfFault::None,
+        Some(UartFault::Parity) => HfFault::Parity,
+        Some(UartFault::Framing) => HfFault::Framing,
+        Some(UartFault::Noise) => HfFault::Noise,
+        Some(UartFault::Overrun) => HfFault::Overrun,
+    }
+}
+
+/// The C function as a frame encoder.
+struct CEncoder {
+    answer: unsafe extern "C" fn(*mut c_void, *const HfHeard, *mut HfAnswer),
+    context: *mut c_void,
+}
+
+impl CEncoder {
+    fn answer(&mut self, f: &ReceivedFrame) -> Answer {
+        let kept = f.bytes.as_bytes();
+        let mut heard = HfHeard {
+            bytes: [0; HF_MAX_FRAME],
+            len: kept.len(),
+            char_count: f.char_count,
+            uart_fault: hf_fault(f.uart_fault),
+            first_us: f.first_us,
+            last_us: f.last_us,
+            complete_us: f.complete_us,
+        };
+        heard.bytes[..kept.len()].copy_from_slice(kept);
+        let mut a = HfAnswer { reply: [0; HF_MAX_FRAME], len: 0, start_us: 0, then_settings: -1 };
+        // SAFETY: the caller of hf_certify promised a function that takes these two
+        // pointers (valid for the call) and its context.
+        unsafe { (self.answer)(self.context, &heard, &mut a) };
+        // Settings that do not exist (000:T33) are no change of what it listens with.
+        let then_settings = u8::try_from(a.then_settings).ok().and_then(|b| UartSettings::decode(b).ok());
+        let reply = a.reply.get(..a.len.min(HF_MAX_FRAME)).filter(|r| !r.is_empty());
+        Answer { reply: reply.and_then(|r| Frame::from_bytes(r).ok()), start_us: a.start_us, then_settings }
+    }
+}
+
+/// The profile of a run: TOML text, or a built-in one by name.
+///
+/// # Safety
+/// `name` is null or NUL-terminated; `toml` likewise.
+unsafe fn run_profile(name: *const c_char, toml: *const c_char) -> Result<Profile, (HfStatus, String)> {
+    if toml.is_null() {
+        // SAFETY: the caller's promise.
+        return unsafe { profile(name) }.map_err(|s| (s, "no built-in profile has that name".into()));
+    }
+    // SAFETY: not null, NUL-terminated by the caller's promise.
+    let text = unsafe { CStr::from_ptr(toml) }.to_str().map_err(|_| (HfStatus::Invalid, "not UTF-8".to_string()))?;
+    profile_file::parse(text, Path::new("the profile")).map_err(|e| (HfStatus::Invalid, e.to_string()))
+}
+
+/// Certify the encoder `encoder` (called with `context` for each request) with the
+/// whole slave catalogue, in virtual time, against the built-in profile named
+/// `profile` (or the TOML text in `options->profile_toml`). The report is the same as
+/// the command's; `*out` holds it until [`hf_report_free`] (null where no report was
+/// made). A profile that does not load or a bad glob: `HF_STATUS_UNKNOWN_PROFILE` or
+/// `HF_STATUS_INVALID`, with why in `error` (`error_len` chars; may be null).
+///
+/// Physical values (the position, the temperature) are graded by range, as on a real
+/// device: the encoder's world is its own and the run does not know it.
+///
+/// The encoder is handed each request once the character timeout after its last
+/// character has passed (000:2.2.2), as a slave's UART driver finds it; it listens
+/// from the start in the profile's stored settings, already past its power-up.
+///
+/// # Safety
+/// `profile` is null or NUL-terminated; `encoder` is a function that reads `*heard`
+/// and writes `*answer` only; `options` is null or points to a valid struct whose
+/// strings are null or NUL-terminated; `out` is writable; `error` is null or points
+/// to `error_len` writable chars.
+#[no_mangle]
+pub unsafe extern "C" fn hf_certify(
+    profile: *const c_char,
+    encoder: HfEncoderFn,
+    context: *mut c_void,
+    options: *const HfCertifyOptions,
+    out: *mut *mut HfReport,
+    error: *mut c_char,
+    error_len: usize,
+) -> HfStatus {
+    if out.is_null() {
+        return HfStatus::Null;
+    }
+    // SAFETY: writable by the caller's promise: null until a report is made.
+    unsafe { *out = core::ptr::null_mut() };
+    let Some(answer) = encoder else { return HfStatus::Null };
+    // SAFETY: null or valid by the caller's promise.
+    let o = unsafe { options.as_ref() }.copied();
+    let toml = o.map_or(core::ptr::null(), |o| o.profile_toml);
+    if profile.is_null() && toml.is_null() {
+        return HfStatus::Null;
+    }
+    // SAFETY: the caller's promise.
+    let profile = match unsafe { run_profile(profile, toml) } {
+        Ok(p) => p,
+        Err((status, why)) => {
+            // SAFETY: the caller's promise.
+            unsafe { tell(error, error_len, why) };
+            return status;
+        }
+    };
+    let mut run = Options::all_allowed();
+    if let Some(o) = o {
+        run.allow_writes = !o.skip_writes;
+        run.allow_counter_change = !o.skip_counter_change;
+        if !o.cases.is_null() {
+            // SAFETY: not null, NUL-terminated by the caller's promise.
+            let Ok(glob) = unsafe { CStr::from_ptr(o.cases) }.to_str() else {
+                // SAFETY: the caller's promise.
+                unsafe { tell(error, error_len, "the cases' glob is not UTF-8") };
+                return HfStatus::Invalid;
+            };
+            if certify::select(Some(glob)).is_empty() {
+                // SAFETY: the caller's promise.
+                unsafe { tell(error, error_len, format_args!("no case matches {glob:?}")) };
+                return HfStatus::Invalid;
+            }
+            run.cases = Some(glob.to_string());
+        }
+    }
+    let mut encoder = CEncoder { answer, context };
+    // The encoder is the caller's for the call only: the run ends before this returns.
+    let report = certify::in_process(move |f: &ReceivedFrame| encoder.answer(f), profile, &run);
+    let boxed = Box::new(HfReport { report, texts: Default::default() });
+    // SAFETY: `out` is writable by the caller's promise.
+    unsafe { *out = Box::into_raw(boxed) };
+    HfStatus::Ok
+}
+
+/// Free a report (null: nothing). Every string it gave is freed with it.
+///
+/// # Safety
+/// `report` is null or came from [`hf_certify`] and was not freed.
+#[no_mangle]
+pub unsafe extern "C" fn hf_report_free(report: *mut HfReport) {
+    if !report.is_null() {
+        // SAFETY: from Box::into_raw in hf_certify, freed once by the caller's promise.
+        drop(unsafe { Box::from_raw(report) });
+    }
+}
+
+/// What the run adds up to; `HF_OUTCOME_INCOMPLETE` for a null report.
+///
+/// # Safety
+/// `report` is null or a live report.
+#[no_mangle]
+pub unsafe extern "C" fn hf_report_outcome(report: *const HfReport) -> HfOutcome {
+    // SAFETY: the caller's promise.
+    match unsafe { report.as_ref() }.map(|r| r.report.outcome()) {
+        Some(Outcome::Passed) => HfOutcome::Passed,
+        Some(Outcome::Failed) => HfOutcome::Failed,
+        Some(Outcome::Incomplete) | None => HfOutcome::Incomplete,
+    }
+}
+
+/// How many cases the report has (0 for a null report).
+///
+/// # Safety
+/// `report` is null or a live report.
+#[no_mangle]
+pub unsafe extern "C" fn hf_report_case_count(report: *const HfReport) -> usize {
+    // SAFETY: the caller's promise.
+    unsafe { report.as_ref() }.map_or(0, |r| r.report.cases.len())
+}
+
+/// Case `index` of the report into `out`.
+///
+/// # Safety
+/// `report` is null or a live report; `out` is null or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hf_report_case(report: *const HfReport, index: usize, out: *mut HfCase) -> HfStatus {
+    // SAFETY: the caller's promise.
+    let (Some(r), false) = (unsafe { report.as_ref() }, out.is_null()) else { return HfStatus::Null };
+    let Some(c) = r.report.cases.get(index) else { return HfStatus::Invalid };
+    let mut case = HfCase { id: [0; HF_ID_LEN], verdict: case_verdict(c.verdict), findings: c.findings.len() };
+    c_text(&mut case.id, c.id);
+    // SAFETY: writable by the caller's promise.
+    unsafe { *out = case };
+    HfStatus::Ok
+}
+
+/// Finding `finding` of case `index` into `out`.
+///
+/// # Safety
+/// `report` is null or a live report; `out` is null or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hf_report_finding(
+    report: *const HfReport,
+    index: usize,
+    finding: usize,
+    out: *mut HfFinding,
+) -> HfStatus {
+    // SAFETY: the caller's promise.
+    let (Some(r), false) = (unsafe { report.as_ref() }, out.is_null()) else { return HfStatus::Null };
+    let Some(f) = r.report.cases.get(index).and_then(|c| c.findings.get(finding)) else { return HfStatus::Invalid };
+    let mut found =
+        HfFinding { verdict: case_verdict(f.verdict()), clause: [0; HF_CLAUSE_LEN], message: [0; HF_REASON_LEN] };
+    c_text(&mut found.clause, f.clause_id());
+    c_text(&mut found.message, f.message());
+    // SAFETY: writable by the caller's promise.
+    unsafe { *out = found };
+    HfStatus::Ok
+}
+
+/// The report in the form `form` (an [`HfReportForm`] as an int), NUL-terminated and
+/// kept by the report until [`hf_report_free`]; null for a null report or another
+/// form.
+///
+/// # Safety
+/// `report` is null or a live report, not used from another thread meanwhile.
+#[no_mangle]
+pub unsafe extern "C" fn hf_report_text(report: *const HfReport, form: c_int) -> *const c_char {
+    // SAFETY: the caller's promise.
+    let Some(r) = (unsafe { report.as_ref() }) else { return core::ptr::null() };
+    let Some(slot) = usize::try_from(form).ok().and_then(|i| r.texts.get(i)) else { return core::ptr::null() };
+    let made = slot.get_or_init(|| {
+        let text = match form {
+            f if f == HfReportForm::Json as c_int => {
+                r.report.json().unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
+            }
+            f if f == HfReportForm::Junit as c_int => r.report.junit(),
+            f if f == HfReportForm::Markdown as c_int => r.report.markdown(),
+            _ => r.report.html(),
+        };
+        // No NUL inside a report's text; were there one, the text ends there.
+        CString::new(text).unwrap_or_else(|e| {
+            let end = e.nul_position();
+            let mut bytes = e.into_vec();
+            bytes.truncate(end);
+            CString::new(bytes).unwrap_or_default()
+        })
+    });
+    made.as_ptr()
+}
+
+/// The name of an [`HfOutcome`] ("PASSED", "FAILED", "INCOMPLETE"); "?" for any other
+/// value. A static NUL-terminated string: never freed.
+#[no_mangle]
+pub extern "C" fn hf_outcome_name(outcome: c_int) -> *const c_char {
+    crate::names::name(
+        &[
+            (HfOutcome::Passed as c_int, c"PASSED"),
+            (HfOutcome::Failed as c_int, c"FAILED"),
+            (HfOutcome::Incomplete as c_int, c"INCOMPLETE"),
+        ],
+        outcome,
+    )
+}
+
+/// The name of an [`HfCaseVerdict`] as the reports write it ("PASS", "NON-STRICT",
+/// "FAIL", "NOT-APPLICABLE", "NOT-EXERCISED", "UNKNOWN", "ERROR"); "?" for any other
+/// value. A static NUL-terminated string: never freed.
+#[no_mangle]
+pub extern "C" fn hf_case_verdict_name(verdict: c_int) -> *const c_char {
+    crate::names::name(
+        &[
+            (HfCaseVerdict::Pass as c_int, c"PASS"),
+            (HfCaseVerdict::NonStrict as c_int, c"NON-STRICT"),
+            (HfCaseVerdict::Fail as c_int, c"FAIL"),
+            (HfCaseVerdict::NotApplicable as c_int, c"NOT-APPLICABLE"),
+            (HfCaseVerdict::NotExercised as c_int, c"NOT-EXERCISED"),
+            (HfCaseVerdict::Unknown as c_int, c"UNKNOWN"),
+            (HfCaseVerdict::Error as c_int, c"ERROR"),
+        ],
+        verdict,
+    )
+}
+
+/// The name of an [`HfReportForm`] ("JSON", "JUNIT", "MARKDOWN", "HTML"); "?" for any
+/// other value. A static NUL-terminated string: never freed.
+#[no_mangle]
+pub extern "C" fn hf_report_form_name(form: c_int) -> *const c_char {
+    crate::names::name(
+        &[
+            (HfReportForm::Json as c_int, c"JSON"),
+            (HfReportForm::Junit as c_int, c"JUNIT"),
+            (HfReportForm::Markdown as c_int, c"MARKDOWN"),
+            (HfReportForm::Html as c_int, c"HTML"),
+        ],
+        form,
+    )
+}

@@ -1,0 +1,78 @@
+//! The reports of every front end, rendered one way as text: JSON for programs, JUnit
+//! for CI, and a certificate for people as Markdown and HTML. Each run's report says
+//! what goes into each form (the slave's is [`slave`]); the harness writes them to files.
+
+use crate::verdict::CaseVerdict;
+
+pub mod slave;
+
+/// A run's report in the four forms every front end writes.
+pub trait Reports {
+    /// The people's certificate's file name, without extension.
+    const CERTIFICATE: &'static str;
+    fn json(&self) -> serde_json::Result<String>;
+    fn junit(&self) -> String;
+    fn markdown(&self) -> String;
+    fn html(&self) -> String;
+}
+
+/// One JUnit suite of cases (slave cases or master scenarios).
+pub fn junit_suite(name: String, cases: &[crate::certify::CaseResult]) -> String {
+    use quick_junit::{NonSuccessKind, Report as JReport, TestCase, TestCaseStatus, TestSuite};
+    let mut suite = TestSuite::new(name);
+    for c in cases {
+        let detail: String = c.findings.iter().map(|f| format!("[{}] {f}\n", f.verdict().label())).collect();
+        let status = match c.verdict {
+            CaseVerdict::Pass | CaseVerdict::NonStrict => TestCaseStatus::success(),
+            CaseVerdict::NotApplicable => {
+                let mut s = TestCaseStatus::skipped();
+                s.set_message(detail.trim().to_string());
+                s
+            }
+            CaseVerdict::Fail => {
+                let mut s = TestCaseStatus::non_success(NonSuccessKind::Failure);
+                s.set_message(detail.trim().to_string());
+                s.set_description(wire_text(c));
+                s
+            }
+            // Not observed: neither a pass nor the device's failure (INCOMPLETE).
+            CaseVerdict::Error | CaseVerdict::NotExercised | CaseVerdict::Unknown => {
+                let mut s = TestCaseStatus::non_success(NonSuccessKind::Error);
+                s.set_message(format!("{}: {}", c.verdict.label(), detail.trim()));
+                s
+            }
+        };
+        let mut t = TestCase::new(c.id, status);
+        t.set_classname(format!("hiperface.{}", c.id.split('.').next().unwrap_or("case")));
+        t.set_time(std::time::Duration::from_secs_f64(c.duration_ms / 1000.0));
+        if c.verdict == CaseVerdict::NonStrict {
+            t.set_system_out(detail);
+        }
+        suite.add_test_case(t);
+    }
+    let mut r = JReport::new("hiperface");
+    r.add_test_suite(suite);
+    r.to_string().unwrap_or_else(|e| format!("<!-- cannot serialise: {e} -->"))
+}
+
+/// A case's wire log as text, a line per frame.
+pub fn wire_text(c: &crate::certify::CaseResult) -> String {
+    c.wire.iter().map(|w| format!("{:>12.3} ms  {}  {}\n", w.t_us as f64 / 1000.0, w.direction, w.bytes)).collect()
+}
+
+/// Text made safe inside HTML.
+pub fn escape(t: &str) -> String {
+    t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+}
+
+/// The head of every HTML certificate: one style, a class per verdict.
+pub fn page_head(title: &str) -> String {
+    format!(
+        "<!doctype html><html><head><meta charset=\"utf-8\"><title>{}</title>\
+         <style>body{{font-family:sans-serif;max-width:75em;margin:2em auto}}table{{border-collapse:collapse}}\
+         td,th{{border:1px solid #ccc;padding:.2em .5em;text-align:left}}.PASS{{color:#070}}\
+         .FAIL{{color:#b00;font-weight:bold}}.NON-STRICT{{color:#a60}}.ERROR{{color:#b0b}}.UNKNOWN{{color:#066}}\
+         pre{{background:#f4f4f4;padding:.5em}}svg{{border:1px solid #ddd}}</style></head><body>",
+        escape(title)
+    )
+}
