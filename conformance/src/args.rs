@@ -20,10 +20,7 @@ pub fn parse_ms(s: &str) -> Result<f64, String> {
     Ok(ms)
 }
 
-/// Milliseconds as whole microseconds (the harness's clocks count µs).
-pub fn ms_to_us(ms: f64) -> u64 {
-    (ms * 1000.0).round().max(0.0) as u64
-}
+pub use hiperface_suite::time::ms_to_us;
 
 /// The simulated encoder's physical inputs and start-up faults.
 #[derive(clap::Args, Debug, Clone, Default)]

@@ -208,7 +208,7 @@ pub fn serve_with(
     // What the master sent while a reply went out, as it was read.
     let mut heard: Vec<Chunk> = Vec::new();
     // The kernel's marks of UART faults, taken back across reads.
-    let (marking, mut marks) = (hooks.marks_errors(), crate::listen::tap::Marks::default());
+    let (marking, mut marks) = (hooks.marks_errors(), crate::capture::parmrk::Marks::default());
     // The master's characters, off the line and its echo, in the order they came.
     let mut master_chars: Vec<RxChar> = Vec::new();
     while !stop.load(Ordering::Relaxed) {
@@ -340,7 +340,7 @@ pub fn serve_with(
 /// marks where the port marks faults (`marks`, kept across reads).
 fn unmarked(
     bytes: &[u8],
-    marks: Option<&mut crate::listen::tap::Marks>,
+    marks: Option<&mut crate::capture::parmrk::Marks>,
 ) -> Vec<(u8, Option<hiperface_model::UartFault>)> {
     let mut out = Vec::with_capacity(bytes.len());
     match marks {

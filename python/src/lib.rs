@@ -2,10 +2,10 @@
 //! package `hiperface` (python/hiperface) re-exports it with typing stubs and adds the
 //! certification report reader.
 
-use hiperface_conformance::capture::Format;
-use hiperface_conformance::listen::cli::{grade_capture, DecodeOptions};
 use hiperface_model::checksum::{is_valid as xor_is_zero, xor};
 use hiperface_model::{Grading, Oracle as ModelOracle, RequestFrame, RxChar, Step, UartFault, Verdict};
+use hiperface_suite::capture::Format;
+use hiperface_suite::listen::decode::{grade_capture, DecodeOptions};
 use hiperface_suite::{profile_file, vectors};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyFileNotFoundError, PyOSError, PyTypeError, PyValueError};
@@ -444,7 +444,7 @@ fn decode_capture(
             .and_then(|json| on_exchange.call1((json,)).map(drop));
         failed = call.err();
     })
-    .map_err(HiperfaceError::new_err)?;
+    .map_err(|e| HiperfaceError::new_err(e.to_string()))?;
     if let Some(e) = failed {
         return Err(e);
     }

@@ -7,13 +7,16 @@
 
 #![forbid(unsafe_code)]
 
+pub mod capture;
 pub mod certify;
 pub mod exchange;
 pub mod frame;
 pub mod line;
+pub mod listen;
 pub mod profile_file;
 pub mod record;
 pub mod report;
+pub mod time;
 pub mod vectors;
 pub mod verdict;
 pub mod world;

@@ -1,6 +1,6 @@
-//! The core without I/O: neither the suite nor the C library it serves has an
-//! operating system's port, a terminal, a process or a progress bar in its tree
-//! (issue 39). `cargo tree` reads the lock file: no build.
+//! The core without I/O: neither the suite nor the C and Python libraries it serves
+//! have an operating system's port, a terminal, a process or a progress bar in their
+//! trees (issue 39). `cargo tree` reads the lock file: no build.
 
 use std::process::Command;
 
@@ -9,10 +9,15 @@ const HARNESS_ONLY: [&str; 8] =
     ["serialport", "serial2", "nix", "clap", "indicatif", "ctrlc", "thread-priority", "hiperface-conformance"];
 
 fn tree(package: &str) -> Vec<String> {
+    tree_in(package, env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The tree of `package` in the workspace at `dir`.
+fn tree_in(package: &str, dir: &str) -> Vec<String> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let out = Command::new(cargo)
         .args(["tree", "-p", package, "-e", "normal", "--prefix", "none", "--format", "{p}"])
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .current_dir(dir)
         .output()
         .expect("cargo runs");
     assert!(out.status.success(), "cargo tree -p {package}: {}", String::from_utf8_lossy(&out.stderr));
@@ -23,13 +28,18 @@ fn tree(package: &str) -> Vec<String> {
 }
 
 #[test]
-fn the_suite_and_the_c_library_have_no_io_crate_in_their_tree() {
+fn the_suite_and_the_c_and_python_libraries_have_no_io_crate_in_their_trees() {
     // The check sees them where they are: the harness has every one.
     let harness = tree("hiperface-conformance");
     let missing: Vec<_> = HARNESS_ONLY[..7].iter().filter(|c| !harness.iter().any(|h| h == *c)).collect();
     assert!(missing.is_empty(), "the harness's tree as read lacks {missing:?}");
-    for package in ["hiperface-suite", "hiperface-ffi"] {
-        let crates = tree(package);
+    // The Python package is a workspace of its own (python/, built by maturin).
+    let python = concat!(env!("CARGO_MANIFEST_DIR"), "/../python");
+    for (package, crates) in [
+        ("hiperface-suite", tree("hiperface-suite")),
+        ("hiperface-ffi", tree("hiperface-ffi")),
+        ("hiperface-py", tree_in("hiperface-py", python)),
+    ] {
         assert!(crates.iter().any(|c| c == "hiperface-model"), "{package}: the tree was read: {crates:?}");
         let io: Vec<_> = crates.iter().filter(|c| HARNESS_ONLY.contains(&c.as_str())).collect();
         assert!(io.is_empty(), "{package} pulls in {io:?}");

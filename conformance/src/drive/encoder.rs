@@ -192,7 +192,7 @@ pub struct DriveEncoder {
     /// A master on a pseudo-terminal: the kernel's delivery, measured beside the line.
     delivery: Option<Arc<crate::line::delivery::DeliveryProbe>>,
     /// Everything taken in, in order, for the record of the wire (`drive::record`).
-    log: Vec<super::record::Input>,
+    log: Vec<super::inputs::Input>,
     /// Taken in again from a record: the master's data rates as they were read.
     replayed_rates: Option<std::collections::VecDeque<Option<u32>>>,
 }
@@ -251,7 +251,7 @@ impl DriveEncoder {
     }
 
     /// What the encoder took in, in order (the record of the wire).
-    pub fn take_log(&mut self) -> Vec<super::record::Input> {
+    pub fn take_log(&mut self) -> Vec<super::inputs::Input> {
         std::mem::take(&mut self.log)
     }
 
@@ -311,7 +311,7 @@ impl DriveEncoder {
             Some(rates) => rates.pop_front().flatten(),
             None => self.peer.as_ref().and_then(|p| p.baud_rate().ok()),
         };
-        self.log.push(super::record::Input::PeerRate { bps });
+        self.log.push(super::inputs::Input::PeerRate { bps });
         bps
     }
 
@@ -374,8 +374,8 @@ impl DriveEncoder {
 
 impl Hooks for DriveEncoder {
     fn received(&mut self, ch: RxChar, listening: Option<UartSettings>) {
-        let listening_hex = super::record::settings_hex(listening);
-        self.log.push(super::record::Input::Received { ch: ch.into(), listening: listening_hex });
+        let listening_hex = super::inputs::settings_hex(listening);
+        self.log.push(super::inputs::Input::Received { ch: ch.into(), listening: listening_hex });
         if listening != self.listening {
             if let Some(s) = listening {
                 self.observer.encoder_listens(s);
@@ -417,12 +417,12 @@ impl Hooks for DriveEncoder {
     }
 
     fn read(&mut self, unwatched_us: u64) {
-        self.log.push(super::record::Input::Read { unwatched_us });
+        self.log.push(super::inputs::Input::Read { unwatched_us });
         self.read_late_us = unwatched_us;
     }
 
     fn idle(&mut self, now_us: u64) {
-        self.log.push(super::record::Input::Idle { now_us });
+        self.log.push(super::inputs::Input::Idle { now_us });
         if self.heard.is_empty() {
             self.peer_bps = self.peer_bps();
         }
@@ -432,7 +432,7 @@ impl Hooks for DriveEncoder {
     }
 
     fn frame(&mut self, slave: &mut Slave, step: &Step) {
-        self.log.push(super::record::Input::Frame);
+        self.log.push(super::inputs::Input::Frame);
         let bytes = step.received.bytes.as_bytes();
         let decoded = RequestFrame::decode(bytes).ok();
         self.answered = decoded.map(|r| r.request.command());
@@ -459,7 +459,7 @@ impl Hooks for DriveEncoder {
     }
 
     fn reply(&mut self, slave: &mut Slave, step: &Step, mut planned: Planned) -> Option<Planned> {
-        self.log.push(super::record::Input::Reply);
+        self.log.push(super::inputs::Input::Reply);
         // A master reads the reply as a UART would deliver it.
         planned.paced = true;
         // `frame` saw this frame first: its command, and how many of it so far.
@@ -521,7 +521,7 @@ impl Hooks for DriveEncoder {
     }
 
     fn sent(&mut self, planned: &Planned, end_us: u64) {
-        self.log.push(super::record::Input::Sent {
+        self.log.push(super::inputs::Input::Sent {
             frame: Hex(&planned.frame).to_string(),
             start_us: planned.start_us,
             end_us,
@@ -577,7 +577,7 @@ impl Hooks for DriveEncoder {
     }
 
     fn real_time(&mut self, granted: bool) {
-        self.log.push(super::record::Input::RealTime { granted });
+        self.log.push(super::inputs::Input::RealTime { granted });
         self.timeline.real_time = granted;
     }
 

@@ -8,6 +8,7 @@
 pub mod cli;
 pub mod encoder;
 mod grade;
+pub mod inputs;
 pub mod process;
 pub mod record;
 pub mod reference;

@@ -332,7 +332,7 @@ mod tests {
         let path = near.name().expect("a path");
         let mut port = open_marking_port(&path, UartSettings::DEFAULT).expect("opened");
         let unmark = |raw: &[u8]| {
-            let (mut marks, mut out) = (crate::listen::tap::Marks::default(), Vec::new());
+            let (mut marks, mut out) = (crate::capture::parmrk::Marks::default(), Vec::new());
             for b in raw {
                 marks.push(*b, &mut |m| out.push(m.as_received()));
             }

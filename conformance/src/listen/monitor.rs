@@ -3,9 +3,10 @@
 //! (Ctrl-C, `--duration-ms`, or the port closing), and the reports.
 
 use super::cli::{conclude, report, ListeningArgs, LiveView, Source};
-use super::tap::{Got, Marks, Stamps, Tap};
+use super::tap::{Got, Stamps, Tap};
 use super::{Listener, Options};
 use crate::args::{ms_to_us, parse_ms};
+use crate::capture::parmrk::Marks;
 use crate::capture::{Event, Mark};
 use crate::port::PortSpec;
 use std::io::Write;

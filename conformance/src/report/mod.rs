@@ -7,9 +7,8 @@
 
 use std::path::Path;
 
-pub use hiperface_suite::report::{escape, junit_suite, page_head, slave, wire_text, Reports};
+pub use hiperface_suite::report::{escape, junit_suite, listening, page_head, slave, wire_text, Reports};
 
-pub mod listening;
 pub mod master;
 pub mod recorded;
 

@@ -4,6 +4,7 @@
 
 use crate::verdict::CaseVerdict;
 
+pub mod listening;
 pub mod slave;
 
 /// A run's report in the four forms every front end writes.

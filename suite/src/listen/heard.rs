@@ -1,7 +1,7 @@
 //! What the listener heard: one exchange graded ([`HeardExchange`]), and the
 //! characters of one frame as the listener heard them, with how late each may
 //! have been heard: a live tap's read that returned it after its reader had waited
-//! for a processor (see `crate::sched`). A capture file's times are its instrument's:
+//! for a processor (the harness measures its own run delay). A capture file's times are its instrument's:
 //! heard on time.
 
 use super::summary;

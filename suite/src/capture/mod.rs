@@ -13,6 +13,7 @@ use std::io::BufRead;
 
 pub mod csv;
 mod merge;
+pub mod parmrk;
 mod prefetch;
 pub mod sigrok;
 pub mod vcd;

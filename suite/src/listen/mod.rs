@@ -1,0 +1,360 @@
+//! The passive listener: grade both sides of a conversation it only overhears (a live
+//! bus tapped by a third transceiver, or a logic-analyzer capture). Sans-IO: it is
+//! fed [`Event`]s in time order and reports each exchange as it closes.
+//!
+//! - Framing by the inter-character timeout at the bus's settings (000:2.2.2), per
+//!   channel.
+//! - Requests and replies are told apart by the capture's direction where it has one
+//!   (a wire log, `--master-channel`), otherwise by timing and structure: a frame that
+//!   starts within the reply window of an open request is its reply; a frame that
+//!   decodes as a request is one; a request with an early reply run into it (less
+//!   than the timeout between them) is split where the request ends.
+//! - The master is graded by the master rules (`hiperface_model::master::obligations`),
+//!   the slave by the oracle against a model that follows the requests it hears.
+//!
+//! What a listener cannot know is never charged to a device: it does not see the
+//! encoder's stored state (data fields, access codes, address, counter, error stack)
+//! or whether it was powered on before the capture began. A reply's form (length and
+//! checksum for its command, its address echo, a warning bit without a code) and its
+//! timing are graded; a difference in content from the model is reported as
+//! UNKNOWN with the oracle's reason, not as FAIL.
+
+use crate::capture::{Event, Mark, Role};
+use crate::verdict::timing;
+use crate::verdict::{CaseVerdict, Finding, Outcome};
+use heard::Heard;
+pub use heard::HeardExchange;
+use hiperface_model::command::CommandId;
+use hiperface_model::datalink::{DataLink, RxChar};
+use hiperface_model::frame::Hex;
+use hiperface_model::master::obligations::{Observation, Observer};
+use hiperface_model::oracle::Oracle;
+use hiperface_model::request::RequestFrame;
+use hiperface_model::response::ResponseFrame;
+use hiperface_model::slave::Slave;
+use hiperface_model::{Grading, Profile, UartSettings};
+
+pub mod decode;
+mod grade;
+mod heard;
+mod summary;
+pub use decode::{fuzz_capture, listen_to};
+pub use summary::{Summary, BUCKETS_MS};
+
+/// What the listener is told.
+#[derive(Debug, Clone)]
+pub struct Options {
+    pub profile: Profile,
+    /// The bus's settings (the encoder's listening settings).
+    pub settings: UartSettings,
+    /// The capture's timing uncertainty, µs: its sample period, a logger's latency.
+    pub tolerance_us: u64,
+    /// The channel the master talks on, where the capture has several.
+    pub master_channel: Option<u8>,
+    /// The application's polling period, ms (000:3.2.2).
+    pub polling_period_ms: u32,
+}
+
+/// The frame being assembled on one channel: the model's data link decides where it
+/// ends (000:2.2.2), `heard` keeps its characters with how late each was heard.
+#[derive(Debug)]
+struct Assembly {
+    channel: u8,
+    /// Who sends on it, where the capture says.
+    role: Option<Role>,
+    link: DataLink,
+    heard: Heard,
+}
+
+/// A reply as heard: its characters, their bytes, and the frame they decode to.
+struct ReplyHeard {
+    heard: Heard,
+    bytes: Vec<u8>,
+    decoded: Option<ResponseFrame>,
+}
+
+/// A request waiting for its reply.
+#[derive(Debug, Clone)]
+struct Open {
+    bytes: Vec<u8>,
+    start_us: u64,
+    end_us: u64,
+    /// How late its last character may have been heard, µs.
+    end_late_us: u64,
+    /// The last instant a reply may start and still be heard as this one's.
+    window_end_us: u64,
+}
+
+impl Open {
+    fn command(&self) -> CommandId {
+        CommandId::of_frame(&self.bytes)
+    }
+}
+
+/// The listener.
+pub struct Listener {
+    options: Options,
+    oracle: Oracle,
+    shadow: Slave,
+    observer: Observer,
+    timeout_us: u64,
+    char_us: u64,
+    /// Frames being assembled, one per channel heard, by channel.
+    frames: Vec<Assembly>,
+    open: Option<Open>,
+    now_us: u64,
+    /// The summary says once that the encoder moved to another data rate.
+    rate_noted: bool,
+    pub summary: Summary,
+}
+
+impl Listener {
+    pub fn new(options: Options) -> Listener {
+        let mut observer = Observer::new(options.profile);
+        observer.encoder_listens(options.settings);
+        observer.set_polling_period_ms(options.polling_period_ms);
+        let edition = options.profile.edition;
+        Listener {
+            oracle: Oracle::new(Grading::Range),
+            shadow: Slave::operational(options.profile),
+            observer,
+            timeout_us: options.settings.timeout_us(edition),
+            char_us: options.settings.char_time_us(),
+            frames: Vec::new(),
+            open: None,
+            now_us: 0,
+            rate_noted: false,
+            summary: Summary::default(),
+            options,
+        }
+    }
+
+    /// Take in one event; `out` gets every exchange it closes.
+    pub fn feed(&mut self, e: Event, out: &mut impl FnMut(&HeardExchange)) {
+        self.advance(e.at_us, out);
+        let role = e.role.or(match self.options.master_channel {
+            Some(m) if m == e.channel => Some(Role::Master),
+            Some(_) => Some(Role::Slave),
+            None => None,
+        });
+        if e.mark == Mark::Break {
+            // A break ends the frame it interrupts. // 000:T47 (a UART fault)
+            self.summary.breaks += 1;
+            self.close_channel(e.channel, out);
+            return;
+        }
+        let (byte, fault) = e.mark.as_received();
+        self.summary.characters += 1;
+        self.summary.flagged += u64::from(fault.is_some());
+        const MAX: usize = 4 * hiperface_model::frame::MAX_FRAME;
+        let at = match self.frames.binary_search_by_key(&e.channel, |a| a.channel) {
+            Ok(at) => at,
+            Err(at) => {
+                let link = DataLink::new(self.timeout_us);
+                self.frames.insert(at, Assembly { channel: e.channel, role, link, heard: Heard::default() });
+                at
+            }
+        };
+        let Some(a) = self.frames.get_mut(at) else { return };
+        a.role = role;
+        let ch = RxChar { byte, at_us: e.at_us, fault };
+        // `advance` to this instant closed the frame this character comes too late for,
+        // so the data link completes none here.
+        let _ = a.link.receive(ch);
+        // A frame longer than any valid one is cut: memory stays bounded.
+        if a.heard.len() < MAX {
+            a.heard.push(ch, e.late_us);
+        }
+    }
+
+    /// Nothing was heard until `now_us` (a live bus, quiet): close what timed out.
+    pub fn idle(&mut self, now_us: u64, out: &mut impl FnMut(&HeardExchange)) {
+        if now_us > self.now_us {
+            self.advance(now_us, out);
+        }
+    }
+
+    /// The capture ended at `at_us`: close what is open.
+    pub fn finish(&mut self, at_us: u64, out: &mut impl FnMut(&HeardExchange)) {
+        let end = at_us.max(self.now_us).saturating_add(self.timeout_us);
+        self.advance(end, out);
+        let channels: Vec<u8> = self.frames.iter().map(|a| a.channel).collect();
+        for ch in channels {
+            self.close_channel(ch, out);
+        }
+        if let Some(open) = self.open.take() {
+            self.exchange(open, None, out);
+        }
+        let mut obs = Vec::new();
+        self.observer.end(end, &mut |o| obs.push(o));
+        self.master_observations(obs);
+    }
+
+    /// Time passes to `now`: frames whose timeout elapsed complete, in the order they
+    /// began; a request whose reply window closed was not answered.
+    fn advance(&mut self, now: u64, out: &mut impl FnMut(&HeardExchange)) {
+        loop {
+            let due = self
+                .frames
+                .iter()
+                .filter(|a| a.link.deadline().is_some_and(|complete| complete <= now))
+                .filter_map(|a| Some((a.heard.chars.first()?.at_us, a.channel)))
+                .min();
+            let Some((_, ch)) = due else { break };
+            self.close_channel(ch, out);
+        }
+        if let Some(open) = &self.open {
+            // A frame still being assembled that began in the window may be the reply.
+            let end = open.window_end_us;
+            let reply_under_way = self
+                .frames
+                .iter()
+                .any(|a| a.heard.chars.first().is_some_and(|c| c.at_us.saturating_sub(self.char_us) <= end));
+            // A reply that starts at the window's end is heard a character later.
+            if now > end.saturating_add(self.char_us) && !reply_under_way {
+                let open = self.open.take();
+                if let Some(open) = open {
+                    self.exchange(open, None, out);
+                }
+            }
+        }
+        let mut obs = Vec::new();
+        self.observer.poll(now, &mut |o| obs.push(o));
+        self.master_observations(obs);
+        self.now_us = self.now_us.max(now);
+    }
+
+    /// The last instant a reply to a request of `command` that ended at `end_us` may
+    /// start and still be heard as its reply (`timing::reply_awaited_ms`).
+    fn window_end(&self, command: CommandId, end_us: u64) -> u64 {
+        let awaited_us = timing::reply_awaited_ms(self.options.profile.response_limit(command)) as u64 * 1000;
+        end_us.saturating_add(self.timeout_us + awaited_us + self.options.tolerance_us)
+    }
+
+    fn close_channel(&mut self, ch: u8, out: &mut impl FnMut(&HeardExchange)) {
+        let Some(a) = self.frames.iter_mut().find(|a| a.channel == ch) else { return };
+        a.link.clear();
+        let (role, heard) = (a.role, std::mem::take(&mut a.heard));
+        if !heard.is_empty() {
+            self.frame(role, heard, out);
+        }
+    }
+
+    /// A complete frame: a request, a reply, or both run together.
+    fn frame(&mut self, role: Option<Role>, heard: Heard, out: &mut impl FnMut(&HeardExchange)) {
+        let start = heard.chars.first().map_or(0, |c| c.at_us.saturating_sub(self.char_us));
+        let in_window = self.open.as_ref().is_some_and(|o| start <= o.window_end_us);
+        match role {
+            Some(Role::Master) => self.request(heard, out),
+            Some(Role::Slave) if in_window => self.reply(heard, out),
+            Some(Role::Slave) => self.stray(&heard.bytes(), start, "a reply frame with no request open"),
+            None => self.unmarked(heard, start, in_window, out),
+        }
+    }
+
+    /// A frame of a capture that does not say who sent it: told by its window and
+    /// its structure.
+    fn unmarked(&mut self, heard: Heard, start: u64, in_window: bool, out: &mut impl FnMut(&HeardExchange)) {
+        let bytes = heard.bytes();
+        let request = RequestFrame::decode(&bytes).is_ok();
+        match () {
+            () if in_window && !request => self.reply(heard, out),
+            () if request => self.request(heard, out),
+            () => match (2..bytes.len()).find(|n| RequestFrame::decode(&bytes[..*n]).is_ok()) {
+                // A request and a reply with less than the timeout between them.
+                Some(n) => {
+                    let mut heard = heard;
+                    let reply = heard.split_off(n);
+                    self.request(heard, out);
+                    self.reply(reply, out);
+                }
+                None => self.stray(&bytes, start, "a frame that is neither a request nor a reply in its window"),
+            },
+        }
+    }
+
+    fn stray(&mut self, bytes: &[u8], start_us: u64, what: &str) {
+        self.summary.unattributed += 1;
+        self.summary.unattributed_characters += bytes.len() as u64;
+        self.summary.note(format!("{:.3} ms: {what} [{}]: not graded", start_us as f64 / 1000.0, Hex(bytes)));
+    }
+
+    fn request(&mut self, heard: Heard, out: &mut impl FnMut(&HeardExchange)) {
+        if let Some(open) = self.open.take() {
+            self.exchange(open, None, out);
+        }
+        if let Some(first) = heard.chars.first() {
+            self.follow(first.at_us.saturating_sub(self.char_us));
+        }
+        let mut obs = Vec::new();
+        for c in &heard.chars {
+            self.observer.master_char(*c, &mut |o| obs.push(o));
+        }
+        self.master_observations(obs);
+        let (Some(first), Some(last)) = (heard.chars.first(), heard.chars.last()) else { return };
+        let bytes = heard.bytes();
+        let command = CommandId::of_frame(&bytes);
+        self.open = Some(Open {
+            bytes,
+            start_us: first.at_us.saturating_sub(self.char_us),
+            end_us: last.at_us,
+            end_late_us: heard.last_late_us(),
+            window_end_us: self.window_end(command, last.at_us),
+        });
+    }
+
+    fn reply(&mut self, heard: Heard, out: &mut impl FnMut(&HeardExchange)) {
+        let Some(open) = self.open.take() else { return };
+        let (Some(first), Some(last)) = (heard.chars.first(), heard.chars.last()) else { return };
+        let bytes = heard.bytes();
+        let decoded = ResponseFrame::decode(&bytes, open.command()).ok();
+        self.observer.encoder_reply(first.at_us.saturating_sub(self.char_us), last.at_us, decoded.as_ref());
+        self.exchange(open, Some(ReplyHeard { heard, bytes, decoded }), out);
+    }
+
+    /// What the encoder accepted moves where it answers (55h) and, after a reset, how
+    /// it listens (57h): the master's rules follow it at `at_us`. // 000:T30, 000:T32
+    fn follow(&mut self, at_us: u64) {
+        self.observer.encoder_at(self.shadow.nonvolatile().address);
+        let Some(settings) = self.shadow.listening_settings(at_us) else { return };
+        self.observer.encoder_listens(settings);
+        if settings.baud != self.options.settings.baud && !self.rate_noted {
+            self.rate_noted = true;
+            self.summary.note(format!(
+                "{:.3} ms: the encoder now listens at {} Bd; a capture read at {} Bd cannot follow it",
+                at_us as f64 / 1000.0,
+                settings.baud.bits_per_second(),
+                self.options.settings.baud.bits_per_second()
+            ));
+        }
+    }
+
+    fn master_observations(&mut self, obs: Vec<Observation>) {
+        let edition = self.options.profile.edition;
+        for o in obs {
+            let figure = o.measured_us.map_or(String::new(), |m| format!(", {:.3} ms", m as f64 / 1000.0));
+            let message = format!("{} at {:.3} ms{figure}", o.rule.text(), o.at_us as f64 / 1000.0);
+            self.summary.master(o.rule, Finding::broken(o.rule.clause(), message, edition));
+        }
+    }
+}
+
+/// The report of a listening run.
+#[derive(Debug, serde::Serialize)]
+pub struct ListeningReport {
+    pub tool: String,
+    pub capture: String,
+    pub format: String,
+    pub profile: String,
+    pub baud: u32,
+    pub tolerance_us: u64,
+    pub channels: Vec<String>,
+    pub assumptions: Vec<String>,
+    /// The worst verdict heard.
+    pub verdict: CaseVerdict,
+    /// What the run adds up to.
+    pub outcome: Outcome,
+    /// Why it is not PASSED, where that is not a FAIL.
+    pub incomplete: Option<String>,
+    pub summary: Summary,
+}
