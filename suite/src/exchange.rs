@@ -119,8 +119,16 @@ pub struct LineFacts {
     pub tolerance_us: u64,
     pub can_change_settings: bool,
     /// `Err`: why a parity error cannot be sent on the line.
-    pub carries_parity: Result<(), String>,
+    pub carries_parity: Result<(), NoParity>,
 }
+
+/// Why a parity error cannot be sent on a line (a pseudo-terminal has no parity bit, a
+/// raw TCP server sends in its own settings): the case that needs one does not apply.
+/// Kept in a record as the text it says.
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize, serde::Deserialize, thiserror::Error)]
+#[serde(transparent)]
+#[error("{0}")]
+pub struct NoParity(pub String);
 
 /// What a run found out about its line by its end.
 #[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -155,7 +163,7 @@ impl<L: Line> Bus for BusMaster<L> {
             kind: self.line.kind(),
             tolerance_us: self.line.tolerance_us(),
             can_change_settings: self.line.can_change_settings(),
-            carries_parity: self.line.carries_parity().map_err(str::to_string),
+            carries_parity: self.line.carries_parity().map_err(|why| NoParity(why.to_string())),
         }
     }
     fn findings(&self) -> LineFindings {

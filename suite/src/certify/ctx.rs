@@ -467,7 +467,7 @@ impl Ctx<'_> {
     }
 
     /// Whether a parity error can be sent on the line; `Err` says why not.
-    pub fn line_carries_parity(&self) -> Result<(), String> {
+    pub fn line_carries_parity(&self) -> Result<(), crate::exchange::NoParity> {
         self.master.facts().carries_parity
     }
 

@@ -117,7 +117,7 @@ impl Report {
 /// device on a line; the report is the same, with the record `decode` plays back.
 /// Physical values are graded by range, as on a real device: the encoder's world
 /// (its shaft, its temperature) is its own, and the run does not know it.
-pub fn in_process<E: FrameEncoder + 'static>(encoder: E, profile: Profile, options: &Options) -> Report {
+pub fn in_process<E: FrameEncoder>(encoder: E, profile: Profile, options: &Options) -> Report {
     let line = VirtualLine::new(FramedEncoder::new(encoder, &profile));
     let options = Options { grading: hiperface_model::Grading::Range, ..options.clone() };
     run(Box::new(line), profile, &options, |_, _, _| {})
@@ -125,8 +125,8 @@ pub fn in_process<E: FrameEncoder + 'static>(encoder: E, profile: Profile, optio
 
 /// Run the catalogue. `progress` is called after each case. The report holds the
 /// record of the wire (`Report::record`).
-pub fn run(
-    line: Box<dyn Line>,
+pub fn run<'a>(
+    line: Box<dyn Line + 'a>,
     profile: Profile,
     options: &Options,
     progress: impl FnMut(usize, usize, &CaseResult),

@@ -26,7 +26,7 @@ pub const PARITY: Case = case!(
     |c| {
         let a = c.address();
         if let Err(why) = c.line_carries_parity() {
-            c.push(Finding::not_applicable(why));
+            c.push(Finding::not_applicable(why.to_string()));
             return Ok(());
         }
         let now = c.now_us();
