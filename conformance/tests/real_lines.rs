@@ -17,9 +17,20 @@ use hiperface_model::{profiles, Grading, Profile, UartSettings};
 const GENEROUS_US: u64 = 25_000;
 
 fn certify_through(emulator: &LineEmulator, profile: Profile, echo: EchoMode, options: &Options) -> Report {
+    certify_through_noting(emulator, profile, echo, options, |_, _, _| {})
+}
+
+/// As `certify_through`, with `progress` called after each case.
+fn certify_through_noting(
+    emulator: &LineEmulator,
+    profile: Profile,
+    echo: EchoMode,
+    options: &Options,
+    progress: impl FnMut(usize, usize, &certify::CaseResult),
+) -> Report {
     let line = SerialLine::open(&emulator.path, UartSettings::DEFAULT).unwrap_or_else(|e| panic!("{e}"));
     let line = EchoLine::new(line.with_tolerance(GENEROUS_US), echo);
-    let report = certify::run(Box::new(line), profile, options, |_, _, _| {});
+    let report = certify::run(Box::new(line), profile, options, progress);
     common::replay::assert_replays(&report);
     report
 }
@@ -158,11 +169,9 @@ fn a_gap_before_each_character_is_no_fail() {
     for _ in 0..5 {
         let (_sim, device) = PtySimulator::start(profile).unwrap();
         let emulator = LineEmulator::start(device, behaviour);
-        let line = SerialLine::open(&emulator.path, UartSettings::DEFAULT).unwrap_or_else(|e| panic!("{e}"));
-        let line = EchoLine::new(line.with_tolerance(GENEROUS_US), EchoMode::Auto);
         let mut ends = vec![Instant::now()];
-        let r = certify::run(Box::new(line), profile, &Options::all_allowed(), |_, _, _| ends.push(Instant::now()));
-        common::replay::assert_replays(&r);
+        let note_end = |_: usize, _: usize, _: &certify::CaseResult| ends.push(Instant::now());
+        let r = certify_through_noting(&emulator, profile, EchoMode::Auto, &Options::all_allowed(), note_end);
         assert!(r.aborted.is_none(), "{:?}", r.aborted);
         assert_eq!(ends.len(), r.cases.len() + 1);
         let late = emulator.late_moments();

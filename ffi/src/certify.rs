@@ -267,9 +267,9 @@ pub unsafe extern "C" fn hf_certify(
                 unsafe { tell(error, error_len, "the cases' glob is not UTF-8") };
                 return HfStatus::Invalid;
             };
-            if certify::select(Some(glob)).is_empty() {
+            if let Err(none) = certify::check_selection(glob) {
                 // SAFETY: the caller's promise.
-                unsafe { tell(error, error_len, format_args!("no case matches {glob:?}")) };
+                unsafe { tell(error, error_len, none) };
                 return HfStatus::Invalid;
             }
             run.cases = Some(glob.to_string());

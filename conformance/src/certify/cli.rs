@@ -121,15 +121,7 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<ExitCode, String> {
     }
     // Nothing selected is nothing graded: refused before the port is touched.
     if let Some(globs) = &cases {
-        if super::select(Some(globs)).is_empty() {
-            let mut groups: Vec<String> = super::cases::catalogue()
-                .iter()
-                .map(|c| format!("{}.*", c.id.split('.').next().unwrap_or(c.id)))
-                .collect();
-            groups.sort();
-            groups.dedup();
-            return Err(format!("no case matches `{globs}` (the cases: {})", groups.join(", ")));
-        }
+        super::check_selection(globs).map_err(|e| e.to_string())?;
     }
     let sim = port.is_model();
     let grading = grading.unwrap_or(if sim { Grading::Exact } else { Grading::Range });

@@ -21,7 +21,7 @@ pub use crate::world::World;
 pub use case::{Case, CaseError};
 pub use ctx::{Ctx, Graded, Guard};
 pub use identity::Identity;
-pub use run::{in_process, replay, run, select, Report, TimingStats};
+pub use run::{check_selection, in_process, replay, run, select, NoCaseMatches, Report, TimingStats};
 pub use safety::Safety;
 
 use hiperface_model::Grading;

@@ -293,6 +293,28 @@ pub fn select(globs: Option<&str>) -> Vec<Case> {
     cases::catalogue().into_iter().filter(|c| globs.is_none_or(|g| glob_match(g, c.id))).collect()
 }
 
+/// A glob of cases (`--cases`) that selects none: nothing selected is nothing graded,
+/// refused before a run (the command, C and Python alike).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("no case matches `{glob}` (the cases: {groups})")]
+pub struct NoCaseMatches {
+    pub glob: String,
+    /// The catalogue's groups ("address.*, analog.*, ...").
+    pub groups: String,
+}
+
+/// `globs` checked: it selects at least one case of the catalogue.
+pub fn check_selection(globs: &str) -> Result<(), NoCaseMatches> {
+    if !select(Some(globs)).is_empty() {
+        return Ok(());
+    }
+    let mut groups: Vec<String> =
+        cases::catalogue().iter().map(|c| format!("{}.*", c.id.split('.').next().unwrap_or(c.id))).collect();
+    groups.sort();
+    groups.dedup();
+    Err(NoCaseMatches { glob: globs.to_string(), groups: groups.join(", ") })
+}
+
 /// Let the lockstep model adopt a real device's data field table and counter; a note
 /// for the report.
 fn adopt(model: &mut Slave, s: &Snapshot) -> Option<String> {

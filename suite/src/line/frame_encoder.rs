@@ -73,9 +73,14 @@ impl<E: FrameEncoder> FramedEncoder<E> {
         FramedEncoder { encoder, edition: profile.edition, link, listening, next: None }
     }
 
+    /// The settings the encoder takes up by `now_us`, if a change is due.
+    fn due(&self, now_us: u64) -> Option<UartSettings> {
+        self.next.filter(|(_, at)| *at <= now_us).map(|(settings, _)| settings)
+    }
+
     /// Take up the settings due by `now_us`.
     fn settle(&mut self, now_us: u64) {
-        if let Some((settings, _)) = self.next.filter(|(_, at)| *at <= now_us) {
+        if let Some(settings) = self.due(now_us) {
             self.listening = settings;
             self.link.set_timeout(settings.timeout_us(self.edition));
             self.next = None;
@@ -120,10 +125,7 @@ impl<E: FrameEncoder> SlaveDevice for FramedEncoder<E> {
     }
 
     fn listening_settings(&self, now_us: u64) -> Option<UartSettings> {
-        Some(match self.next {
-            Some((settings, at_us)) if at_us <= now_us => settings,
-            _ => self.listening,
-        })
+        Some(self.due(now_us).unwrap_or(self.listening))
     }
 
     /// The encoder says when its reply starts: nothing is added.
