@@ -65,12 +65,24 @@ const VECTOR_FILES: &[(&str, &str)] = &[
 type Citations = (&'static str, BTreeMap<String, usize>);
 
 /// The clause ids each vector file cites, with how many tests cite each.
-fn vector_citations() -> Result<Vec<Citations>, String> {
+/// A vector file built into the command that does not read as vectors.
+#[derive(Debug, thiserror::Error)]
+#[error("the built-in vector file {name}: {why}")]
+pub struct BadBuiltinVectors {
+    pub name: &'static str,
+    pub why: String,
+}
+
+fn vector_citations() -> Result<Vec<Citations>, BadBuiltinVectors> {
     let mut out = Vec::new();
     for (name, text) in VECTOR_FILES {
-        let doc: serde_json::Value = serde_json::from_str(text).map_err(|e| format!("{name}: {e}"))?;
+        let doc: serde_json::Value =
+            serde_json::from_str(text).map_err(|e| BadBuiltinVectors { name, why: e.to_string() })?;
         let mut counts = BTreeMap::new();
-        let groups = doc.get("testGroups").and_then(|g| g.as_array()).ok_or(format!("{name}: no testGroups"))?;
+        let groups = doc
+            .get("testGroups")
+            .and_then(|g| g.as_array())
+            .ok_or(BadBuiltinVectors { name, why: "no testGroups".into() })?;
         for test in groups.iter().filter_map(|g| g.get("tests")?.as_array()).flatten() {
             for id in test.get("clauses").and_then(|c| c.as_array()).into_iter().flatten() {
                 if let Some(id) = id.as_str() {
@@ -93,7 +105,7 @@ fn force_name(f: Force) -> &'static str {
 }
 
 /// The coverage of every clause, in registry order.
-pub fn coverage() -> Result<Vec<ClauseCoverage>, String> {
+pub fn coverage() -> Result<Vec<ClauseCoverage>, BadBuiltinVectors> {
     let cases = crate::certify::cases::catalogue();
     let scenarios = crate::drive::scenarios::catalogue();
     let vectors = vector_citations()?;

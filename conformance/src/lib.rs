@@ -5,6 +5,7 @@
 pub mod args;
 pub mod certify;
 pub mod clauses;
+pub mod command;
 pub mod demo;
 pub mod drive;
 pub mod interrupt;

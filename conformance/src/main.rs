@@ -5,6 +5,7 @@
 
 use clap::{Parser, Subcommand, ValueEnum};
 use hiperface_conformance::args::WorldArgs;
+use hiperface_conformance::command::{CommandError, Ended};
 use hiperface_conformance::port::PortSpec;
 use hiperface_conformance::world::World;
 use hiperface_conformance::{certify, demo, drive, line, profile_file, simulate};
@@ -123,49 +124,37 @@ enum VectorsCommand {
     },
 }
 
-/// Why a command could not do its job: exit code 2 (bad input, a port that cannot be
-/// opened, a report that cannot be written). A device that FAILs is exit code 1.
-#[derive(Debug, thiserror::Error)]
-#[error("{0}")]
-struct CliError(String);
-
-impl CliError {
-    fn from(e: impl std::fmt::Display) -> CliError {
-        CliError(e.to_string())
-    }
-}
-
 /// `hiperface clauses`: exit 1 when a normative clause is neither covered nor listed.
-fn print_clauses(uncovered: bool, format: TextFormat) -> Result<ExitCode, CliError> {
+fn print_clauses(uncovered: bool, format: TextFormat) -> Result<Ended, CommandError> {
     use hiperface_conformance::clauses;
-    let all = clauses::coverage().map_err(CliError)?;
+    let all = clauses::coverage()?;
     let rows: Vec<&clauses::ClauseCoverage> = all.iter().filter(|c| !uncovered || c.uncovered()).collect();
     let text = match format {
         TextFormat::Markdown => clauses::markdown(&rows, &all),
-        TextFormat::Json => serde_json::to_string_pretty(&rows).map_err(|e| CliError(e.to_string()))? + "\n",
+        TextFormat::Json => serde_json::to_string_pretty(&rows).map_err(json_error)? + "\n",
     };
     print_all(&text)?;
-    Ok(if all.iter().any(|c| c.uncovered()) { ExitCode::FAILURE } else { ExitCode::SUCCESS })
+    Ok(if all.iter().any(|c| c.uncovered()) { Ended::CheckFailed } else { Ended::Done })
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Certify { what: CertifyWhat::Master(args) } => drive::cli::certify_master(&args).map_err(CliError),
-        Command::Certify { what: CertifyWhat::Slave(args) } => certify::cli::certify_slave(args).map_err(CliError),
-        Command::Master(args) => drive::cli::reference_master(&args).map_err(CliError),
+        Command::Certify { what: CertifyWhat::Master(args) } => drive::cli::certify_master(&args),
+        Command::Certify { what: CertifyWhat::Slave(args) } => certify::cli::certify_slave(args),
+        Command::Master(args) => drive::cli::reference_master(&args),
         Command::Simulate { port, profile, log, world } => run_simulator(&port, &profile, log, &world.world()),
         Command::Demo { profile } => profile_file::resolve(&profile)
-            .map_err(CliError::from)
-            .and_then(|p| print_all(&demo::run(p)).map(|()| ExitCode::SUCCESS)),
+            .map_err(CommandError::from)
+            .and_then(|p| print_all(&demo::run(p)).map(|()| Ended::Done)),
         Command::Profiles => {
             for (name, make) in hiperface_model::profiles::BUILTIN {
                 let p = make();
                 println!("{name:<16} {:?} edition, type {:02X}h, range {} steps", p.edition, p.type_code, p.range());
             }
-            Ok(ExitCode::SUCCESS)
+            Ok(Ended::Done)
         }
-        Command::CheckProfile { profile } => profile_file::resolve(&profile).map_err(CliError::from).map(|p| {
+        Command::CheckProfile { profile } => profile_file::resolve(&profile).map_err(CommandError::from).map(|p| {
             println!(
                 "{}: valid ({:?} edition, {} commands, range {} steps)",
                 p.name,
@@ -173,17 +162,17 @@ fn main() -> ExitCode {
                 p.commands.iter().count(),
                 p.range()
             );
-            ExitCode::SUCCESS
+            Ended::Done
         }),
-        Command::ExportProfile { profile } => profile_file::resolve(&profile).map_err(CliError::from).map(|p| {
+        Command::ExportProfile { profile } => profile_file::resolve(&profile).map_err(CommandError::from).map(|p| {
             print!("{}", profile_file::to_toml(&p));
-            ExitCode::SUCCESS
+            Ended::Done
         }),
         Command::Vectors { what } => vectors_command(what),
-        Command::Decode(args) => hiperface_conformance::listen::cli::decode(&args).map_err(CliError),
+        Command::Decode(args) => hiperface_conformance::listen::cli::decode(&args),
         Command::Monitor(args) => {
             let stop = hiperface_conformance::interrupt::flag("\ninterrupted: the summary and the reports follow");
-            hiperface_conformance::listen::monitor::monitor(&args, &stop).map_err(CliError)
+            hiperface_conformance::listen::monitor::monitor(&args, &stop)
         }
         Command::Clauses { uncovered, format } => print_clauses(uncovered, format),
         Command::Commands => {
@@ -192,29 +181,35 @@ fn main() -> ExitCode {
                 let ms = s.max_response_ms.map_or("-".to_string(), |m| m.to_string());
                 println!("{:02X}h    {:<50} {:>8}  {:?}  {:?}", s.id.byte(), s.name, ms, s.master_data, s.slave_data);
             }
-            Ok(ExitCode::SUCCESS)
+            Ok(Ended::Done)
         }
     };
-    result.unwrap_or_else(|e| {
-        eprintln!("error: {e}");
-        ExitCode::from(hiperface_conformance::verdict::EXIT_USAGE)
-    })
+    // The one place an ending becomes an exit code.
+    match result {
+        Ok(ended) => ExitCode::from(ended.exit_code()),
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(e.exit_code())
+        }
+    }
 }
 
-fn run_simulator(port: &PortSpec, profile: &str, log: bool, world: &World) -> Result<ExitCode, CliError> {
-    let profile = profile_file::resolve(profile).map_err(CliError::from)?;
+fn run_simulator(port: &PortSpec, profile: &str, log: bool, world: &World) -> Result<Ended, CommandError> {
+    let profile = profile_file::resolve(profile)?;
     let port: Box<dyn serialport::SerialPort> = match port {
         PortSpec::Pty => {
             let (sim_end, other) = serialport::TTYPort::pair()
-                .map_err(|e| CliError(format!("cannot create a pseudo-terminal pair: {e}")))?;
+                .map_err(|e| CommandError::Line(format!("cannot create a pseudo-terminal pair: {e}")))?;
             println!("{}", other.name().unwrap_or_default());
             // Keep the other end open so the pseudo-terminal lives until we stop.
             std::mem::forget(other);
             Box::new(sim_end)
         }
-        PortSpec::Path(path) => line::serial::open_port(path, profile.settings).map_err(CliError::from)?,
+        PortSpec::Path(path) => {
+            line::serial::open_port(path, profile.settings).map_err(|e| CommandError::Line(e.to_string()))?
+        }
         other => {
-            return Err(CliError(format!(
+            return Err(CommandError::Usage(format!(
                 "the simulator serves a port of its own: `pty` or a serial port path, not `{other}`"
             )))
         }
@@ -222,55 +217,54 @@ fn run_simulator(port: &PortSpec, profile: &str, log: bool, world: &World) -> Re
     let stop = hiperface_conformance::interrupt::flag("\ninterrupted: the simulator stops");
     let mut stderr = std::io::stderr();
     let log: Option<&mut dyn std::io::Write> = if log { Some(&mut stderr) } else { None };
-    simulate::serve(port, profile, world, stop, log).map_err(CliError::from)?;
-    Ok(ExitCode::SUCCESS)
+    simulate::serve(port, profile, world, stop, log).map_err(|e| CommandError::Line(e.to_string()))?;
+    Ok(Ended::Done)
 }
 
 /// Print to standard output; a reader that stops early (`| head`) is not an error.
-fn print_all(text: &str) -> Result<(), CliError> {
+fn print_all(text: &str) -> Result<(), CommandError> {
     use std::io::Write as _;
     match std::io::stdout().lock().write_all(text.as_bytes()) {
-        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(CliError::from(e)),
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(CommandError::Output(e)),
         _ => Ok(()),
     }
 }
 
-fn vectors_command(what: VectorsCommand) -> Result<ExitCode, CliError> {
+fn vectors_command(what: VectorsCommand) -> Result<Ended, CommandError> {
     use hiperface_conformance::vectors;
     match what {
         VectorsCommand::Generate { dir } => {
             // documents.json and master-tables.json are written from the documents, by hand.
             for (name, file) in vectors::generate::files() {
-                let json = serde_json::to_string_pretty(&file).map_err(CliError::from)? + "\n";
+                let json = serde_json::to_string_pretty(&file).map_err(json_error)? + "\n";
                 let path = dir.join(name);
-                std::fs::write(&path, json).map_err(|e| CliError(format!("{}: {e}", path.display())))?;
+                std::fs::write(&path, json).map_err(CommandError::file(&path))?;
                 println!("{}: {} vectors", path.display(), file.vectors.len());
             }
-            Ok(ExitCode::SUCCESS)
+            Ok(Ended::Done)
         }
         VectorsCommand::Verify { dir } => {
             // Nothing verified is not a pass: an error of verify_dir.
-            let (count, failures) = vectors::verify_dir(&dir).map_err(CliError::from)?;
+            let (count, failures) = vectors::verify_dir(&dir)?;
             if failures.is_empty() {
                 println!("{count} vectors verified: schema, checksums, agreement with the model");
-                return Ok(ExitCode::SUCCESS);
+                return Ok(Ended::Done);
             }
             for f in &failures {
                 println!("FAIL {f}");
             }
             println!("{} of {count} vectors failed", failures.len());
-            Ok(hiperface_conformance::verdict::Outcome::Failed.exit())
+            Ok(Ended::CheckFailed)
         }
         VectorsCommand::Export { format, out, dir } => {
             let mut files = Vec::new();
-            for path in vectors::files(&dir).map_err(CliError::from)? {
-                files.push(vectors::load(&path).map_err(CliError::from)?);
+            for path in vectors::files(&dir)? {
+                files.push(vectors::load(&path)?);
             }
             let (name, text) = match format {
                 TextFormat::Markdown => ("vectors.md", vectors::export::markdown(&files)),
                 TextFormat::Json => {
-                    let json =
-                        serde_json::to_string_pretty(&vectors::export::tables(&files)).map_err(CliError::from)?;
+                    let json = serde_json::to_string_pretty(&vectors::export::tables(&files)).map_err(json_error)?;
                     ("vectors-tables.json", json + "\n")
                 }
             };
@@ -278,12 +272,17 @@ fn vectors_command(what: VectorsCommand) -> Result<ExitCode, CliError> {
                 Some(dir) => {
                     std::fs::create_dir_all(&dir)
                         .and_then(|()| std::fs::write(dir.join(name), text))
-                        .map_err(|e| CliError(format!("{}: {e}", dir.display())))?;
+                        .map_err(CommandError::file(&dir))?;
                     println!("{}", dir.join(name).display());
                 }
                 None => print_all(&text)?,
             }
-            Ok(ExitCode::SUCCESS)
+            Ok(Ended::Done)
         }
     }
+}
+
+/// A report or table that does not serialise: the command's own fault, said as such.
+fn json_error(e: serde_json::Error) -> CommandError {
+    CommandError::Output(std::io::Error::other(e))
 }

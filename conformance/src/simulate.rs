@@ -6,138 +6,17 @@
 
 use crate::world::World;
 use hiperface_model::datalink::RxChar;
-use hiperface_model::{Hex, Profile, Slave, Step, UartSettings};
+use hiperface_model::{Hex, Profile, Slave, Step};
+pub use hiperface_suite::serve::{disturbed_from_us, planned_reply, Hooks, Plain, Planned, READ_US, REPLY_DELAY_US};
 use serialport::SerialPort;
 use std::io::{ErrorKind, Write};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-/// How long after the earliest allowed start the simulator begins a reply.
-pub const REPLY_DELAY_US: u64 = 300;
-
-/// While anything is due, reads return at least every 500 µs.
-pub const READ_US: u64 = 500;
-
 /// A read that returns this much later than its own timeout allowed is reported to
 /// the hooks with the characters that end it, as time the line was not watched.
 const UNWATCHED_US: u64 = 500;
-
-/// What an encoder served on a line does besides the model: see each character the
-/// master sends, change or withhold a reply (fault injection), learn what was sent.
-/// The default hooks serve the model as it is.
-pub trait Hooks {
-    /// A character from the master, stamped at the end of its stop bit, and the
-    /// settings the slave listens at then (`None` while it does not listen).
-    fn received(&mut self, _ch: RxChar, _listening: Option<UartSettings>) {}
-    /// Whether the port follows the slave's listening settings. Not where the port's
-    /// settings are the peer's: on a pseudo-terminal, setting one end sets the other
-    /// (Linux), and the master under test owns them.
-    fn sets_port(&self) -> bool {
-        true
-    }
-    /// Whether the port's own data rate is the line's, set by whoever serves the other
-    /// end (a serial device server that takes settings through RFC 2217, writing them
-    /// to the pseudo-terminal): a character heard at another rate than the slave
-    /// listens at arrives with a framing error, and a reply sent at another rate than
-    /// the line's is not heard (a UART at the wrong rate finds no characters).
-    fn follows_line_settings(&self) -> bool {
-        false
-    }
-    /// The characters of one read follow (`received` for each): the line had not been
-    /// read for `unwatched_us` before it (0 when it was watched; the harness was busy
-    /// writing a reply, or not scheduled). They may have come any time in that
-    /// stretch; they are stamped when read.
-    fn read(&mut self, _unwatched_us: u64) {}
-    /// Time passes with nothing received; the model was polled at `now_us` just before.
-    fn idle(&mut self, _now_us: u64) {}
-    /// The model processed a frame (whether it replies or not).
-    fn frame(&mut self, _slave: &mut Slave, _step: &Step) {}
-    /// The model's reply to a frame: what to send instead, if anything.
-    fn reply(&mut self, _slave: &mut Slave, _step: &Step, planned: Planned) -> Option<Planned> {
-        Some(planned)
-    }
-    /// A reply went out as planned, its last character ending at `end_us`.
-    fn sent(&mut self, _planned: &Planned, _end_us: u64) {}
-    /// Whether the port marks UART faults in what it delivers (`PARMRK`: see
-    /// `line::serial::open_marking_port`): a master's character with a parity or
-    /// framing error reaches the model as one.
-    fn marks_errors(&self) -> bool {
-        false
-    }
-    /// The echo of the replies, where the line may echo (a drive on a port): what it
-    /// takes off the line never reaches the model or [`Hooks::received`].
-    fn reply_echo(&mut self) -> Option<&mut crate::line::reply_echo::ReplyEcho> {
-        None
-    }
-    /// Whether the serving thread got the real-time priority it asked for.
-    fn real_time(&mut self, _granted: bool) {}
-    /// A probe of the pseudo-terminal's own delivery beside the line, where there is
-    /// one: what it measures counts as the line unwatched (see `line::delivery`).
-    fn delivery(&self) -> Option<std::sync::Arc<crate::line::delivery::DeliveryProbe>> {
-        None
-    }
-    /// How long one read may wait while the model has nothing due (no frame in
-    /// progress, no state change): 50 ms by default, so that an idle simulator sleeps.
-    /// The first character after such a stretch is stamped when the thread wakes; a
-    /// harness that grades when requests begin watches closer.
-    fn idle_read_us(&self) -> u64 {
-        50_000
-    }
-}
-
-/// A reply as it will go on the wire.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Planned {
-    pub frame: Vec<u8>,
-    /// When its first start bit begins, µs since power-on.
-    pub start_us: u64,
-    pub settings: hiperface_model::UartSettings,
-    /// A pause inserted before the character of this index, µs.
-    pub gap: Option<(usize, u64)>,
-    /// Write each character when it is complete, as a UART delivers them, instead of
-    /// a run at once: a peer that reads a pseudo-terminal then sees the reply end
-    /// when it really ends.
-    pub paced: bool,
-    /// Set when sent: the longest pause inside the reply that was not planned (the
-    /// harness wrote a character late), µs; 0 when none reached [`disturbed_from_us`].
-    pub disturbed_us: u64,
-    /// Set when sent: the harness wrote a character so late that the reply has a pause
-    /// of the timeout inside, which it did not plan (`gap` then holds that pause).
-    pub split_by_harness: bool,
-    /// Set by the hooks: the request was read so late that the reply, answered late by
-    /// as much, started after the command's maximum response time (000:T10), µs late.
-    pub answered_late_us: u64,
-}
-
-/// An unplanned pause inside a paced reply this long or longer is one a receiver can
-/// see: one character time at the reply's data rate (a UART's receive-idle interrupt
-/// fires after a character time of idle line or more; a shorter pause is invisible to
-/// any receiver). Below the timeout (000:2.2.2) it does not end the reply: a master
-/// that talks after it talks over the reply, which 000 forbids, so such a pause decides
-/// a run only where the master broke a rule after it (`drive::grade`).
-pub const fn disturbed_from_us(char_time_us: u64) -> u64 {
-    char_time_us
-}
-
-/// The model's reply as the serving loop plans it before the hooks see it: at the
-/// earliest start plus [`REPLY_DELAY_US`].
-pub fn planned_reply(tx: &hiperface_model::slave::Transmission) -> Planned {
-    Planned {
-        frame: tx.frame.as_bytes().to_vec(),
-        start_us: tx.earliest_start_us + REPLY_DELAY_US,
-        settings: tx.settings,
-        gap: None,
-        paced: false,
-        disturbed_us: 0,
-        split_by_harness: false,
-        answered_late_us: 0,
-    }
-}
-
-/// The model as it is.
-pub struct Plain;
-impl Hooks for Plain {}
 
 /// Serve `profile` on `port` until `stop` is set or the port goes away. Frames are
 /// logged to `log` when given.
@@ -151,7 +30,7 @@ pub fn serve(
     let mut slave = Slave::operational(profile);
     world.apply(&mut slave);
     let mut logger = Logger { log };
-    serve_with(port, &mut slave, Instant::now(), &stop, &mut logger)
+    serve_with(port, &mut slave, Instant::now(), &stop, &mut logger, None)
 }
 
 /// The line's settings are the other end's (see [`Hooks::follows_line_settings`]).
@@ -186,13 +65,16 @@ impl Hooks for Logger<'_> {
 }
 
 /// Serve `slave` on `port` in real time from `epoch` (its power-on) until `stop` is
-/// set or the port goes away, with `hooks` watching and injecting.
+/// set or the port goes away, with `hooks` watching and injecting. `delivery`: a probe
+/// of the pseudo-terminal's own delivery beside the line, where there is one: what it
+/// measures counts as the line unwatched (see `line::delivery`).
 pub fn serve_with(
     mut port: Box<dyn SerialPort>,
     slave: &mut Slave,
     epoch: Instant,
     stop: &AtomicBool,
     hooks: &mut dyn Hooks,
+    delivery: Option<std::sync::Arc<crate::line::delivery::DeliveryProbe>>,
 ) -> std::io::Result<()> {
     // A device's UART keeps time whatever the host does: be as punctual as permitted.
     hooks.real_time(crate::sched::real_time_priority());
@@ -200,11 +82,7 @@ pub fn serve_with(
     let mut buf = [0u8; 64];
     let mut rx_clock = crate::line::RxClock::default();
     let mut port_settings = None;
-    let mut watched = Watched {
-        read_us: now(epoch),
-        run_delay: crate::sched::RunDelay::of_this_thread(),
-        delivery: hooks.delivery(),
-    };
+    let mut watched = Watched { read_us: now(epoch), run_delay: crate::sched::RunDelay::of_this_thread(), delivery };
     // What the master sent while a reply went out, as it was read.
     let mut heard: Vec<Chunk> = Vec::new();
     // The kernel's marks of UART faults, taken back across reads.
@@ -474,7 +352,7 @@ impl PtySimulator {
     pub fn start_following_line_settings(profile: Profile) -> Result<(PtySimulator, Box<dyn SerialPort>), String> {
         PtySimulator::serving(move |port, stop| {
             let mut slave = Slave::operational(profile);
-            serve_with(port, &mut slave, Instant::now(), &stop, &mut FollowLine)
+            serve_with(port, &mut slave, Instant::now(), &stop, &mut FollowLine, None)
         })
     }
 

@@ -1,6 +1,7 @@
 //! The command line of slave certification: `hiperface certify slave`.
 
 use crate::args::{ms_to_us, parse_ms, WorldArgs};
+use crate::command::{CommandError, Ended};
 use crate::line::echo::{EchoLine, EchoMode};
 use crate::line::rs485::{Rs485Mode, Rs485Settings};
 use crate::line::{Line, LineKind};
@@ -11,7 +12,6 @@ use crate::world::World;
 use crate::{profile_file, report};
 use hiperface_model::{Grading, Profile};
 use std::path::PathBuf;
-use std::process::ExitCode;
 
 use super::Options;
 
@@ -89,7 +89,7 @@ pub struct CertifySlaveArgs {
 /// Run policy lives here, where tests reach it: the grading and the writes a model
 /// port implies, nothing selected refused before the port is touched, and a partial
 /// report when the port cannot be opened.
-pub fn certify_slave(args: CertifySlaveArgs) -> Result<ExitCode, String> {
+pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
     let CertifySlaveArgs {
         port,
         profile,
@@ -115,26 +115,28 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<ExitCode, String> {
         delay_before_ms: rs485_delay_before_ms,
         delay_after_ms: rs485_delay_after_ms,
     };
-    let profile = profile_file::resolve(&profile).map_err(|e| e.to_string())?;
+    let profile = profile_file::resolve(&profile)?;
     if let Some(dir) = &dir {
         report::prepare_dir(dir)?;
     }
     // Nothing selected is nothing graded: refused before the port is touched.
     if let Some(globs) = &cases {
-        super::check_selection(globs).map_err(|e| e.to_string())?;
+        super::check_selection(globs)?;
     }
     let sim = port.is_model();
     let grading = grading.unwrap_or(if sim { Grading::Exact } else { Grading::Range });
     let world = if sim { world.world() } else { World::default() };
     if latency_ms.is_some() && !matches!(port, PortSpec::Path(_)) {
-        return Err(format!("--latency-ms applies to a serial port or pseudo-terminal path, not `{port}`"));
+        return Err(CommandError::Usage(format!(
+            "--latency-ms applies to a serial port or pseudo-terminal path, not `{port}`"
+        )));
     }
     // The RS-485 mode is set before the run opens the port, and put back when the guard
     // goes at the end of this function.
     let rs485_guard = match (&port, rs485.mode) {
         (_, Rs485Mode::Leave) => None,
-        (PortSpec::Path(path), _) => rs485.apply(path).map_err(|e| e.to_string())?,
-        (other, _) => return Err(format!("--rs485 needs a serial port, not `{other}`")),
+        (PortSpec::Path(path), _) => rs485.apply(path).map_err(|e| CommandError::Line(e.to_string()))?,
+        (other, _) => return Err(CommandError::Usage(format!("--rs485 needs a serial port, not `{other}`"))),
     };
     let opened = match port::open_for_slave(
         &port,
@@ -152,7 +154,7 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<ExitCode, String> {
                     eprintln!("partial report written to {}", dir.display());
                 }
             }
-            return Err(e.to_string());
+            return Err(CommandError::Line(e.to_string()));
         }
     };
     let (default_timing, timing_reason) = opened.default_timing;
@@ -208,10 +210,10 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<ExitCode, String> {
     }
     summarize(&report, &profile);
     if let Some(dir) = dir {
-        report::write_all(&report, &dir).map_err(|e| format!("cannot write the report to {}: {e}", dir.display()))?;
+        report::write_all(&report, &dir)?;
         eprintln!("reports written to {}", dir.display());
     }
-    Ok(report.outcome().exit())
+    Ok(Ended::Graded(report.outcome()))
 }
 
 fn summarize(report: &super::Report, profile: &Profile) {

@@ -2,6 +2,7 @@
 //! `hiperface certify master` and `hiperface master`.
 
 use super::{reference, Attach, Options, PowerOn};
+use crate::command::{CommandError, Ended};
 use crate::exchange::BusMaster;
 use crate::line::echo::EchoMode;
 use crate::port::{self, PortSpec};
@@ -9,7 +10,6 @@ use crate::profile_file;
 use crate::verdict::CaseVerdict;
 use crate::world::World;
 use std::path::PathBuf;
-use std::process::ExitCode;
 
 /// `hiperface certify master`.
 #[derive(clap::Args, Debug, Clone)]
@@ -65,27 +65,27 @@ pub struct MasterArgs {
 }
 
 /// Certify the master; exit code 0 when it passed, 1 when not.
-pub fn certify_master(args: &CertifyMasterArgs) -> Result<ExitCode, String> {
-    let profile = profile_file::resolve(&args.profile).map_err(|e| e.to_string())?;
+pub fn certify_master(args: &CertifyMasterArgs) -> Result<Ended, CommandError> {
+    let profile = profile_file::resolve(&args.profile)?;
     let attach = match (&args.exec, &args.port) {
         (Some(exec), _) => Attach::Exec(exec.clone()),
         (None, Some(PortSpec::Path(path))) => {
             Attach::Port { path: path.clone(), power_on: args.power_on, echo: args.echo.unwrap_or_default() }
         }
         (None, Some(other)) => {
-            return Err(format!(
+            return Err(CommandError::Usage(format!(
                 "`--port {other}`: the drive is served on a serial port by path (a pseudo-terminal \
                  path works); to certify a master program give it with --exec"
-            ))
+            )))
         }
-        (None, None) => return Err("give the master with --exec or --port".into()),
+        (None, None) => return Err(CommandError::Usage("give the master with --exec or --port".into())),
     };
     let interrupt = Some(crate::interrupt::flag("\ninterrupted: stopping the master, then the partial report"));
     let options =
         Options { attach, scenarios: args.scenarios.clone(), polling_period_ms: args.polling_period_ms, interrupt };
     if let Some(globs) = &args.scenarios {
         if super::scenarios::chosen(Some(globs)).is_empty() {
-            return Err(format!("no scenario matches `{globs}`"));
+            return Err(CommandError::NoScenarioMatches(globs.clone()));
         }
     }
     if let Some(dir) = &args.report {
@@ -117,19 +117,18 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<ExitCode, String> {
     );
     if let Some(dir) = &args.report {
         let certificate = crate::report::master::MasterCertificate { report: &report, profile: &profile };
-        crate::report::write_all(&certificate, dir)
-            .map_err(|e| format!("cannot write the report to {}: {e}", dir.display()))?;
+        crate::report::write_all(&certificate, dir)?;
         eprintln!("reports written to {}", dir.display());
     }
     println!("{}", report.outcome().label());
-    Ok(report.outcome().exit())
+    Ok(Ended::Graded(report.outcome()))
 }
 
 /// Run the reference master on a port, printing what it reads.
-pub fn reference_master(args: &MasterArgs) -> Result<ExitCode, String> {
-    let profile = profile_file::resolve(&args.profile).map_err(|e| e.to_string())?;
-    let opened =
-        port::open_for_slave(&args.port, profile, &World::default(), Default::default()).map_err(|e| e.to_string())?;
+pub fn reference_master(args: &MasterArgs) -> Result<Ended, CommandError> {
+    let profile = profile_file::resolve(&args.profile)?;
+    let opened = port::open_for_slave(&args.port, profile, &World::default(), Default::default())
+        .map_err(|e| CommandError::Line(e.to_string()))?;
     let _simulator = opened.simulator;
     let mut master = BusMaster::new(opened.line, profile.edition);
     let options =
@@ -142,7 +141,7 @@ pub fn reference_master(args: &MasterArgs) -> Result<ExitCode, String> {
     }
     let mut console = |line: &str| println!("{line}");
     match reference::run(&mut master, profile, options, &mut console) {
-        Ok(()) => Ok(ExitCode::SUCCESS),
-        Err(e) => Err(format!("the line failed: {e}")),
+        Ok(()) => Ok(Ended::Done),
+        Err(e) => Err(CommandError::Line(format!("the line failed: {e}"))),
     }
 }

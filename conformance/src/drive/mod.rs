@@ -6,24 +6,20 @@
 //! NON-STRICT at most.
 
 pub mod cli;
-pub mod encoder;
-mod grade;
-pub mod inputs;
 pub mod process;
-pub mod record;
 pub mod reference;
-pub mod scenario;
 mod scenario_run;
-pub mod scenarios;
-pub mod timeline;
+
+// The scenarios, the encoder's hooks that observe the master, their grades, the record
+// and the report are the core's (hiperface-suite); the harness serves them on lines.
+pub use hiperface_suite::master::{encoder, grade, inputs, record, scenario, scenarios, timeline, DriveReport};
 
 use crate::line::echo::{Echo, EchoMode};
 use crate::line::reply_echo::ReplyEcho;
-use crate::verdict::{CaseResult, Finding, Outcome, MAX_ATTEMPTS};
+use crate::verdict::{CaseResult, Finding, MAX_ATTEMPTS};
 pub use hiperface_model::master::obligations::POLLING_PERIOD_MS;
 use hiperface_model::Profile;
 use scenario_run::{echo_slack_us, on_port, open_port, run_scenario, Drive, ScenarioRun};
-use serde::Serialize;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
@@ -94,52 +90,6 @@ pub struct Options {
     /// Set by Ctrl-C or SIGTERM: the scenario under way ends (its master stopped with
     /// everything it started), no other starts, and the report says so.
     pub interrupt: Option<Arc<AtomicBool>>,
-}
-
-/// The result of certifying a master.
-#[derive(Debug, Clone, Serialize)]
-pub struct DriveReport {
-    pub tool: String,
-    pub profile: String,
-    pub edition: String,
-    pub master: String,
-    pub scenarios: Vec<CaseResult>,
-    pub summary: std::collections::BTreeMap<String, usize>,
-    /// What the master printed, per scenario id (capped).
-    pub output: std::collections::BTreeMap<String, String>,
-    pub wall_time_ms: f64,
-    /// The sum of the scenarios' lengths (each from power-on to its end, which comes
-    /// later when its situation arose late): the time the catalogue needs at least.
-    pub needed_ms: f64,
-    /// The time spent on runs that were repeated (their harness was disturbed).
-    pub rerun_ms: f64,
-    /// What the harness could not see, for the reader of the certificate.
-    pub notes: Vec<String>,
-    /// Why a scenario was run again.
-    pub notes_per_scenario: Vec<String>,
-    /// Scenarios whose encoder ran at a real-time priority (SCHED_FIFO).
-    pub real_time_scenarios: usize,
-    /// Why the run ended before its last scenario (an interrupt), if it did.
-    pub cut_short: Option<String>,
-    /// A drive on a port: whether the line echoed the encoder's replies, as found, and
-    /// the `--echo` it was run with.
-    pub echo: Option<(Echo, EchoMode)>,
-    /// A drive on a port: the master's characters read with a parity or framing error.
-    pub uart_faults: Option<usize>,
-    /// A master on a pseudo-terminal: what the probe beside the line saw of the
-    /// kernel's delivery.
-    pub delivery: Option<crate::line::delivery::DeliveryStats>,
-    /// The record of the wire: every scenario run as the encoder took it in, which
-    /// `decode` takes in again (`drive::record`).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub record: Option<record::MasterRecord>,
-}
-
-impl DriveReport {
-    /// PASSED only when every scenario was run, exercised and graded, none FAILed.
-    pub fn outcome(&self) -> Outcome {
-        Outcome::of(self.scenarios.iter().map(|s| s.verdict), self.cut_short.is_none())
-    }
 }
 
 /// Run the catalogue against the master `options.attach`, for an encoder of `profile`;

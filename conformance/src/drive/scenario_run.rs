@@ -2,7 +2,7 @@
 //! pseudo-terminal (the master started on it) or on the drive's port, until the
 //! scenario's end, the master's exit or an interrupt.
 
-use super::encoder::{DriveEncoder, OnPort};
+use super::encoder::{DriveEncoder, MasterSettings, OnPort};
 use super::grade::finish;
 use super::process::MasterProcess;
 use super::record::{Fact, ScenarioRecord, Start};
@@ -15,6 +15,16 @@ use hiperface_model::{Profile, Slave};
 use serialport::SerialPort;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
+
+/// The master's end of a pseudo-terminal: its settings are the master's (on Linux both
+/// ends share them), read through the encoder's end.
+struct PtySettings(Box<dyn SerialPort>);
+
+impl MasterSettings for PtySettings {
+    fn data_rate(&self) -> Option<u32> {
+        self.0.baud_rate().ok()
+    }
+}
 
 /// One run of one scenario.
 pub(super) struct ScenarioRun {
@@ -82,7 +92,8 @@ impl ScenarioRun {
             line_faults: hooks.timeline.line_faults.clone(),
         };
         let by_operator = start == Start::PowerOnByOperator;
-        let disturbed = finish(&mut result, &mut hooks, scenario, started, by_operator, cut_short);
+        let duration_ms = started.elapsed().as_secs_f64() * 1000.0;
+        let disturbed = finish(&mut result, &mut hooks, scenario, duration_ms, by_operator, cut_short);
         let (length_ms, real_time) = (hooks.timeline.end_us / 1000, hooks.timeline.real_time);
         let uart_faults = hooks.timeline.uart_faults;
         ScenarioRun { result, output, length_ms, disturbed, real_time, uart_faults, record }
@@ -170,7 +181,7 @@ pub(super) fn on_port(
         operator.switch_on(scenario.id);
     }
     let deadline = || epoch + Duration::from_millis(end_ms(scenario, &arisen, polling_period_ms));
-    let served = serve_until(port, &mut slave, &mut hooks, epoch, deadline, interrupted);
+    let served = serve_until(port, &mut slave, &mut hooks, None, epoch, deadline, interrupted);
     let cut_short = interrupted();
     hooks.finish(epoch.elapsed().as_micros() as u64);
     if let Some(p) = hooks.port() {
@@ -227,8 +238,8 @@ pub(super) fn run_scenario(
     (scenario.world)(&profile).apply_at_power_on(&mut slave);
     // The master's settings are the pseudo-terminal's: the harness reads them through
     // its own end (on Linux both ends share them).
-    let peer = encoder_end.try_clone().ok();
-    let mut hooks = DriveEncoder::new(profile, scenario, true, peer).with_delivery(delivery);
+    let peer = encoder_end.try_clone().ok().map(|p| Box::new(PtySettings(p)) as Box<dyn MasterSettings>);
+    let mut hooks = DriveEncoder::new(profile, scenario, true, peer);
     hooks.set_polling_period_ms(polling_period_ms);
     let arisen = hooks.arisen();
     // Power-on is the master's start.
@@ -245,7 +256,7 @@ pub(super) fn run_scenario(
     // How long the master's process has waited for a processor, every 5 ms: what a
     // busy machine did to its timing.
     let mut waited = Vec::new();
-    let served = serve_until(Box::new(encoder_end), &mut slave, &mut hooks, epoch, deadline, || {
+    let served = serve_until(Box::new(encoder_end), &mut slave, &mut hooks, delivery, epoch, deadline, || {
         if let Some(us) = crate::sched::process_run_delay_us(master.id()) {
             waited.push((epoch.elapsed().as_micros() as u64, us));
         }
@@ -296,19 +307,21 @@ fn end_ms(scenario: &Scenario, arisen: &AtomicU64, polling_period_ms: u32) -> u6
 
 /// Serve `slave` on `port` with `hooks` (time 0 at `epoch`) until `deadline()` (which
 /// may move later as the scenario's situation arises), the port goes, or `done()`
-/// (asked every 5 ms) says so; then stop the encoder. `Err(())` if the serving thread
+/// (asked every 5 ms) says so; then stop the encoder. `delivery`: the probe of the
+/// pseudo-terminal's delivery, where the master is on one. `Err(())` if the serving thread
 /// panicked.
 fn serve_until(
     port: Box<dyn SerialPort>,
     slave: &mut Slave,
     hooks: &mut DriveEncoder,
+    delivery: Option<std::sync::Arc<crate::line::delivery::DeliveryProbe>>,
     epoch: Instant,
     deadline: impl Fn() -> Instant,
     mut done: impl FnMut() -> bool,
 ) -> Result<std::io::Result<()>, ()> {
     let stop = AtomicBool::new(false);
     std::thread::scope(|scope| {
-        let server = scope.spawn(|| serve_with(port, slave, epoch, &stop, hooks));
+        let server = scope.spawn(|| serve_with(port, slave, epoch, &stop, hooks, delivery));
         while Instant::now() < deadline() && !server.is_finished() && !done() {
             std::thread::sleep(Duration::from_millis(5));
         }

@@ -7,11 +7,10 @@
 pub mod adapter;
 pub mod clock;
 pub mod delivery;
-pub mod reply_echo;
 pub mod rfc2217;
 pub mod rs485;
 pub mod serial;
 pub mod tcp;
 
 pub use clock::{read_until, RealTime, RxClock};
-pub use hiperface_suite::line::{echo, virtual_line, Line, LineError, LineKind, Sent, Window};
+pub use hiperface_suite::line::{echo, reply_echo, virtual_line, Line, LineError, LineKind, Sent, Window};

@@ -6,12 +6,12 @@ pub use super::decode::{grade_capture, report, DecodeError, DecodeOptions, Sourc
 use super::{HeardExchange, ListeningReport};
 use crate::args::parse_ms;
 use crate::capture::{self, Format, ReadOptions};
+use crate::command::{CommandError, Ended};
 use crate::profile_file;
 use crate::verdict::CaseVerdict;
 use hiperface_model::UartSettings;
 use std::io::{BufReader, Write};
 use std::path::PathBuf;
-use std::process::ExitCode;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum FormatArg {
@@ -74,7 +74,7 @@ pub struct ListeningArgs {
 /// Run `decode`; exit 0 with no FAIL, 1 with one, an error for input it cannot read.
 /// A certify report with the record of its wire is played back to the catalogue
 /// instead (`crate::record`): the run's verdicts, graded again, and its exit code.
-pub fn decode(args: &DecodeArgs) -> Result<ExitCode, String> {
+pub fn decode(args: &DecodeArgs) -> Result<Ended, CommandError> {
     use crate::report::recorded::{self, AnyRecorded};
     let recorded = if args.listen || args.vcd.is_some() { None } else { recorded::read_any(&args.file)? };
     match recorded {
@@ -88,7 +88,7 @@ pub fn decode(args: &DecodeArgs) -> Result<ExitCode, String> {
     let input: capture::Input = if args.file.as_os_str() == "-" {
         Box::new(BufReader::new(std::io::stdin()))
     } else {
-        let f = std::fs::File::open(&args.file).map_err(|e| format!("{}: {e}", args.file.display()))?;
+        let f = std::fs::File::open(&args.file).map_err(CommandError::file(&args.file))?;
         Box::new(BufReader::with_capacity(1 << 16, f))
     };
     let format = match args.format {
@@ -100,8 +100,9 @@ pub fn decode(args: &DecodeArgs) -> Result<ExitCode, String> {
     let name = args.file.display().to_string();
     if let Some(vcd) = &args.vcd {
         let read = ReadOptions { baud: args.listening.baud, samplerate_hz: args.samplerate };
-        let (_, mut capture) = capture::open(input, format, read).map_err(|e| format!("{name}: {e}"))?;
-        return write_vcd(capture.as_mut(), vcd, args.listening.baud, &name).map(|()| ExitCode::SUCCESS);
+        let (_, mut capture) = capture::open(input, format, read)
+            .map_err(|e| CommandError::Input { name: name.clone(), why: e.to_string() })?;
+        return write_vcd(capture.as_mut(), vcd, args.listening.baud, &name).map(|()| Ended::Done);
     }
     if let Some(dir) = &args.listening.report {
         crate::report::prepare_dir(dir)?;
@@ -116,19 +117,19 @@ pub fn decode(args: &DecodeArgs) -> Result<ExitCode, String> {
         polling_period_ms: args.listening.polling_period_ms,
     };
     let mut view = LiveView::new(args.listening.quiet, false);
-    let report = grade_capture(input, &name, &options, &mut |h| view.print(h)).map_err(|e| e.to_string())?;
+    let report = grade_capture(input, &name, &options, &mut |h| view.print(h))?;
     drop(view);
     conclude(report, args.listening.report.as_deref())
 }
 
 /// End a listening run (`decode`, `monitor`): the summary on standard output, the
 /// reports, and the exit code of the run's outcome (0 PASSED, 1 FAILED, 3 INCOMPLETE).
-pub fn conclude(report: ListeningReport, report_dir: Option<&std::path::Path>) -> Result<ExitCode, String> {
+pub fn conclude(report: ListeningReport, report_dir: Option<&std::path::Path>) -> Result<Ended, CommandError> {
     print_summary(&report);
     if let Some(dir) = report_dir {
-        crate::report::write_all(&report, dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        crate::report::write_all(&report, dir)?;
     }
-    Ok(report.outcome.exit())
+    Ok(Ended::Graded(report.outcome))
 }
 
 /// The line per exchange on standard output, coloured by verdict where standard
@@ -198,20 +199,25 @@ fn print_summary(r: &ListeningReport) {
 }
 
 /// The profile and the bus's settings at `baud` (000:T7).
-pub fn bus(profile: &str, baud: u32) -> Result<(hiperface_model::Profile, UartSettings), String> {
-    let profile = profile_file::resolve(profile).map_err(|e| e.to_string())?;
-    Ok((profile, settings_at(baud).map_err(|e| e.to_string())?))
+pub fn bus(profile: &str, baud: u32) -> Result<(hiperface_model::Profile, UartSettings), CommandError> {
+    let profile = profile_file::resolve(profile)?;
+    Ok((profile, settings_at(baud).map_err(|e| CommandError::Usage(e.to_string()))?))
 }
 
-fn write_vcd(capture: &mut dyn capture::Capture, path: &std::path::Path, baud: u32, name: &str) -> Result<(), String> {
+fn write_vcd(
+    capture: &mut dyn capture::Capture,
+    path: &std::path::Path,
+    baud: u32,
+    name: &str,
+) -> Result<(), CommandError> {
     // The channels are known once read; a wire log's are fixed.
     let mut events = Vec::new();
     for e in &mut *capture {
-        events.push(e.map_err(|e| format!("{name}: {e}"))?);
+        events.push(e.map_err(|e| CommandError::Input { name: name.to_string(), why: e.to_string() })?);
     }
-    let f = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let f = std::fs::File::create(path).map_err(CommandError::file(path))?;
     let mut w = std::io::BufWriter::new(f);
     capture::vcd::write(events.into_iter(), &capture.channels(), baud, &mut w)
         .and_then(|()| w.flush())
-        .map_err(|e| format!("{}: {e}", path.display()))
+        .map_err(CommandError::file(path))
 }

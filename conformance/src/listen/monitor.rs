@@ -8,10 +8,10 @@ use super::{Listener, Options};
 use crate::args::{ms_to_us, parse_ms};
 use crate::capture::parmrk::Marks;
 use crate::capture::{Event, Mark};
+use crate::command::{CommandError, Ended};
 use crate::port::PortSpec;
 use std::io::Write;
 use std::path::PathBuf;
-use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
@@ -50,12 +50,12 @@ fn lag_us(tap: &Tap, options: &Options) -> u64 {
 }
 
 /// Listen until `stop` is set, the duration is over, or the port closes.
-pub fn monitor(args: &MonitorArgs, stop: &AtomicBool) -> Result<ExitCode, String> {
+pub fn monitor(args: &MonitorArgs, stop: &AtomicBool) -> Result<Ended, CommandError> {
     let (profile, settings) = super::cli::bus(&args.listening.profile, args.listening.baud)?;
     if let Some(dir) = &args.listening.report {
         crate::report::prepare_dir(dir)?;
     }
-    let mut tap = Tap::open(&args.port, settings)?;
+    let mut tap = Tap::open(&args.port, settings).map_err(CommandError::Line)?;
     let tolerance_us = args.tolerance_ms.map_or(tap.jitter_us, ms_to_us);
     let options = Options {
         profile,
@@ -142,12 +142,12 @@ pub fn monitor(args: &MonitorArgs, stop: &AtomicBool) -> Result<ExitCode, String
                     if let Some(c) = capture.as_mut() {
                         let saved = events.clone().try_for_each(|e| c.write(&e));
                         if let Err(e) = saved {
-                            break Err(format!("{}: {e}", c.path.display()));
+                            break Err(CommandError::file(&c.path)(e));
                         }
                     }
                     events.for_each(|e| listener.feed(e, &mut print));
                 }
-                Ok(Err(e)) => break Err(e),
+                Ok(Err(e)) => break Err(CommandError::Line(e)),
                 Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {
                     listener.idle(now_us().saturating_sub(lag), &mut print)
                 }
@@ -162,7 +162,7 @@ pub fn monitor(args: &MonitorArgs, stop: &AtomicBool) -> Result<ExitCode, String
     listener.finish(end_us, &mut print);
     drop(view);
     if let Some(c) = capture.as_mut() {
-        c.out.flush().map_err(|e| format!("{}: {e}", c.path.display()))?;
+        c.out.flush().map_err(CommandError::file(&c.path))?;
     }
     let mut assumptions = vec![
         "one channel: a frame that starts in a request's reply window is its reply".to_string(),
@@ -232,12 +232,12 @@ struct CaptureFile {
 impl CaptureFile {
     /// The capture opens with the tolerance the monitor grades with, which `decode`
     /// then grades with too (the same verdicts later, no flag needed).
-    fn create(path: &std::path::Path, char_us: u64, tolerance_us: u64) -> Result<CaptureFile, String> {
-        let f = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    fn create(path: &std::path::Path, char_us: u64, tolerance_us: u64) -> Result<CaptureFile, CommandError> {
+        let f = std::fs::File::create(path).map_err(CommandError::file(path))?;
         let mut out = std::io::BufWriter::new(f);
         writeln!(out, "{} tolerance_us={tolerance_us}", crate::capture::csv::MONITOR_CAPTURE)
             .and_then(|()| writeln!(out, "Time [s],Value,Parity Error,Framing Error,Read Late [s]"))
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+            .map_err(CommandError::file(path))?;
         Ok(CaptureFile { path: path.to_path_buf(), out, char_us })
     }
 

@@ -5,15 +5,19 @@
 //! `recorded.rs`) are still the harness's. The files, their names and the checks before
 //! a run are here.
 
+use crate::command::CommandError;
 use std::path::Path;
 
-pub use hiperface_suite::report::{escape, junit_suite, listening, page_head, slave, wire_text, Reports};
+pub use hiperface_suite::report::{escape, junit_suite, listening, master, page_head, slave, wire_text, Reports};
 
-pub mod master;
 pub mod recorded;
 
 /// Write report.json, junit.xml and the certificate as .md and .html into `dir`.
-pub fn write_all<R: Reports>(r: &R, dir: &Path) -> std::io::Result<()> {
+pub fn write_all<R: Reports>(r: &R, dir: &Path) -> Result<(), CommandError> {
+    write_files(r, dir).map_err(|source| CommandError::WriteReport { dir: dir.to_path_buf(), source })
+}
+
+fn write_files<R: Reports>(r: &R, dir: &Path) -> std::io::Result<()> {
     std::fs::create_dir_all(dir)?;
     let json = r.json().map_err(std::io::Error::other)?;
     std::fs::write(dir.join("report.json"), json + "\n")?;
@@ -24,14 +28,14 @@ pub fn write_all<R: Reports>(r: &R, dir: &Path) -> std::io::Result<()> {
 
 /// Create the report directory `dir` and check that files can be written in it, before
 /// a run: a run's results are never found unwritable only after it.
-pub fn prepare_dir(dir: &Path) -> Result<(), String> {
-    let shown = dir.display();
+pub fn prepare_dir(dir: &Path) -> Result<(), CommandError> {
+    let refused = |why: String| CommandError::ReportDir { dir: dir.to_path_buf(), why };
     if dir.exists() && !dir.is_dir() {
-        return Err(format!("--report {shown}: it exists and is not a directory"));
+        return Err(refused("it exists and is not a directory".into()));
     }
-    std::fs::create_dir_all(dir).map_err(|e| format!("--report {shown}: cannot create the directory: {e}"))?;
+    std::fs::create_dir_all(dir).map_err(|e| refused(format!("cannot create the directory: {e}")))?;
     let probe = dir.join(".hiperface-write-check");
-    std::fs::write(&probe, b"").map_err(|e| format!("--report {shown}: cannot write in the directory: {e}"))?;
+    std::fs::write(&probe, b"").map_err(|e| refused(format!("cannot write in the directory: {e}")))?;
     let _ = std::fs::remove_file(probe);
     Ok(())
 }

@@ -2,9 +2,9 @@
 //! back to the catalogue (`crate::record`), the verdicts compared with the report's.
 
 use crate::certify::{self, CaseVerdict};
+use crate::command::{CommandError, Ended};
 use crate::record::Record;
 use std::path::Path;
-use std::process::ExitCode;
 
 /// A certify report with its record, and the verdicts it states.
 pub struct Recorded {
@@ -47,7 +47,7 @@ pub enum AnyRecorded {
 
 /// The report at `path`, if it is a certify report with a record (`None` for any
 /// other file: a capture, an older report without one).
-pub fn read_any(path: &Path) -> Result<Option<AnyRecorded>, String> {
+pub fn read_any(path: &Path) -> Result<Option<AnyRecorded>, CommandError> {
     if path.as_os_str() == "-" || path.extension().is_none_or(|e| e != "json") {
         return Ok(None);
     }
@@ -57,34 +57,41 @@ pub fn read_any(path: &Path) -> Result<Option<AnyRecorded>, String> {
     let name = path.display().to_string();
     match format.as_deref() {
         Some(crate::drive::record::FORMAT) => {
-            let stated: StatedMaster = serde_json::from_value(value)
-                .map_err(|e| format!("{name}: the report's record cannot be read: {e}"))?;
+            let stated: StatedMaster = serde_json::from_value(value).map_err(|e| CommandError::Input {
+                name: name.clone(),
+                why: format!("the report's record cannot be read: {e}"),
+            })?;
             let stated_cases = stated.scenarios.into_iter().map(|c| (c.id, c.verdict)).collect();
             Ok(Some(AnyRecorded::Master(MasterRecorded { name, record: stated.record, stated: stated_cases })))
         }
         Some(_) => Ok(read(path)?.map(|r| AnyRecorded::Slave(Box::new(r)))),
-        None if value.get("capture").is_some() && value.get("summary").is_some() => Err(format!(
-            "{name}: a listening report (decode, monitor): what it heard is in its capture; decode the capture \
-             (monitor --capture FILE) to grade it again"
-        )),
-        None if value.get("scenarios").is_some() => Err(format!(
-            "{name}: a certify master report without the record of its wire (written by an older version): \
-             there is nothing to grade again; certify the master again to get one"
-        )),
+        None if value.get("capture").is_some() && value.get("summary").is_some() => Err(CommandError::Input {
+            name,
+            why: "a listening report (decode, monitor): what it heard is in its capture; decode the capture \
+                  (monitor --capture FILE) to grade it again"
+                .into(),
+        }),
+        None if value.get("scenarios").is_some() => Err(CommandError::Input {
+            name,
+            why: "a certify master report without the record of its wire (written by an older version): \
+                  there is nothing to grade again; certify the master again to get one"
+                .into(),
+        }),
         None => Ok(None),
     }
 }
 
 /// Take a master run's record in again, print each scenario and whether the verdicts
 /// are the report's; exit as the run did.
-pub fn decode_master(recorded: MasterRecorded, quiet: bool) -> Result<ExitCode, String> {
+pub fn decode_master(recorded: MasterRecorded, quiet: bool) -> Result<Ended, CommandError> {
     let MasterRecorded { name, record, stated } = recorded;
     eprintln!(
         "{name}: the record of a certify master run ({}, {} scenario runs), taken in again",
         record.tool,
         record.runs.len()
     );
-    let (profile, again, notes) = crate::drive::record::replay(&record).map_err(|e| format!("{name}: {e}"))?;
+    let (profile, again, notes) =
+        crate::drive::record::replay(&record).map_err(|source| CommandError::Replay { name: name.clone(), source })?;
     let n = again.len();
     for (i, r) in again.iter().enumerate() {
         if quiet {
@@ -118,11 +125,11 @@ pub fn decode_master(recorded: MasterRecorded, quiet: bool) -> Result<ExitCode, 
     let summary: Vec<String> = summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
     println!("master (encoder {}): {}", profile.name, summary.join(", "));
     println!("{}", outcome.label());
-    Ok(outcome.exit())
+    Ok(Ended::Graded(outcome))
 }
 
 /// The report at `path`, if it is a certify slave report with a record.
-pub fn read(path: &Path) -> Result<Option<Recorded>, String> {
+pub fn read(path: &Path) -> Result<Option<Recorded>, CommandError> {
     if path.as_os_str() == "-" || path.extension().is_none_or(|e| e != "json") {
         return Ok(None);
     }
@@ -133,15 +140,17 @@ pub fn read(path: &Path) -> Result<Option<Recorded>, String> {
         return Ok(None);
     }
     let name = path.display().to_string();
-    let stated: Stated =
-        serde_json::from_value(value).map_err(|e| format!("{name}: the report's record cannot be read: {e}"))?;
+    let stated: Stated = serde_json::from_value(value).map_err(|e| CommandError::Input {
+        name: name.clone(),
+        why: format!("the report's record cannot be read: {e}"),
+    })?;
     let stated_cases = stated.cases.into_iter().map(|c| (c.id, c.verdict)).collect();
     Ok(Some(Recorded { name, record: stated.record, stated: stated_cases }))
 }
 
 /// Play the record back, print each case and whether the verdicts are the report's,
 /// write the reports; exit as the run did (the played-back outcome).
-pub fn decode(recorded: Recorded, report_dir: Option<&Path>, quiet: bool) -> Result<ExitCode, String> {
+pub fn decode(recorded: Recorded, report_dir: Option<&Path>, quiet: bool) -> Result<Ended, CommandError> {
     let Recorded { name, record, stated } = recorded;
     if let Some(dir) = report_dir {
         crate::report::prepare_dir(dir)?;
@@ -161,7 +170,7 @@ pub fn decode(recorded: Recorded, report_dir: Option<&Path>, quiet: bool) -> Res
         }
         println!("{text}");
     })
-    .map_err(|e| format!("{name}: {e}"))?;
+    .map_err(|e| CommandError::Input { name: name.clone(), why: e.to_string() })?;
     let again: Vec<(String, String)> =
         report.cases.iter().map(|c| (c.id.to_string(), c.verdict.label().to_string())).collect();
     let differing: Vec<String> = stated
@@ -192,8 +201,8 @@ pub fn decode(recorded: Recorded, report_dir: Option<&Path>, quiet: bool) -> Res
     println!("{}: {}", report.profile, summary.join(", "));
     println!("{}", report.outcome().label());
     if let Some(dir) = report_dir {
-        crate::report::write_all(&report, dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        crate::report::write_all(&report, dir)?;
         eprintln!("reports written to {}", dir.display());
     }
-    Ok(report.outcome().exit())
+    Ok(Ended::Graded(report.outcome()))
 }

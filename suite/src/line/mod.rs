@@ -11,6 +11,7 @@
 pub mod delivery;
 pub mod echo;
 pub mod frame_encoder;
+pub mod reply_echo;
 pub mod virtual_line;
 
 use hiperface_model::datalink::RxChar;

@@ -5,6 +5,7 @@
 use crate::verdict::CaseVerdict;
 
 pub mod listening;
+pub mod master;
 pub mod slave;
 
 /// A run's report in the four forms every front end writes.

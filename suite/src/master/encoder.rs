@@ -1,5 +1,5 @@
-//! The encoder a master is certified against: the model served in real time
-//! (`simulate::serve_with`), with a scenario's fault injections, and the observer of
+//! The encoder a master is certified against: the model served (in real time by the
+//! harness's serving loop, or taken in again from a record), with a scenario's fault injections, and the observer of
 //! the master's obligations watching every character the master sends.
 //!
 //! Past 400 lines for a reason: the serving hooks and the observer they feed are one
@@ -7,13 +7,12 @@
 
 use super::scenarios::{Act, Injection, Scenario, Situation};
 use crate::line::reply_echo::ReplyEcho;
-use crate::simulate::{Hooks, Planned};
+use crate::serve::{Hooks, Planned};
 use crate::verdict::WireEntry;
 use hiperface_model::datalink::{RxChar, UartFault};
 use hiperface_model::master::obligations::{Observation, Observer, Rule};
 use hiperface_model::response::ResponseFrame;
 use hiperface_model::{checksum, CommandId, Hex, Profile, RequestFrame, Slave, Step, UartSettings};
-use serialport::SerialPort;
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
@@ -175,7 +174,7 @@ pub struct DriveEncoder {
     /// (the encoder may ignore them, e.g. while it initializes).
     heard: Vec<RxChar>,
     /// The master's end of a pseudo-terminal, whose settings are the master's own.
-    peer: Option<Box<dyn SerialPort>>,
+    peer: Option<Box<dyn MasterSettings>>,
     /// The master's data rate as last read while the line was quiet.
     peer_bps: Option<u32>,
     /// What the encoder listened at when the last character came.
@@ -189,12 +188,17 @@ pub struct DriveEncoder {
     /// A drive on a port: the port marks UART faults, and the echo of the replies is
     /// watched.
     port: Option<OnPort>,
-    /// A master on a pseudo-terminal: the kernel's delivery, measured beside the line.
-    delivery: Option<Arc<crate::line::delivery::DeliveryProbe>>,
-    /// Everything taken in, in order, for the record of the wire (`drive::record`).
+    /// Everything taken in, in order, for the record of the wire (`master::record`).
     log: Vec<super::inputs::Input>,
     /// Taken in again from a record: the master's data rates as they were read.
     replayed_rates: Option<std::collections::VecDeque<Option<u32>>>,
+}
+
+/// Where the master's own settings can be read while it runs: the master's end of a
+/// pseudo-terminal, whose settings are the master's (the harness gives one).
+pub trait MasterSettings: Send {
+    /// The master's data rate now, bit/s, where it can be read.
+    fn data_rate(&self) -> Option<u32>;
 }
 
 /// What the encoder knows of a drive's port.
@@ -216,7 +220,7 @@ impl DriveEncoder {
         profile: Profile,
         scenario: &Scenario,
         power_on_seen: bool,
-        peer: Option<Box<dyn SerialPort>>,
+        peer: Option<Box<dyn MasterSettings>>,
     ) -> DriveEncoder {
         let mut observer = Observer::new(profile);
         if power_on_seen {
@@ -237,7 +241,6 @@ impl DriveEncoder {
             situation: scenario.situation,
             arisen: Arc::new(AtomicU64::new(u64::MAX)),
             port: None,
-            delivery: None,
             log: Vec::new(),
             replayed_rates: None,
         }
@@ -253,13 +256,6 @@ impl DriveEncoder {
     /// What the encoder took in, in order (the record of the wire).
     pub fn take_log(&mut self) -> Vec<super::inputs::Input> {
         std::mem::take(&mut self.log)
-    }
-
-    /// The master on a pseudo-terminal: what `probe` measures of the kernel's delivery
-    /// counts as the line unwatched (`line::delivery`).
-    pub fn with_delivery(mut self, probe: Option<Arc<crate::line::delivery::DeliveryProbe>>) -> DriveEncoder {
-        self.delivery = probe;
-        self
     }
 
     /// Served on a drive's port (`certify master --port`), opened marking UART faults.
@@ -309,7 +305,7 @@ impl DriveEncoder {
     fn peer_bps(&mut self) -> Option<u32> {
         let bps = match self.replayed_rates.as_mut() {
             Some(rates) => rates.pop_front().flatten(),
-            None => self.peer.as_ref().and_then(|p| p.baud_rate().ok()),
+            None => self.peer.as_ref().and_then(|p| p.data_rate()),
         };
         self.log.push(super::inputs::Input::PeerRate { bps });
         bps
@@ -514,7 +510,7 @@ impl Hooks for DriveEncoder {
         let first = last.saturating_sub(bytes.len().saturating_sub(1) as u64 * ct);
         let late = self.timeline.late_in(first, last);
         let limit_us = self.profile.response_limit(self.answered.unwrap_or(CommandId::Unknown(0))).max_ms as u64 * 1000;
-        if crate::simulate::REPLY_DELAY_US + late > limit_us {
+        if crate::serve::REPLY_DELAY_US + late > limit_us {
             planned.answered_late_us = planned.answered_late_us.max(late);
         }
         Some(planned)
@@ -572,10 +568,6 @@ impl Hooks for DriveEncoder {
         self.observer.encoder_reply(start_us, end_us, reply.as_ref());
     }
 
-    fn delivery(&self) -> Option<Arc<crate::line::delivery::DeliveryProbe>> {
-        self.delivery.clone()
-    }
-
     fn real_time(&mut self, granted: bool) {
         self.log.push(super::inputs::Input::RealTime { granted });
         self.timeline.real_time = granted;
@@ -584,7 +576,7 @@ impl Hooks for DriveEncoder {
     /// When a request begins is graded (pauses, windows, initialization): the line is
     /// watched every 500 µs, also when nothing is due.
     fn idle_read_us(&self) -> u64 {
-        crate::simulate::READ_US
+        crate::serve::READ_US
     }
 }
 
@@ -657,9 +649,9 @@ mod tests {
     /// master (rightly) gave up, asked again and met the reply. That reply is disturbed.
     #[test]
     fn a_reply_to_a_request_read_late_is_disturbed() {
-        use crate::simulate::Hooks;
+        use crate::serve::Hooks;
         let p = hiperface_model::profiles::srs50();
-        let scenario = crate::drive::scenarios::catalogue().into_iter().next().unwrap();
+        let scenario = crate::master::scenarios::catalogue().into_iter().next().unwrap();
         let reply_disturbance = |read_late_us| {
             let mut encoder = DriveEncoder::new(p, &scenario, false, None);
             let mut slave = Slave::operational(p);
@@ -675,7 +667,7 @@ mod tests {
             let step = steps.into_iter().find(|s| s.transmission.is_some()).unwrap();
             encoder.frame(&mut slave, &step);
             let tx = step.transmission.unwrap();
-            let planned = crate::simulate::planned_reply(&tx);
+            let planned = crate::serve::planned_reply(&tx);
             encoder.reply(&mut slave, &step, planned).map(|p| p.answered_late_us)
         };
         assert_eq!(reply_disturbance(0), Some(0));
@@ -691,9 +683,9 @@ mod tests {
     #[test]
     fn a_masters_uart_fault_is_counted_and_answered_09h() {
         use crate::line::echo::{Echo, EchoMode};
-        use crate::simulate::Hooks;
+        use crate::serve::Hooks;
         let p = hiperface_model::profiles::srs50();
-        let scenario = crate::drive::scenarios::catalogue().into_iter().next().unwrap();
+        let scenario = crate::master::scenarios::catalogue().into_iter().next().unwrap();
         let echo = ReplyEcho::new(EchoMode::Auto, Echo::Quiet, 0);
         let mut encoder = DriveEncoder::new(p, &scenario, false, None).on_port(OnPort { echo });
         assert!(encoder.marks_errors());

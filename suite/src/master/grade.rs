@@ -7,16 +7,16 @@ use super::scenarios::Scenario;
 use crate::verdict::{CaseResult, Finding};
 use hiperface_model::master::obligations::{Observation, Rule};
 use hiperface_model::UartSettings;
-use std::time::Instant;
 
-/// The verdict, and the timeline with the broken rules on it. `by_operator`: the
+/// The verdict, and the timeline with the broken rules on it; `duration_ms`: how long
+/// the run took, for the report. `by_operator`: the
 /// drive's power-on was the operator's, at the encoder's or later. Returns why the
 /// harness's own timing may have decided something, where it may have.
-pub(super) fn finish(
+pub fn finish(
     result: &mut CaseResult,
     hooks: &mut DriveEncoder,
     scenario: &Scenario,
-    started: Instant,
+    duration_ms: f64,
     by_operator: bool,
     cut_short: bool,
 ) -> Option<String> {
@@ -36,7 +36,7 @@ pub(super) fn finish(
         });
     }
     result.wire.sort_by_key(|w| w.t_us);
-    result.duration_ms = started.elapsed().as_secs_f64() * 1000.0;
+    result.duration_ms = duration_ms;
     disturbed
 }
 

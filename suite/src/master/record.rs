@@ -13,7 +13,7 @@
 use super::encoder::DriveEncoder;
 pub use super::inputs::{settings_hex, Input};
 use super::scenarios::Scenario;
-use crate::simulate::{Hooks, Planned};
+use crate::serve::{Hooks, Planned};
 use crate::verdict::{CaseResult, Finding};
 use hiperface_model::{Hex, Profile, Slave, Step, UartSettings};
 use serde::{Deserialize, Serialize};
@@ -70,8 +70,13 @@ pub fn compact(inputs: Vec<Input>) -> Vec<Input> {
     out
 }
 
+/// A quiet turn's time in a record that is no number.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("a quiet turn's time `{0}`")]
+pub struct BadQuietTurn(pub String);
+
 /// The inputs with every short form written out again.
-pub fn expand(inputs: &[Input]) -> Result<Vec<Input>, String> {
+pub fn expand(inputs: &[Input]) -> Result<Vec<Input>, BadQuietTurn> {
     let mut out = Vec::with_capacity(inputs.len() * 2);
     for input in inputs {
         let Input::Quiet { at, rate_read, bps } = input else {
@@ -80,7 +85,7 @@ pub fn expand(inputs: &[Input]) -> Result<Vec<Input>, String> {
         };
         let mut t = 0u64;
         for (k, word) in at.split_whitespace().enumerate() {
-            let n: u64 = word.parse().map_err(|_| format!("a quiet turn's time `{word}`"))?;
+            let n: u64 = word.parse().map_err(|_| BadQuietTurn(word.to_string()))?;
             t = if k == 0 { n } else { t.saturating_add(n) };
             out.push(Input::Read { unwatched_us: 0 });
             out.push(Input::Idle { now_us: t });
@@ -150,12 +155,16 @@ pub struct ScenarioRecord {
 }
 
 /// Why a master record cannot be taken in again.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[derive(Debug, thiserror::Error)]
 pub enum ReplayError {
     #[error("scenario {id}: {why}")]
     Departs { id: String, why: String },
     #[error("the record names scenario `{0}`, which this catalogue does not have")]
     Unknown(String),
+    #[error("not a record of this tool's format: {0}")]
+    Format(String),
+    #[error("the record's profile does not load: {0}")]
+    Profile(#[from] crate::profile_file::ProfileLoadError),
 }
 
 /// Take one scenario run in again: a fresh model and encoder, fed the recorded inputs
@@ -229,7 +238,7 @@ pub fn replay_scenario(
             Input::Reply => {
                 let step = current.as_ref().ok_or_else(|| departs(format!("input {n}: a reply to no frame")))?;
                 let tx = step.transmission.ok_or_else(|| departs(format!("input {n}: the model has no reply")))?;
-                let planned = crate::simulate::planned_reply(&tx);
+                let planned = crate::serve::planned_reply(&tx);
                 reply = hooks.reply(&mut slave, step, planned);
             }
             Input::Sent { frame, start_us, end_us, gap, disturbed_us, split_by_harness } => {
@@ -253,8 +262,8 @@ pub fn replay_scenario(
     hooks.finish(r.end_us);
     hooks.timeline.line_faults.extend(r.line_faults.iter().cloned());
     let by_operator = r.start == Start::PowerOnByOperator;
-    let started = std::time::Instant::now();
-    let disturbed = super::grade::finish(&mut result, &mut hooks, scenario, started, by_operator, r.cut_short);
+    // Taken in again, the run takes no time of its own.
+    let disturbed = super::grade::finish(&mut result, &mut hooks, scenario, 0.0, by_operator, r.cut_short);
     Ok((result, disturbed))
 }
 
@@ -293,21 +302,18 @@ pub struct MasterRecord {
 /// the last run of each scenario its result (with the number of runs). `Err` where
 /// the record names a scenario this catalogue lacks or departs from what the encoder
 /// does; a repeated run whose grade no longer asks for a repetition is named.
-pub fn replay(record: &MasterRecord) -> Result<(Profile, Vec<CaseResult>, Vec<String>), String> {
+pub fn replay(record: &MasterRecord) -> Result<(Profile, Vec<CaseResult>, Vec<String>), ReplayError> {
     if record.format != FORMAT {
-        return Err(format!("not a record of this tool's format: {}", record.format));
+        return Err(ReplayError::Format(record.format.clone()));
     }
-    let profile = crate::profile_file::parse_recorded(&record.profile, std::path::Path::new("the record's profile"))
-        .map_err(|e| format!("the record's profile does not load: {e}"))?;
+    let profile = crate::profile_file::parse_recorded(&record.profile, std::path::Path::new("the record's profile"))?;
     let catalogue = super::scenarios::catalogue();
     let mut results: Vec<CaseResult> = Vec::new();
     let mut notes = Vec::new();
     let mut runs = record.runs.iter().peekable();
     while let Some(first) = runs.next() {
-        let scenario = catalogue
-            .iter()
-            .find(|s| s.id == first.id)
-            .ok_or_else(|| ReplayError::Unknown(first.id.clone()).to_string())?;
+        let scenario =
+            catalogue.iter().find(|s| s.id == first.id).ok_or_else(|| ReplayError::Unknown(first.id.clone()))?;
         let encoder = scenario.encoder.map_or(profile, |make| make(profile));
         let mut attempts = vec![first];
         while let Some(next) = runs.next_if(|r| r.id == first.id) {
@@ -315,8 +321,7 @@ pub fn replay(record: &MasterRecord) -> Result<(Profile, Vec<CaseResult>, Vec<St
         }
         let mut last = None;
         for (i, run) in attempts.iter().enumerate() {
-            let (mut result, disturbed) =
-                replay_scenario(encoder, scenario, record.polling_period_ms, run).map_err(|e| e.to_string())?;
+            let (mut result, disturbed) = replay_scenario(encoder, scenario, record.polling_period_ms, run)?;
             let repeated = i + 1 < attempts.len();
             if repeated && disturbed.is_none() {
                 notes.push(format!(

@@ -4,7 +4,7 @@
 //! as an SVG drawing in HTML.
 
 use super::{escape, junit_suite, page_head, wire_text, Reports};
-use crate::drive::DriveReport;
+use crate::master::DriveReport;
 use hiperface_model::Profile;
 use std::fmt::Write as _;
 
@@ -120,7 +120,7 @@ fn html(r: &DriveReport, profile: &Profile) -> String {
             let _ = write!(s, "<li class=\"{fv}\">{fv} {}</li>", escape(&f.to_string()));
         }
         s += "</ul>";
-        s += &crate::drive::timeline::svg(c, profile);
+        s += &crate::master::timeline::svg(c, profile);
     }
     s += "</body></html>\n";
     s

@@ -1,0 +1,67 @@
+//! Certifying a master (a drive) without I/O: the scenarios, the encoder a master is
+//! certified against as hooks of a serving loop (it observes the master's
+//! obligations, `hiperface_model::master::obligations`, and injects the scenario's
+//! faults), the grade of one scenario run, the record of the wire taken in again, and
+//! the report. A FAIL needs a normative "must" of 000 that binds the profile's edition;
+//! the recommendations of 000 (read the status after power-on, read out the warning's
+//! codes, react to faults as Table 74 says) are NON-STRICT at most. The harness
+//! (`hiperface-conformance`) serves the encoder on a pseudo-terminal or a drive's port
+//! in real time and runs the master's process.
+
+pub mod encoder;
+pub mod grade;
+pub mod inputs;
+pub mod record;
+pub mod scenario;
+pub mod scenarios;
+pub mod timeline;
+
+use crate::line::echo::{Echo, EchoMode};
+use crate::verdict::{CaseResult, Outcome};
+use serde::Serialize;
+
+/// The result of certifying a master.
+#[derive(Debug, Clone, Serialize)]
+pub struct DriveReport {
+    pub tool: String,
+    pub profile: String,
+    pub edition: String,
+    pub master: String,
+    pub scenarios: Vec<CaseResult>,
+    pub summary: std::collections::BTreeMap<String, usize>,
+    /// What the master printed, per scenario id (capped).
+    pub output: std::collections::BTreeMap<String, String>,
+    pub wall_time_ms: f64,
+    /// The sum of the scenarios' lengths (each from power-on to its end, which comes
+    /// later when its situation arose late): the time the catalogue needs at least.
+    pub needed_ms: f64,
+    /// The time spent on runs that were repeated (their harness was disturbed).
+    pub rerun_ms: f64,
+    /// What the harness could not see, for the reader of the certificate.
+    pub notes: Vec<String>,
+    /// Why a scenario was run again.
+    pub notes_per_scenario: Vec<String>,
+    /// Scenarios whose encoder ran at a real-time priority (SCHED_FIFO).
+    pub real_time_scenarios: usize,
+    /// Why the run ended before its last scenario (an interrupt), if it did.
+    pub cut_short: Option<String>,
+    /// A drive on a port: whether the line echoed the encoder's replies, as found, and
+    /// the `--echo` it was run with.
+    pub echo: Option<(Echo, EchoMode)>,
+    /// A drive on a port: the master's characters read with a parity or framing error.
+    pub uart_faults: Option<usize>,
+    /// A master on a pseudo-terminal: what the probe beside the line saw of the
+    /// kernel's delivery.
+    pub delivery: Option<crate::line::delivery::DeliveryStats>,
+    /// The record of the wire: every scenario run as the encoder took it in, which
+    /// `decode` takes in again (`master::record`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub record: Option<record::MasterRecord>,
+}
+
+impl DriveReport {
+    /// PASSED only when every scenario was run, exercised and graded, none FAILed.
+    pub fn outcome(&self) -> Outcome {
+        Outcome::of(self.scenarios.iter().map(|s| s.verdict), self.cut_short.is_none())
+    }
+}

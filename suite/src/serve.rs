@@ -1,0 +1,127 @@
+//! An encoder served on a line: what the serving loop does besides the model, as
+//! hooks (see each character the master sends, change or withhold a reply, learn what
+//! was sent), and the reply it plans. The loop itself is the harness's (in real time on
+//! a port or pseudo-terminal: `hiperface-conformance`'s `simulate::serve_with`); the
+//! master certification's encoder ([`crate::master::encoder::DriveEncoder`]) is these
+//! hooks, and its record ([`crate::master::record`]) is the calls into them, taken in
+//! again without any line.
+
+use hiperface_model::datalink::RxChar;
+use hiperface_model::{Slave, Step, UartSettings};
+
+/// How long after the earliest allowed start the simulator begins a reply.
+pub const REPLY_DELAY_US: u64 = 300;
+
+/// While anything is due, reads return at least every 500 µs.
+pub const READ_US: u64 = 500;
+
+/// What an encoder served on a line does besides the model: see each character the
+/// master sends, change or withhold a reply (fault injection), learn what was sent.
+/// The default hooks serve the model as it is.
+pub trait Hooks {
+    /// A character from the master, stamped at the end of its stop bit, and the
+    /// settings the slave listens at then (`None` while it does not listen).
+    fn received(&mut self, _ch: RxChar, _listening: Option<UartSettings>) {}
+    /// Whether the port follows the slave's listening settings. Not where the port's
+    /// settings are the peer's: on a pseudo-terminal, setting one end sets the other
+    /// (Linux), and the master under test owns them.
+    fn sets_port(&self) -> bool {
+        true
+    }
+    /// Whether the port's own data rate is the line's, set by whoever serves the other
+    /// end (a serial device server that takes settings through RFC 2217, writing them
+    /// to the pseudo-terminal): a character heard at another rate than the slave
+    /// listens at arrives with a framing error, and a reply sent at another rate than
+    /// the line's is not heard (a UART at the wrong rate finds no characters).
+    fn follows_line_settings(&self) -> bool {
+        false
+    }
+    /// The characters of one read follow (`received` for each): the line had not been
+    /// read for `unwatched_us` before it (0 when it was watched; the harness was busy
+    /// writing a reply, or not scheduled). They may have come any time in that
+    /// stretch; they are stamped when read.
+    fn read(&mut self, _unwatched_us: u64) {}
+    /// Time passes with nothing received; the model was polled at `now_us` just before.
+    fn idle(&mut self, _now_us: u64) {}
+    /// The model processed a frame (whether it replies or not).
+    fn frame(&mut self, _slave: &mut Slave, _step: &Step) {}
+    /// The model's reply to a frame: what to send instead, if anything.
+    fn reply(&mut self, _slave: &mut Slave, _step: &Step, planned: Planned) -> Option<Planned> {
+        Some(planned)
+    }
+    /// A reply went out as planned, its last character ending at `end_us`.
+    fn sent(&mut self, _planned: &Planned, _end_us: u64) {}
+    /// Whether the port marks UART faults in what it delivers (`PARMRK`: see
+    /// the harness's marking port): a master's character with a parity or
+    /// framing error reaches the model as one.
+    fn marks_errors(&self) -> bool {
+        false
+    }
+    /// The echo of the replies, where the line may echo (a drive on a port): what it
+    /// takes off the line never reaches the model or [`Hooks::received`].
+    fn reply_echo(&mut self) -> Option<&mut crate::line::reply_echo::ReplyEcho> {
+        None
+    }
+    /// Whether the serving thread got the real-time priority it asked for.
+    fn real_time(&mut self, _granted: bool) {}
+    /// How long one read may wait while the model has nothing due (no frame in
+    /// progress, no state change): 50 ms by default, so that an idle simulator sleeps.
+    /// The first character after such a stretch is stamped when the thread wakes; a
+    /// harness that grades when requests begin watches closer.
+    fn idle_read_us(&self) -> u64 {
+        50_000
+    }
+}
+
+/// A reply as it will go on the wire.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Planned {
+    pub frame: Vec<u8>,
+    /// When its first start bit begins, µs since power-on.
+    pub start_us: u64,
+    pub settings: hiperface_model::UartSettings,
+    /// A pause inserted before the character of this index, µs.
+    pub gap: Option<(usize, u64)>,
+    /// Write each character when it is complete, as a UART delivers them, instead of
+    /// a run at once: a peer that reads a pseudo-terminal then sees the reply end
+    /// when it really ends.
+    pub paced: bool,
+    /// Set when sent: the longest pause inside the reply that was not planned (the
+    /// harness wrote a character late), µs; 0 when none reached [`disturbed_from_us`].
+    pub disturbed_us: u64,
+    /// Set when sent: the harness wrote a character so late that the reply has a pause
+    /// of the timeout inside, which it did not plan (`gap` then holds that pause).
+    pub split_by_harness: bool,
+    /// Set by the hooks: the request was read so late that the reply, answered late by
+    /// as much, started after the command's maximum response time (000:T10), µs late.
+    pub answered_late_us: u64,
+}
+
+/// An unplanned pause inside a paced reply this long or longer is one a receiver can
+/// see: one character time at the reply's data rate (a UART's receive-idle interrupt
+/// fires after a character time of idle line or more; a shorter pause is invisible to
+/// any receiver). Below the timeout (000:2.2.2) it does not end the reply: a master
+/// that talks after it talks over the reply, which 000 forbids, so such a pause decides
+/// a run only where the master broke a rule after it (`master::grade`).
+pub const fn disturbed_from_us(char_time_us: u64) -> u64 {
+    char_time_us
+}
+
+/// The model's reply as the serving loop plans it before the hooks see it: at the
+/// earliest start plus [`REPLY_DELAY_US`].
+pub fn planned_reply(tx: &hiperface_model::slave::Transmission) -> Planned {
+    Planned {
+        frame: tx.frame.as_bytes().to_vec(),
+        start_us: tx.earliest_start_us + REPLY_DELAY_US,
+        settings: tx.settings,
+        gap: None,
+        paced: false,
+        disturbed_us: 0,
+        split_by_harness: false,
+        answered_late_us: 0,
+    }
+}
+
+/// The model as it is.
+pub struct Plain;
+impl Hooks for Plain {}
