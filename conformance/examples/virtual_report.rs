@@ -1,13 +1,13 @@
 //! Print the Markdown certificate of the reference model in virtual time.
-use hiperface_conformance::certify::{self, Options};
 use hiperface_conformance::line::virtual_line::VirtualLine;
 use hiperface_conformance::report::Reports;
+use hiperface_conformance::slave::{self, Options};
 use hiperface_model::{profiles, Slave};
 
 fn main() {
     let profile = profiles::builtin(&std::env::args().nth(1).unwrap_or_else(|| "SRS50".into())).expect("profile");
     let line = VirtualLine::new(Slave::operational(profile));
     let options = Options::all_allowed();
-    let r = certify::run(Box::new(line), profile, &options, |_, _, _| {});
+    let r = slave::run(Box::new(line), profile, &options, |_, _, _| {});
     print!("{}", r.markdown());
 }

@@ -4,7 +4,7 @@
 //! `hiperface clauses` prints it; a test fails when a normative clause is neither
 //! covered nor listed as unobservable.
 
-use crate::certify::ctx::EVERY_EXCHANGE;
+use crate::slave::ctx::EVERY_EXCHANGE;
 use hiperface_model::clause::{Clause, Force, CLAUSES};
 use hiperface_model::master::obligations::Rule;
 use hiperface_model::oracle::REPLY_FORM;
@@ -29,7 +29,7 @@ pub struct ClauseCoverage {
     pub master_scenarios: Vec<&'static str>,
     pub master_rules: Vec<&'static str>,
     /// Checked on every exchange of every slave case: by the harness
-    /// (`certify::ctx::EVERY_EXCHANGE`) or the oracle's check of a reply's form
+    /// (`slave::ctx::EVERY_EXCHANGE`) or the oracle's check of a reply's form
     /// (`oracle::REPLY_FORM`).
     pub every_exchange: bool,
     /// How many vectors cite it, per file.
@@ -106,8 +106,8 @@ fn force_name(f: Force) -> &'static str {
 
 /// The coverage of every clause, in registry order.
 pub fn coverage() -> Result<Vec<ClauseCoverage>, BadBuiltinVectors> {
-    let cases = crate::certify::cases::catalogue();
-    let scenarios = crate::drive::scenarios::catalogue();
+    let cases = crate::slave::cases::catalogue();
+    let scenarios = crate::master::scenarios::catalogue();
     let vectors = vector_citations()?;
     let cites = |list: &[Clause], c: &Clause| list.iter().any(|x| x.id() == c.id());
     Ok(CLAUSES

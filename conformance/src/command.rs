@@ -4,10 +4,10 @@
 //! INCOMPLETE; `verdict::EXIT_USAGE`, `verdict::EXIT_INCOMPLETE`).
 
 use crate::verdict::{Outcome, EXIT_USAGE};
-use hiperface_suite::certify::NoCaseMatches;
 use hiperface_suite::listen::decode::DecodeError;
 use hiperface_suite::master::record::ReplayError;
 use hiperface_suite::profile_file::ProfileLoadError;
+use hiperface_suite::slave::NoCaseMatches;
 use std::path::PathBuf;
 
 /// What a command did.

@@ -3,18 +3,18 @@
 //! lockstep, reports, and the simulator serving the model as a virtual encoder.
 
 pub mod args;
-pub mod certify;
 pub mod clauses;
 pub mod command;
 pub mod demo;
-pub mod drive;
 pub mod interrupt;
 pub mod line;
 pub mod listen;
+pub mod master;
 pub mod port;
 pub mod report;
 pub mod sched;
 pub mod simulate;
+pub mod slave;
 pub mod verdict;
 
 // The suite's core without I/O lives in hiperface-suite; the harness names it as its own.

@@ -1,6 +1,6 @@
 //! The `hiperface` command: the subcommands and what each calls. The arguments of the
 //! three front ends and their run policy are in the library, where tests reach them
-//! (`certify::cli`, `drive::cli`, `listen::cli`, `listen::monitor`), the flags they
+//! (`slave::cli`, `master::cli`, `listen::cli`, `listen::monitor`), the flags they
 //! share in `args`; the small commands (profiles, vectors, clauses) are here.
 
 use clap::{Parser, Subcommand, ValueEnum};
@@ -8,7 +8,7 @@ use hiperface_conformance::args::WorldArgs;
 use hiperface_conformance::command::{CommandError, Ended};
 use hiperface_conformance::port::PortSpec;
 use hiperface_conformance::world::World;
-use hiperface_conformance::{certify, demo, drive, line, profile_file, simulate};
+use hiperface_conformance::{demo, line, master, profile_file, simulate, slave};
 use hiperface_model::command::COMMAND_TABLE;
 use serialport::SerialPort as _;
 use std::path::PathBuf;
@@ -62,7 +62,7 @@ enum Command {
     /// Print a profile as TOML, to start a data sheet of your own.
     ExportProfile { profile: String },
     /// The reference master: start-up, cyclic Read Position, fault reaction (000:3.3).
-    Master(drive::cli::MasterArgs),
+    Master(master::cli::MasterArgs),
     /// Grade a capture of a bus (a wire log, a logic analyzer's CSV, sigrok-cli's UART
     /// decoder output) without talking: both sides; exit 1 on a FAIL, 3 when nothing
     /// could be graded. A certify report is played back from the record of its wire:
@@ -94,9 +94,9 @@ enum TextFormat {
 #[derive(Subcommand)]
 enum CertifyWhat {
     /// Act as master against a slave (encoder).
-    Slave(certify::cli::CertifySlaveArgs),
+    Slave(slave::cli::CertifySlaveArgs),
     /// Act as encoder against a master (a drive): scenarios with injected faults.
-    Master(drive::cli::CertifyMasterArgs),
+    Master(master::cli::CertifyMasterArgs),
 }
 
 #[derive(Subcommand)]
@@ -140,9 +140,9 @@ fn print_clauses(uncovered: bool, format: TextFormat) -> Result<Ended, CommandEr
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Certify { what: CertifyWhat::Master(args) } => drive::cli::certify_master(&args),
-        Command::Certify { what: CertifyWhat::Slave(args) } => certify::cli::certify_slave(args),
-        Command::Master(args) => drive::cli::reference_master(&args),
+        Command::Certify { what: CertifyWhat::Master(args) } => master::cli::certify_master(&args),
+        Command::Certify { what: CertifyWhat::Slave(args) } => slave::cli::certify_slave(args),
+        Command::Master(args) => master::cli::reference_master(&args),
         Command::Simulate { port, profile, log, world } => run_simulator(&port, &profile, log, &world.world()),
         Command::Demo { profile } => profile_file::resolve(&profile)
             .map_err(CommandError::from)

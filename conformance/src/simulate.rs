@@ -138,7 +138,7 @@ pub fn serve_with(
         }
         feed(slave, hooks, &mut master_chars, None, &mut steps);
         // One instant for the model and the hooks: a record of the hooks' inputs
-        // (`drive::record`) then holds when the model was polled too.
+        // (`master::record`) then holds when the model was polled too.
         let t = now(epoch);
         steps.extend(slave.poll(t));
         hooks.idle(t);

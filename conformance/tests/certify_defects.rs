@@ -3,9 +3,9 @@
 
 mod common;
 
-use hiperface_conformance::certify::{self, CaseVerdict, Options, Report};
 use hiperface_conformance::line::virtual_line::{SlaveDevice, VirtualLine};
 use hiperface_conformance::line::{Line, LineError, LineKind, Sent, Window};
+use hiperface_conformance::slave::{self, CaseVerdict, Options, Report};
 use hiperface_model::datalink::RxChar;
 use hiperface_model::{
     checksum, profiles, Edition, Frame, Response, ResponseFrame, Slave, Step, Transmission, UartSettings,
@@ -105,7 +105,7 @@ impl SlaveDevice for Defective {
 
 fn certify(device: Defective) -> Report {
     let options = Options::all_allowed();
-    let report = certify::run(Box::new(VirtualLine::new(device)), profiles::srs50(), &options, |_, _, _| {});
+    let report = slave::run(Box::new(VirtualLine::new(device)), profiles::srs50(), &options, |_, _, _| {});
     // Decode reproduces the run: the defect's record played back FAILs as the run did.
     common::replay::assert_replays(&report);
     report
@@ -261,7 +261,7 @@ fn an_interruption_after_a_change_still_restores_the_device() {
         ..Options::default()
     };
     let line = VirtualLine::new(d);
-    let r = certify::run(Box::new(line), profiles::srs50(), &options, |_, _, _| {});
+    let r = slave::run(Box::new(line), profiles::srs50(), &options, |_, _, _| {});
     assert_eq!(r.aborted.as_deref(), Some("interrupted"));
     let case = r.cases.iter().find(|c| c.id == "address.change-restore").unwrap();
     // The operator's interrupt, not the device's doing: cut short, not an ERROR.
@@ -277,7 +277,7 @@ fn an_interruption_after_a_change_still_restores_the_device() {
 
 #[test]
 fn stack_not_deduplicated() {
-    use hiperface_conformance::certify::World;
+    use hiperface_conformance::slave::World;
     use hiperface_model::slave::inputs::InitFault;
     // The device found two start-up faults, each stored "along with the internal
     // checksum error" (000:T40, T41): a conforming stack holds 06h once (000:T27).
@@ -288,7 +288,7 @@ fn stack_not_deduplicated() {
         d
     };
     let options = Options { world: world.clone(), ..Options::all_allowed() };
-    let r = certify::run(Box::new(VirtualLine::new(conforming)), profiles::srs50(), &options, |_, _, _| {});
+    let r = slave::run(Box::new(VirtualLine::new(conforming)), profiles::srs50(), &options, |_, _, _| {});
     assert!(
         r.outcome().passed(),
         "{:#?}",
@@ -299,7 +299,7 @@ fn stack_not_deduplicated() {
     world.apply(&mut d.model);
     let codes = vec![0x06, 0x02, 0x06, 0x03];
     d.shadow_stack = Some((codes.clone(), codes));
-    let r = certify::run(Box::new(VirtualLine::new(d)), profiles::srs50(), &options, |_, _, _| {});
+    let r = slave::run(Box::new(VirtualLine::new(d)), profiles::srs50(), &options, |_, _, _| {});
     assert_fails(&r, &["identity.status"]);
     let f = &r.cases.iter().find(|c| c.id == "identity.status").unwrap().findings[0];
     assert!(f.message().contains("replied [40 D0 06 96], expected [40 50 03 13]"), "{}", f.message());
@@ -320,7 +320,7 @@ fn a_real_device_with_data_fields_is_adopted_not_failed() {
         d
     };
     let black_box = Options { allow_writes: true, grading: Grading::Range, ..Options::default() };
-    let r = certify::run(Box::new(VirtualLine::new(used())), profiles::srs50(), &black_box, |_, _, _| {});
+    let r = slave::run(Box::new(VirtualLine::new(used())), profiles::srs50(), &black_box, |_, _, _| {});
     assert!(
         r.outcome().passed(),
         "{:#?}",
@@ -329,7 +329,7 @@ fn a_real_device_with_data_fields_is_adopted_not_failed() {
     assert!(r.notes[0].contains("2 data fields, 107 free blocks, counter 1234"), "{}", r.notes[0]);
     // Without adopting (a model in factory state), the same device would be failed.
     let exact = Options { allow_writes: true, ..Options::default() };
-    let r = certify::run(Box::new(VirtualLine::new(used())), profiles::srs50(), &exact, |_, _, _| {});
+    let r = slave::run(Box::new(VirtualLine::new(used())), profiles::srs50(), &exact, |_, _, _| {});
     assert_eq!(verdict(&r, "fields.status"), CaseVerdict::Fail);
 }
 
@@ -390,7 +390,7 @@ fn a_case_the_harness_was_too_late_to_judge_is_run_again() {
         d.delay_us = 12_000;
         let line = LateHarness { line: VirtualLine::new(d), late_us: 5_000, disturbed, read_positions: 0 };
         let options = Options { cases: Some("position.read".into()), ..Options::default() };
-        certify::run(Box::new(line), profiles::srs50(), &options, |_, _, _| {})
+        slave::run(Box::new(line), profiles::srs50(), &options, |_, _, _| {})
     };
     let case = |r: Report| r.cases.into_iter().next().unwrap();
     let idle = run(0);

@@ -6,9 +6,9 @@
 
 mod common;
 
-use hiperface_conformance::certify::{CaseResult, CaseVerdict};
-use hiperface_conformance::drive::{self, Attach, DriveReport, Options, PowerOn};
 use hiperface_conformance::line::echo::{Echo, EchoMode};
+use hiperface_conformance::master::{self, Attach, DriveReport, Options, PowerOn};
+use hiperface_conformance::slave::{CaseResult, CaseVerdict};
 use hiperface_conformance::verdict::Outcome;
 use hiperface_model::{profiles, Profile};
 use std::path::Path;
@@ -27,10 +27,10 @@ fn certify(profile: Profile, exec: &str, scenarios: Option<&str>) -> DriveReport
     let options = Options {
         attach: Attach::Exec(exec.into()),
         scenarios: scenarios.map(str::to_string),
-        polling_period_ms: drive::POLLING_PERIOD_MS,
+        polling_period_ms: master::POLLING_PERIOD_MS,
         interrupt: None,
     };
-    let report = drive::run(profile, &options, |_, _, _| {});
+    let report = master::run(profile, &options, |_, _, _| {});
     // Decode reproduces the run: the record taken in again grades every scenario alike.
     common::replay::assert_master_replays(&report);
     report
@@ -40,7 +40,7 @@ fn certify(profile: Profile, exec: &str, scenarios: Option<&str>) -> DriveReport
 fn assert_clean(report: &DriveReport) {
     let remarks: Vec<&CaseResult> = report.scenarios.iter().filter(|s| s.verdict != CaseVerdict::Pass).collect();
     assert!(remarks.is_empty(), "{remarks:#?}\n{:#?}", report.output);
-    assert_eq!(report.scenarios.len(), drive::scenarios::catalogue().len());
+    assert_eq!(report.scenarios.len(), master::scenarios::catalogue().len());
     // The catalogue took about as long as its scenarios need (nothing hung).
     assert!(report.wall_time_ms - report.rerun_ms < report.needed_ms * 1.2 + 2000.0, "{} ms", report.wall_time_ms);
 }
@@ -484,10 +484,10 @@ fn a_drive_on_a_port_is_certified_without_seeing_its_power_on() {
         attach: Attach::Port { path, power_on: PowerOn::Unseen, echo: EchoMode::Auto },
         // Not 22h: the drive stops reading the position for good after it, as it should.
         scenarios: Some("startup.default,protocol.checksum-error,protocol.parity,reply.corrupt".into()),
-        polling_period_ms: drive::POLLING_PERIOD_MS,
+        polling_period_ms: master::POLLING_PERIOD_MS,
         interrupt: None,
     };
-    let report = drive::run(profile, &options, |_, _, _| {});
+    let report = master::run(profile, &options, |_, _, _| {});
     // The drive ends when its line goes (the port closes under it).
     drop(encoder_end);
     let _ = drive.join();
@@ -517,7 +517,7 @@ struct ScriptedOperator {
     switched_on: usize,
 }
 
-impl drive::Operator for ScriptedOperator {
+impl master::Operator for ScriptedOperator {
     fn switch_off(&mut self, _scenario: &str) {
         if let Some(t) = self.running.take() {
             t.join().unwrap();
@@ -541,8 +541,8 @@ impl drive::Operator for ScriptedOperator {
             let line = SerialLine::from_port(Box::new(port), "drive".into(), profile.settings, true);
             let mut master = BusMaster::new(line, profile.edition);
             // Off before the scenario's 1500 ms end: the next switch_off finds it off.
-            let options = drive::reference::Options { polling_period_ms: 20, duration_ms: Some(1_300) };
-            let _ = drive::reference::run(&mut master, profile, options, &mut |_: &str| {});
+            let options = master::reference::Options { polling_period_ms: 20, duration_ms: Some(1_300) };
+            let _ = master::reference::run(&mut master, profile, options, &mut |_: &str| {});
         }));
     }
 }
@@ -564,11 +564,11 @@ fn with_an_operator_the_start_up_of_a_drive_on_a_port_is_graded() {
         let options = Options {
             attach: Attach::Port { path, power_on: PowerOn::Prompt, echo: EchoMode::Auto },
             scenarios: Some(scenarios.into()),
-            polling_period_ms: drive::POLLING_PERIOD_MS,
+            polling_period_ms: master::POLLING_PERIOD_MS,
             interrupt: None,
         };
-        let report = drive::run_with(profiles::srs50(), &options, &mut operator, |_, _, _| {});
-        drive::Operator::switch_off(&mut operator, "end");
+        let report = master::run_with(profiles::srs50(), &options, &mut operator, |_, _, _| {});
+        master::Operator::switch_off(&mut operator, "end");
         // A scenario the harness ran again (it was disturbed) had a power-on per run.
         let runs: u32 = report.scenarios.iter().map(|s| s.attempts).sum();
         assert_eq!(operator.switched_on as u32, runs, "one power-on per scenario run");

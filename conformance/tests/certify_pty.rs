@@ -3,10 +3,10 @@
 
 mod common;
 
-use hiperface_conformance::certify::{self, CaseVerdict, Options};
 use hiperface_conformance::line::serial::SerialLine;
 use hiperface_conformance::line::LineError;
 use hiperface_conformance::simulate::PtySimulator;
+use hiperface_conformance::slave::{self, CaseVerdict, Options};
 use hiperface_model::{profiles, UartSettings};
 use serialport::SerialPort;
 use std::io::Write;
@@ -25,7 +25,7 @@ fn the_whole_catalogue_passes_against_the_simulator_over_a_pty() {
     // Real time on a shared CI machine: generous timing bounds (exact timing is
     // checked in virtual time, tests/certify_defects.rs).
     let line = SerialLine::from_port(port, sim.path.clone(), profile.settings, true).with_tolerance(GENEROUS_US);
-    let report = certify::run(Box::new(line), profile, &Options::all_allowed(), |_, _, _| {});
+    let report = slave::run(Box::new(line), profile, &Options::all_allowed(), |_, _, _| {});
     let failed: Vec<_> =
         report.cases.iter().filter(|c| !matches!(c.verdict, CaseVerdict::Pass | CaseVerdict::NotApplicable)).collect();
     assert!(failed.is_empty(), "{failed:#?}");
@@ -57,7 +57,7 @@ fn a_silent_device_stops_the_run_quickly_with_an_error() {
     let (_silent_end, port) = serialport::TTYPort::pair().unwrap();
     let line = SerialLine::from_port(Box::new(port), "silent".into(), UartSettings::DEFAULT, true);
     let started = Instant::now();
-    let report = certify::run(Box::new(line), profiles::srs50(), &Options::all_allowed(), |_, _, _| {});
+    let report = slave::run(Box::new(line), profiles::srs50(), &Options::all_allowed(), |_, _, _| {});
     assert!(started.elapsed() < Duration::from_secs(10), "must not hang");
     // Nothing was observed: INCOMPLETE, not a verdict on the device.
     assert_eq!(report.outcome(), hiperface_conformance::verdict::Outcome::Incomplete);
@@ -80,14 +80,14 @@ fn the_port_gone_mid_run_leaves_a_partial_report() {
     let line = SerialLine::from_port(port, sim.path.clone(), profile.settings, true).with_tolerance(GENEROUS_US);
     let mut sim = Some(sim);
     let started = Instant::now();
-    let report = certify::run(Box::new(line), profile, &Options::all_allowed(), |i, _, _| {
+    let report = slave::run(Box::new(line), profile, &Options::all_allowed(), |i, _, _| {
         if i == 4 {
             sim.take(); // the simulator and its end of the pseudo-terminal go away
         }
     });
     assert!(started.elapsed() < Duration::from_secs(30), "must not hang");
     assert!(report.aborted.is_some(), "{:#?}", report.cases.iter().map(|c| (c.id, c.verdict)).collect::<Vec<_>>());
-    let n = certify::cases::catalogue().len();
+    let n = slave::cases::catalogue().len();
     assert_eq!(report.cases.len(), n, "every case is accounted for");
     assert!(report.cases[..4].iter().all(|c| c.verdict == CaseVerdict::Pass));
     assert!(report.cases[5..n].iter().all(|c| matches!(c.verdict, CaseVerdict::Error | CaseVerdict::NotApplicable)));
@@ -114,7 +114,7 @@ fn an_interrupt_in_a_power_up_window_stops_at_once_and_reads_the_device_back() {
         Instant::now()
     });
     let mut case_ended = None;
-    let report = certify::run(Box::new(line), profile, &options, |_, _, _| case_ended = Some(Instant::now()));
+    let report = slave::run(Box::new(line), profile, &options, |_, _, _| case_ended = Some(Instant::now()));
     let interrupted_at = setter.join().unwrap();
     let took = case_ended.unwrap().saturating_duration_since(interrupted_at);
     // 50 ms steps; generous for a shared machine.
@@ -146,7 +146,7 @@ fn garbage_on_the_line_fails_without_hanging() {
     let line = SerialLine::from_port(Box::new(port), "noisy".into(), UartSettings::DEFAULT, true);
     let options = Options { cases: Some("identity.*,position.read".into()), ..Options::default() };
     let started = Instant::now();
-    let report = certify::run(Box::new(line), profiles::srs50(), &options, |_, _, _| {});
+    let report = slave::run(Box::new(line), profiles::srs50(), &options, |_, _, _| {});
     stop.store(true, std::sync::atomic::Ordering::Relaxed);
     babbler.join().unwrap();
     assert!(started.elapsed() < Duration::from_secs(20), "must not hang");

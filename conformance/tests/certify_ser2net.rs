@@ -3,10 +3,10 @@
 
 mod common;
 
-use hiperface_conformance::certify::{self, CaseVerdict, Options};
 use hiperface_conformance::line::Line;
 use hiperface_conformance::port::{self, PortSpec};
 use hiperface_conformance::simulate::PtySimulator;
+use hiperface_conformance::slave::{self, CaseVerdict, Options};
 use hiperface_model::profiles;
 
 #[test]
@@ -18,7 +18,7 @@ fn the_catalogue_passes_through_ser2net() {
     // Real time on a shared CI machine: generous timing bounds.
     let line = server.connect().with_tolerance(25_000);
     let options = Options::all_allowed();
-    let report = certify::run(Box::new(line), profile, &options, |_, _, _| {});
+    let report = slave::run(Box::new(line), profile, &options, |_, _, _| {});
     let bad: Vec<_> =
         report.cases.iter().filter(|c| !matches!(c.verdict, CaseVerdict::Pass | CaseVerdict::NotApplicable)).collect();
     assert!(bad.is_empty(), "{bad:#?}");
@@ -42,7 +42,7 @@ fn temporary_settings_are_followed_through_rfc2217() {
     })
     .line;
     assert!(line.describe().starts_with("rfc2217://"), "{}", line.describe());
-    let report = certify::run(line, profile, &Options::all_allowed(), |_, _, _| {});
+    let report = slave::run(line, profile, &Options::all_allowed(), |_, _, _| {});
     let bad: Vec<_> =
         report.cases.iter().filter(|c| !matches!(c.verdict, CaseVerdict::Pass | CaseVerdict::NotApplicable)).collect();
     assert!(bad.is_empty(), "{bad:#?}");
@@ -60,7 +60,7 @@ fn without_rfc2217_the_same_case_cannot_be_followed() {
     let (profile, sim, _harness_end) = simulator_following_the_line();
     let server = common::Ser2net::bridge(&sim.path, "simraw");
     let line = server.connect().with_tolerance(25_000);
-    let report = certify::run(Box::new(line), profile, &Options::all_allowed(), |_, _, _| {});
+    let report = slave::run(Box::new(line), profile, &Options::all_allowed(), |_, _, _| {});
     let temporary = report.cases.iter().find(|c| c.id == "settings.temporary").unwrap();
     assert_eq!(temporary.verdict, CaseVerdict::NotApplicable, "{temporary:#?}");
     drop(sim);

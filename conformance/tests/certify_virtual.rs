@@ -2,15 +2,15 @@
 
 mod common;
 
-use hiperface_conformance::certify::{self, CaseVerdict, Options};
 use hiperface_conformance::line::virtual_line::VirtualLine;
+use hiperface_conformance::slave::{self, CaseVerdict, Options};
 use hiperface_model::{profiles, Slave};
 
 #[test]
 fn the_reference_model_passes_every_case_in_virtual_time() {
     for (name, make) in profiles::BUILTIN {
         let line = VirtualLine::new(Slave::operational(make()));
-        let report = certify::run(Box::new(line), make(), &Options::all_allowed(), |_, _, _| {});
+        let report = slave::run(Box::new(line), make(), &Options::all_allowed(), |_, _, _| {});
         for c in &report.cases {
             assert!(
                 matches!(c.verdict, CaseVerdict::Pass | CaseVerdict::NotApplicable),
@@ -37,7 +37,7 @@ pub fn every_command() -> hiperface_model::Profile {
 fn every_case_runs_and_passes_on_a_profile_with_every_command() {
     let p = every_command();
     let report =
-        certify::run(Box::new(VirtualLine::new(Slave::operational(p))), p, &Options::all_allowed(), |_, _, _| {});
+        slave::run(Box::new(VirtualLine::new(Slave::operational(p))), p, &Options::all_allowed(), |_, _, _| {});
     for c in &report.cases {
         let legacy_only = c.id.starts_with("legacy.");
         let expected = if legacy_only { CaseVerdict::NotApplicable } else { CaseVerdict::Pass };
@@ -64,7 +64,7 @@ fn the_reference_passes_itself_with_every_settings_byte_of_every_profile() {
             }
             configurations += 1;
             let line = VirtualLine::new(Slave::operational(p));
-            let report = certify::run(Box::new(line), p, &Options::all_allowed(), |_, _, _| {});
+            let report = slave::run(Box::new(line), p, &Options::all_allowed(), |_, _, _| {});
             common::replay::assert_replays(&report);
             let wrong: Vec<String> = report
                 .cases
@@ -97,7 +97,7 @@ fn the_reference_passes_itself_with_every_settings_byte_of_every_profile() {
 #[test]
 fn a_record_played_back_gives_the_runs_verdicts() {
     for (_, make) in profiles::BUILTIN {
-        let live = certify::run(
+        let live = slave::run(
             Box::new(VirtualLine::new(Slave::operational(make()))),
             make(),
             &Options::all_allowed(),
@@ -114,8 +114,7 @@ fn a_record_played_back_gives_the_runs_verdicts() {
 fn a_changed_record_is_graded_as_it_is() {
     use hiperface_conformance::record::Event;
     let p = profiles::srs50();
-    let live =
-        certify::run(Box::new(VirtualLine::new(Slave::operational(p))), p, &Options::all_allowed(), |_, _, _| {});
+    let live = slave::run(Box::new(VirtualLine::new(Slave::operational(p))), p, &Options::all_allowed(), |_, _, _| {});
     let record = live.record.clone().expect("a record");
     // The first Read Position reply of the catalogue, one data byte changed.
     let mut changed = record.clone();
@@ -130,7 +129,7 @@ fn a_changed_record_is_graded_as_it_is() {
         })
         .expect("a Read Position");
     x.reply[2].0 ^= 0x01;
-    let again = certify::replay(&changed, |_, _, _| {}).expect("plays back");
+    let again = slave::replay(&changed, |_, _, _| {}).expect("plays back");
     let read = again.cases.iter().find(|c| c.id == "identity.type-label" || c.id == "position.read");
     assert!(!again.outcome().passed(), "{:?}", again.summary);
     assert!(
@@ -144,7 +143,7 @@ fn a_changed_record_is_graded_as_it_is() {
     let mut short = record;
     let i = short.events.iter().position(|e| matches!(e, Event::Exchange { .. })).expect("an exchange");
     short.events.remove(i);
-    let again = certify::replay(&short, |_, _, _| {}).expect("plays back");
+    let again = slave::replay(&short, |_, _, _| {}).expect("plays back");
     let why = again.aborted.clone().unwrap_or_default();
     assert!(
         why.contains("departs") || again.cases.iter().any(|c| c.verdict == CaseVerdict::Error),

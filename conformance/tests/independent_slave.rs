@@ -13,8 +13,8 @@
 mod common;
 
 use common::hx1::{legacy_profile, profile, Hx1};
-use hiperface_conformance::certify::{self, CaseVerdict, Options, Report};
 use hiperface_conformance::port::{self, PortSpec};
+use hiperface_conformance::slave::{self, CaseVerdict, Options, Report};
 use hiperface_model::Grading;
 
 /// What a user runs: every case, writes and counter allowed, a black box.
@@ -33,7 +33,7 @@ fn certify_pty_as(hx1: &Hx1, profile: hiperface_model::Profile) -> Report {
         port::open_for_slave(&PortSpec::Path(hx1.path.clone()), profile, &Default::default(), Default::default())
             .unwrap_or_else(|e| panic!("{e}"));
     let options = Options { timing: opened.default_timing.0, ..options() };
-    let report = certify::run(opened.line, profile, &options, |_, _, _| {});
+    let report = slave::run(opened.line, profile, &options, |_, _, _| {});
     // Decode reproduces the run: its record played back gives its verdicts.
     common::replay::assert_replays(&report);
     report
@@ -117,7 +117,7 @@ fn the_conformant_hx1_passes_through_ser2net() {
     let server = common::Ser2net::bridge(&hx1.path, "hx1");
     // The default tolerance, as `certify slave --port tcp://...` uses it.
     let line = server.connect();
-    let r = certify::run(Box::new(line), profile(), &options(), |_, _, _| {});
+    let r = slave::run(Box::new(line), profile(), &options(), |_, _, _| {});
     assert_no_fail(&r);
     assert_eq!(r.identity.serial.as_deref(), Some("HX1000042"));
     eprintln!(
@@ -262,7 +262,7 @@ fn temporary_settings_through_rfc2217_pass_and_their_defect_fails() {
             }
         };
         let options = Options { timing: opened.default_timing.0, ..options() };
-        certify::run(opened.line, profile(), &options, |_, _, _| {})
+        slave::run(opened.line, profile(), &options, |_, _, _| {})
     };
     let good = run(&["--follow-line"]);
     assert_eq!(with_verdict(&good, CaseVerdict::Fail), Vec::<&str>::new(), "{:?}", good.summary);

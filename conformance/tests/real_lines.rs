@@ -6,11 +6,11 @@ mod common;
 
 use common::hx1::{self, Hx1};
 use common::line_emulator::{faithfully, Behaviour, LineEmulator};
-use hiperface_conformance::certify::{self, CaseVerdict, Options, Report};
-use hiperface_conformance::drive;
 use hiperface_conformance::line::echo::{Echo, EchoLine, EchoMode};
 use hiperface_conformance::line::serial::SerialLine;
+use hiperface_conformance::master;
 use hiperface_conformance::simulate::PtySimulator;
+use hiperface_conformance::slave::{self, CaseVerdict, Options, Report};
 use hiperface_model::{profiles, Grading, Profile, UartSettings};
 
 /// Real time on a shared machine: the pseudo-terminal tests' generous bound.
@@ -26,11 +26,11 @@ fn certify_through_noting(
     profile: Profile,
     echo: EchoMode,
     options: &Options,
-    progress: impl FnMut(usize, usize, &certify::CaseResult),
+    progress: impl FnMut(usize, usize, &slave::CaseResult),
 ) -> Report {
     let line = SerialLine::open(&emulator.path, UartSettings::DEFAULT).unwrap_or_else(|e| panic!("{e}"));
     let line = EchoLine::new(line.with_tolerance(GENEROUS_US), echo);
-    let report = certify::run(Box::new(line), profile, options, progress);
+    let report = slave::run(Box::new(line), profile, options, progress);
     common::replay::assert_replays(&report);
     report
 }
@@ -131,7 +131,7 @@ fn a_declared_latency_timer_is_no_fail_and_is_on_the_certificate() {
                 open_for_slave(&spec, profile, &Default::default(), LineOptions { latency_us, ..Default::default() })
                     .unwrap_or_else(|e| panic!("{e}"));
             let options = Options { timing: opened.default_timing.0, ..Options::all_allowed() };
-            let r = certify::run(opened.line, profile, &options, |_, _, _| {});
+            let r = slave::run(opened.line, profile, &options, |_, _, _| {});
             common::replay::assert_replays(&r);
             (emulator.was_faithful(), r)
         })
@@ -170,7 +170,7 @@ fn a_gap_before_each_character_is_no_fail() {
         let (_sim, device) = PtySimulator::start(profile).unwrap();
         let emulator = LineEmulator::start(device, behaviour);
         let mut ends = vec![Instant::now()];
-        let note_end = |_: usize, _: usize, _: &certify::CaseResult| ends.push(Instant::now());
+        let note_end = |_: usize, _: usize, _: &slave::CaseResult| ends.push(Instant::now());
         let r = certify_through_noting(&emulator, profile, EchoMode::Auto, &Options::all_allowed(), note_end);
         assert!(r.aborted.is_none(), "{:?}", r.aborted);
         assert_eq!(ends.len(), r.cases.len() + 1);
@@ -206,7 +206,7 @@ fn a_gap_before_each_character_is_no_fail() {
 
 /// A drive (the reference master) behind the emulator behaving as `behaviour`,
 /// certified through it with `echo` (the drive's power-on unseen).
-fn drive_through(behaviour: Behaviour, echo: EchoMode) -> drive::DriveReport {
+fn drive_through(behaviour: Behaviour, echo: EchoMode) -> master::DriveReport {
     use serialport::SerialPort as _;
     let profile = profiles::srs50();
     faithfully(|| {
@@ -214,13 +214,13 @@ fn drive_through(behaviour: Behaviour, echo: EchoMode) -> drive::DriveReport {
         let _name = line_end.name();
         let running = common::reference_drive(Box::new(drive_end), profile);
         let emulator = LineEmulator::start(Box::new(line_end), behaviour);
-        let options = drive::Options {
-            attach: drive::Attach::Port { path: emulator.path.clone(), power_on: drive::PowerOn::Unseen, echo },
+        let options = master::Options {
+            attach: master::Attach::Port { path: emulator.path.clone(), power_on: master::PowerOn::Unseen, echo },
             scenarios: Some("protocol.checksum-error,protocol.parity,reply.corrupt".into()),
-            polling_period_ms: drive::POLLING_PERIOD_MS,
+            polling_period_ms: master::POLLING_PERIOD_MS,
             interrupt: None,
         };
-        let report = drive::run(profile, &options, |_, _, _| {});
+        let report = master::run(profile, &options, |_, _, _| {});
         common::replay::assert_master_replays(&report);
         let faithful = emulator.was_faithful();
         // The drive ends when its line goes.
@@ -231,7 +231,7 @@ fn drive_through(behaviour: Behaviour, echo: EchoMode) -> drive::DriveReport {
 }
 
 /// The start of a scenario's timeline, for a failed assertion's message.
-fn timeline(s: &hiperface_conformance::certify::CaseResult) -> String {
+fn timeline(s: &hiperface_conformance::slave::CaseResult) -> String {
     s.wire.iter().take(40).map(|w| format!("{:>12} {} {}\n", w.t_us, w.direction, w.bytes)).collect()
 }
 

@@ -9,10 +9,10 @@ use crate::{HfFault, HF_ID_LEN};
 use core::ffi::{c_char, c_int, c_void, CStr};
 use hiperface_model::datalink::ReceivedFrame;
 use hiperface_model::{Frame, Profile, UartFault, UartSettings};
-use hiperface_suite::certify::{self, CaseVerdict, Options, Outcome, Report};
 use hiperface_suite::line::frame_encoder::Answer;
 use hiperface_suite::profile_file;
 use hiperface_suite::report::Reports;
+use hiperface_suite::slave::{self, CaseVerdict, Options, Outcome, Report};
 use std::ffi::CString;
 use std::path::Path;
 
@@ -267,7 +267,7 @@ pub unsafe extern "C" fn hf_certify(
                 unsafe { tell(error, error_len, "the cases' glob is not UTF-8") };
                 return HfStatus::Invalid;
             };
-            if let Err(none) = certify::check_selection(glob) {
+            if let Err(none) = slave::check_selection(glob) {
                 // SAFETY: the caller's promise.
                 unsafe { tell(error, error_len, none) };
                 return HfStatus::Invalid;
@@ -277,7 +277,7 @@ pub unsafe extern "C" fn hf_certify(
     }
     let mut encoder = CEncoder { answer, context };
     // The encoder is the caller's for the call only: the run ends before this returns.
-    let report = certify::in_process(move |f: &ReceivedFrame| encoder.answer(f), profile, &run);
+    let report = slave::in_process(move |f: &ReceivedFrame| encoder.answer(f), profile, &run);
     let boxed = Box::new(HfReport { report, texts: Default::default() });
     // SAFETY: `out` is writable by the caller's promise.
     unsafe { *out = Box::into_raw(boxed) };

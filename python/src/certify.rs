@@ -6,7 +6,7 @@
 use crate::{profile_error, Frame, HiperfaceError};
 use hiperface_model::datalink::ReceivedFrame;
 use hiperface_model::{Frame as WireFrame, UartFault, UartSettings};
-use hiperface_suite::certify::{self, Options};
+use hiperface_suite::slave::{self, Options};
 use hiperface_suite::line::frame_encoder::Answer;
 use hiperface_suite::profile_file;
 use hiperface_suite::report::Reports;
@@ -106,7 +106,7 @@ pub fn certify_encoder(
     }
     .unbind();
     if let Some(glob) = &cases {
-        certify::check_selection(glob).map_err(|e| PyValueError::new_err(format!("cases: {e}")))?;
+        slave::check_selection(glob).map_err(|e| PyValueError::new_err(format!("cases: {e}")))?;
     }
     let options = Options {
         cases,
@@ -138,7 +138,7 @@ pub fn certify_encoder(
             }
         })
     };
-    let report = certify::in_process(on_frame, profile, &options);
+    let report = slave::in_process(on_frame, profile, &options);
     if let Some(e) = failed.borrow_mut().take() {
         return Err(e);
     }

@@ -193,7 +193,7 @@ pub const LATE_REPLY_GRACE_MS: u16 = 1000;
 
 /// The harness in the bus master's seat on a line: it sends requests and frames the
 /// replies. (Not the drive-side model, `hiperface_model::master`, nor the reference
-/// master command, `drive::reference`.)
+/// master command, `master::reference`.)
 pub struct BusMaster<L: Line> {
     pub line: L,
     edition: Edition,

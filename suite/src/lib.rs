@@ -8,7 +8,6 @@
 #![forbid(unsafe_code)]
 
 pub mod capture;
-pub mod certify;
 pub mod exchange;
 pub mod frame;
 pub mod line;
@@ -18,6 +17,7 @@ pub mod profile_file;
 pub mod record;
 pub mod report;
 pub mod serve;
+pub mod slave;
 pub mod time;
 pub mod vectors;
 pub mod verdict;

@@ -241,7 +241,7 @@ pub struct RecordedInputs {
 }
 
 impl RecordedOptions {
-    pub fn of(o: &crate::certify::Options) -> RecordedOptions {
+    pub fn of(o: &crate::slave::Options) -> RecordedOptions {
         RecordedOptions {
             allow_writes: o.allow_writes,
             allow_counter_change: o.allow_counter_change,
@@ -259,7 +259,7 @@ impl RecordedOptions {
         }
     }
 
-    pub fn options(&self) -> Result<crate::certify::Options, RecordError> {
+    pub fn options(&self) -> Result<crate::slave::Options, RecordError> {
         use hiperface_model::slave::inputs::{InitFault, PhysicalInputs};
         let grading =
             self.grading.parse().map_err(|_| RecordError::Malformed(format!("grading `{}`", self.grading)))?;
@@ -274,7 +274,7 @@ impl RecordedOptions {
             temperature_c: i.temperature_c,
             led_current_ma: i.led_current_ma,
         });
-        Ok(crate::certify::Options {
+        Ok(crate::slave::Options {
             allow_writes: self.allow_writes,
             allow_counter_change: self.allow_counter_change,
             write_budget: self.write_budget,
@@ -325,7 +325,7 @@ impl<'a> Recorder<'a> {
     }
 
     /// The record of the run, with its profile and options.
-    pub fn finish(self, profile: &hiperface_model::Profile, options: &crate::certify::Options) -> Record {
+    pub fn finish(self, profile: &hiperface_model::Profile, options: &crate::slave::Options) -> Record {
         Record {
             format: FORMAT.into(),
             tool: format!("hiperface {}", env!("CARGO_PKG_VERSION")),

@@ -1,4 +1,4 @@
-//! Certification in-process (`certify::in_process`): an encoder given frame by frame
+//! Certification in-process (`slave::in_process`): an encoder given frame by frame
 //! runs the whole catalogue in virtual time. Here the adapter itself is checked: the
 //! reference model behind the frame interface passes in every built-in profile, and
 //! each defect put between it and the line FAILs on its own clause. Independent
@@ -7,8 +7,8 @@
 
 use hiperface_model::datalink::{ReceivedFrame, RxChar};
 use hiperface_model::{checksum, profiles, Frame, Profile, Slave};
-use hiperface_suite::certify::{self, CaseVerdict, Options, Outcome, Report};
 use hiperface_suite::line::frame_encoder::Answer;
+use hiperface_suite::slave::{self, CaseVerdict, Options, Outcome, Report};
 
 /// The reference model as an encoder given frame by frame: the frame's characters are
 /// fed to it a character time apart, ending when the frame's last one was received.
@@ -47,10 +47,10 @@ impl ModelByFrames {
 
 fn certify(profile: Profile, defect: fn(&mut Vec<u8>, &mut u64, &ReceivedFrame)) -> Report {
     let mut encoder = ModelByFrames::new(profile, defect);
-    let report = certify::in_process(move |f: &ReceivedFrame| encoder.answer(f), profile, &Options::all_allowed());
+    let report = slave::in_process(move |f: &ReceivedFrame| encoder.answer(f), profile, &Options::all_allowed());
     // The record plays back to the same verdicts (what `decode` does with report.json).
     let record = report.record.as_ref().expect("the run keeps its record");
-    let again = certify::replay(record, |_, _, _| {}).expect("the record plays back");
+    let again = slave::replay(record, |_, _, _| {}).expect("the record plays back");
     let verdicts = |r: &Report| r.cases.iter().map(|c| (c.id, c.verdict)).collect::<Vec<_>>();
     assert_eq!(verdicts(&report), verdicts(&again));
     report

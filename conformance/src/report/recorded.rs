@@ -1,9 +1,9 @@
 //! `decode` of a certify report that holds the record of its wire: the record played
 //! back to the catalogue (`crate::record`), the verdicts compared with the report's.
 
-use crate::certify::{self, CaseVerdict};
 use crate::command::{CommandError, Ended};
 use crate::record::Record;
+use crate::slave::{self, CaseVerdict};
 use std::path::Path;
 
 /// A certify report with its record, and the verdicts it states.
@@ -29,14 +29,14 @@ struct Stated {
 /// A certify master report with its record, and the verdicts it states.
 pub struct MasterRecorded {
     pub name: String,
-    pub record: crate::drive::record::MasterRecord,
+    pub record: crate::master::record::MasterRecord,
     pub stated: Vec<(String, String)>,
 }
 
 #[derive(serde::Deserialize)]
 struct StatedMaster {
     scenarios: Vec<StatedCase>,
-    record: crate::drive::record::MasterRecord,
+    record: crate::master::record::MasterRecord,
 }
 
 /// What a report with a record holds: a slave run's or a master run's.
@@ -56,7 +56,7 @@ pub fn read_any(path: &Path) -> Result<Option<AnyRecorded>, CommandError> {
     let format = value.get("record").and_then(|r| r.get("format")).and_then(|f| f.as_str()).map(str::to_string);
     let name = path.display().to_string();
     match format.as_deref() {
-        Some(crate::drive::record::FORMAT) => {
+        Some(crate::master::record::FORMAT) => {
             let stated: StatedMaster = serde_json::from_value(value).map_err(|e| CommandError::Input {
                 name: name.clone(),
                 why: format!("the report's record cannot be read: {e}"),
@@ -91,7 +91,7 @@ pub fn decode_master(recorded: MasterRecorded, quiet: bool) -> Result<Ended, Com
         record.runs.len()
     );
     let (profile, again, notes) =
-        crate::drive::record::replay(&record).map_err(|source| CommandError::Replay { name: name.clone(), source })?;
+        crate::master::record::replay(&record).map_err(|source| CommandError::Replay { name: name.clone(), source })?;
     let n = again.len();
     for (i, r) in again.iter().enumerate() {
         if quiet {
@@ -103,7 +103,7 @@ pub fn decode_master(recorded: MasterRecorded, quiet: bool) -> Result<Ended, Com
         }
         println!("{text}");
     }
-    let differing = crate::drive::record::compare(&stated, &again);
+    let differing = crate::master::record::compare(&stated, &again);
     if differing.is_empty() && stated.len() == again.len() {
         println!(
             "the run's verdicts: {n} scenarios graded again from the record, every verdict as the report states it"
@@ -160,7 +160,7 @@ pub fn decode(recorded: Recorded, report_dir: Option<&Path>, quiet: bool) -> Res
         record.tool,
         record.events.len()
     );
-    let report = certify::replay(&record, |i, n, r| {
+    let report = slave::replay(&record, |i, n, r| {
         if quiet {
             return;
         }

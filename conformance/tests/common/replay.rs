@@ -1,9 +1,9 @@
 //! The record of the wire played back: `decode` of a certify report must give the
 //! verdicts the run gave, unit by unit and finding by finding.
 
-use hiperface_conformance::certify::{self, CaseResult, Report};
-use hiperface_conformance::drive::record::{self, MasterRecord};
-use hiperface_conformance::drive::DriveReport;
+use hiperface_conformance::master::record::{self, MasterRecord};
+use hiperface_conformance::master::DriveReport;
+use hiperface_conformance::slave::{self, CaseResult, Report};
 
 /// Every unit's (case's, scenario's) id, verdict, runs and findings (verdict, clause,
 /// message): what a certificate says.
@@ -43,7 +43,7 @@ pub fn assert_replays(live: &Report) -> Report {
     let record = live.record.as_ref().expect("a live run keeps its record");
     let json = serde_json::to_string(record).expect("the record serializes");
     let record = serde_json::from_str(&json).expect("the record reads back");
-    let again = certify::replay(&record, |_, _, _| {}).expect("the record plays back");
+    let again = slave::replay(&record, |_, _, _| {}).expect("the record plays back");
     assert_same("the record played back", &verdicts(live), &verdicts(&again));
     again
 }

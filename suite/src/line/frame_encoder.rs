@@ -6,7 +6,7 @@
 //!
 //! [`FramedEncoder`] puts such an encoder on the virtual line (it is a
 //! [`SlaveDevice`]), so that the whole catalogue runs against it in virtual time
-//! (`certify::in_process`).
+//! (`slave::in_process`).
 
 use super::virtual_line::SlaveDevice;
 use hiperface_model::datalink::{DataLink, ReceivedFrame, RxChar};

@@ -19,7 +19,7 @@ pub trait Reports {
 }
 
 /// One JUnit suite of cases (slave cases or master scenarios).
-pub fn junit_suite(name: String, cases: &[crate::certify::CaseResult]) -> String {
+pub fn junit_suite(name: String, cases: &[crate::slave::CaseResult]) -> String {
     use quick_junit::{NonSuccessKind, Report as JReport, TestCase, TestCaseStatus, TestSuite};
     let mut suite = TestSuite::new(name);
     for c in cases {
@@ -58,7 +58,7 @@ pub fn junit_suite(name: String, cases: &[crate::certify::CaseResult]) -> String
 }
 
 /// A case's wire log as text, a line per frame.
-pub fn wire_text(c: &crate::certify::CaseResult) -> String {
+pub fn wire_text(c: &crate::slave::CaseResult) -> String {
     c.wire.iter().map(|w| format!("{:>12.3} ms  {}  {}\n", w.t_us as f64 / 1000.0, w.direction, w.bytes)).collect()
 }
 

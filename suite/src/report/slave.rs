@@ -3,7 +3,7 @@
 //! case, the safety section and the response times.
 
 use super::{escape, junit_suite, page_head, wire_text, Reports};
-use crate::certify::{Report, TimingMode};
+use crate::slave::{Report, TimingMode};
 use crate::verdict::CaseVerdict;
 use std::fmt::Write as _;
 

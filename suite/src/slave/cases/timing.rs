@@ -1,7 +1,7 @@
 //! Frame timing and response times over a run of requests. // 000:2.2.2, 000:T10
 
 use super::{always, case};
-use crate::certify::Case;
+use crate::slave::Case;
 use hiperface_model::Request;
 
 pub const READ_POSITION: Case = case!(

@@ -65,11 +65,11 @@ pub fn catalogue() -> Vec<Case> {
 /// and its body.
 macro_rules! case {
     ($id:literal, $title:literal, [$($clause:ident),*], $needs:ident, $applies:expr, $run:expr) => {
-        $crate::certify::Case {
+        $crate::slave::Case {
             id: $id,
             title: $title,
             clauses: const { &[$(hiperface_model::clause::$clause.clause()),*] },
-            needs: $crate::certify::Needs::$needs,
+            needs: $crate::slave::Needs::$needs,
             applies: $applies,
             run: $run,
         }

@@ -1,7 +1,7 @@
 //! Access codes: Set Access Code. // 000:T26
 
 use super::{always, case, release};
-use crate::certify::Case;
+use crate::slave::Case;
 use hiperface_model::Request;
 
 pub const CHANGE_RESTORE: Case = case!(

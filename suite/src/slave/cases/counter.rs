@@ -1,7 +1,7 @@
 //! The user counter: read, increment, reset. // 000:T16-T18
 
 use super::{always, case, code0};
-use crate::certify::Case;
+use crate::slave::Case;
 use hiperface_model::Request;
 
 pub const READ: Case = case!("counter.read", "Read Counter", [READ_COUNTER], Nothing, always, |c| c

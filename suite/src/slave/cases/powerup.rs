@@ -1,7 +1,7 @@
 //! Power-up and Encoder Reset: the state machine's windows. // 000:T9, 000:T30
 
 use super::{always, case, current_edition, wait_until};
-use crate::certify::Case;
+use crate::slave::Case;
 use hiperface_model::slave::powerup::CommState;
 use hiperface_model::Request;
 

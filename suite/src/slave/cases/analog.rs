@@ -1,7 +1,7 @@
 //! Analog values on every channel of the profile. // 000:T14, 000:T15
 
 use super::{always, case};
-use crate::certify::Case;
+use crate::slave::Case;
 use hiperface_model::Request;
 
 pub const CHANNELS: Case = case!(

@@ -2,7 +2,7 @@
 //! offset, legacy 63h. // 000:T12, 000:T13, 000:T34-T36, 002:63h
 
 use super::{always, case, code0, lacks, read_position};
-use crate::certify::Case;
+use crate::slave::Case;
 use hiperface_model::{CommandId, Profile, Request};
 
 fn with_6a(p: &Profile) -> Option<&'static str> {

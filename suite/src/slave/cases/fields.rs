@@ -2,7 +2,7 @@
 //! Type Label. // 000:T19-T25, 000:2.3.5
 
 use super::{always, case, code0, release};
-use crate::certify::{Case, CaseError, Ctx, Guard};
+use crate::slave::{Case, CaseError, Ctx, Guard};
 use hiperface_model::frame::FieldBytes;
 use hiperface_model::{Profile, Request};
 

@@ -1,7 +1,7 @@
 //! Identity: type label, version, status. // 000:T29, 000:T33, 000:T27
 
 use super::{always, case};
-use crate::certify::Case;
+use crate::slave::Case;
 use hiperface_model::Request;
 
 pub const TYPE_LABEL: Case = case!("identity.type-label", "Read Type Label", [READ_TYPE_LABEL], Nothing, always, |c| {

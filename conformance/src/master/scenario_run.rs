@@ -39,7 +39,7 @@ pub(super) struct ScenarioRun {
     pub(super) real_time: bool,
     /// The master's characters read with a parity or framing error.
     pub(super) uart_faults: usize,
-    /// The record of the run's wire (`drive::record`).
+    /// The record of the run's wire (`master::record`).
     pub(super) record: ScenarioRecord,
 }
 

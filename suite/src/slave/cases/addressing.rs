@@ -1,7 +1,7 @@
 //! Addressing: broadcast, other addresses, Set Encoder Address. // 000:2.3.1, 000:T5, 000:T31
 
 use super::{always, case, code0, release};
-use crate::certify::Case;
+use crate::slave::Case;
 use hiperface_model::Request;
 
 pub const BROADCAST: Case =

@@ -2,7 +2,7 @@
 //! // 000:T32, 000:T33
 
 use super::{always, case, code0, lacks, other_baud};
-use crate::certify::{Case, Finding};
+use crate::slave::{Case, Finding};
 use hiperface_model::{CommandId, Profile, Request, UartSettings};
 
 fn with_67(p: &Profile) -> Option<&'static str> {
