@@ -20,6 +20,9 @@
   object with an ``answer`` method, handed each request as a ``Heard``) certified
   in-process with the whole slave catalogue in virtual time: a ``Report`` with its
   verdicts, clauses and findings, which ``write(dir)`` writes as the command does.
+- ``certify_master(master, profile)``: a master written in Python (an object with
+  ``step(now_us, heard)``, handed the encoder's reply characters as they end) certified
+  in-process with the scenario catalogue in virtual time, as ``certify master`` does.
 """
 
 from ._hiperface import (
@@ -40,7 +43,7 @@ from ._hiperface import (
     seal,
     verify_vectors,
 )
-from .report import Case, Exchange, Finding, Listening, Report, certify, decode, read_report
+from .report import Case, Exchange, Finding, Listening, Report, certify, certify_master, decode, read_report
 
 __all__ = [
     "Case",
@@ -59,6 +62,7 @@ __all__ = [
     "Transmission",
     "Vector",
     "certify",
+    "certify_master",
     "checksum",
     "decode",
     "decode_request",

@@ -66,6 +66,15 @@ def certify_encoder(
     skip_counter_change: bool = False,
 ) -> Tuple[str, str, str, str]: ...
 
+def certify_master_in_process(
+    master: Any,
+    profile: str = "SRS50",
+    *,
+    scenarios: Optional[str] = None,
+    polling_period_ms: int = 1000,
+    name: Optional[str] = None,
+) -> Tuple[str, str, str, str]: ...
+
 class Request:
     address: int
     command: int

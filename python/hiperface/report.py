@@ -131,6 +131,43 @@ def certify(
     return _slave_report(json.loads(texts[0]), files)
 
 
+def certify_master(
+    master: Any,
+    profile: str = "SRS50",
+    *,
+    scenarios: Optional[str] = None,
+    polling_period_ms: int = 1000,
+    name: Optional[str] = None,
+) -> Report:
+    """Certify a master (a drive's HIPERFACE side) written in Python with the scenario
+    catalogue, in virtual time, in-process: the same scenarios, encoder, verdicts and
+    report as ``hiperface certify master --exec``, without a pseudo-terminal or a
+    process. Each scenario powers the encoder and the master on at time 0: the master's
+    ``power_on()`` is called (if it has one), then ``step(now_us, heard)`` (or the
+    master itself, if callable): at power-on, whenever characters of the encoder's
+    replies have reached it (``heard``: ``(byte, end_us)`` pairs, each at the end of its
+    stop bit), and when the time it asked for has come. ``step`` returns None (nothing
+    to do until something is heard), a time in µs (be called again then), or ``(data,
+    start_us[, wake_us[, bps]])``: bytes-like data whose first character starts at
+    ``start_us`` (no earlier than now, nor than the end of what it sent before), sent at
+    ``bps`` (9600 unless given: the encoder's delivery rate, 000:T7). ``profile``: the
+    encoder's, a built-in name or a profile's TOML file; ``scenarios``: only those whose
+    id matches this glob; ``polling_period_ms``: the application's polling period
+    (000:3.2.2; 1000 ms unless given, as the command). An exception the master raises ends its actions and is raised when the
+    run is over. The report's ``kind`` is "master"; ``write(dir)`` writes its files."""
+    from ._hiperface import certify_master_in_process
+
+    texts = certify_master_in_process(
+        master, profile, scenarios=scenarios, polling_period_ms=polling_period_ms, name=name
+    )
+    names = ("report.json", "junit.xml", "certificate.md", "certificate.html")
+    files = dict(zip(names, texts))
+    files["report.json"] += "\n"
+    doc = json.loads(texts[0])
+    cases = [_case(c) for c in doc["scenarios"]]
+    return Report("master", doc.get("tool", ""), doc.get("profile", ""), cases, dict(doc.get("summary", {})), doc, files)
+
+
 def read_report(path: Union[str, Path]) -> Union[Report, "Listening"]:
     """Read ``report.json`` (or the directory that holds it): a ``Report`` of a
     certification, a ``Listening`` of ``decode`` or ``monitor``. Raises ValueError

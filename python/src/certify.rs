@@ -4,12 +4,15 @@
 //! report as the command writes it. The Python wrapper is `hiperface.certify`.
 
 use crate::{profile_error, Frame, HiperfaceError};
-use hiperface_model::datalink::ReceivedFrame;
+use hiperface_model::datalink::{ReceivedFrame, RxChar};
+use hiperface_model::master::obligations::POLLING_PERIOD_MS;
 use hiperface_model::{Frame as WireFrame, UartFault, UartSettings};
-use hiperface_suite::slave::{self, Options};
 use hiperface_suite::line::frame_encoder::Answer;
+use hiperface_suite::master::in_process::{self, MasterAction, MasterUnderTest, Transmit};
 use hiperface_suite::profile_file;
+use hiperface_suite::report::master::MasterCertificate;
 use hiperface_suite::report::Reports;
+use hiperface_suite::slave::{self, Options};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyTuple};
@@ -144,4 +147,128 @@ pub fn certify_encoder(
     }
     let json = report.json().map_err(|e| HiperfaceError::new_err(e.to_string()))?;
     Ok((json, report.junit(), report.markdown(), report.html()))
+}
+
+/// A master written in Python, as the core's in-process run calls it: `power_on()`
+/// (if it has one) before each scenario, `step(now_us, heard)` (or the object itself,
+/// if callable) at power-on, when reply characters have reached it and when the time
+/// it asked for has come. The first exception ends its actions (nothing after it) and
+/// is raised when the run is over.
+struct PyMaster {
+    object: Py<PyAny>,
+    step: Py<PyAny>,
+    failed: Option<PyErr>,
+}
+
+impl PyMaster {
+    fn note(&mut self, e: PyErr) {
+        self.failed.get_or_insert(e);
+    }
+}
+
+/// What a master's `step` returned, as an action: None (nothing; called again when
+/// something is heard), an int (called again then), or `(data, start_us)`,
+/// `(data, start_us, wake_us)` or `(data, start_us, wake_us, bps)`.
+fn master_action(returned: &Bound<'_, PyAny>) -> PyResult<MasterAction> {
+    if returned.is_none() {
+        return Ok(MasterAction::default());
+    }
+    if let Ok(wake_us) = returned.extract::<u64>() {
+        return Ok(MasterAction { send: None, wake_us: Some(wake_us) });
+    }
+    let wrong = || {
+        PyTypeError::new_err(
+            "a master's step returns None, a time to be called again (µs), or (data, start_us[, wake_us[, bps]])",
+        )
+    };
+    let t = returned.downcast::<PyTuple>().map_err(|_| wrong())?;
+    if !(2..=4).contains(&t.len()) {
+        return Err(wrong());
+    }
+    let data: Frame = t.get_item(0)?.extract()?;
+    let start_us: u64 = t.get_item(1)?.extract()?;
+    let wake_us: Option<u64> = match t.get_item(2) {
+        Ok(w) if !w.is_none() => Some(w.extract()?),
+        _ => None,
+    };
+    let bps: u32 = match t.get_item(3) {
+        Ok(b) if !b.is_none() => b.extract()?,
+        _ => 9600,
+    };
+    if bps == 0 {
+        return Err(PyValueError::new_err("bps: a data rate above 0"));
+    }
+    let send = (!data.0.is_empty()).then_some(Transmit { bytes: data.0, start_us, bps });
+    Ok(MasterAction { send, wake_us })
+}
+
+impl MasterUnderTest for PyMaster {
+    fn power_on(&mut self) {
+        if self.failed.is_some() {
+            return;
+        }
+        let done = Python::with_gil(|py| match self.object.bind(py).getattr("power_on") {
+            Ok(f) if f.is_callable() => f.call0().map(drop),
+            _ => Ok(()),
+        });
+        if let Err(e) = done {
+            self.note(e);
+        }
+    }
+
+    fn step(&mut self, now_us: u64, heard: &[RxChar]) -> MasterAction {
+        if self.failed.is_some() {
+            return MasterAction::default();
+        }
+        let acted = Python::with_gil(|py| {
+            let heard: Vec<(u8, u64)> = heard.iter().map(|c| (c.byte, c.at_us)).collect();
+            self.step.call1(py, (now_us, heard)).and_then(|r| master_action(r.bind(py)))
+        });
+        acted.unwrap_or_else(|e| {
+            self.note(e);
+            MasterAction::default()
+        })
+    }
+}
+
+/// Certify `master` with the scenario catalogue in virtual time, for an encoder of
+/// `profile` (a built-in name or a profile's TOML file); the report as JSON, JUnit,
+/// Markdown and HTML text.
+#[pyfunction]
+#[pyo3(signature = (master, profile="SRS50", *, scenarios=None, polling_period_ms=POLLING_PERIOD_MS, name=None))]
+pub fn certify_master_in_process(
+    master: Bound<'_, PyAny>,
+    profile: &str,
+    scenarios: Option<String>,
+    polling_period_ms: u32,
+    name: Option<String>,
+) -> PyResult<(String, String, String, String)> {
+    let profile = profile_file::resolve(profile).map_err(profile_error)?;
+    let step = match master.getattr("step") {
+        Ok(method) if method.is_callable() => method,
+        _ if master.is_callable() => master.clone(),
+        _ => return Err(PyTypeError::new_err("a master is a callable, or an object with a `step` method")),
+    }
+    .unbind();
+    if let Some(glob) = &scenarios {
+        if hiperface_suite::master::scenarios::chosen(Some(glob)).is_empty() {
+            return Err(PyValueError::new_err(format!("scenarios: no scenario matches `{glob}`")));
+        }
+    }
+    if polling_period_ms == 0 {
+        return Err(PyValueError::new_err("polling_period_ms: at least 1"));
+    }
+    let name = match name {
+        Some(n) => n,
+        None => master.get_type().name().map(|n| n.to_string()).unwrap_or_else(|_| "master".into()),
+    };
+    let mut under_test = PyMaster { object: master.unbind(), step, failed: None };
+    let options = in_process::Options { scenarios, polling_period_ms };
+    let report = in_process::run(&mut under_test, &name, profile, &options);
+    if let Some(e) = under_test.failed.take() {
+        return Err(e);
+    }
+    let certificate = MasterCertificate { report: &report, profile: &profile };
+    let json = certificate.json().map_err(|e| HiperfaceError::new_err(e.to_string()))?;
+    Ok((json, certificate.junit(), certificate.markdown(), certificate.html()))
 }

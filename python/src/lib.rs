@@ -461,6 +461,7 @@ fn _hiperface(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(load_vectors, m)?)?;
     m.add_function(wrap_pyfunction!(decode_capture, m)?)?;
     m.add_function(wrap_pyfunction!(certify::certify_encoder, m)?)?;
+    m.add_function(wrap_pyfunction!(certify::certify_master_in_process, m)?)?;
     m.add_class::<certify::Heard>()?;
     m.add_class::<Request>()?;
     m.add_class::<Transmission>()?;

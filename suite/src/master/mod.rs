@@ -10,6 +10,7 @@
 
 pub mod encoder;
 pub mod grade;
+pub mod in_process;
 pub mod inputs;
 pub mod record;
 pub mod scenario;

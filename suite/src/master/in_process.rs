@@ -1,0 +1,329 @@
+//! Certifying a master given in-process, in virtual time: the whole scenario catalogue
+//! against a master that is a value (a C callback, a Python object), with the same
+//! encoder, observer, grades, record and report as `certify master --exec`, but no
+//! pseudo-terminal, no process and no clock: what the master sends is on the line
+//! exactly when it says, each reply character reaches it exactly when it ends.
+//!
+//! The serving loop here calls the encoder's hooks ([`crate::serve::Hooks`]) in the
+//! order the harness's real-time loop does (a read's characters, then the model polled
+//! and the hooks told the time, then each frame and its reply), so that the record it
+//! writes is taken in again by [`super::record::replay`] as a real run's is.
+
+use super::encoder::{DriveEncoder, MasterSettings};
+use super::record::{compact, Fact, MasterRecord, ScenarioRecord, Start, FORMAT};
+use super::scenario::Scenario;
+use super::{grade, scenarios, DriveReport};
+use crate::serve::{planned_reply, Hooks, READ_US};
+use crate::verdict::{CaseResult, Finding};
+use hiperface_model::datalink::RxChar;
+use hiperface_model::master::obligations::POLLING_PERIOD_MS;
+use hiperface_model::{Profile, Slave};
+use std::collections::VecDeque;
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::Arc;
+
+/// What a master under test does at one moment.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct MasterAction {
+    /// Bytes to send: their first character starts at `start_us` (no earlier than
+    /// now, nor than the end of what the master sent before), one character after the
+    /// other at `bps`.
+    pub send: Option<Transmit>,
+    /// When to be called again if nothing is heard before; `None`: only when
+    /// something is heard.
+    pub wake_us: Option<u64>,
+}
+
+/// Bytes a master sends.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Transmit {
+    pub bytes: Vec<u8>,
+    pub start_us: u64,
+    /// The master's data rate, bit/s (9600 at power-on, 000:T7): graded against the
+    /// rate the encoder listens at (000:T26), as on a pseudo-terminal. A character is
+    /// taken as 11 bits (8E1); its parity and size are not graded, as on a
+    /// pseudo-terminal.
+    pub bps: u32,
+}
+
+/// A master under test, given in-process.
+pub trait MasterUnderTest {
+    /// Power-on, the encoder's and the master's, at time 0: start afresh (called
+    /// before each scenario).
+    fn power_on(&mut self);
+    /// Called at `now_us` (µs since power-on): at power-on, when characters of the
+    /// encoder's reply have ended (`heard`, each stamped at the end of its stop bit),
+    /// and when the time it asked for has come.
+    fn step(&mut self, now_us: u64, heard: &[RxChar]) -> MasterAction;
+}
+
+/// How an in-process master is certified.
+#[derive(Debug, Clone)]
+pub struct Options {
+    /// Only scenarios whose id matches (globs, comma-separated).
+    pub scenarios: Option<String>,
+    /// The application's polling period (000:3.2.2 "a sufficient cyclic request").
+    pub polling_period_ms: u32,
+}
+
+impl Default for Options {
+    fn default() -> Options {
+        Options { scenarios: None, polling_period_ms: POLLING_PERIOD_MS }
+    }
+}
+
+/// More characters than any master sends in a scenario: the rest of a flood is not
+/// put on the line (the encoder stops counting at its own cap).
+const MAX_MASTER_CHARACTERS: usize = 2 * super::encoder::MAX_CHARACTERS;
+
+/// The master's data rate as it sent last, read by the encoder as it reads a
+/// pseudo-terminal's.
+#[derive(Clone)]
+struct Rate(Arc<AtomicU32>);
+
+impl MasterSettings for Rate {
+    fn data_rate(&self) -> Option<u32> {
+        Some(self.0.load(Ordering::Relaxed))
+    }
+}
+
+/// A character time at `bps` for an 11-bit character (8E1), µs, rounded up; a rate
+/// of 0 is taken as 1 bit/s.
+fn char_time_us(bps: u32) -> u64 {
+    11_000_000u64.div_ceil(u64::from(bps.max(1)))
+}
+
+/// Run the catalogue (or `options.scenarios`) against `master`, for an encoder of
+/// `profile`; `name` names the master in the report. Each scenario is a fresh encoder
+/// and a fresh power-on of the master.
+pub fn run(master: &mut dyn MasterUnderTest, name: &str, profile: Profile, options: &Options) -> DriveReport {
+    let chosen = scenarios::chosen(options.scenarios.as_deref());
+    let tool = format!("hiperface {}", env!("CARGO_PKG_VERSION"));
+    let mut report = DriveReport {
+        tool: tool.clone(),
+        profile: profile.name.as_str().to_string(),
+        edition: format!("{:?}", profile.edition),
+        master: name.to_string(),
+        scenarios: Vec::new(),
+        summary: Default::default(),
+        output: Default::default(),
+        wall_time_ms: 0.0,
+        needed_ms: 0.0,
+        rerun_ms: 0.0,
+        notes: vec![
+            "The master was certified in-process, in virtual time: what it sent was on the line exactly when it \
+             said, each reply character reached it exactly when it ended; nothing of a machine's load is in the \
+             verdicts."
+                .into(),
+            "The master's data rate was the one it gave with what it sent; parity and character size were not \
+             graded (a character is taken as 11 bits, 8E1)."
+                .into(),
+            format!(
+                "A sufficient cyclic request (000:3.2.2) was taken as one at least every {} ms.",
+                options.polling_period_ms
+            ),
+        ],
+        notes_per_scenario: Vec::new(),
+        real_time_scenarios: 0,
+        cut_short: None,
+        echo: None,
+        uart_faults: None,
+        delivery: None,
+        record: Some(MasterRecord {
+            format: FORMAT.into(),
+            tool,
+            profile: crate::profile_file::to_toml(&profile),
+            polling_period_ms: options.polling_period_ms,
+            runs: Vec::new(),
+            interrupted: false,
+        }),
+    };
+    for scenario in &chosen {
+        let encoder = scenario.encoder.map_or(profile, |make| make(profile));
+        let (result, record, length_us) = run_scenario(master, encoder, scenario, options.polling_period_ms);
+        report.needed_ms += length_us as f64 / 1000.0;
+        if let Some(r) = report.record.as_mut() {
+            r.runs.push(record);
+        }
+        *report.summary.entry(result.verdict.label().to_string()).or_default() += 1;
+        report.scenarios.push(result);
+    }
+    report
+}
+
+/// One scenario: the graded result, its record, and its length (µs).
+fn run_scenario(
+    master: &mut dyn MasterUnderTest,
+    profile: Profile,
+    scenario: &Scenario,
+    polling_period_ms: u32,
+) -> (CaseResult, ScenarioRecord, u64) {
+    let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
+    let mut slave = Slave::new(profile);
+    (scenario.world)(&profile).apply_at_power_on(&mut slave);
+    let rate = Rate(Arc::new(AtomicU32::new(9600)));
+    let mut hooks = DriveEncoder::new(profile, scenario, true, Some(Box::new(rate.clone())));
+    hooks.set_polling_period_ms(polling_period_ms);
+    master.power_on();
+    let mut line = Line::default();
+    let mut now = 0u64;
+    let mut action = master.step(0, &[]);
+    let mut flooded = false;
+    loop {
+        // What the master asked for.
+        if let Some(t) = action.send.take() {
+            flooded |= line.master_sends(t, now, &rate);
+        }
+        if let Some(w) = action.wake_us.take() {
+            // A wake in the past is now: the loop still moves on.
+            line.wake_us = Some(w.max(now + 1));
+        }
+        let end_us = scenario.end_ms(hooks.timeline.situation_us.map(|t| t / 1000), polling_period_ms) * 1000;
+        // The next moment anything happens: a character ends either way, the model's
+        // deadline, the master's wake, or the serving loop's read (every 500 µs, as the
+        // harness watches a master's line).
+        let next = [
+            line.to_encoder.front().map(|c| c.at_us),
+            line.to_master.front().map(|c| c.at_us),
+            line.wake_us,
+            slave.next_deadline(now),
+            Some((now / READ_US + 1) * READ_US),
+        ]
+        .into_iter()
+        .flatten()
+        .filter(|t| *t > now)
+        .min()
+        .unwrap_or(end_us);
+        if next >= end_us {
+            now = end_us;
+            break;
+        }
+        now = next;
+        // The master's characters that have ended: one read.
+        hooks.read(0);
+        let mut steps = Vec::new();
+        while let Some(ch) = line.to_encoder.front().copied().filter(|c| c.at_us <= now) {
+            line.to_encoder.pop_front();
+            hooks.received(ch, slave.listening_settings(ch.at_us));
+            steps.extend(slave.receive(ch));
+        }
+        steps.extend(slave.poll(now));
+        hooks.idle(now);
+        for step in steps {
+            hooks.frame(&mut slave, &step);
+            let Some(tx) = step.transmission else { continue };
+            let Some(mut p) = hooks.reply(&mut slave, &step, planned_reply(&tx)) else { continue };
+            // The encoder's line is free once its last reply is out.
+            p.start_us = p.start_us.max(now).max(line.encoder_free_us);
+            let ct = p.settings.char_time_us();
+            let mut end = p.start_us;
+            for (i, &byte) in p.frame.iter().enumerate() {
+                if let Some((_, us)) = p.gap.filter(|(before, _)| *before == i) {
+                    end += us;
+                }
+                end += ct;
+                line.to_master.push_back(RxChar { byte, at_us: end, fault: None });
+            }
+            line.encoder_free_us = end;
+            hooks.sent(&p, end);
+        }
+        // What reached the master, or its wake: it acts.
+        let mut heard = Vec::new();
+        while let Some(ch) = line.to_master.front().copied().filter(|c| c.at_us <= now) {
+            line.to_master.pop_front();
+            heard.push(ch);
+        }
+        let woken = line.wake_us.is_some_and(|w| w <= now);
+        if woken {
+            line.wake_us = None;
+        }
+        if woken || !heard.is_empty() {
+            action = master.step(now, &heard);
+        }
+    }
+    hooks.finish(now);
+    if flooded {
+        result.push(Finding::unknown(format!(
+            "the master sent more than {MAX_MASTER_CHARACTERS} characters: the rest were not put on the line"
+        )));
+    }
+    let record = ScenarioRecord {
+        id: scenario.id.to_string(),
+        attempt: 1,
+        early: false,
+        start: Start::PowerOnAtStart,
+        facts: result.findings.iter().map(Fact::of).collect(),
+        inputs: compact(hooks.take_log()),
+        end_us: now,
+        cut_short: false,
+        line_faults: Vec::new(),
+    };
+    // In virtual time nothing of the harness is disturbed: no run again.
+    let _ = grade::finish(&mut result, &mut hooks, scenario, 0.0, false, false);
+    (result, record, now)
+}
+
+/// The line between the master and the encoder, in virtual time.
+#[derive(Default)]
+struct Line {
+    /// The master's characters, each stamped at the end of its stop bit.
+    to_encoder: VecDeque<RxChar>,
+    /// The encoder's reply characters on their way to the master.
+    to_master: VecDeque<RxChar>,
+    /// When the master's last character ends.
+    master_free_us: u64,
+    /// When the encoder's last reply ends.
+    encoder_free_us: u64,
+    /// When the master asked to be called again.
+    wake_us: Option<u64>,
+    /// The master's characters put on the line in this scenario.
+    sent: usize,
+}
+
+impl Line {
+    /// Put what the master sends on the line; `true` where a flood was cut.
+    fn master_sends(&mut self, t: Transmit, now: u64, rate: &Rate) -> bool {
+        rate.0.store(t.bps, Ordering::Relaxed);
+        let ct = char_time_us(t.bps);
+        let mut start = t.start_us.max(now).max(self.master_free_us);
+        for &byte in &t.bytes {
+            if self.sent >= MAX_MASTER_CHARACTERS {
+                return true;
+            }
+            start += ct;
+            self.to_encoder.push_back(RxChar { byte, at_us: start, fault: None });
+            self.sent += 1;
+        }
+        self.master_free_us = start;
+        false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_eleven_bit_character_takes_its_time_at_each_rate() {
+        assert_eq!(char_time_us(9600), 1146);
+        assert_eq!(char_time_us(38400), 287);
+        assert_eq!(char_time_us(0), 11_000_000);
+    }
+
+    #[test]
+    fn a_master_that_sends_nothing_is_graded_as_the_command_grades_it() {
+        struct Mute;
+        impl MasterUnderTest for Mute {
+            fn power_on(&mut self) {}
+            fn step(&mut self, _now_us: u64, _heard: &[RxChar]) -> MasterAction {
+                MasterAction::default()
+            }
+        }
+        let options = Options { scenarios: Some("startup.default".into()), ..Options::default() };
+        let report = run(&mut Mute, "mute", hiperface_model::profiles::srs50(), &options);
+        assert_eq!(report.scenarios.len(), 1);
+        let verdict = report.scenarios[0].verdict;
+        assert_eq!(verdict, crate::verdict::CaseVerdict::Error, "{:?}", report.scenarios[0].findings);
+        assert!(report.scenarios[0].findings.iter().any(|f| f.message().contains("the master sent nothing")));
+    }
+}
