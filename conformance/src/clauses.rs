@@ -4,10 +4,10 @@
 //! `hiperface clauses` prints it; a test fails when a normative clause is neither
 //! covered nor listed as unobservable.
 
-use crate::slave::ctx::EVERY_EXCHANGE;
 use hiperface_model::clause::{Clause, Force, CLAUSES};
 use hiperface_model::master::obligations::Rule;
 use hiperface_model::oracle::REPLY_FORM;
+use hiperface_suite::slave::ctx::EVERY_EXCHANGE;
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -106,8 +106,8 @@ fn force_name(f: Force) -> &'static str {
 
 /// The coverage of every clause, in registry order.
 pub fn coverage() -> Result<Vec<ClauseCoverage>, BadBuiltinVectors> {
-    let cases = crate::slave::cases::catalogue();
-    let scenarios = crate::master::scenarios::catalogue();
+    let cases = hiperface_suite::slave::cases::catalogue();
+    let scenarios = hiperface_suite::master::scenarios::catalogue();
     let vectors = vector_citations()?;
     let cites = |list: &[Clause], c: &Clause| list.iter().any(|x| x.id() == c.id());
     Ok(CLAUSES

@@ -17,7 +17,7 @@ pub fn flag(message: &'static str) -> Arc<AtomicBool> {
     let handled = ctrlc::set_handler(move || {
         if f.swap(true, Ordering::Relaxed) {
             eprintln!("\ninterrupted again: ending now");
-            crate::master::process::stop_all();
+            crate::process::stop_all();
             std::process::exit(EXIT_SECOND_INTERRUPT);
         }
         eprintln!("{message}");

@@ -112,7 +112,7 @@ fn a_record_played_back_gives_the_runs_verdicts() {
 /// the catalogue is refused where it departs.
 #[test]
 fn a_changed_record_is_graded_as_it_is() {
-    use hiperface_conformance::record::Event;
+    use hiperface_conformance::slave::record::Event;
     let p = profiles::srs50();
     let live = slave::run(Box::new(VirtualLine::new(Slave::operational(p))), p, &Options::all_allowed(), |_, _, _| {});
     let record = live.record.clone().expect("a record");

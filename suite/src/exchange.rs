@@ -5,7 +5,8 @@
 use crate::line::{Line, LineError, Window};
 use hiperface_model::datalink::{DataLink, RxChar};
 use hiperface_model::frame::MAX_FRAME;
-use hiperface_model::{checksum, Edition, UartSettings};
+use hiperface_model::{checksum, Edition, UartFault, UartSettings};
+use serde::{Deserialize, Serialize};
 
 pub use crate::frame::sealed;
 
@@ -94,7 +95,7 @@ impl Exchange {
 
 /// The bus as the slave certification sees it: the harness in the master's seat
 /// ([`BusMaster`] on a live line), or a record of such a run played back
-/// (`crate::record::Replay`). Everything a verdict rests on comes through here.
+/// (`slave::record::Replay`). Everything a verdict rests on comes through here.
 pub trait Bus {
     fn now_us(&mut self) -> u64;
     /// Send `request` and collect what came back (see [`BusMaster::exchange_listening`]).
@@ -338,9 +339,58 @@ impl<L: Line> BusMaster<L> {
     }
 }
 
+/// A received character as a record of the wire keeps it (`slave::record`,
+/// `master::record`): byte, stamp (µs, the end of its stop bit on the harness's
+/// clock) and UART fault, if any.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Char(pub u8, pub u64, #[serde(default, skip_serializing_if = "Option::is_none")] pub Option<Fault>);
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Fault {
+    Parity,
+    Framing,
+    Noise,
+    Overrun,
+}
+
+impl From<RxChar> for Char {
+    fn from(c: RxChar) -> Char {
+        let fault = c.fault.map(|f| match f {
+            UartFault::Parity => Fault::Parity,
+            UartFault::Framing => Fault::Framing,
+            UartFault::Noise => Fault::Noise,
+            UartFault::Overrun => Fault::Overrun,
+        });
+        Char(c.byte, c.at_us, fault)
+    }
+}
+
+impl From<Char> for RxChar {
+    fn from(Char(byte, at_us, fault): Char) -> RxChar {
+        let fault = fault.map(|f| match f {
+            Fault::Parity => UartFault::Parity,
+            Fault::Framing => UartFault::Framing,
+            Fault::Noise => UartFault::Noise,
+            Fault::Overrun => UartFault::Overrun,
+        });
+        RxChar { byte, at_us, fault }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_character_keeps_its_byte_stamp_and_fault() {
+        for fault in
+            [None, Some(UartFault::Parity), Some(UartFault::Framing), Some(UartFault::Noise), Some(UartFault::Overrun)]
+        {
+            let c = RxChar { byte: 0xA5, at_us: 123_456, fault };
+            assert_eq!(RxChar::from(Char::from(c)), c);
+        }
+    }
     use crate::line::{LineKind, Sent};
     use std::collections::VecDeque;
 

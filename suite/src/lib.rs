@@ -14,7 +14,6 @@ pub mod line;
 pub mod listen;
 pub mod master;
 pub mod profile_file;
-pub mod record;
 pub mod report;
 pub mod serve;
 pub mod slave;

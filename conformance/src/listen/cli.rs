@@ -73,7 +73,7 @@ pub struct ListeningArgs {
 
 /// Run `decode`; exit 0 with no FAIL, 1 with one, an error for input it cannot read.
 /// A certify report with the record of its wire is played back to the catalogue
-/// instead (`crate::record`): the run's verdicts, graded again, and its exit code.
+/// instead (`slave::record`): the run's verdicts, graded again, and its exit code.
 pub fn decode(args: &DecodeArgs) -> Result<Ended, CommandError> {
     use crate::report::recorded::{self, AnyRecorded};
     let recorded = if args.listen || args.vcd.is_some() { None } else { recorded::read_any(&args.file)? };

@@ -116,7 +116,7 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<Ended, CommandError> {
         report.rerun_ms,
     );
     if let Some(dir) = &args.report {
-        let certificate = crate::report::master::MasterCertificate { report: &report, profile: &profile };
+        let certificate = super::report::MasterCertificate { report: &report, profile: &profile };
         crate::report::write_all(&certificate, dir)?;
         eprintln!("reports written to {}", dir.display());
     }

@@ -6,13 +6,14 @@
 //! NON-STRICT at most.
 
 pub mod cli;
-pub mod process;
 pub mod reference;
 mod scenario_run;
 
 // The scenarios, the encoder's hooks that observe the master, their grades, the record
 // and the report are the core's (hiperface-suite); the harness serves them on lines.
-pub use hiperface_suite::master::{encoder, grade, inputs, record, scenario, scenarios, timeline, DriveReport};
+pub use hiperface_suite::master::{
+    encoder, grade, in_process, inputs, record, report, scenario, scenarios, timeline, DriveReport,
+};
 
 use crate::line::echo::{Echo, EchoMode};
 use crate::line::reply_echo::ReplyEcho;

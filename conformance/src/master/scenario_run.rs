@@ -4,11 +4,11 @@
 
 use super::encoder::{DriveEncoder, MasterSettings, OnPort};
 use super::grade::finish;
-use super::process::MasterProcess;
 use super::record::{Fact, ScenarioRecord, Start};
 use super::scenarios::Scenario;
 use super::{Operator, PowerOn};
 use crate::line::reply_echo::ReplyEcho;
+use crate::process::MasterProcess;
 use crate::simulate::serve_with;
 use crate::verdict::{CaseResult, Finding};
 use hiperface_model::{Profile, Slave};

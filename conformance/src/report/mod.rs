@@ -1,14 +1,14 @@
 //! The reports of every front end, written one way: `report.json` for programs,
 //! `junit.xml` for CI, and a certificate for people as Markdown and HTML. The forms
-//! and the slave's report are the suite's core (`hiperface_suite::report`, re-exported
-//! here); a master's and a listening run's report (`master.rs`, `listening.rs`,
-//! `recorded.rs`) are still the harness's. The files, their names and the checks before
-//! a run are here.
+//! and each front end's report are the suite's core (`hiperface_suite::report`,
+//! re-exported here, and `slave::report`, `master::report`, `listen::report`); the
+//! files, their names and the checks before a run are here, and `recorded.rs`: `decode`
+//! of a report that holds the record of its wire.
 
 use crate::command::CommandError;
 use std::path::Path;
 
-pub use hiperface_suite::report::{escape, junit_suite, listening, master, page_head, slave, wire_text, Reports};
+pub use hiperface_suite::report::{escape, junit_suite, page_head, wire_text, Reports};
 
 pub mod recorded;
 

@@ -1,9 +1,10 @@
 //! `decode` of a certify report that holds the record of its wire: the record played
-//! back to the catalogue (`crate::record`), the verdicts compared with the report's.
+//! back to the catalogue (`slave::record`), the verdicts compared with the report's.
 
 use crate::command::{CommandError, Ended};
-use crate::record::Record;
-use crate::slave::{self, CaseVerdict};
+use hiperface_suite::master::record::{self as master_record, MasterRecord};
+use hiperface_suite::slave::record::Record;
+use hiperface_suite::slave::{self, CaseVerdict};
 use std::path::Path;
 
 /// A certify report with its record, and the verdicts it states.
@@ -29,14 +30,14 @@ struct Stated {
 /// A certify master report with its record, and the verdicts it states.
 pub struct MasterRecorded {
     pub name: String,
-    pub record: crate::master::record::MasterRecord,
+    pub record: MasterRecord,
     pub stated: Vec<(String, String)>,
 }
 
 #[derive(serde::Deserialize)]
 struct StatedMaster {
     scenarios: Vec<StatedCase>,
-    record: crate::master::record::MasterRecord,
+    record: MasterRecord,
 }
 
 /// What a report with a record holds: a slave run's or a master run's.
@@ -56,7 +57,7 @@ pub fn read_any(path: &Path) -> Result<Option<AnyRecorded>, CommandError> {
     let format = value.get("record").and_then(|r| r.get("format")).and_then(|f| f.as_str()).map(str::to_string);
     let name = path.display().to_string();
     match format.as_deref() {
-        Some(crate::master::record::FORMAT) => {
+        Some(master_record::FORMAT) => {
             let stated: StatedMaster = serde_json::from_value(value).map_err(|e| CommandError::Input {
                 name: name.clone(),
                 why: format!("the report's record cannot be read: {e}"),
@@ -91,7 +92,7 @@ pub fn decode_master(recorded: MasterRecorded, quiet: bool) -> Result<Ended, Com
         record.runs.len()
     );
     let (profile, again, notes) =
-        crate::master::record::replay(&record).map_err(|source| CommandError::Replay { name: name.clone(), source })?;
+        master_record::replay(&record).map_err(|source| CommandError::Replay { name: name.clone(), source })?;
     let n = again.len();
     for (i, r) in again.iter().enumerate() {
         if quiet {
@@ -103,7 +104,7 @@ pub fn decode_master(recorded: MasterRecorded, quiet: bool) -> Result<Ended, Com
         }
         println!("{text}");
     }
-    let differing = crate::master::record::compare(&stated, &again);
+    let differing = master_record::compare(&stated, &again);
     if differing.is_empty() && stated.len() == again.len() {
         println!(
             "the run's verdicts: {n} scenarios graded again from the record, every verdict as the report states it"

@@ -37,6 +37,7 @@ use hiperface_model::{Grading, Profile, UartSettings};
 pub mod decode;
 mod grade;
 mod heard;
+pub mod report;
 mod summary;
 pub use decode::{fuzz_capture, listen_to};
 pub use summary::{Summary, BUCKETS_MS};

@@ -3,7 +3,7 @@
 //! encoder), written by the encoder as it serves (`encoder.rs`). Apart from both, so
 //! that the encoder does not import the record that imports it.
 
-use crate::record::Char;
+use crate::exchange::Char;
 use hiperface_model::UartSettings;
 use serde::{Deserialize, Serialize};
 

@@ -13,6 +13,7 @@ pub mod grade;
 pub mod in_process;
 pub mod inputs;
 pub mod record;
+pub mod report;
 pub mod scenario;
 pub mod scenarios;
 pub mod timeline;

@@ -7,7 +7,7 @@
 //! graded again as the run graded it. What is not on the wire (the master process
 //! exiting, a port failing) is kept as the run's findings about it.
 //!
-//! The counterpart of `crate::record` (the slave side), at the boundary the master's
+//! The counterpart of `slave::record`, at the boundary the master's
 //! verdicts pass through: the serving loop's calls into its hooks.
 
 use super::encoder::DriveEncoder;
@@ -341,7 +341,7 @@ pub fn replay(record: &MasterRecord) -> Result<(Profile, Vec<CaseResult>, Vec<St
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::record::Char;
+    use crate::exchange::Char;
 
     #[test]
     fn quiet_turns_are_kept_short_and_written_out_alike() {

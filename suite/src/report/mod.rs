@@ -1,12 +1,9 @@
 //! The reports of every front end, rendered one way as text: JSON for programs, JUnit
-//! for CI, and a certificate for people as Markdown and HTML. Each run's report says
-//! what goes into each form (the slave's is [`slave`]); the harness writes them to files.
+//! for CI, and a certificate for people as Markdown and HTML: the forms every front end
+//! shares. Each front end's report says what goes into each form (`slave::report`,
+//! `master::report`, `listen::report`); the harness writes them to files.
 
 use crate::verdict::CaseVerdict;
-
-pub mod listening;
-pub mod master;
-pub mod slave;
 
 /// A run's report in the four forms every front end writes.
 pub trait Reports {
@@ -19,7 +16,7 @@ pub trait Reports {
 }
 
 /// One JUnit suite of cases (slave cases or master scenarios).
-pub fn junit_suite(name: String, cases: &[crate::slave::CaseResult]) -> String {
+pub fn junit_suite(name: String, cases: &[crate::verdict::CaseResult]) -> String {
     use quick_junit::{NonSuccessKind, Report as JReport, TestCase, TestCaseStatus, TestSuite};
     let mut suite = TestSuite::new(name);
     for c in cases {
@@ -58,7 +55,7 @@ pub fn junit_suite(name: String, cases: &[crate::slave::CaseResult]) -> String {
 }
 
 /// A case's wire log as text, a line per frame.
-pub fn wire_text(c: &crate::slave::CaseResult) -> String {
+pub fn wire_text(c: &crate::verdict::CaseResult) -> String {
     c.wire.iter().map(|w| format!("{:>12.3} ms  {}  {}\n", w.t_us as f64 / 1000.0, w.direction, w.bytes)).collect()
 }
 

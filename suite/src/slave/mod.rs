@@ -12,6 +12,8 @@ mod case;
 pub mod cases;
 pub mod ctx;
 pub mod identity;
+pub mod record;
+pub mod report;
 pub mod run;
 pub mod safety;
 

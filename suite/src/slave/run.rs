@@ -2,6 +2,7 @@
 //! around the whole run, and the report.
 
 use super::ctx::Tally;
+use super::record::{Record, RecordError, Recorder, Replay};
 use super::safety::Snapshot;
 use super::{cases, glob_match, Case, CaseError, CaseResult, Ctx, Finding, Identity, Needs, Options, Outcome};
 use super::{Safety, TimingMode};
@@ -9,7 +10,6 @@ use crate::exchange::{Bus, BusMaster};
 use crate::line::frame_encoder::{FrameEncoder, FramedEncoder};
 use crate::line::virtual_line::VirtualLine;
 use crate::line::{Line, LineError, LineKind};
-use crate::record::{Record, RecordError, Recorder, Replay};
 use crate::verdict::MAX_ATTEMPTS;
 use hiperface_model::{CommandId, Grading, Profile, Slave};
 use serde::Serialize;
@@ -59,7 +59,7 @@ pub struct Report {
     pub notes: Vec<String>,
     /// Set when the run stopped early (port gone, Ctrl-C): the report is partial.
     pub aborted: Option<String>,
-    /// The record of the wire: what `decode` grades again (see `crate::record`).
+    /// The record of the wire: what `decode` grades again (see `record`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub record: Option<Record>,
 }
@@ -143,7 +143,7 @@ pub fn run<'a>(
 /// cannot be read; a record that departs from this catalogue ends the run there with
 /// the reason (`Report::aborted`), its verdicts ERROR from that point.
 pub fn replay(record: &Record, progress: impl FnMut(usize, usize, &CaseResult)) -> Result<Report, RecordError> {
-    if record.format != crate::record::FORMAT {
+    if record.format != super::record::FORMAT {
         return Err(RecordError::Format(record.format.clone()));
     }
     let profile = crate::profile_file::parse_recorded(&record.profile, std::path::Path::new("the record's profile"))

@@ -3,8 +3,8 @@
 //! replies `S<`, the injected faults `!`, the broken rules `×`): as text in Markdown,
 //! as an SVG drawing in HTML.
 
-use super::{escape, junit_suite, page_head, wire_text, Reports};
-use crate::master::DriveReport;
+use super::DriveReport;
+use crate::report::{escape, junit_suite, page_head, wire_text, Reports};
 use hiperface_model::Profile;
 use std::fmt::Write as _;
 

@@ -14,52 +14,14 @@
 //! that does not fit the catalogue (another version's) is refused where it departs,
 //! never graded against the wrong request.
 
-use crate::exchange::{Bus, Exchange, HeardLate, LineFacts, LineFindings, Listen};
+use crate::exchange::{Bus, Char, Exchange, HeardLate, LineFacts, LineFindings, Listen};
 use crate::line::{LineError, Window};
 use hiperface_model::datalink::RxChar;
-use hiperface_model::{Hex, UartFault, UartSettings};
+use hiperface_model::{Hex, UartSettings};
 use serde::{Deserialize, Serialize};
 
 /// The record's format, as written into it.
 pub const FORMAT: &str = "hiperface-wire-record/1";
-
-/// A received character: byte, stamp (µs, the end of its stop bit on the harness's
-/// clock) and UART fault, if any.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Char(pub u8, pub u64, #[serde(default, skip_serializing_if = "Option::is_none")] pub Option<Fault>);
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Fault {
-    Parity,
-    Framing,
-    Noise,
-    Overrun,
-}
-
-impl From<RxChar> for Char {
-    fn from(c: RxChar) -> Char {
-        let fault = c.fault.map(|f| match f {
-            UartFault::Parity => Fault::Parity,
-            UartFault::Framing => Fault::Framing,
-            UartFault::Noise => Fault::Noise,
-            UartFault::Overrun => Fault::Overrun,
-        });
-        Char(c.byte, c.at_us, fault)
-    }
-}
-
-impl From<Char> for RxChar {
-    fn from(Char(byte, at_us, fault): Char) -> RxChar {
-        let fault = fault.map(|f| match f {
-            Fault::Parity => UartFault::Parity,
-            Fault::Framing => UartFault::Framing,
-            Fault::Noise => UartFault::Noise,
-            Fault::Overrun => UartFault::Overrun,
-        });
-        RxChar { byte, at_us, fault }
-    }
-}
 
 fn chars(c: &[RxChar]) -> Vec<Char> {
     c.iter().copied().map(Char::from).collect()
@@ -241,7 +203,7 @@ pub struct RecordedInputs {
 }
 
 impl RecordedOptions {
-    pub fn of(o: &crate::slave::Options) -> RecordedOptions {
+    pub fn of(o: &super::Options) -> RecordedOptions {
         RecordedOptions {
             allow_writes: o.allow_writes,
             allow_counter_change: o.allow_counter_change,
@@ -259,7 +221,7 @@ impl RecordedOptions {
         }
     }
 
-    pub fn options(&self) -> Result<crate::slave::Options, RecordError> {
+    pub fn options(&self) -> Result<super::Options, RecordError> {
         use hiperface_model::slave::inputs::{InitFault, PhysicalInputs};
         let grading =
             self.grading.parse().map_err(|_| RecordError::Malformed(format!("grading `{}`", self.grading)))?;
@@ -274,7 +236,7 @@ impl RecordedOptions {
             temperature_c: i.temperature_c,
             led_current_ma: i.led_current_ma,
         });
-        Ok(crate::slave::Options {
+        Ok(super::Options {
             allow_writes: self.allow_writes,
             allow_counter_change: self.allow_counter_change,
             write_budget: self.write_budget,
@@ -325,7 +287,7 @@ impl<'a> Recorder<'a> {
     }
 
     /// The record of the run, with its profile and options.
-    pub fn finish(self, profile: &hiperface_model::Profile, options: &crate::slave::Options) -> Record {
+    pub fn finish(self, profile: &hiperface_model::Profile, options: &super::Options) -> Record {
         Record {
             format: FORMAT.into(),
             tool: format!("hiperface {}", env!("CARGO_PKG_VERSION")),
@@ -523,16 +485,6 @@ impl Bus for Replay {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn a_character_keeps_its_byte_stamp_and_fault() {
-        for fault in
-            [None, Some(UartFault::Parity), Some(UartFault::Framing), Some(UartFault::Noise), Some(UartFault::Overrun)]
-        {
-            let c = RxChar { byte: 0xA5, at_us: 123_456, fault };
-            assert_eq!(RxChar::from(Char::from(c)), c);
-        }
-    }
 
     #[test]
     fn what_a_master_never_sends_is_marked_injected() {

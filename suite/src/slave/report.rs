@@ -2,8 +2,8 @@
 //! how), the cases with their clauses and findings, the wire log of every failing
 //! case, the safety section and the response times.
 
-use super::{escape, junit_suite, page_head, wire_text, Reports};
-use crate::slave::{Report, TimingMode};
+use super::{Report, TimingMode};
+use crate::report::{escape, junit_suite, page_head, wire_text, Reports};
 use crate::verdict::CaseVerdict;
 use std::fmt::Write as _;
 

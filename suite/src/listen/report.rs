@@ -2,8 +2,8 @@
 //! junit.xml for CI (a test case per command heard and per master rule broken),
 //! listening.md and listening.html for people.
 
-use super::{escape, page_head, Reports};
-use crate::listen::ListeningReport;
+use super::ListeningReport;
+use crate::report::{escape, page_head, Reports};
 use crate::verdict::CaseVerdict;
 use std::fmt::Write as _;
 
