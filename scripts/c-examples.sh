@@ -5,6 +5,10 @@
 #                           certified in-process with the whole catalogue (hf_certify),
 #                           under AddressSanitizer and UBSan: PASSED, in under 50 ms
 #   tiny_encoder --defect   its checksum slip: FAILED, on the checksum clause 000:2.3.3
+#   tiny_master             a tiny C master (written from the specification alone)
+#                           certified in-process with the whole scenario catalogue
+#                           (hf_certify_master), under AddressSanitizer and UBSan: PASSED
+#   tiny_master --defect    its checksum slip: FAILED, on 000:2.3/master
 #   garbage                 every function fed nulls, short buffers and random bytes,
 #                           under AddressSanitizer and UBSan: status codes, no crash
 #   vectors vectors/*.json  every golden vector replayed through the C API: each
@@ -14,14 +18,16 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 CC=${CC:-cc}
-cargo build -q -p hiperface-ffi --release
+# The library as it ships: the c-release profile (size-optimised, LTO; Cargo.toml).
+cargo build -q -p hiperface-ffi --profile c-release
 out=target/c-examples
 mkdir -p "$out"
-lib=target/release/libhiperface.a
+lib=target/c-release/libhiperface.a
 flags=(-std=c11 -Wall -Wextra -Werror -Iffi/include)
 libs=("$lib" -lpthread -ldl)
 sanitized=(-g -fsanitize=address,undefined -fno-sanitize-recover=all)
 "$CC" "${flags[@]}" "${sanitized[@]}" -o "$out/tiny_encoder" examples/c/tiny_encoder.c "${libs[@]}"
+"$CC" "${flags[@]}" "${sanitized[@]}" -o "$out/tiny_master" examples/c/tiny_master.c "${libs[@]}"
 "$CC" "${flags[@]}" -o "$out/vectors" examples/c/vectors.c "${libs[@]}"
 "$CC" "${flags[@]}" -O2 -o "$out/bench" examples/c/bench.c "${libs[@]}"
 "$CC" "${flags[@]}" "${sanitized[@]}" -o "$out/garbage" examples/c/garbage.c "${libs[@]}"
@@ -37,9 +43,9 @@ grep -q "^PASSED$" "$out/tiny.txt" || { echo "the conformant encoder was not PAS
 under_50ms "$out/tiny.txt"
 grep -q "<testcase" "$out/tiny_encoder.junit.xml" || { echo "no JUnit test cases written"; exit 1; }
 echo "-- tiny_encoder linked with the shared library alone (-lhiperface -lpthread -ldl)"
-"$CC" "${flags[@]}" -o "$out/tiny_encoder_shared" examples/c/tiny_encoder.c -Ltarget/release -lhiperface -lpthread -ldl
-LD_LIBRARY_PATH=target/release "$out/tiny_encoder_shared" > /dev/null
-strip -o "$out/libhiperface.stripped.so" target/release/libhiperface.so
+"$CC" "${flags[@]}" -o "$out/tiny_encoder_shared" examples/c/tiny_encoder.c -Ltarget/c-release -lhiperface -lpthread -ldl
+LD_LIBRARY_PATH=target/c-release "$out/tiny_encoder_shared" > /dev/null
+strip -o "$out/libhiperface.stripped.so" target/c-release/libhiperface.so
 size=$(stat -c %s "$out/libhiperface.stripped.so")
 echo "libhiperface.so stripped: $size bytes; libhiperface.a: $(stat -c %s "$lib") bytes"
 # The C library links the model and the suite's core, none of the harness (issue 39).
@@ -52,6 +58,17 @@ tail -3 "$out/defect.txt"
 grep -q "^FAILED$" "$out/defect.txt" || { echo "the defective encoder's run is not FAILED"; exit 1; }
 grep -q "FAIL \[000:2.3.3\]" "$out/defect.txt" || { echo "no FAIL on the checksum clause"; exit 1; }
 under_50ms "$out/defect.txt"
+echo "-- tiny_master: certified in-process with the scenario catalogue (expected PASSED), JUnit written"
+"$out/tiny_master" --junit "$out/tiny_master.junit.xml" | tee "$out/tiny_master.txt"
+grep -q "^PASSED$" "$out/tiny_master.txt" || { echo "the conformant master was not PASSED"; exit 1; }
+[ "$(grep -c "<testcase" "$out/tiny_master.junit.xml")" -eq 22 ] || { echo "not 22 scenarios in the JUnit file"; exit 1; }
+echo "-- tiny_master --defect (expected FAILED on 000:2.3/master: frames that are no requests)"
+if "$out/tiny_master" --defect > "$out/master_defect.txt"; then
+    cat "$out/master_defect.txt"; echo "the defective master was not failed"; exit 1
+fi
+tail -3 "$out/master_defect.txt"
+grep -q "^FAILED$" "$out/master_defect.txt" || { echo "the defective master's run is not FAILED"; exit 1; }
+grep -q "FAIL \[000:2.3/master\]" "$out/master_defect.txt" || { echo "no FAIL on 000:2.3/master"; exit 1; }
 echo "-- vectors: every golden vector file"
 files=()
 for f in vectors/*.json; do [ "$(basename "$f")" = schema.json ] || files+=("$f"); done

@@ -27,6 +27,24 @@ static void silent(void *context, const HfHeard *heard, HfAnswer *answer) {
     (void)context; (void)heard; (void)answer;
 }
 
+/* A master that sends random bytes at random times and rates, and asks to be woken at
+ * random times (some in the past). */
+static void random_master(void *context, uint64_t now_us, const HfHeardChar *heard, size_t heard_len,
+                          HfMasterAction *action) {
+    unsigned *calls = context;
+    ++*calls;
+    for (size_t i = 0; i < heard_len; i++) (void)heard[i].byte;
+    action->len = (size_t)(rand() % (HF_MAX_FRAME + 40)) * (rand() % 3 == 0);
+    for (size_t i = 0; i < HF_MAX_FRAME; i++) action->data[i] = (uint8_t)rand();
+    action->start_us = (rand() % 5 == 0) ? (uint64_t)rand() << 12 : now_us + (uint64_t)(rand() % 30000);
+    action->bps = (uint32_t[]){0, 1, 600, 9600, 38400, 4000000000u}[rand() % 6];
+    action->wake_us = (rand() % 4 == 0) ? 0 : now_us + (uint64_t)(rand() % 50000) - 10000 * (rand() % 2);
+}
+
+static void count_power_on(void *context) {
+    (void)context;
+}
+
 int main(void) {
     uint8_t out8 = 0, buf[HF_MAX_FRAME + 8];
     size_t n = 0;
@@ -221,6 +239,42 @@ int main(void) {
             CHECK((text != NULL) == (form >= 0 && form < 4));
             CHECK(text == NULL || text == hf_report_text(report, form));
         }
+        hf_report_free(report);
+    }
+    /* A master certified in-process: nulls, bad globs, a garbage master. */
+    HfMaster no_step = {count_power_on, NULL, NULL};
+    unsigned master_calls = 0;
+    HfMaster garbage_master = {count_power_on, random_master, &master_calls};
+    HfMaster no_power_on = {NULL, random_master, &master_calls};
+    CHECK(hf_certify_master("SRS50", &garbage_master, NULL, NULL, error, sizeof error) == HF_STATUS_NULL);
+    CHECK(hf_certify_master("SRS50", NULL, NULL, &report, error, sizeof error) == HF_STATUS_NULL && report == NULL);
+    CHECK(hf_certify_master("SRS50", &no_step, NULL, &report, error, sizeof error) == HF_STATUS_NULL);
+    CHECK(hf_certify_master(NULL, &garbage_master, NULL, &report, NULL, 0) == HF_STATUS_NULL);
+    CHECK(hf_certify_master("NO-SUCH", &garbage_master, NULL, &report, error, sizeof error) == HF_STATUS_UNKNOWN_PROFILE);
+    HfCertifyMasterOptions bad_master = {0};
+    bad_master.profile_toml = "name = [";
+    CHECK(hf_certify_master(NULL, &garbage_master, &bad_master, &report, error, 3) == HF_STATUS_INVALID);
+    HfCertifyMasterOptions no_scenario = {0};
+    no_scenario.scenarios = "no.such.scenario";
+    CHECK(hf_certify_master("SRS50", &garbage_master, &no_scenario, &report, error, sizeof error) == HF_STATUS_INVALID);
+    for (int run = 0; run < 3; run++) {
+        srand(11 + run);
+        HfCertifyMasterOptions some = {0};
+        some.scenarios = (const char *[]){"startup.*", "reply.*,fault.*", "*"}[run];
+        some.polling_period_ms = (uint32_t)(rand() % 3) * 500;
+        some.name = run == 1 ? "garbage" : NULL;
+        HfMaster *m = run == 2 ? &no_power_on : &garbage_master;
+        CHECK(hf_certify_master("SRS50", m, &some, &report, error, sizeof error) == HF_STATUS_OK);
+        CHECK(master_calls > 0 && hf_report_outcome(report) != HF_OUTCOME_PASSED);
+        size_t scenarios = hf_report_case_count(report);
+        HfCase c;
+        HfFinding f;
+        CHECK(scenarios > 0 && hf_report_case(report, scenarios, &c) == HF_STATUS_INVALID);
+        for (size_t i = 0; i < scenarios; i++) {
+            CHECK(hf_report_case(report, i, &c) == HF_STATUS_OK && strlen(c.id) > 0);
+            for (size_t k = 0; k < c.findings; k++) CHECK(hf_report_finding(report, i, k, &f) == HF_STATUS_OK);
+        }
+        for (int form = 0; form < 4; form++) CHECK(hf_report_text(report, form) != NULL);
         hf_report_free(report);
     }
     for (int v = -3; v < 10; v++) {

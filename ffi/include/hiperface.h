@@ -187,7 +187,8 @@ typedef enum HfReportForm {
 } HfReportForm;
 
 /**
- * A certification's report. Opaque to C; freed with [`hf_report_free`].
+ * A certification's report, of an encoder ([`hf_certify`]) or of a master
+ * ([`hf_certify_master`]). Opaque to C; freed with [`hf_report_free`].
  */
 typedef struct HfReport HfReport;
 
@@ -357,6 +358,75 @@ typedef struct HfCertifyOptions {
    */
   bool skip_counter_change;
 } HfCertifyOptions;
+
+/**
+ * A character of the encoder's reply as it reached the master under test: the byte,
+ * and the end of its stop bit (µs on the run's virtual clock).
+ */
+typedef struct HfHeardChar {
+  uint8_t byte;
+  uint64_t at_us;
+} HfHeardChar;
+
+/**
+ * What the master under test does now. It comes zeroed.
+ */
+typedef struct HfMasterAction {
+  /**
+   * Bytes to send; `len` 0: none. Their first character starts at `start_us` (no
+   * earlier than now, nor than the end of what the master sent before: 0 is now),
+   * one character after the other at `bps` (0: 9600, the encoder's delivery rate,
+   * 000:T7). A character is taken as 11 bits (8E1).
+   */
+  uint8_t data[HF_MAX_FRAME];
+  size_t len;
+  uint64_t start_us;
+  uint32_t bps;
+  /**
+   * When to be called again if nothing is heard before; 0: only when something is
+   * heard.
+   */
+  uint64_t wake_us;
+} HfMasterAction;
+
+/**
+ * A master under test: `step` is called with `context` at power-on (`now_us` 0), when
+ * characters of the encoder's replies have reached it (`heard`, `heard_len` of them)
+ * and when the time it asked for has come; it writes what it does into `action`.
+ * `power_on` (may be null) is called before each scenario: start afresh.
+ */
+typedef struct HfMaster {
+  void (*power_on)(void *context);
+  void (*step)(void *context,
+               uint64_t now_us,
+               const struct HfHeardChar *heard,
+               size_t heard_len,
+               struct HfMasterAction *action);
+  void *context;
+} HfMaster;
+
+/**
+ * What [`hf_certify_master`] runs; a zeroed struct (or null) runs every scenario.
+ */
+typedef struct HfCertifyMasterOptions {
+  /**
+   * The encoder's profile as TOML text, NUL-terminated; null: the built-in profile
+   * named in the call.
+   */
+  const char *profile_toml;
+  /**
+   * Only the scenarios whose id matches this glob; null: all.
+   */
+  const char *scenarios;
+  /**
+   * The application's polling period (000:3.2.2), ms; 0: 1000, as the command's.
+   */
+  uint32_t polling_period_ms;
+  /**
+   * The master's name in the report, NUL-terminated; null: "master".
+   */
+  const char *name;
+} HfCertifyMasterOptions;
 
 /**
  * A case of a report.
@@ -664,10 +734,34 @@ enum HfStatus hf_certify(const char *profile,
                          size_t error_len);
 
 /**
+ * Certify the master `master` with the whole scenario catalogue (as `hiperface
+ * certify master --exec` does), in virtual time, for an encoder of the built-in
+ * profile named `profile` (or the TOML text in `options->profile_toml`). Each scenario
+ * powers the encoder and the master on at time 0; the master hears each reply
+ * character as it ends, and what it sends is on the line when it says. The report is
+ * the command's; `*out` holds it until [`hf_report_free`] (null where no report was
+ * made). A profile that does not load or a glob that selects nothing:
+ * `HF_STATUS_UNKNOWN_PROFILE` or `HF_STATUS_INVALID`, with why in `error`.
+ *
+ * # Safety
+ * `profile` is null or NUL-terminated; `master` points to a valid struct whose `step`
+ * reads `heard` and writes `*action` only; `options` is null or points to a valid
+ * struct whose strings are null or NUL-terminated; `out` is writable; `error` is null
+ * or points to `error_len` writable chars.
+ */
+enum HfStatus hf_certify_master(const char *profile,
+                                const struct HfMaster *master,
+                                const struct HfCertifyMasterOptions *options,
+                                struct HfReport **out,
+                                char *error,
+                                size_t error_len);
+
+/**
  * Free a report (null: nothing). Every string it gave is freed with it.
  *
  * # Safety
- * `report` is null or came from [`hf_certify`] and was not freed.
+ * `report` is null or came from [`hf_certify`] or [`hf_certify_master`] and was not
+ * freed.
  */
 void hf_report_free(struct HfReport *report);
 
@@ -680,7 +774,7 @@ void hf_report_free(struct HfReport *report);
 enum HfOutcome hf_report_outcome(const struct HfReport *report);
 
 /**
- * How many cases the report has (0 for a null report).
+ * How many cases the report has, or scenarios for a master's (0 for a null report).
  *
  * # Safety
  * `report` is null or a live report.
@@ -688,7 +782,7 @@ enum HfOutcome hf_report_outcome(const struct HfReport *report);
 size_t hf_report_case_count(const struct HfReport *report);
 
 /**
- * Case `index` of the report into `out`.
+ * Case (a master's: scenario) `index` of the report into `out`.
  *
  * # Safety
  * `report` is null or a live report; `out` is null or writable.

@@ -7,12 +7,15 @@
 use crate::{c_text, profile, tell, HfStatus, HF_CLAUSE_LEN, HF_MAX_FRAME, HF_REASON_LEN};
 use crate::{HfFault, HF_ID_LEN};
 use core::ffi::{c_char, c_int, c_void, CStr};
-use hiperface_model::datalink::ReceivedFrame;
+use hiperface_model::datalink::{ReceivedFrame, RxChar};
 use hiperface_model::{Frame, Profile, UartFault, UartSettings};
 use hiperface_suite::line::frame_encoder::Answer;
+use hiperface_suite::master::in_process::{self, MasterAction, MasterUnderTest, Transmit};
+use hiperface_suite::master::report::MasterCertificate;
+use hiperface_suite::master::DriveReport;
 use hiperface_suite::profile_file;
 use hiperface_suite::report::Reports;
-use hiperface_suite::slave::{self, CaseVerdict, Options, Outcome, Report};
+use hiperface_suite::slave::{self, CaseResult, CaseVerdict, Options, Outcome, Report};
 use std::ffi::CString;
 use std::path::Path;
 
@@ -133,11 +136,51 @@ pub enum HfReportForm {
     Html = 3,
 }
 
-/// A certification's report. Opaque to C; freed with [`hf_report_free`].
+/// A certification's report, of an encoder ([`hf_certify`]) or of a master
+/// ([`hf_certify_master`]). Opaque to C; freed with [`hf_report_free`].
 pub struct HfReport {
-    report: Report,
+    run: Run,
     /// The forms asked for, kept until the report is freed.
     texts: [std::cell::OnceCell<CString>; 4],
+}
+
+/// What was certified.
+enum Run {
+    Encoder(Box<Report>),
+    /// A master's report, and the encoder's profile its certificate names.
+    Master(Box<(DriveReport, Profile)>),
+}
+
+impl Run {
+    fn outcome(&self) -> Outcome {
+        match self {
+            Run::Encoder(r) => r.outcome(),
+            Run::Master(m) => m.0.outcome(),
+        }
+    }
+
+    /// The cases of an encoder's run, the scenarios of a master's.
+    fn cases(&self) -> &[CaseResult] {
+        match self {
+            Run::Encoder(r) => &r.cases,
+            Run::Master(m) => &m.0.scenarios,
+        }
+    }
+
+    fn text(&self, form: c_int) -> String {
+        fn of(r: &impl Reports, form: c_int) -> String {
+            match form {
+                f if f == HfReportForm::Json as c_int => r.json().unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}")),
+                f if f == HfReportForm::Junit as c_int => r.junit(),
+                f if f == HfReportForm::Markdown as c_int => r.markdown(),
+                _ => r.html(),
+            }
+        }
+        match self {
+            Run::Encoder(r) => of(r.as_ref(), form),
+            Run::Master(m) => of(&MasterCertificate { report: &m.0, profile: &m.1 }, form),
+        }
+    }
 }
 
 fn case_verdict(v: CaseVerdict) -> HfCaseVerdict {
@@ -278,7 +321,187 @@ pub unsafe extern "C" fn hf_certify(
     let mut encoder = CEncoder { answer, context };
     // The encoder is the caller's for the call only: the run ends before this returns.
     let report = slave::in_process(move |f: &ReceivedFrame| encoder.answer(f), profile, &run);
-    let boxed = Box::new(HfReport { report, texts: Default::default() });
+    let boxed = Box::new(HfReport { run: Run::Encoder(Box::new(report)), texts: Default::default() });
+    // SAFETY: `out` is writable by the caller's promise.
+    unsafe { *out = Box::into_raw(boxed) };
+    HfStatus::Ok
+}
+
+/// A character of the encoder's reply as it reached the master under test: the byte,
+/// and the end of its stop bit (µs on the run's virtual clock).
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct HfHeardChar {
+    pub byte: u8,
+    pub at_us: u64,
+}
+
+/// What the master under test does now. It comes zeroed.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct HfMasterAction {
+    /// Bytes to send; `len` 0: none. Their first character starts at `start_us` (no
+    /// earlier than now, nor than the end of what the master sent before: 0 is now),
+    /// one character after the other at `bps` (0: 9600, the encoder's delivery rate,
+    /// 000:T7). A character is taken as 11 bits (8E1).
+    pub data: [u8; HF_MAX_FRAME],
+    pub len: usize,
+    pub start_us: u64,
+    pub bps: u32,
+    /// When to be called again if nothing is heard before; 0: only when something is
+    /// heard.
+    pub wake_us: u64,
+}
+
+/// A master under test: `step` is called with `context` at power-on (`now_us` 0), when
+/// characters of the encoder's replies have reached it (`heard`, `heard_len` of them)
+/// and when the time it asked for has come; it writes what it does into `action`.
+/// `power_on` (may be null) is called before each scenario: start afresh.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct HfMaster {
+    pub power_on: Option<unsafe extern "C" fn(context: *mut c_void)>,
+    pub step: Option<
+        unsafe extern "C" fn(
+            context: *mut c_void,
+            now_us: u64,
+            heard: *const HfHeardChar,
+            heard_len: usize,
+            action: *mut HfMasterAction,
+        ),
+    >,
+    pub context: *mut c_void,
+}
+
+/// What [`hf_certify_master`] runs; a zeroed struct (or null) runs every scenario.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct HfCertifyMasterOptions {
+    /// The encoder's profile as TOML text, NUL-terminated; null: the built-in profile
+    /// named in the call.
+    pub profile_toml: *const c_char,
+    /// Only the scenarios whose id matches this glob; null: all.
+    pub scenarios: *const c_char,
+    /// The application's polling period (000:3.2.2), ms; 0: 1000, as the command's.
+    pub polling_period_ms: u32,
+    /// The master's name in the report, NUL-terminated; null: "master".
+    pub name: *const c_char,
+}
+
+/// The C functions as a master under test.
+struct CMaster {
+    power_on: Option<unsafe extern "C" fn(*mut c_void)>,
+    step: unsafe extern "C" fn(*mut c_void, u64, *const HfHeardChar, usize, *mut HfMasterAction),
+    context: *mut c_void,
+}
+
+impl MasterUnderTest for CMaster {
+    fn power_on(&mut self) {
+        if let Some(f) = self.power_on {
+            // SAFETY: the caller of hf_certify_master promised a function of its context.
+            unsafe { f(self.context) };
+        }
+    }
+
+    fn step(&mut self, now_us: u64, heard: &[RxChar]) -> MasterAction {
+        let chars: Vec<HfHeardChar> = heard.iter().map(|c| HfHeardChar { byte: c.byte, at_us: c.at_us }).collect();
+        let mut a = HfMasterAction { data: [0; HF_MAX_FRAME], len: 0, start_us: 0, bps: 0, wake_us: 0 };
+        // SAFETY: the caller's promise: a function that reads `heard_len` characters at
+        // `heard` (valid for the call) and writes `*action`.
+        unsafe { (self.step)(self.context, now_us, chars.as_ptr(), chars.len(), &mut a) };
+        let data = a.data.get(..a.len.min(HF_MAX_FRAME)).unwrap_or_default();
+        let bps = if a.bps == 0 { 9600 } else { a.bps };
+        let send = (!data.is_empty()).then(|| Transmit { bytes: data.to_vec(), start_us: a.start_us, bps });
+        MasterAction { send, wake_us: (a.wake_us > 0).then_some(a.wake_us) }
+    }
+}
+
+/// A NUL-terminated option as text: `Ok(None)` for null, `Err` for text that is not
+/// UTF-8.
+///
+/// # Safety
+/// `text` is null or NUL-terminated.
+unsafe fn option_text(text: *const c_char) -> Result<Option<String>, ()> {
+    if text.is_null() {
+        return Ok(None);
+    }
+    // SAFETY: not null, NUL-terminated by the caller's promise.
+    unsafe { CStr::from_ptr(text) }.to_str().map(|t| Some(t.to_string())).map_err(drop)
+}
+
+/// Certify the master `master` with the whole scenario catalogue (as `hiperface
+/// certify master --exec` does), in virtual time, for an encoder of the built-in
+/// profile named `profile` (or the TOML text in `options->profile_toml`). Each scenario
+/// powers the encoder and the master on at time 0; the master hears each reply
+/// character as it ends, and what it sends is on the line when it says. The report is
+/// the command's; `*out` holds it until [`hf_report_free`] (null where no report was
+/// made). A profile that does not load or a glob that selects nothing:
+/// `HF_STATUS_UNKNOWN_PROFILE` or `HF_STATUS_INVALID`, with why in `error`.
+///
+/// # Safety
+/// `profile` is null or NUL-terminated; `master` points to a valid struct whose `step`
+/// reads `heard` and writes `*action` only; `options` is null or points to a valid
+/// struct whose strings are null or NUL-terminated; `out` is writable; `error` is null
+/// or points to `error_len` writable chars.
+#[no_mangle]
+pub unsafe extern "C" fn hf_certify_master(
+    profile: *const c_char,
+    master: *const HfMaster,
+    options: *const HfCertifyMasterOptions,
+    out: *mut *mut HfReport,
+    error: *mut c_char,
+    error_len: usize,
+) -> HfStatus {
+    if out.is_null() {
+        return HfStatus::Null;
+    }
+    // SAFETY: writable by the caller's promise: null until a report is made.
+    unsafe { *out = core::ptr::null_mut() };
+    // SAFETY: null or valid by the caller's promise.
+    let Some(HfMaster { power_on, step: Some(step), context }) = (unsafe { master.as_ref() }).copied() else {
+        return HfStatus::Null;
+    };
+    // SAFETY: null or valid by the caller's promise.
+    let o = unsafe { options.as_ref() }.copied();
+    let toml = o.map_or(core::ptr::null(), |o| o.profile_toml);
+    if profile.is_null() && toml.is_null() {
+        return HfStatus::Null;
+    }
+    // SAFETY: the caller's promise.
+    let profile = match unsafe { run_profile(profile, toml) } {
+        Ok(p) => p,
+        Err((status, why)) => {
+            // SAFETY: the caller's promise.
+            unsafe { tell(error, error_len, why) };
+            return status;
+        }
+    };
+    let mut run = in_process::Options::default();
+    let mut name = "master".to_string();
+    if let Some(o) = o {
+        // SAFETY: null or NUL-terminated by the caller's promise.
+        let (Ok(scenarios), Ok(given)) = (unsafe { option_text(o.scenarios) }, unsafe { option_text(o.name) }) else {
+            // SAFETY: the caller's promise.
+            unsafe { tell(error, error_len, "the scenarios' glob or the name is not UTF-8") };
+            return HfStatus::Invalid;
+        };
+        if let Some(glob) = &scenarios {
+            if hiperface_suite::master::scenarios::chosen(Some(glob)).is_empty() {
+                // SAFETY: the caller's promise.
+                unsafe { tell(error, error_len, format!("no scenario matches `{glob}`")) };
+                return HfStatus::Invalid;
+            }
+        }
+        run.scenarios = scenarios;
+        if o.polling_period_ms > 0 {
+            run.polling_period_ms = o.polling_period_ms;
+        }
+        name = given.unwrap_or(name);
+    }
+    let mut under_test = CMaster { power_on, step, context };
+    // The master is the caller's for the call only: the run ends before this returns.
+    let report = in_process::run(&mut under_test, &name, profile, &run);
+    let boxed = Box::new(HfReport { run: Run::Master(Box::new((report, profile))), texts: Default::default() });
     // SAFETY: `out` is writable by the caller's promise.
     unsafe { *out = Box::into_raw(boxed) };
     HfStatus::Ok
@@ -287,7 +510,8 @@ pub unsafe extern "C" fn hf_certify(
 /// Free a report (null: nothing). Every string it gave is freed with it.
 ///
 /// # Safety
-/// `report` is null or came from [`hf_certify`] and was not freed.
+/// `report` is null or came from [`hf_certify`] or [`hf_certify_master`] and was not
+/// freed.
 #[no_mangle]
 pub unsafe extern "C" fn hf_report_free(report: *mut HfReport) {
     if !report.is_null() {
@@ -303,24 +527,24 @@ pub unsafe extern "C" fn hf_report_free(report: *mut HfReport) {
 #[no_mangle]
 pub unsafe extern "C" fn hf_report_outcome(report: *const HfReport) -> HfOutcome {
     // SAFETY: the caller's promise.
-    match unsafe { report.as_ref() }.map(|r| r.report.outcome()) {
+    match unsafe { report.as_ref() }.map(|r| r.run.outcome()) {
         Some(Outcome::Passed) => HfOutcome::Passed,
         Some(Outcome::Failed) => HfOutcome::Failed,
         Some(Outcome::Incomplete) | None => HfOutcome::Incomplete,
     }
 }
 
-/// How many cases the report has (0 for a null report).
+/// How many cases the report has, or scenarios for a master's (0 for a null report).
 ///
 /// # Safety
 /// `report` is null or a live report.
 #[no_mangle]
 pub unsafe extern "C" fn hf_report_case_count(report: *const HfReport) -> usize {
     // SAFETY: the caller's promise.
-    unsafe { report.as_ref() }.map_or(0, |r| r.report.cases.len())
+    unsafe { report.as_ref() }.map_or(0, |r| r.run.cases().len())
 }
 
-/// Case `index` of the report into `out`.
+/// Case (a master's: scenario) `index` of the report into `out`.
 ///
 /// # Safety
 /// `report` is null or a live report; `out` is null or writable.
@@ -328,7 +552,7 @@ pub unsafe extern "C" fn hf_report_case_count(report: *const HfReport) -> usize 
 pub unsafe extern "C" fn hf_report_case(report: *const HfReport, index: usize, out: *mut HfCase) -> HfStatus {
     // SAFETY: the caller's promise.
     let (Some(r), false) = (unsafe { report.as_ref() }, out.is_null()) else { return HfStatus::Null };
-    let Some(c) = r.report.cases.get(index) else { return HfStatus::Invalid };
+    let Some(c) = r.run.cases().get(index) else { return HfStatus::Invalid };
     let mut case = HfCase { id: [0; HF_ID_LEN], verdict: case_verdict(c.verdict), findings: c.findings.len() };
     c_text(&mut case.id, c.id);
     // SAFETY: writable by the caller's promise.
@@ -349,7 +573,7 @@ pub unsafe extern "C" fn hf_report_finding(
 ) -> HfStatus {
     // SAFETY: the caller's promise.
     let (Some(r), false) = (unsafe { report.as_ref() }, out.is_null()) else { return HfStatus::Null };
-    let Some(f) = r.report.cases.get(index).and_then(|c| c.findings.get(finding)) else { return HfStatus::Invalid };
+    let Some(f) = r.run.cases().get(index).and_then(|c| c.findings.get(finding)) else { return HfStatus::Invalid };
     let mut found =
         HfFinding { verdict: case_verdict(f.verdict()), clause: [0; HF_CLAUSE_LEN], message: [0; HF_REASON_LEN] };
     c_text(&mut found.clause, f.clause_id());
@@ -371,14 +595,7 @@ pub unsafe extern "C" fn hf_report_text(report: *const HfReport, form: c_int) ->
     let Some(r) = (unsafe { report.as_ref() }) else { return core::ptr::null() };
     let Some(slot) = usize::try_from(form).ok().and_then(|i| r.texts.get(i)) else { return core::ptr::null() };
     let made = slot.get_or_init(|| {
-        let text = match form {
-            f if f == HfReportForm::Json as c_int => {
-                r.report.json().unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
-            }
-            f if f == HfReportForm::Junit as c_int => r.report.junit(),
-            f if f == HfReportForm::Markdown as c_int => r.report.markdown(),
-            _ => r.report.html(),
-        };
+        let text = r.run.text(form);
         // No NUL inside a report's text; were there one, the text ends there.
         CString::new(text).unwrap_or_else(|e| {
             let end = e.nul_position();
