@@ -137,9 +137,12 @@ pub fn figures(all: &[ClauseCoverage]) -> (usize, usize, usize) {
 
 /// A Markdown table of `rows`.
 pub fn markdown(rows: &[&ClauseCoverage], all: &[ClauseCoverage]) -> String {
-    let mut out =
-        String::from("| clause | force | slave cases | every exchange | master scenarios | master rules | vectors |\n");
-    out.push_str("|---|---|---|---|---|---|---|\n");
+    // No rows (`--uncovered` where every clause is covered): no table, the figures say it.
+    let mut out = String::new();
+    if !rows.is_empty() {
+        out.push_str("| clause | force | slave cases | every exchange | master scenarios | master rules | vectors |\n");
+        out.push_str("|---|---|---|---|---|---|---|\n");
+    }
     for c in rows {
         let vectors: Vec<String> = c.vectors.iter().map(|(f, n)| format!("{f} ({n})")).collect();
         let rules = match c.unobservable {
@@ -158,8 +161,11 @@ pub fn markdown(rows: &[&ClauseCoverage], all: &[ClauseCoverage]) -> String {
         ));
     }
     let (cited, listed, normative) = figures(all);
+    if !rows.is_empty() {
+        out.push('\n');
+    }
     out.push_str(&format!(
-        "\n{cited} of {normative} normative clauses are cited by a case, a check of every exchange, a scenario, a \
+        "{cited} of {normative} normative clauses are cited by a case, a check of every exchange, a scenario, a \
          rule or a vector; \
          {listed} cannot be observed on the serial line (listed with the reason); {} uncovered.\n",
         normative - cited - listed

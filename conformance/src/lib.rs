@@ -2,6 +2,17 @@
 //! master on a serial line, slave certification with the model's oracle in
 //! lockstep, reports, and the simulator serving the model as a virtual encoder.
 
+/// `println!` that never panics: standard output whose reader has gone (`| head`) ends
+/// nothing; a run goes on, restores what it changed and writes its files, and a
+/// listing ends quietly. Every command prints through it.
+#[macro_export]
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout().lock(), $($arg)*);
+    }};
+}
+
 pub mod args;
 pub mod clauses;
 pub mod command;

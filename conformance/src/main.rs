@@ -3,13 +3,14 @@
 //! (`slave::cli`, `master::cli`, `listen::cli`, `listen::monitor`), the flags they
 //! share in `args`; the small commands (profiles, vectors, clauses) are here.
 
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{CommandFactory, Parser, Subcommand, ValueEnum};
 use hiperface_conformance::args::WorldArgs;
 use hiperface_conformance::command::{CommandError, Ended};
 use hiperface_conformance::port::PortSpec;
+use hiperface_conformance::say;
 use hiperface_conformance::world::World;
 use hiperface_conformance::{demo, line, master, profile_file, simulate, slave};
-use hiperface_model::command::COMMAND_TABLE;
+use hiperface_model::command::{DataLength, COMMAND_TABLE};
 use serialport::SerialPort as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -79,6 +80,19 @@ enum Command {
         uncovered: bool,
         #[arg(long, value_enum, default_value = "markdown")]
         format: TextFormat,
+    },
+    /// Shell completions on standard output, e.g. `hiperface completions bash >
+    /// ~/.local/share/bash-completion/completions/hiperface`.
+    Completions {
+        #[arg(value_enum)]
+        shell: clap_complete::Shell,
+    },
+    /// Manual pages (roff): hiperface(1) on standard output, or a page per command
+    /// (hiperface-certify-slave.1, ...) written into DIR with `--out DIR`.
+    Man {
+        /// Write a page per command into this directory (made if need be) instead.
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
     },
 }
 
@@ -150,12 +164,12 @@ fn main() -> ExitCode {
         Command::Profiles => {
             for (name, make) in hiperface_model::profiles::BUILTIN {
                 let p = make();
-                println!("{name:<16} {:?} edition, type {:02X}h, range {} steps", p.edition, p.type_code, p.range());
+                say!("{name:<16} {:?} edition, type {:02X}h, range {} steps", p.edition, p.type_code, p.range());
             }
             Ok(Ended::Done)
         }
         Command::CheckProfile { profile } => profile_file::resolve(&profile).map_err(CommandError::from).map(|p| {
-            println!(
+            say!(
                 "{}: valid ({:?} edition, {} commands, range {} steps)",
                 p.name,
                 p.edition,
@@ -164,10 +178,9 @@ fn main() -> ExitCode {
             );
             Ended::Done
         }),
-        Command::ExportProfile { profile } => profile_file::resolve(&profile).map_err(CommandError::from).map(|p| {
-            print!("{}", profile_file::to_toml(&p));
-            Ended::Done
-        }),
+        Command::ExportProfile { profile } => profile_file::resolve(&profile)
+            .map_err(CommandError::from)
+            .and_then(|p| print_all(&profile_file::to_toml(&p)).map(|()| Ended::Done)),
         Command::Vectors { what } => vectors_command(what),
         Command::Decode(args) => hiperface_conformance::listen::cli::decode(&args),
         Command::Monitor(args) => {
@@ -175,11 +188,20 @@ fn main() -> ExitCode {
             hiperface_conformance::listen::monitor::monitor(&args, &stop)
         }
         Command::Clauses { uncovered, format } => print_clauses(uncovered, format),
+        Command::Completions { shell } => {
+            let mut script = Vec::new();
+            clap_complete::generate(shell, &mut Cli::command(), "hiperface", &mut script);
+            print_all(&String::from_utf8_lossy(&script)).map(|()| Ended::Done)
+        }
+        Command::Man { out } => man_pages(out.as_deref()),
         Command::Commands => {
-            println!("{:<6} {:<50} {:>8}  master  slave", "cmd", "name", "max ms");
+            // 000 Table 10: the data bytes of the request and of the reply (without the
+            // address, the command and the checksum), and the maximum response time.
+            say!("{:<6} {:<50} {:>8}  {:>12}  {:>10}", "cmd", "name", "max ms", "request data", "reply data");
             for s in COMMAND_TABLE {
                 let ms = s.max_response_ms.map_or("-".to_string(), |m| m.to_string());
-                println!("{:02X}h    {:<50} {:>8}  {:?}  {:?}", s.id.byte(), s.name, ms, s.master_data, s.slave_data);
+                let (request, reply) = (data_length(s.master_data), data_length(s.slave_data));
+                say!("{:02X}h    {:<50} {:>8}  {request:>12}  {reply:>10}", s.id.byte(), s.name, ms);
             }
             Ok(Ended::Done)
         }
@@ -200,7 +222,7 @@ fn run_simulator(port: &PortSpec, profile: &str, log: bool, world: &World) -> Re
         PortSpec::Pty => {
             let (sim_end, other) = serialport::TTYPort::pair()
                 .map_err(|e| CommandError::Line(format!("cannot create a pseudo-terminal pair: {e}")))?;
-            println!("{}", other.name().unwrap_or_default());
+            say!("{}", other.name().unwrap_or_default());
             // Keep the other end open so the pseudo-terminal lives until we stop.
             std::mem::forget(other);
             Box::new(sim_end)
@@ -239,7 +261,7 @@ fn vectors_command(what: VectorsCommand) -> Result<Ended, CommandError> {
                 let json = serde_json::to_string_pretty(&file).map_err(json_error)? + "\n";
                 let path = dir.join(name);
                 std::fs::write(&path, json).map_err(CommandError::file(&path))?;
-                println!("{}: {} vectors", path.display(), file.vectors.len());
+                say!("{}: {} vectors", path.display(), file.vectors.len());
             }
             Ok(Ended::Done)
         }
@@ -247,13 +269,13 @@ fn vectors_command(what: VectorsCommand) -> Result<Ended, CommandError> {
             // Nothing verified is not a pass: an error of verify_dir.
             let (count, failures) = vectors::verify_dir(&dir)?;
             if failures.is_empty() {
-                println!("{count} vectors verified: schema, checksums, agreement with the model");
+                say!("{count} vectors verified: schema, checksums, agreement with the model");
                 return Ok(Ended::Done);
             }
             for f in &failures {
-                println!("FAIL {f}");
+                say!("FAIL {f}");
             }
-            println!("{} of {count} vectors failed", failures.len());
+            say!("{} of {count} vectors failed", failures.len());
             Ok(Ended::CheckFailed)
         }
         VectorsCommand::Export { format, out, dir } => {
@@ -273,12 +295,51 @@ fn vectors_command(what: VectorsCommand) -> Result<Ended, CommandError> {
                     std::fs::create_dir_all(&dir)
                         .and_then(|()| std::fs::write(dir.join(name), text))
                         .map_err(CommandError::file(&dir))?;
-                    println!("{}", dir.join(name).display());
+                    say!("{}", dir.join(name).display());
                 }
                 None => print_all(&text)?,
             }
             Ok(Ended::Done)
         }
+    }
+}
+
+/// The manual: hiperface(1) on standard output, or into `out` a page per command and
+/// subcommand, each named as `man` finds it (hiperface-certify-slave.1).
+fn man_pages(out: Option<&std::path::Path>) -> Result<Ended, CommandError> {
+    let render = |c: clap::Command| -> Result<Vec<u8>, CommandError> {
+        let mut page = Vec::new();
+        clap_mangen::Man::new(c).render(&mut page).map_err(CommandError::Output)?;
+        Ok(page)
+    };
+    let top = Cli::command();
+    let Some(dir) = out else {
+        return print_all(&String::from_utf8_lossy(&render(top)?)).map(|()| Ended::Done);
+    };
+    std::fs::create_dir_all(dir).map_err(CommandError::file(dir))?;
+    let mut pages = vec![("hiperface".to_string(), top.clone())];
+    for sub in top.get_subcommands().filter(|s| s.get_name() != "help") {
+        let name = format!("hiperface-{}", sub.get_name());
+        for nested in sub.get_subcommands().filter(|s| s.get_name() != "help") {
+            let nested_name = format!("{name}-{}", nested.get_name());
+            pages.push((nested_name.clone(), nested.clone().name(nested_name)));
+        }
+        pages.push((name.clone(), sub.clone().name(name)));
+    }
+    for (name, command) in pages {
+        let path = dir.join(format!("{name}.1"));
+        std::fs::write(&path, render(command)?).map_err(CommandError::file(&path))?;
+        say!("{}", path.display());
+    }
+    Ok(Ended::Done)
+}
+
+/// A data length of 000 Table 10 as people read it: "2", "4-131", "no frame".
+fn data_length(d: DataLength) -> String {
+    match d {
+        DataLength::Fixed(n) => n.to_string(),
+        DataLength::Range { min, max } => format!("{min}-{max}"),
+        DataLength::NoFrame => "no frame".into(),
     }
 }
 

@@ -28,9 +28,10 @@ fn certify(profile: Profile, exec: &str, scenarios: Option<&str>) -> DriveReport
         attach: Attach::Exec(exec.into()),
         scenarios: scenarios.map(str::to_string),
         polling_period_ms: master::POLLING_PERIOD_MS,
+        not_used: Vec::new(),
         interrupt: None,
     };
-    let report = master::run(profile, &options, |_, _, _| {});
+    let report = master::run(profile, &options, |_| {});
     // Decode reproduces the run: the record taken in again grades every scenario alike.
     common::replay::assert_master_replays(&report);
     report
@@ -245,6 +246,43 @@ const DEFECTS: &[Defect] = &[
         untouched: None,
     },
 ];
+
+/// A master that never reads a data field and says so (`--not-used 4Ah`): the
+/// scenarios about data fields are NOT-APPLICABLE, "declared not used", the run is
+/// PASSED and the certificate lists the declaration; undeclared, the same master is
+/// INCOMPLETE (NOT-EXERCISED: the run never saw what it would do). Issue 40.
+#[test]
+#[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
+fn a_master_that_declares_it_never_reads_data_fields_is_passed_on_that_declaration() {
+    use hiperface_conformance::report::Reports;
+    use hiperface_model::CommandId;
+    let _one = common::one_at_a_time();
+    let exec = hx_master(Some("ignores-extended-type-label"));
+    let scenarios = "startup.default,startup.extended-type-label,fault.data-field";
+    let options = Options {
+        attach: Attach::Exec(exec.clone()),
+        scenarios: Some(scenarios.into()),
+        polling_period_ms: master::POLLING_PERIOD_MS,
+        not_used: vec![CommandId::ReadData],
+        interrupt: None,
+    };
+    let declared = master::run(profiles::srs50(), &options, |_| {});
+    common::replay::assert_master_replays(&declared);
+    assert_eq!(declared.outcome(), Outcome::Passed, "{:#?}", declared.scenarios);
+    for id in ["startup.extended-type-label", "fault.data-field"] {
+        let s = declared.scenarios.iter().find(|s| s.id == id).unwrap();
+        assert_eq!(s.verdict, CaseVerdict::NotApplicable, "{id}: {:#?}", s.findings);
+        assert!(s.findings.iter().any(|f| f.message().contains("declared not used")), "{:#?}", s.findings);
+    }
+    assert_eq!(declared.not_used, vec!["4Ah Read Data".to_string()]);
+    let profile = profiles::srs50();
+    let certificate = master::report::MasterCertificate { report: &declared, profile: &profile };
+    assert!(certificate.markdown().contains("| declared not used | 4Ah Read Data"), "{}", certificate.markdown());
+    assert!(certificate.html().contains("declared not used"));
+    // Undeclared: what the run never saw is not a pass.
+    let undeclared = certify(profiles::srs50(), &exec, Some(scenarios));
+    assert_eq!(undeclared.outcome(), Outcome::Incomplete, "{:#?}", undeclared.scenarios);
+}
 
 #[test]
 #[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
@@ -485,9 +523,10 @@ fn a_drive_on_a_port_is_certified_without_seeing_its_power_on() {
         // Not 22h: the drive stops reading the position for good after it, as it should.
         scenarios: Some("startup.default,protocol.checksum-error,protocol.parity,reply.corrupt".into()),
         polling_period_ms: master::POLLING_PERIOD_MS,
+        not_used: Vec::new(),
         interrupt: None,
     };
-    let report = master::run(profile, &options, |_, _, _| {});
+    let report = master::run(profile, &options, |_| {});
     // The drive ends when its line goes (the port closes under it).
     drop(encoder_end);
     let _ = drive.join();
@@ -565,9 +604,10 @@ fn with_an_operator_the_start_up_of_a_drive_on_a_port_is_graded() {
             attach: Attach::Port { path, power_on: PowerOn::Prompt, echo: EchoMode::Auto },
             scenarios: Some(scenarios.into()),
             polling_period_ms: master::POLLING_PERIOD_MS,
+            not_used: Vec::new(),
             interrupt: None,
         };
-        let report = master::run_with(profiles::srs50(), &options, &mut operator, |_, _, _| {});
+        let report = master::run_with(profiles::srs50(), &options, &mut operator, |_| {});
         master::Operator::switch_off(&mut operator, "end");
         // A scenario the harness ran again (it was disturbed) had a power-on per run.
         let runs: u32 = report.scenarios.iter().map(|s| s.attempts).sum();
@@ -595,4 +635,28 @@ fn with_an_operator_the_start_up_of_a_drive_on_a_port_is_graded() {
     let s = &report.scenarios[0];
     assert_eq!(s.verdict, CaseVerdict::NonStrict, "{:#?}", s.findings);
     assert!(s.findings.iter().any(|f| f.message().contains("operator")), "{:#?}", s.findings);
+}
+
+/// On a terminal `certify master` shows the scenario under way and the count (a run
+/// takes a minute or two of real time); without one its lines are as they were, with
+/// no bar. The terminal is util-linux's `script` (Debian's essential bsdutils).
+#[test]
+fn certify_master_on_a_terminal_shows_the_scenario_under_way() {
+    use std::process::Command;
+    let _one = common::one_at_a_time();
+    let bin = env!("CARGO_BIN_EXE_hiperface");
+    let master = format!("{bin} master --port {{port}}");
+    let line = format!("{bin} certify master --exec '{master}' --scenarios startup.default");
+    let out = Command::new("script").args(["-qec", &line, "/dev/null"]).output().expect("script (util-linux)");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}");
+    assert!(text.contains("0/1 running startup.default"), "{text}");
+    assert!(text.contains("[ 1/1] PASS"), "{text}");
+    let out = Command::new(bin)
+        .args(["certify", "master", "--exec", &master, "--scenarios", "startup.default"])
+        .output()
+        .unwrap();
+    let text = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success(), "{text}");
+    assert!(text.contains("[ 1/1] PASS") && !text.contains("running"), "{text}");
 }

@@ -26,6 +26,8 @@ const COMMANDS: &[&[&str]] = &[
     &["decode"],
     &["monitor"],
     &["clauses"],
+    &["completions"],
+    &["man"],
 ];
 
 #[test]
@@ -121,4 +123,90 @@ fn a_port_a_command_cannot_serve_is_refused_with_why(#[case] args: &[&str], #[ca
     let (code, text) = run(args);
     assert_eq!(code, 2, "{args:?}: {text}");
     assert!(text.contains(why), "{args:?}: {text}");
+}
+
+/// Shell completions and manual pages come from the same definition as `--help`.
+#[test]
+fn completions_and_manual_pages_are_generated() {
+    for shell in ["bash", "zsh", "fish", "elvish", "powershell"] {
+        let (code, text) = run(&["completions", shell]);
+        assert_eq!(code, 0, "{shell}: {text}");
+        assert!(text.contains("certify") && text.contains("not-used"), "{shell}: {text}");
+    }
+    let (code, text) = run(&["completions", "bash"]);
+    assert!(code == 0 && text.contains("complete -F"), "{text}");
+    let (code, page) = run(&["man"]);
+    assert_eq!(code, 0, "{page}");
+    assert!(page.starts_with(".ie") || page.contains(".TH hiperface 1"), "{page}");
+    let dir = tempfile::tempdir().unwrap();
+    let (code, text) = run(&["man", "--out", dir.path().to_str().unwrap()]);
+    assert_eq!(code, 0, "{text}");
+    for page in ["hiperface.1", "hiperface-certify.1", "hiperface-certify-slave.1", "hiperface-certify-master.1"] {
+        let roff = std::fs::read_to_string(dir.path().join(page)).unwrap_or_else(|e| panic!("{page}: {e}"));
+        assert!(roff.contains(".TH"), "{page}");
+    }
+    assert!(std::fs::read_to_string(dir.path().join("hiperface-certify-master.1")).unwrap().contains("not\\-used"));
+}
+
+/// A command whose reader has gone (`| head`) ends quietly: no panic, no backtrace.
+#[rstest::rstest]
+#[case(&["commands"])]
+#[case(&["profiles"])]
+#[case(&["clauses"])]
+#[case(&["export-profile", "SRS50"])]
+#[case(&["completions", "bash"])]
+fn a_listing_whose_reader_has_gone_ends_quietly(#[case] args: &[&str]) {
+    use std::process::Stdio;
+    let mut child = Command::new(BIN).args(args).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    // The reader goes before anything is read: every write of the command meets a
+    // closed pipe.
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    assert_eq!(out.status.code(), Some(0), "{args:?}: {stderr}");
+}
+
+/// The command table in words, not Rust values.
+#[test]
+fn the_command_table_reads_as_the_document_writes_it() {
+    let (code, text) = run(&["commands"]);
+    assert_eq!(code, 0);
+    assert!(!text.contains("Fixed(") && !text.contains("Range {") && !text.contains("NoFrame"), "{text}");
+    let read_data = text.lines().find(|l| l.starts_with("4Ah")).unwrap();
+    assert!(read_data.contains("Read Data") && read_data.contains('-'), "{read_data}");
+    assert!(text.lines().any(|l| l.starts_with("53h") && l.contains("no frame")), "{text}");
+}
+
+/// What is no port is said in words: a regular file, a directory.
+#[test]
+fn a_file_given_as_a_port_is_named_for_what_it_is() {
+    let file = tempfile::NamedTempFile::new().unwrap();
+    let (code, text) = run(&["certify", "slave", "--port", file.path().to_str().unwrap()]);
+    assert_eq!(code, 2, "{text}");
+    assert!(text.contains("it is a regular file") && !text.contains("typewriter"), "{text}");
+    let dir = tempfile::tempdir().unwrap();
+    let (code, text) = run(&["monitor", "--port", dir.path().to_str().unwrap(), "--duration-ms", "10"]);
+    assert_eq!(code, 2, "{text}");
+    assert!(text.contains("it is a directory"), "{text}");
+}
+
+/// `--not-used` takes command bytes of Table 10 and refuses anything else.
+#[test]
+fn a_declaration_of_commands_not_used_is_checked() {
+    let (code, text) = run(&["certify", "master", "--exec", "true", "--not-used", "99h"]);
+    assert_eq!(code, 2, "{text}");
+    assert!(text.contains("not a HIPERFACE command"), "{text}");
+    let (code, text) = run(&["certify", "master", "--exec", "true", "--not-used", "4Ah,x"]);
+    assert_eq!(code, 2, "{text}");
+    assert!(text.contains("not a command byte"), "{text}");
+}
+
+/// `clauses --uncovered` with nothing uncovered: the figures, no empty table.
+#[test]
+fn no_uncovered_clause_prints_no_empty_table() {
+    let (code, text) = run(&["clauses", "--uncovered"]);
+    assert_eq!(code, 0, "{text}");
+    assert!(!text.contains("| clause |"), "{text}");
+    assert!(text.contains("0 uncovered"), "{text}");
 }

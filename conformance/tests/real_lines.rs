@@ -218,9 +218,10 @@ fn drive_through(behaviour: Behaviour, echo: EchoMode) -> master::DriveReport {
             attach: master::Attach::Port { path: emulator.path.clone(), power_on: master::PowerOn::Unseen, echo },
             scenarios: Some("protocol.checksum-error,protocol.parity,reply.corrupt".into()),
             polling_period_ms: master::POLLING_PERIOD_MS,
+            not_used: Vec::new(),
             interrupt: None,
         };
-        let report = master::run(profile, &options, |_, _, _| {});
+        let report = master::run(profile, &options, |_| {});
         common::replay::assert_master_replays(&report);
         let faithful = emulator.was_faithful();
         // The drive ends when its line goes.

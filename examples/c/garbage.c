@@ -257,12 +257,20 @@ int main(void) {
     HfCertifyMasterOptions no_scenario = {0};
     no_scenario.scenarios = "no.such.scenario";
     CHECK(hf_certify_master("SRS50", &garbage_master, &no_scenario, &report, error, sizeof error) == HF_STATUS_INVALID);
+    HfCertifyMasterOptions bad_declaration = {0};
+    const uint8_t not_a_command[] = {0x4A, 0x99};
+    bad_declaration.not_used = not_a_command;
+    bad_declaration.not_used_len = sizeof not_a_command;
+    CHECK(hf_certify_master("SRS50", &garbage_master, &bad_declaration, &report, error, sizeof error) == HF_STATUS_INVALID);
     for (int run = 0; run < 3; run++) {
         srand(11 + run);
         HfCertifyMasterOptions some = {0};
         some.scenarios = (const char *[]){"startup.*", "reply.*,fault.*", "*"}[run];
         some.polling_period_ms = (uint32_t)(rand() % 3) * 500;
         some.name = run == 1 ? "garbage" : NULL;
+        const uint8_t declared[] = {0x4A, 0x42};
+        some.not_used = run == 0 ? declared : NULL;
+        some.not_used_len = run == 0 ? sizeof declared : 99;
         HfMaster *m = run == 2 ? &no_power_on : &garbage_master;
         CHECK(hf_certify_master("SRS50", m, &some, &report, error, sizeof error) == HF_STATUS_OK);
         CHECK(master_calls > 0 && hf_report_outcome(report) != HF_OUTCOME_PASSED);

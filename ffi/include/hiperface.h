@@ -426,6 +426,12 @@ typedef struct HfCertifyMasterOptions {
    * The master's name in the report, NUL-terminated; null: "master".
    */
   const char *name;
+  /**
+   * The command bytes the master declares it never sends (`not_used_len` of them;
+   * null: none): the scenarios about them are NOT-APPLICABLE, "declared not used".
+   */
+  const uint8_t *not_used;
+  size_t not_used_len;
 } HfCertifyMasterOptions;
 
 /**
@@ -746,7 +752,8 @@ enum HfStatus hf_certify(const char *profile,
  * # Safety
  * `profile` is null or NUL-terminated; `master` points to a valid struct whose `step`
  * reads `heard` and writes `*action` only; `options` is null or points to a valid
- * struct whose strings are null or NUL-terminated; `out` is writable; `error` is null
+ * struct whose strings are null or NUL-terminated and whose `not_used` is null or
+ * points to `not_used_len` readable bytes; `out` is writable; `error` is null
  * or points to `error_len` writable chars.
  */
 enum HfStatus hf_certify_master(const char *profile,

@@ -8,7 +8,7 @@ use crate::{c_text, profile, tell, HfStatus, HF_CLAUSE_LEN, HF_MAX_FRAME, HF_REA
 use crate::{HfFault, HF_ID_LEN};
 use core::ffi::{c_char, c_int, c_void, CStr};
 use hiperface_model::datalink::{ReceivedFrame, RxChar};
-use hiperface_model::{Frame, Profile, UartFault, UartSettings};
+use hiperface_model::{CommandId, Frame, Profile, UartFault, UartSettings};
 use hiperface_suite::line::frame_encoder::Answer;
 use hiperface_suite::master::in_process::{self, MasterAction, MasterUnderTest, Transmit};
 use hiperface_suite::master::report::MasterCertificate;
@@ -386,6 +386,10 @@ pub struct HfCertifyMasterOptions {
     pub polling_period_ms: u32,
     /// The master's name in the report, NUL-terminated; null: "master".
     pub name: *const c_char,
+    /// The command bytes the master declares it never sends (`not_used_len` of them;
+    /// null: none): the scenarios about them are NOT-APPLICABLE, "declared not used".
+    pub not_used: *const u8,
+    pub not_used_len: usize,
 }
 
 /// The C functions as a master under test.
@@ -441,7 +445,8 @@ unsafe fn option_text(text: *const c_char) -> Result<Option<String>, ()> {
 /// # Safety
 /// `profile` is null or NUL-terminated; `master` points to a valid struct whose `step`
 /// reads `heard` and writes `*action` only; `options` is null or points to a valid
-/// struct whose strings are null or NUL-terminated; `out` is writable; `error` is null
+/// struct whose strings are null or NUL-terminated and whose `not_used` is null or
+/// points to `not_used_len` readable bytes; `out` is writable; `error` is null
 /// or points to `error_len` writable chars.
 #[no_mangle]
 pub unsafe extern "C" fn hf_certify_master(
@@ -493,6 +498,19 @@ pub unsafe extern "C" fn hf_certify_master(
             }
         }
         run.scenarios = scenarios;
+        if !o.not_used.is_null() {
+            // SAFETY: `not_used_len` readable bytes by the caller's promise.
+            let bytes = unsafe { core::slice::from_raw_parts(o.not_used, o.not_used_len) };
+            for &b in bytes {
+                let id = CommandId::decode(b);
+                if id.spec().is_none() {
+                    // SAFETY: the caller's promise.
+                    unsafe { tell(error, error_len, format!("not_used: {b:02X}h is not a HIPERFACE command")) };
+                    return HfStatus::Invalid;
+                }
+                run.not_used.push(id);
+            }
+        }
         if o.polling_period_ms > 0 {
             run.polling_period_ms = o.polling_period_ms;
         }

@@ -73,6 +73,7 @@ def certify_master_in_process(
     scenarios: Optional[str] = None,
     polling_period_ms: int = 1000,
     name: Optional[str] = None,
+    not_used: Optional[List[Union[int, str]]] = None,
 ) -> Tuple[str, str, str, str]: ...
 
 class Request:

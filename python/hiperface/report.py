@@ -138,6 +138,7 @@ def certify_master(
     scenarios: Optional[str] = None,
     polling_period_ms: int = 1000,
     name: Optional[str] = None,
+    not_used: Optional[List[Union[int, str]]] = None,
 ) -> Report:
     """Certify a master (a drive's HIPERFACE side) written in Python with the scenario
     catalogue, in virtual time, in-process: the same scenarios, encoder, verdicts and
@@ -153,12 +154,14 @@ def certify_master(
     ``bps`` (9600 unless given: the encoder's delivery rate, 000:T7). ``profile``: the
     encoder's, a built-in name or a profile's TOML file; ``scenarios``: only those whose
     id matches this glob; ``polling_period_ms``: the application's polling period
-    (000:3.2.2; 1000 ms unless given, as the command). An exception the master raises ends its actions and is raised when the
+    (000:3.2.2; 1000 ms unless given, as the command); ``not_used``: the commands the
+    master declares it never sends (``[0x4A]`` or ``["4Ah"]``), whose scenarios are then
+    NOT-APPLICABLE, "declared not used", as ``--not-used`` does. An exception the master raises ends its actions and is raised when the
     run is over. The report's ``kind`` is "master"; ``write(dir)`` writes its files."""
     from ._hiperface import certify_master_in_process
 
     texts = certify_master_in_process(
-        master, profile, scenarios=scenarios, polling_period_ms=polling_period_ms, name=name
+        master, profile, scenarios=scenarios, polling_period_ms=polling_period_ms, name=name, not_used=not_used
     )
     names = ("report.json", "junit.xml", "certificate.md", "certificate.html")
     files = dict(zip(names, texts))

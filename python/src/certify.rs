@@ -6,7 +6,7 @@
 use crate::{profile_error, Frame, HiperfaceError};
 use hiperface_model::datalink::{ReceivedFrame, RxChar};
 use hiperface_model::master::obligations::POLLING_PERIOD_MS;
-use hiperface_model::{Frame as WireFrame, UartFault, UartSettings};
+use hiperface_model::{CommandId, Frame as WireFrame, UartFault, UartSettings};
 use hiperface_suite::line::frame_encoder::Answer;
 use hiperface_suite::master::in_process::{self, MasterAction, MasterUnderTest, Transmit};
 use hiperface_suite::master::report::MasterCertificate;
@@ -231,17 +231,38 @@ impl MasterUnderTest for PyMaster {
     }
 }
 
+/// A command a master declares it never sends: its byte (0x4A) or its text ("4Ah").
+fn command(given: &Bound<'_, PyAny>) -> PyResult<CommandId> {
+    let byte = match given.extract::<u8>() {
+        Ok(b) => b,
+        Err(_) => {
+            let text: String = given.extract()?;
+            let t = text.trim();
+            let hex = t.strip_prefix("0x").unwrap_or(t);
+            let hex = hex.strip_suffix(['h', 'H']).unwrap_or(hex);
+            u8::from_str_radix(hex, 16).map_err(|_| {
+                PyValueError::new_err(format!("not_used: `{text}` is not a command byte (e.g. \"4Ah\")"))
+            })?
+        }
+    };
+    let id = CommandId::decode(byte);
+    id.spec()
+        .map(|_| id)
+        .ok_or_else(|| PyValueError::new_err(format!("not_used: {byte:02X}h is not a HIPERFACE command")))
+}
+
 /// Certify `master` with the scenario catalogue in virtual time, for an encoder of
 /// `profile` (a built-in name or a profile's TOML file); the report as JSON, JUnit,
 /// Markdown and HTML text.
 #[pyfunction]
-#[pyo3(signature = (master, profile="SRS50", *, scenarios=None, polling_period_ms=POLLING_PERIOD_MS, name=None))]
+#[pyo3(signature = (master, profile="SRS50", *, scenarios=None, polling_period_ms=POLLING_PERIOD_MS, name=None, not_used=None))]
 pub fn certify_master_in_process(
     master: Bound<'_, PyAny>,
     profile: &str,
     scenarios: Option<String>,
     polling_period_ms: u32,
     name: Option<String>,
+    not_used: Option<Vec<Bound<'_, PyAny>>>,
 ) -> PyResult<(String, String, String, String)> {
     let profile = profile_file::resolve(profile).map_err(profile_error)?;
     let step = match master.getattr("step") {
@@ -262,8 +283,9 @@ pub fn certify_master_in_process(
         Some(n) => n,
         None => master.get_type().name().map(|n| n.to_string()).unwrap_or_else(|_| "master".into()),
     };
+    let not_used = not_used.unwrap_or_default().iter().map(command).collect::<PyResult<Vec<_>>>()?;
     let mut under_test = PyMaster { object: master.unbind(), step, failed: None };
-    let options = in_process::Options { scenarios, polling_period_ms };
+    let options = in_process::Options { scenarios, polling_period_ms, not_used };
     let report = in_process::run(&mut under_test, &name, profile, &options);
     if let Some(e) = under_test.failed.take() {
         return Err(e);

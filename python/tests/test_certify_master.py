@@ -133,3 +133,34 @@ def test_a_master_given_as_a_callable_with_bytes_like_data_is_graded():
     case = report.case("startup.default")
     assert case.verdict == "NON-STRICT", case.findings
     assert any(f.clause == "000:3.3.1/status" for f in case.findings)
+
+
+def test_a_master_that_declares_it_never_reads_data_fields_is_passed_on_that_declaration(tmp_path, hiperface_bin):
+    # HX-M with ignores-extended-type-label never sends 4Ah Read Data: declared, the
+    # scenarios about data fields are NOT-APPLICABLE, and the run is PASSED.
+    report = certify(HxMaster("ignores-extended-type-label"), not_used=["4Ah"])
+    assert report.outcome == "PASSED", [(c.id, c.verdict) for c in report.cases if c.verdict != "PASS"]
+    for id in ("startup.extended-type-label", "fault.data-field"):
+        case = report.case(id)
+        assert case.verdict == "NOT-APPLICABLE", case.findings
+        assert "declared not used" in case.findings[0].message
+    assert report.raw["not_used"] == ["4Ah Read Data"]
+    assert "| declared not used | 4Ah Read Data" in report.files["certificate.md"]
+    # decode takes the declaration in with the record.
+    written = report.write(tmp_path)
+    run = subprocess.run([str(hiperface_bin), "decode", str(written / "report.json"), "--quiet"], capture_output=True, text=True)
+    assert run.returncode == 0 and "every verdict as the report states it" in run.stdout, run.stdout + run.stderr
+    # Undeclared, the same master is INCOMPLETE: what the run never saw is no pass.
+    assert certify(HxMaster("ignores-extended-type-label")).outcome == "INCOMPLETE"
+
+
+def test_a_declaration_the_master_contradicts_is_unknown_where_it_does():
+    # HX-M reads the position all the time; declared never to send 42h, it is caught.
+    report = certify(HxMaster(), scenarios="startup.default,reply.silent", not_used=[0x42])
+    assert report.case("reply.silent").verdict == "NOT-APPLICABLE"
+    case = report.case("startup.default")
+    assert case.verdict == "UNKNOWN", case.findings
+    assert any("declared it never sends it" in f.message for f in case.findings)
+    assert report.outcome == "INCOMPLETE"
+    with pytest.raises(ValueError, match="not a HIPERFACE command"):
+        hiperface.certify_master(HxMaster(), not_used=[0x99])

@@ -52,7 +52,31 @@ pub fn open_port(path: &str, settings: UartSettings) -> Result<Box<dyn SerialPor
     Ok(Box::new(open_native(path, settings)?))
 }
 
+/// Why `path` cannot be a serial line, in words, where it exists and is no character
+/// device (a regular file, a directory): said before the kernel's ENOTTY ("Not a
+/// typewriter") would be.
+pub fn not_a_port(path: &str) -> Option<String> {
+    use std::os::unix::fs::FileTypeExt as _;
+    let kind = std::fs::metadata(path).ok()?.file_type();
+    let what = if kind.is_dir() {
+        "a directory"
+    } else if kind.is_file() {
+        "a regular file"
+    } else if kind.is_char_device() {
+        return None;
+    } else {
+        "neither a serial port nor a pseudo-terminal"
+    };
+    Some(format!(
+        "it is {what}; give a serial port (/dev/ttyUSB0), a pseudo-terminal (/dev/pts/N), tcp://host:port, \
+         rfc2217://host:port or sim"
+    ))
+}
+
 fn open_native(path: &str, settings: UartSettings) -> Result<serialport::TTYPort, LineError> {
+    if let Some(reason) = not_a_port(path) {
+        return Err(LineError::Open { port: path.to_string(), reason });
+    }
     serialport::new(path, settings.baud.bits_per_second())
         .data_bits(DataBits::Eight)
         .stop_bits(StopBits::One)

@@ -175,7 +175,7 @@ impl Drop for LiveView {
 fn print_summary(r: &ListeningReport) {
     let s = &r.summary;
     let counts: Vec<String> = s.verdicts.iter().map(|(k, v)| format!("{v} {k}")).collect();
-    println!(
+    say!(
         "{}: {} characters ({} with a line error), {} exchanges ({}), {} frames not attributed, {} breaks",
         r.capture,
         s.characters,
@@ -186,15 +186,15 @@ fn print_summary(r: &ListeningReport) {
         s.breaks
     );
     for m in &s.master {
-        println!("master: {} {} ({} times)", m.first.verdict().label(), m.first, m.count);
+        say!("master: {} {} ({} times)", m.first.verdict().label(), m.first, m.count);
     }
     for a in &r.assumptions {
-        println!("assumed: {a}");
+        say!("assumed: {a}");
     }
-    println!("worst verdict heard: {}", r.verdict.label());
+    say!("worst verdict heard: {}", r.verdict.label());
     match &r.incomplete {
-        Some(why) => println!("{}: {why}", r.outcome.label()),
-        None => println!("{}", r.outcome.label()),
+        Some(why) => say!("{}: {why}", r.outcome.label()),
+        None => say!("{}", r.outcome.label()),
     }
 }
 

@@ -117,6 +117,9 @@ fn open_tty(path: &str, settings: UartSettings) -> Result<Tap, String> {
     use nix::sys::termios::{self, ControlFlags as C, InputFlags as I, SetArg, SpecialCharacterIndices as V};
     use std::os::unix::fs::OpenOptionsExt;
     let fail = |what: &str, e: &dyn std::fmt::Display| format!("{path}: {what}: {e}");
+    if let Some(why) = crate::line::serial::not_a_port(path) {
+        return Err(format!("{path}: {why}"));
+    }
     // Read-only, and not as the controlling terminal.
     let file = std::fs::OpenOptions::new()
         .read(true)

@@ -1,7 +1,7 @@
 //! The command line of master certification and of the reference master:
 //! `hiperface certify master` and `hiperface master`.
 
-use super::{reference, Attach, Options, PowerOn};
+use super::{reference, Attach, Options, PowerOn, Progress};
 use crate::command::{CommandError, Ended};
 use crate::exchange::BusMaster;
 use crate::line::echo::EchoMode;
@@ -33,9 +33,15 @@ pub struct CertifyMasterArgs {
     /// The encoder's profile: a built-in name or a TOML file.
     #[arg(long, default_value = "SRS50")]
     pub profile: String,
-    /// Run only scenarios whose id matches (glob with `*` and `?`, comma-separated).
+    /// Run only scenarios whose id matches (glob with `*` and `?`, comma-separated; an
+    /// alternative starting with `!` leaves out what it matches: `'!fault.*'`).
     #[arg(long)]
     pub scenarios: Option<String>,
+    /// Commands the master never sends, comma-separated (`4Ah,67h`): the scenarios
+    /// about them are NOT-APPLICABLE, "declared not used", and the certificate lists
+    /// the declaration. A master seen sending one is UNKNOWN where it did.
+    #[arg(long, value_delimiter = ',', value_parser = crate::args::parse_command)]
+    pub not_used: Vec<hiperface_model::CommandId>,
     /// Write report.json, junit.xml, certificate.md and certificate.html here.
     #[arg(long)]
     pub report: Option<PathBuf>,
@@ -81,8 +87,13 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<Ended, CommandError> {
         (None, None) => return Err(CommandError::Usage("give the master with --exec or --port".into())),
     };
     let interrupt = Some(crate::interrupt::flag("\ninterrupted: stopping the master, then the partial report"));
-    let options =
-        Options { attach, scenarios: args.scenarios.clone(), polling_period_ms: args.polling_period_ms, interrupt };
+    let options = Options {
+        attach,
+        scenarios: args.scenarios.clone(),
+        polling_period_ms: args.polling_period_ms,
+        not_used: args.not_used.clone(),
+        interrupt,
+    };
     if let Some(globs) = &args.scenarios {
         if super::scenarios::chosen(Some(globs)).is_empty() {
             return Err(CommandError::NoScenarioMatches(globs.clone()));
@@ -92,23 +103,56 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<Ended, CommandError> {
         crate::report::prepare_dir(dir)?;
     }
     eprintln!("certifying {} against an encoder of profile {}", options.attach, profile.name);
-    let report = super::run(profile, &options, |i, n, r| {
-        let again =
-            if r.attempts > 1 { format!(" ({} runs: the harness was disturbed)", r.attempts) } else { String::new() };
-        eprintln!("[{i:>2}/{n}] {:<16} {}{again}", r.verdict.label(), r.id);
-        for f in r.findings.iter().filter(|f| f.verdict() != CaseVerdict::Pass) {
-            eprintln!("          {} {f}", f.verdict().label());
+    // On a terminal a bar with the scenario under way and its re-runs as they happen (a
+    // scenario takes seconds of real time, a whole run a minute or two); in logs the
+    // same lines as before, nothing more.
+    let bar = std::io::IsTerminal::is_terminal(&std::io::stderr()).then(|| {
+        let b = indicatif::ProgressBar::new(super::scenarios::chosen(args.scenarios.as_deref()).len() as u64);
+        if let Ok(style) = indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} ({elapsed})") {
+            b.set_style(style);
+        }
+        b.enable_steady_tick(std::time::Duration::from_millis(200));
+        b
+    });
+    let report = super::run(profile, &options, |p| match p {
+        Progress::Starting { id, attempt, .. } => {
+            if let Some(b) = &bar {
+                let again =
+                    if attempt > 1 { format!(", run {attempt}: the harness was disturbed") } else { String::new() };
+                b.set_message(format!("running {id}{again}"));
+            }
+        }
+        Progress::Done { index, total, result: r } => {
+            let again = if r.attempts > 1 {
+                format!(" ({} runs: the harness was disturbed)", r.attempts)
+            } else {
+                String::new()
+            };
+            let mut text = format!("[{index:>2}/{total}] {:<16} {}{again}", r.verdict.label(), r.id);
+            for f in r.findings.iter().filter(|f| f.verdict() != CaseVerdict::Pass) {
+                text.push_str(&format!("\n          {} {f}", f.verdict().label()));
+            }
+            match &bar {
+                Some(b) => {
+                    b.set_position(index as u64);
+                    b.println(text);
+                }
+                None => eprintln!("{text}"),
+            }
         }
     });
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
     let summary: Vec<String> = report.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
-    println!("{}: {}", report.master, summary.join(", "));
+    say!("{}: {}", report.master, summary.join(", "));
     for n in &report.notes {
-        println!("note: {n}");
+        say!("note: {n}");
     }
     for n in &report.notes_per_scenario {
-        println!("re-run: {n}");
+        say!("re-run: {n}");
     }
-    println!(
+    say!(
         "wall time {:.0} ms for {:.0} ms of scenarios: ratio {:.2}, repeated runs ({:.0} ms) included",
         report.wall_time_ms,
         report.needed_ms,
@@ -120,7 +164,7 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<Ended, CommandError> {
         crate::report::write_all(&certificate, dir)?;
         eprintln!("reports written to {}", dir.display());
     }
-    println!("{}", report.outcome().label());
+    say!("{}", report.outcome().label());
     Ok(Ended::Graded(report.outcome()))
 }
 
@@ -139,7 +183,7 @@ pub fn reference_master(args: &MasterArgs) -> Result<Ended, CommandError> {
     if !crate::sched::real_time_priority() {
         eprintln!("note: no real-time priority (not permitted here): on a busy machine requests may be late");
     }
-    let mut console = |line: &str| println!("{line}");
+    let mut console = |line: &str| say!("{line}");
     match reference::run(&mut master, profile, options, &mut console) {
         Ok(()) => Ok(Ended::Done),
         Err(e) => Err(CommandError::Line(format!("the line failed: {e}"))),

@@ -88,14 +88,27 @@ pub struct Options {
     pub scenarios: Option<String>,
     /// The application's polling period (000:3.2.2 "a sufficient cyclic request").
     pub polling_period_ms: u32,
+    /// The commands the master declares it never sends (`--not-used`): the scenarios
+    /// about them are NOT-APPLICABLE.
+    pub not_used: Vec<hiperface_model::CommandId>,
     /// Set by Ctrl-C or SIGTERM: the scenario under way ends (its master stopped with
     /// everything it started), no other starts, and the report says so.
     pub interrupt: Option<Arc<AtomicBool>>,
 }
 
+/// How far a master's run is, as it goes: for a progress bar and the console's lines.
+#[derive(Debug)]
+pub enum Progress<'a> {
+    /// Scenario `index` (1-based) of `total` starts, its `attempt`th run (2 and more: it
+    /// is run again because the harness's timing was disturbed).
+    Starting { index: usize, total: usize, id: &'static str, attempt: u32 },
+    /// Scenario `index` of `total` has its result.
+    Done { index: usize, total: usize, result: &'a CaseResult },
+}
+
 /// Run the catalogue against the master `options.attach`, for an encoder of `profile`;
 /// with `--power-on prompt` the operator at the console switches the drive.
-pub fn run(profile: Profile, options: &Options, progress: impl FnMut(usize, usize, &CaseResult)) -> DriveReport {
+pub fn run(profile: Profile, options: &Options, progress: impl FnMut(Progress)) -> DriveReport {
     run_with(profile, options, &mut ConsoleOperator, progress)
 }
 
@@ -104,7 +117,7 @@ pub fn run_with(
     profile: Profile,
     options: &Options,
     operator: &mut dyn Operator,
-    mut progress: impl FnMut(usize, usize, &CaseResult),
+    mut progress: impl FnMut(Progress),
 ) -> DriveReport {
     let started = Instant::now();
     let chosen = scenarios::chosen(options.scenarios.as_deref());
@@ -126,11 +139,13 @@ pub fn run_with(
         echo: None,
         uart_faults: None,
         delivery: None,
+        not_used: options.not_used.iter().map(|c| c.to_string()).collect(),
         record: Some(record::MasterRecord {
             format: record::FORMAT.into(),
             tool: format!("hiperface {}", env!("CARGO_PKG_VERSION")),
             profile: crate::profile_file::to_toml(&profile),
             polling_period_ms: options.polling_period_ms,
+            not_used: options.not_used.iter().map(|c| c.byte()).collect(),
             runs: Vec::new(),
             interrupted: false,
         }),
@@ -151,6 +166,7 @@ pub fn run_with(
         "A sufficient cyclic request (000:3.2.2) was taken as one at least every {} ms.",
         options.polling_period_ms
     ));
+    report.notes.extend(hiperface_suite::master::declaration_note(&options.not_used));
     match options.attach {
         Attach::Port { power_on: PowerOn::Prompt, .. } => report.notes.push(
             "The encoder powered on when the operator was told to switch the drive on; the drive powered on then \
@@ -189,7 +205,16 @@ pub fn run_with(
     };
     for (i, scenario) in chosen.iter().enumerate() {
         let profile = scenario.encoder.map_or(profile, |make| make(profile));
-        let result = if interrupted() {
+        let declared_out = hiperface_suite::master::declared_out(scenario, &options.not_used);
+        let result = if let Some(finding) = declared_out {
+            // Left out by the master's declaration: nothing of it runs.
+            let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
+            result.push(finding);
+            if let Some(r) = report.record.as_mut() {
+                r.runs.push(ScenarioRun::early(result.clone()).record);
+            }
+            result
+        } else if interrupted() {
             // Not run: nothing about the master is known from it.
             let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
             result.push(Finding::not_exercised("not run: the run was interrupted"));
@@ -202,15 +227,32 @@ pub fn run_with(
             let mut attempt = 0;
             let run = loop {
                 attempt += 1;
+                progress(Progress::Starting { index: i + 1, total: n, id: scenario.id, attempt });
                 let run = match (&options.attach, &port) {
                     (Attach::Exec(exec), _) => {
-                        run_scenario(profile, scenario, exec, options.polling_period_ms, delivery.clone(), &interrupted)
+                        let not_used = &options.not_used;
+                        run_scenario(
+                            profile,
+                            scenario,
+                            exec,
+                            options.polling_period_ms,
+                            not_used,
+                            delivery.clone(),
+                            &interrupted,
+                        )
                     }
                     (Attach::Port { power_on, echo: mode, path }, Some(Ok(port))) => {
                         let echo =
                             reply_echo.get_or_insert_with(|| ReplyEcho::new(*mode, Echo::Unknown, echo_slack_us(path)));
                         let drive = Drive { port: port.as_ref(), power_on: *power_on, operator: &mut *operator, echo };
-                        let run = on_port(profile, scenario, drive, options.polling_period_ms, &interrupted);
+                        let run = on_port(
+                            profile,
+                            scenario,
+                            drive,
+                            options.polling_period_ms,
+                            &options.not_used,
+                            &interrupted,
+                        );
                         *report.uart_faults.get_or_insert(0) += run.uart_faults;
                         run
                     }
@@ -241,7 +283,7 @@ pub fn run_with(
             report.output.insert(scenario.id.to_string(), output);
             result
         };
-        progress(i + 1, n, &result);
+        progress(Progress::Done { index: i + 1, total: n, result: &result });
         *report.summary.entry(result.verdict.label().to_string()).or_default() += 1;
         report.scenarios.push(result);
     }

@@ -11,7 +11,7 @@ use crate::line::reply_echo::ReplyEcho;
 use crate::process::MasterProcess;
 use crate::simulate::serve_with;
 use crate::verdict::{CaseResult, Finding};
-use hiperface_model::{Profile, Slave};
+use hiperface_model::{CommandId, Profile, Slave};
 use serialport::SerialPort;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
@@ -46,17 +46,7 @@ pub(super) struct ScenarioRun {
 impl ScenarioRun {
     /// A run that ended before the encoder served (it could not start).
     pub(super) fn early(result: CaseResult) -> ScenarioRun {
-        let record = ScenarioRecord {
-            id: result.id.to_string(),
-            attempt: 1,
-            early: true,
-            start: Start::PowerOnAtStart,
-            facts: result.findings.iter().map(Fact::of).collect(),
-            inputs: Vec::new(),
-            end_us: 0,
-            cut_short: false,
-            line_faults: Vec::new(),
-        };
+        let record = ScenarioRecord::early_of(&result);
         ScenarioRun {
             result,
             output: String::new(),
@@ -130,6 +120,7 @@ pub(super) fn on_port(
     scenario: &Scenario,
     drive: Drive,
     polling_period_ms: u32,
+    not_used: &[CommandId],
     interrupted: &dyn Fn() -> bool,
 ) -> ScenarioRun {
     let Drive { port, power_on, operator, echo } = drive;
@@ -173,7 +164,9 @@ pub(super) fn on_port(
         let timeout = Duration::from_micros(profile.settings.timeout_us(profile.edition));
         wait_for_quiet(port.as_mut(), &mut on_port.echo, timeout, Duration::from_secs(1));
     }
-    let mut hooks = DriveEncoder::new(profile, scenario, power_on == PowerOn::Prompt, None).on_port(on_port);
+    let mut hooks = DriveEncoder::new(profile, scenario, power_on == PowerOn::Prompt, None)
+        .on_port(on_port)
+        .declared_not_used(not_used);
     hooks.set_polling_period_ms(polling_period_ms);
     let arisen = hooks.arisen();
     let epoch = Instant::now();
@@ -221,6 +214,7 @@ pub(super) fn run_scenario(
     scenario: &Scenario,
     exec: &str,
     polling_period_ms: u32,
+    not_used: &[CommandId],
     delivery: Option<std::sync::Arc<crate::line::delivery::DeliveryProbe>>,
     interrupted: &dyn Fn() -> bool,
 ) -> ScenarioRun {
@@ -239,7 +233,7 @@ pub(super) fn run_scenario(
     // The master's settings are the pseudo-terminal's: the harness reads them through
     // its own end (on Linux both ends share them).
     let peer = encoder_end.try_clone().ok().map(|p| Box::new(PtySettings(p)) as Box<dyn MasterSettings>);
-    let mut hooks = DriveEncoder::new(profile, scenario, true, peer);
+    let mut hooks = DriveEncoder::new(profile, scenario, true, peer).declared_not_used(not_used);
     hooks.set_polling_period_ms(polling_period_ms);
     let arisen = hooks.arisen();
     // Power-on is the master's start.

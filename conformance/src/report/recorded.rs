@@ -102,21 +102,19 @@ pub fn decode_master(recorded: MasterRecorded, quiet: bool) -> Result<Ended, Com
         for f in r.findings.iter().filter(|f| matches!(f.verdict(), CaseVerdict::Fail | CaseVerdict::Error)) {
             text.push_str(&format!("\n          {f}"));
         }
-        println!("{text}");
+        say!("{text}");
     }
     let differing = master_record::compare(&stated, &again);
     if differing.is_empty() && stated.len() == again.len() {
-        println!(
-            "the run's verdicts: {n} scenarios graded again from the record, every verdict as the report states it"
-        );
+        say!("the run's verdicts: {n} scenarios graded again from the record, every verdict as the report states it");
     } else {
-        println!("taken in again, the record gives other verdicts than the report states:");
+        say!("taken in again, the record gives other verdicts than the report states:");
         for (id, was, now) in &differing {
-            println!("  {id}: {was} in the report, {now} taken in again");
+            say!("  {id}: {was} in the report, {now} taken in again");
         }
     }
     for note in &notes {
-        println!("note: {note}");
+        say!("note: {note}");
     }
     let outcome = crate::verdict::Outcome::of(again.iter().map(|r| r.verdict), !record.interrupted);
     let mut summary = std::collections::BTreeMap::new();
@@ -124,8 +122,8 @@ pub fn decode_master(recorded: MasterRecorded, quiet: bool) -> Result<Ended, Com
         *summary.entry(r.verdict.label()).or_insert(0) += 1;
     }
     let summary: Vec<String> = summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
-    println!("master (encoder {}): {}", profile.name, summary.join(", "));
-    println!("{}", outcome.label());
+    say!("master (encoder {}): {}", profile.name, summary.join(", "));
+    say!("{}", outcome.label());
     Ok(Ended::Graded(outcome))
 }
 
@@ -169,7 +167,7 @@ pub fn decode(recorded: Recorded, report_dir: Option<&Path>, quiet: bool) -> Res
         for f in r.findings.iter().filter(|f| matches!(f.verdict(), CaseVerdict::Fail | CaseVerdict::Error)) {
             text.push_str(&format!("\n          {f}"));
         }
-        println!("{text}");
+        say!("{text}");
     })
     .map_err(|e| CommandError::Input { name: name.clone(), why: e.to_string() })?;
     let again: Vec<(String, String)> =
@@ -182,25 +180,25 @@ pub fn decode(recorded: Recorded, report_dir: Option<&Path>, quiet: bool) -> Res
         .collect();
     let exchanges: usize = report.cases.iter().map(|c| c.exchanges).sum();
     if differing.is_empty() && stated.len() == again.len() {
-        println!(
+        say!(
             "the run's verdicts: {} cases and {exchanges} exchanges graded again from the record, every verdict as the report states it",
             again.len()
         );
     } else {
-        println!("played back, the record gives other verdicts than the report states:");
+        say!("played back, the record gives other verdicts than the report states:");
         for d in &differing {
-            println!("  {d}");
+            say!("  {d}");
         }
         if stated.len() != again.len() {
-            println!("  {} cases in the report, {} played back", stated.len(), again.len());
+            say!("  {} cases in the report, {} played back", stated.len(), again.len());
         }
     }
     if let Some(why) = &report.aborted {
-        println!("the playback stopped: {why}");
+        say!("the playback stopped: {why}");
     }
     let summary: Vec<String> = report.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
-    println!("{}: {}", report.profile, summary.join(", "));
-    println!("{}", report.outcome().label());
+    say!("{}: {}", report.profile, summary.join(", "));
+    say!("{}", report.outcome().label());
     if let Some(dir) = report_dir {
         crate::report::write_all(&report, dir)?;
         eprintln!("reports written to {}", dir.display());

@@ -35,7 +35,8 @@ pub struct CertifySlaveArgs {
     /// Cap on EEPROM writes in the run.
     #[arg(long, default_value_t = 200)]
     pub write_budget: u32,
-    /// Run only cases whose id matches (glob with `*` and `?`, comma-separated).
+    /// Run only cases whose id matches (glob with `*` and `?`, comma-separated; an
+    /// alternative starting with `!` leaves out what it matches: `'!fields.*'`).
     #[arg(long)]
     pub cases: Option<String>,
     /// Write report.json, junit.xml, certificate.md and certificate.html here.
@@ -218,14 +219,16 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
 
 fn summarize(report: &super::Report, profile: &Profile) {
     let summary: Vec<String> = report.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
-    println!("{}: {}", profile.name, summary.join(", "));
+    say!("{}: {}", profile.name, summary.join(", "));
     if report.line_kind == Some(LineKind::Virtual) {
-        println!(
+        say!(
             "virtual time: {:.0} ms of line time run in {:.1} ms; EEPROM writes {}",
-            report.line_time_ms, report.wall_time_ms, report.safety.eeprom_writes
+            report.line_time_ms,
+            report.wall_time_ms,
+            report.safety.eeprom_writes
         );
     } else if report.line_time_ms > 0.0 {
-        println!(
+        say!(
             "wall time {:.0} ms; the same exchanges on a real line {:.0} ms (ratio {:.2}); EEPROM writes {}",
             report.wall_time_ms,
             report.line_time_ms,
@@ -233,25 +236,25 @@ fn summarize(report: &super::Report, profile: &Profile) {
             report.safety.eeprom_writes
         );
     } else {
-        println!("wall time {:.0} ms; nothing was exchanged", report.wall_time_ms);
+        say!("wall time {:.0} ms; nothing was exchanged", report.wall_time_ms);
     }
     for c in report.rerun_cases() {
-        println!("re-run: {c}: the harness's own lateness left a verdict untold");
+        say!("re-run: {c}: the harness's own lateness left a verdict untold");
     }
     if let Some(a) = &report.aborted {
-        println!("ABORTED: {a}");
+        say!("ABORTED: {a}");
     }
     if report.safety.differs() {
-        println!("CHECK THE DEVICE: the run may have left it changed (not a verdict on the device):");
+        say!("CHECK THE DEVICE: the run may have left it changed (not a verdict on the device):");
         for c in report.safety.changed.iter().chain(&report.safety.bookkeeping) {
-            println!("  {c}");
+            say!("  {c}");
         }
     }
     if !report.safety.unverified.is_empty() {
-        println!("NOT VERIFIED: read before the run, not read back after it (not a verdict on the device):");
+        say!("NOT VERIFIED: read before the run, not read back after it (not a verdict on the device):");
         for c in &report.safety.unverified {
-            println!("  {c}");
+            say!("  {c}");
         }
     }
-    println!("{}", report.outcome().label());
+    say!("{}", report.outcome().label());
 }

@@ -317,9 +317,9 @@ class Master:
 
 def main():
     args = sys.argv[1:]
-    if not args:
+    if not args or args[0] in ("-h", "--help"):
         print(__doc__)
-        return 2
+        return 0 if args else 2
     port = args[0]
     defect = None
     poll_s = 0.020

@@ -78,7 +78,7 @@ pub struct HeardExchange {
 impl fmt::Display for HeardExchange {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let reply = self.reply.as_deref().map_or("(silence)".to_string(), |b| Hex(b).to_string());
-        let rt = self.response_ms.map_or(String::new(), |t| format!(" +{t:.3} ms"));
+        let rt = self.response_ms.map_or(String::new(), |t| format!(" {t:+.3} ms"));
         write!(
             f,
             "{:>12.3} ms  {:<10} {}  M> {}  S< {reply}{rt}",

@@ -192,6 +192,8 @@ pub struct DriveEncoder {
     log: Vec<super::inputs::Input>,
     /// Taken in again from a record: the master's data rates as they were read.
     replayed_rates: Option<std::collections::VecDeque<Option<u32>>>,
+    /// The commands the master declared it never sends (`--not-used`).
+    not_used: Vec<CommandId>,
 }
 
 /// Where the master's own settings can be read while it runs: the master's end of a
@@ -243,7 +245,19 @@ impl DriveEncoder {
             port: None,
             log: Vec::new(),
             replayed_rates: None,
+            not_used: Vec::new(),
         }
+    }
+
+    /// The master declared it never sends these commands: graded where it does.
+    pub fn declared_not_used(mut self, not_used: &[CommandId]) -> DriveEncoder {
+        self.not_used = not_used.to_vec();
+        self
+    }
+
+    /// The commands the master declared it never sends.
+    pub fn not_used(&self) -> &[CommandId] {
+        &self.not_used
     }
 
     /// Taking a record in again: the master's data rate is read from `rates`, in

@@ -88,6 +88,16 @@ fn grade(
     if timeline.characters >= encoder::MAX_CHARACTERS {
         result.push(Finding::error(format!("the master flooded the line ({} characters)", timeline.characters)));
     }
+    // A declaration the master's own requests contradict: the scenarios it left out were
+    // not graded on a truth, which the run cannot call a PASS (nor a FAIL of 000).
+    for c in hooks.not_used() {
+        if let Some(n) = timeline.requests.get(&c.byte()) {
+            result.push(Finding::unknown(format!(
+                "the master sent {c} {n} times, though it declared it never sends it (--not-used): the scenarios \
+                 left out on that declaration were not graded"
+            )));
+        }
+    }
     let before_reaction = result.findings.len();
     if !cut_short {
         exercised(result, timeline, scenario, edition);

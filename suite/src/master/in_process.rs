@@ -17,7 +17,7 @@ use crate::serve::{planned_reply, Hooks, READ_US};
 use crate::verdict::{CaseResult, Finding};
 use hiperface_model::datalink::RxChar;
 use hiperface_model::master::obligations::POLLING_PERIOD_MS;
-use hiperface_model::{Profile, Slave};
+use hiperface_model::{CommandId, Profile, Slave};
 use std::collections::VecDeque;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Arc;
@@ -64,11 +64,14 @@ pub struct Options {
     pub scenarios: Option<String>,
     /// The application's polling period (000:3.2.2 "a sufficient cyclic request").
     pub polling_period_ms: u32,
+    /// The commands the master declares it never sends: the scenarios about them are
+    /// NOT-APPLICABLE (`super::declared_out`).
+    pub not_used: Vec<CommandId>,
 }
 
 impl Default for Options {
     fn default() -> Options {
-        Options { scenarios: None, polling_period_ms: POLLING_PERIOD_MS }
+        Options { scenarios: None, polling_period_ms: POLLING_PERIOD_MS, not_used: Vec::new() }
     }
 }
 
@@ -129,18 +132,29 @@ pub fn run(master: &mut dyn MasterUnderTest, name: &str, profile: Profile, optio
         echo: None,
         uart_faults: None,
         delivery: None,
+        not_used: options.not_used.iter().map(|c| c.to_string()).collect(),
         record: Some(MasterRecord {
             format: FORMAT.into(),
             tool,
             profile: crate::profile_file::to_toml(&profile),
             polling_period_ms: options.polling_period_ms,
+            not_used: options.not_used.iter().map(|c| c.byte()).collect(),
             runs: Vec::new(),
             interrupted: false,
         }),
     };
+    report.notes.extend(super::declaration_note(&options.not_used));
     for scenario in &chosen {
         let encoder = scenario.encoder.map_or(profile, |make| make(profile));
-        let (result, record, length_us) = run_scenario(master, encoder, scenario, options.polling_period_ms);
+        let (result, record, length_us) = match super::declared_out(scenario, &options.not_used) {
+            Some(finding) => {
+                let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
+                result.push(finding);
+                let record = ScenarioRecord::early_of(&result);
+                (result, record, 0)
+            }
+            None => run_scenario(master, encoder, scenario, options),
+        };
         report.needed_ms += length_us as f64 / 1000.0;
         if let Some(r) = report.record.as_mut() {
             r.runs.push(record);
@@ -156,13 +170,15 @@ fn run_scenario(
     master: &mut dyn MasterUnderTest,
     profile: Profile,
     scenario: &Scenario,
-    polling_period_ms: u32,
+    options: &Options,
 ) -> (CaseResult, ScenarioRecord, u64) {
+    let polling_period_ms = options.polling_period_ms;
     let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
     let mut slave = Slave::new(profile);
     (scenario.world)(&profile).apply_at_power_on(&mut slave);
     let rate = Rate(Arc::new(AtomicU32::new(9600)));
-    let mut hooks = DriveEncoder::new(profile, scenario, true, Some(Box::new(rate.clone())));
+    let mut hooks =
+        DriveEncoder::new(profile, scenario, true, Some(Box::new(rate.clone()))).declared_not_used(&options.not_used);
     hooks.set_polling_period_ms(polling_period_ms);
     master.power_on();
     let mut line = Line::default();

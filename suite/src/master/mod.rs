@@ -19,8 +19,34 @@ pub mod scenarios;
 pub mod timeline;
 
 use crate::line::echo::{Echo, EchoMode};
-use crate::verdict::{CaseResult, Outcome};
+use crate::verdict::{CaseResult, Finding, Outcome};
+use hiperface_model::CommandId;
 use serde::Serialize;
+
+/// The scenario's NOT-APPLICABLE finding where the master declared it never sends a
+/// command the scenario is about (`--not-used`); `None` where the scenario runs.
+pub fn declared_out(scenario: &scenario::Scenario, not_used: &[CommandId]) -> Option<Finding> {
+    let hit: Vec<String> =
+        scenario.commands().into_iter().filter(|c| not_used.contains(c)).map(|c| c.to_string()).collect();
+    (!hit.is_empty()).then(|| {
+        Finding::not_applicable(format!(
+            "declared not used: the master never sends {}, which this scenario is about",
+            hit.join(", ")
+        ))
+    })
+}
+
+/// The declaration's note for the certificate, where there is one.
+pub fn declaration_note(not_used: &[CommandId]) -> Option<String> {
+    (!not_used.is_empty()).then(|| {
+        let list: Vec<String> = not_used.iter().map(|c| c.to_string()).collect();
+        format!(
+            "The master declared that it never sends {} (--not-used): the scenarios about them are NOT-APPLICABLE, \
+             and a master seen sending one has that declaration contradicted (UNKNOWN) where it did.",
+            list.join(", ")
+        )
+    })
+}
 
 /// The result of certifying a master.
 #[derive(Debug, Clone, Serialize)]
@@ -55,6 +81,10 @@ pub struct DriveReport {
     /// A master on a pseudo-terminal: what the probe beside the line saw of the
     /// kernel's delivery.
     pub delivery: Option<crate::line::delivery::DeliveryStats>,
+    /// The commands the master declared it never sends (`--not-used`), as "4Ah Read
+    /// Data": the scenarios about them are NOT-APPLICABLE.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub not_used: Vec<String>,
     /// The record of the wire: every scenario run as the encoder took it in, which
     /// `decode` takes in again (`master::record`).
     #[serde(skip_serializing_if = "Option::is_none")]

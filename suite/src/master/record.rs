@@ -15,7 +15,7 @@ pub use super::inputs::{settings_hex, Input};
 use super::scenarios::Scenario;
 use crate::serve::{Hooks, Planned};
 use crate::verdict::{CaseResult, Finding};
-use hiperface_model::{Hex, Profile, Slave, Step, UartSettings};
+use hiperface_model::{CommandId, Hex, Profile, Slave, Step, UartSettings};
 use serde::{Deserialize, Serialize};
 use std::collections::VecDeque;
 
@@ -154,6 +154,24 @@ pub struct ScenarioRecord {
     pub line_faults: Vec<(u64, String)>,
 }
 
+impl ScenarioRecord {
+    /// The record of a run that ended before the encoder served (it could not start,
+    /// or the master's declaration left it out): its findings as they were.
+    pub fn early_of(result: &CaseResult) -> ScenarioRecord {
+        ScenarioRecord {
+            id: result.id.to_string(),
+            attempt: 1,
+            early: true,
+            start: Start::PowerOnAtStart,
+            facts: result.findings.iter().map(Fact::of).collect(),
+            inputs: Vec::new(),
+            end_us: 0,
+            cut_short: false,
+            line_faults: Vec::new(),
+        }
+    }
+}
+
 /// Why a master record cannot be taken in again.
 #[derive(Debug, thiserror::Error)]
 pub enum ReplayError {
@@ -168,12 +186,14 @@ pub enum ReplayError {
 }
 
 /// Take one scenario run in again: a fresh model and encoder, fed the recorded inputs
-/// in order. Returns the graded result and why the harness's timing may have decided
-/// something in it (a re-run), as the run itself did.
+/// in order, the master's declaration (`not_used`) as the run had it. Returns the
+/// graded result and why the harness's timing may have decided something in it (a
+/// re-run), as the run itself did.
 pub fn replay_scenario(
     profile: Profile,
     scenario: &Scenario,
     polling_period_ms: u32,
+    not_used: &[CommandId],
     r: &ScenarioRecord,
 ) -> Result<(CaseResult, Option<String>), ReplayError> {
     let departs = |why: String| ReplayError::Departs { id: r.id.clone(), why };
@@ -205,7 +225,9 @@ pub fn replay_scenario(
             _ => None,
         })
         .collect();
-    let mut hooks = DriveEncoder::new(profile, scenario, r.start != Start::Operational, None).replaying(rates);
+    let mut hooks = DriveEncoder::new(profile, scenario, r.start != Start::Operational, None)
+        .replaying(rates)
+        .declared_not_used(not_used);
     hooks.set_polling_period_ms(polling_period_ms);
     let mut pending: VecDeque<Step> = VecDeque::new();
     let mut current: Option<Step> = None;
@@ -292,6 +314,9 @@ pub struct MasterRecord {
     /// The encoder's profile, as TOML.
     pub profile: String,
     pub polling_period_ms: u32,
+    /// The commands the master declared it never sends (`--not-used`), as bytes.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub not_used: Vec<u8>,
     pub runs: Vec<ScenarioRecord>,
     /// The run was cut short by the operator (its outcome cannot be PASSED).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
@@ -308,6 +333,7 @@ pub fn replay(record: &MasterRecord) -> Result<(Profile, Vec<CaseResult>, Vec<St
     }
     let profile = crate::profile_file::parse_recorded(&record.profile, std::path::Path::new("the record's profile"))?;
     let catalogue = super::scenarios::catalogue();
+    let not_used: Vec<CommandId> = record.not_used.iter().map(|b| CommandId::decode(*b)).collect();
     let mut results: Vec<CaseResult> = Vec::new();
     let mut notes = Vec::new();
     let mut runs = record.runs.iter().peekable();
@@ -321,7 +347,7 @@ pub fn replay(record: &MasterRecord) -> Result<(Profile, Vec<CaseResult>, Vec<St
         }
         let mut last = None;
         for (i, run) in attempts.iter().enumerate() {
-            let (mut result, disturbed) = replay_scenario(encoder, scenario, record.polling_period_ms, run)?;
+            let (mut result, disturbed) = replay_scenario(encoder, scenario, record.polling_period_ms, &not_used, run)?;
             let repeated = i + 1 < attempts.len();
             if repeated && disturbed.is_none() {
                 notes.push(format!(

@@ -69,6 +69,11 @@ fn markdown(r: &DriveReport) -> String {
 /// with UART faults.
 fn port_rows(r: &DriveReport) -> Vec<(&'static str, String)> {
     let mut rows = Vec::new();
+    if !r.not_used.is_empty() {
+        let what =
+            format!("{} (the master's declaration: the scenarios about them were not run)", r.not_used.join(", "));
+        rows.push(("declared not used", what));
+    }
     if r.echo.is_some() {
         rows.push(("echo", crate::line::echo::describe(r.echo, "reply")));
     }

@@ -167,6 +167,21 @@ impl Scenario {
         self.duration_ms.max(after)
     }
 
+    /// The commands this scenario needs the master to send: those its plan acts on,
+    /// and those its situation and reaction are about. A master that declares it never
+    /// sends one of them (`--not-used`) has the scenario NOT-APPLICABLE.
+    pub fn commands(&self) -> Vec<CommandId> {
+        let mut c: Vec<CommandId> = self.plan.iter().map(|i| i.on).collect();
+        if self.situation == Situation::TypeFfSent {
+            c.push(CommandId::ReadTypeLabel);
+        }
+        if self.reaction == Reaction::ReadsExtendedTypeLabel {
+            c.push(CommandId::ReadData); // 000:T19: the Extended Type Label is data field FFh
+        }
+        c.dedup();
+        c
+    }
+
     /// The scenario is about what happens from power-on: the start-up scenarios, and
     /// a critical fault found at start-up.
     pub fn from_power_on(&self) -> bool {

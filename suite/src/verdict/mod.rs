@@ -179,7 +179,9 @@ pub const EXIT_INCOMPLETE: u8 = 3;
 pub const MAX_ATTEMPTS: u32 = 3;
 
 /// `*` and `?` glob matching, comma-separated alternatives: which units `--cases`
-/// and `--scenarios` select.
+/// and `--scenarios` select. An alternative that starts with `!` excludes what it
+/// matches: `!fault.*` is everything but the fault scenarios, `startup.*,!*.user-*` the
+/// start-up ones but those. Without any other alternative an exclusion starts from all.
 pub fn glob_match(pattern: &str, text: &str) -> bool {
     fn go(p: &[u8], t: &[u8]) -> bool {
         match (p.first(), t.first()) {
@@ -190,7 +192,18 @@ pub fn glob_match(pattern: &str, text: &str) -> bool {
             _ => false,
         }
     }
-    pattern.split(',').any(|p| go(p.trim().as_bytes(), text.as_bytes()))
+    let (mut any_positive, mut selected) = (false, false);
+    for p in pattern.split(',').map(str::trim) {
+        match p.strip_prefix('!') {
+            Some(excluded) if go(excluded.trim().as_bytes(), text.as_bytes()) => return false,
+            Some(_) => {}
+            None => {
+                any_positive = true;
+                selected |= go(p.as_bytes(), text.as_bytes());
+            }
+        }
+    }
+    selected || !any_positive
 }
 
 #[cfg(test)]
@@ -206,6 +219,13 @@ mod tests {
         assert!(!glob_match("position.*", "powerup.window"));
         assert!(!glob_match("reply.gap", "reply.gap-under-timeout"));
         assert!(glob_match("*", ""));
+        // Exclusions: alone they start from everything; with others, they take away.
+        assert!(glob_match("!fault.*", "reply.gap"));
+        assert!(!glob_match("!fault.*", "fault.data-field"));
+        assert!(glob_match("startup.*, !startup.user-settings", "startup.default"));
+        assert!(!glob_match("startup.*, !startup.user-settings", "startup.user-settings"));
+        assert!(!glob_match("startup.*, !startup.user-settings", "reply.gap"));
+        assert!(!glob_match("!*", "reply.gap"));
     }
     use super::*;
 
