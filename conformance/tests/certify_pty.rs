@@ -218,3 +218,33 @@ fn cli_certifies_the_simulator_and_writes_every_report() {
     let md = std::fs::read_to_string(dir.join("certificate.md")).unwrap();
     assert!(md.contains("# HIPERFACE slave certificate: PASSED") && md.contains("000000001"), "{md}");
 }
+
+/// A run on a port without `--allow-writes` says which cases it did not run and which
+/// flag runs them: on the console and in the JSON, Markdown and HTML (issue 40).
+#[test]
+fn a_run_without_allow_writes_says_what_it_left_out_and_the_flag_that_runs_it() {
+    let _one = common::one_at_a_time();
+    let (sim, _port) = PtySimulator::start(profiles::srs50()).unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("report");
+    let out = Command::new(env!("CARGO_BIN_EXE_hiperface"))
+        .args(["certify", "slave", "--port", &sim.path, "--tolerance-ms", "25", "--cases", "fields.*,position.read"])
+        .arg("--report")
+        .arg(&dir)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
+    let line = stdout.lines().find(|l| l.starts_with("not run (")).unwrap_or_else(|| panic!("{stdout}"));
+    assert!(line.contains("--allow-writes") && line.contains("fields.lifecycle"), "{line}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    let groups = json["not_run"].as_array().expect("not_run in the JSON");
+    assert!(groups.iter().any(|g| g["reason"].as_str().unwrap().contains("--allow-writes")), "{groups:?}");
+    let md = std::fs::read_to_string(dir.join("certificate.md")).unwrap();
+    let not_run = md.split("## Not run").nth(1).unwrap_or_else(|| panic!("{md}"));
+    assert!(not_run.contains("--allow-writes") && not_run.contains("`fields.lifecycle`"), "{md}");
+    assert!(md.find("## Not run") < md.find("## Cases"), "near the top: {md}");
+    let html = std::fs::read_to_string(dir.join("certificate.html")).unwrap();
+    assert!(html.contains("<h2>Not run</h2>") && html.contains("--allow-writes"), "{html}");
+}

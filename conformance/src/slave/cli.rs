@@ -238,6 +238,9 @@ fn summarize(report: &super::Report, profile: &Profile) {
     } else {
         say!("wall time {:.0} ms; nothing was exchanged", report.wall_time_ms);
     }
+    for n in &report.not_run {
+        say!("not run ({}): {}: {}", n.cases.len(), n.reason, n.cases.join(", "));
+    }
     for c in report.rerun_cases() {
         say!("re-run: {c}: the harness's own lateness left a verdict untold");
     }

@@ -38,6 +38,13 @@ fn markdown(r: &Report) -> String {
     if let Some(a) = &r.aborted {
         let _ = writeln!(s, "| **aborted** | {a} (partial report) |");
     }
+    if !r.not_run.is_empty() {
+        let _ = writeln!(s, "\n## Not run\n");
+        for n in &r.not_run {
+            let ids: Vec<String> = n.cases.iter().map(|c| format!("`{c}`")).collect();
+            let _ = writeln!(s, "- {} ({}): {}", n.reason, n.cases.len(), ids.join(", "));
+        }
+    }
     let _ = writeln!(s, "\n## Cases\n\n| case | verdict | clauses | title |\n|---|---|---|---|");
     for c in &r.cases {
         let _ = writeln!(s, "| `{}` | {} | {} | {} |", c.id, c.verdict.label(), c.clause_list(), c.title);
@@ -149,7 +156,19 @@ fn html(r: &Report) -> String {
     for (k, v) in rows {
         let _ = write!(s, "<tr><th>{k}</th><td>{}</td></tr>", escape(&v));
     }
-    let _ = write!(s, "</table><h2>Cases</h2><table><tr><th>case</th><th>verdict</th><th>clauses</th><th>title</th><th>findings</th></tr>");
+    s.push_str("</table>");
+    if !r.not_run.is_empty() {
+        s.push_str("<h2>Not run</h2><ul>");
+        for n in &r.not_run {
+            let _ =
+                write!(s, "<li>{} ({}): <code>{}</code></li>", escape(&n.reason), n.cases.len(), n.cases.join(", "));
+        }
+        s.push_str("</ul>");
+    }
+    let _ = write!(
+        s,
+        "<h2>Cases</h2><table><tr><th>case</th><th>verdict</th><th>clauses</th><th>title</th><th>findings</th></tr>"
+    );
     for c in &r.cases {
         let findings: String = c.findings.iter().map(|f| format!("{}<br>", escape(&f.to_string()))).collect();
         let wire = if c.verdict == CaseVerdict::Fail {

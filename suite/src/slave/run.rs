@@ -10,7 +10,7 @@ use crate::exchange::{Bus, BusMaster};
 use crate::line::frame_encoder::{FrameEncoder, FramedEncoder};
 use crate::line::virtual_line::VirtualLine;
 use crate::line::{Line, LineError, LineKind};
-use crate::verdict::MAX_ATTEMPTS;
+use crate::verdict::{CaseVerdict, MAX_ATTEMPTS};
 use hiperface_model::{CommandId, Grading, Profile, Slave};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -57,11 +57,37 @@ pub struct Report {
     pub wall_time_ms: f64,
     pub line_time_ms: f64,
     pub notes: Vec<String>,
+    /// The cases not run, grouped by why (and so by the flag that would run them:
+    /// "writes EEPROM; run with --allow-writes"), for the top of every form.
+    #[serde(skip_serializing_if = "Vec::is_empty", default)]
+    pub not_run: Vec<NotRun>,
     /// Set when the run stopped early (port gone, Ctrl-C): the report is partial.
     pub aborted: Option<String>,
     /// The record of the wire: what `decode` grades again (see `record`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub record: Option<Record>,
+}
+
+/// Cases not run for one reason (NOT-APPLICABLE): the reason says what would run them.
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct NotRun {
+    pub reason: String,
+    pub cases: Vec<String>,
+}
+
+impl NotRun {
+    /// The NOT-APPLICABLE cases of `cases`, grouped by their reason, in run order.
+    pub fn of(cases: &[CaseResult]) -> Vec<NotRun> {
+        let mut out: Vec<NotRun> = Vec::new();
+        for c in cases.iter().filter(|c| c.verdict == CaseVerdict::NotApplicable) {
+            let reason = c.findings.first().map_or("not applicable", |f| f.message()).to_string();
+            match out.iter_mut().find(|n| n.reason == reason) {
+                Some(n) => n.cases.push(c.id.to_string()),
+                None => out.push(NotRun { reason, cases: vec![c.id.to_string()] }),
+            }
+        }
+        out
+    }
 }
 
 impl Report {
@@ -88,6 +114,7 @@ impl Report {
             wall_time_ms: 0.0,
             line_time_ms: 0.0,
             notes: Vec::new(),
+            not_run: Vec::new(),
             aborted: None,
             record: None,
         }
@@ -264,6 +291,7 @@ fn run_on(
     for r in &report.cases {
         *report.summary.entry(r.verdict.label()).or_insert(0) += 1;
     }
+    report.not_run = NotRun::of(&report.cases);
     report.response_times = tally
         .response_times
         .into_iter()
