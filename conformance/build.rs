@@ -17,6 +17,21 @@ const TOOLS: [(&str, &str, &[&str]); 3] = [
 
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
+    // The revision a certificate names: the checkout's commit, where there is one.
+    let revision = Command::new("git")
+        .args(["rev-parse", "--short=12", "HEAD"])
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+        .filter(|r| !r.is_empty())
+        .unwrap_or_else(|| "unknown".into());
+    println!("cargo:rustc-env=HIPERFACE_REVISION={revision}");
+    for head in ["../.git/HEAD", "../.git/logs/HEAD"] {
+        if Path::new(head).exists() {
+            println!("cargo:rerun-if-changed={head}");
+        }
+    }
     println!("cargo:rerun-if-env-changed=PATH");
     println!("cargo:rerun-if-env-changed=HIPERFACE_REQUIRE_TOOLS");
     let required = std::env::var_os("HIPERFACE_REQUIRE_TOOLS").is_some_and(|v| v != "0");

@@ -652,11 +652,18 @@ fn certify_master_on_a_terminal_shows_the_scenario_under_way() {
     assert!(out.status.success(), "{text}");
     assert!(text.contains("0/1 running startup.default"), "{text}");
     assert!(text.contains("[ 1/1] PASS"), "{text}");
+    let dir = tempfile::tempdir().unwrap();
     let out = Command::new(bin)
-        .args(["certify", "master", "--exec", &master, "--scenarios", "startup.default"])
+        .args(["certify", "master", "--exec", &master, "--scenarios", "startup.default", "--report"])
+        .arg(dir.path())
         .output()
         .unwrap();
     let text = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
     assert!(out.status.success(), "{text}");
     assert!(text.contains("[ 1/1] PASS") && !text.contains("running"), "{text}");
+    // The master's certificate names its run too.
+    let md = std::fs::read_to_string(dir.path().join("certificate.md")).unwrap();
+    for row in ["| run started (UTC) | 20", "| host | ", "| command line | ", "| profile digest | fnv1a64:"] {
+        assert!(md.contains(row), "{row}: {md}");
+    }
 }

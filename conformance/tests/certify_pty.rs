@@ -217,6 +217,20 @@ fn cli_certifies_the_simulator_and_writes_every_report() {
     assert!(junit.contains("<testcase name=\"protocol.checksum\""), "{junit}");
     let md = std::fs::read_to_string(dir.join("certificate.md")).unwrap();
     assert!(md.contains("# HIPERFACE slave certificate: PASSED") && md.contains("000000001"), "{md}");
+    // When, where and how: for the reader who must tell runs apart and redo one.
+    for row in ["| run started (UTC) | 20", "| host | ", "| tool revision | ", "| profile digest | fnv1a64:"] {
+        assert!(md.contains(row), "{row}: {md}");
+    }
+    let command = md.lines().find(|l| l.starts_with("| command line |")).unwrap_or_else(|| panic!("{md}"));
+    assert!(
+        command.contains("certify slave --port sim") && command.contains("'identity.*,protocol.*,position.read'"),
+        "{command}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    let started = json["run_info"]["started_utc"].as_str().unwrap();
+    assert!(started.len() == 20 && started.ends_with('Z'), "{started}");
+    assert!(std::fs::read_to_string(dir.join("certificate.html")).unwrap().contains("run started (UTC)"));
 }
 
 /// A run on a port without `--allow-writes` says which cases it did not run and which

@@ -102,6 +102,7 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<Ended, CommandError> {
     if let Some(dir) = &args.report {
         crate::report::prepare_dir(dir)?;
     }
+    let run_info = crate::report::run_info(&profile);
     eprintln!("certifying {} against an encoder of profile {}", options.attach, profile.name);
     // On a terminal a bar with the scenario under way and its re-runs as they happen (a
     // scenario takes seconds of real time, a whole run a minute or two); in logs the
@@ -114,7 +115,7 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<Ended, CommandError> {
         b.enable_steady_tick(std::time::Duration::from_millis(200));
         b
     });
-    let report = super::run(profile, &options, |p| match p {
+    let mut report = super::run(profile, &options, |p| match p {
         Progress::Starting { id, attempt, .. } => {
             if let Some(b) = &bar {
                 let again =
@@ -144,6 +145,7 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<Ended, CommandError> {
     if let Some(b) = bar {
         b.finish_and_clear();
     }
+    report.run_info = Some(run_info);
     let summary: Vec<String> = report.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
     say!("{}: {}", report.master, summary.join(", "));
     for n in &report.notes {

@@ -140,6 +140,7 @@ pub fn run_with(
         uart_faults: None,
         delivery: None,
         not_used: options.not_used.iter().map(|c| c.to_string()).collect(),
+        run_info: None,
         record: Some(record::MasterRecord {
             format: record::FORMAT.into(),
             tool: format!("hiperface {}", env!("CARGO_PKG_VERSION")),

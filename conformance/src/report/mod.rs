@@ -8,7 +8,7 @@
 use crate::command::CommandError;
 use std::path::Path;
 
-pub use hiperface_suite::report::{escape, junit_suite, page_head, wire_text, Reports};
+pub use hiperface_suite::report::{escape, junit_suite, page_head, profile_digest, wire_text, Reports, RunInfo};
 
 pub mod recorded;
 
@@ -38,4 +38,58 @@ pub fn prepare_dir(dir: &Path) -> Result<(), CommandError> {
     std::fs::write(&probe, b"").map_err(|e| refused(format!("cannot write in the directory: {e}")))?;
     let _ = std::fs::remove_file(probe);
     Ok(())
+}
+
+/// The revision the command was built from (`build.rs`: `git rev-parse`), or "unknown".
+pub const REVISION: &str = env!("HIPERFACE_REVISION");
+
+/// What a certificate says of its run, collected as it starts: now (UTC), this host,
+/// the command line as given, the tool's revision, the profile's digest.
+pub fn run_info(profile: &hiperface_model::Profile) -> RunInfo {
+    let now = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs());
+    let host = std::fs::read_to_string("/proc/sys/kernel/hostname")
+        .map(|h| h.trim().to_string())
+        .or_else(|_| std::env::var("HOSTNAME"))
+        .unwrap_or_else(|_| "unknown".into());
+    let quote = |a: String| {
+        if a.is_empty() || a.contains(|c: char| c.is_whitespace() || "'\"$`\\{}*?!".contains(c)) {
+            format!("'{}'", a.replace('\'', "'\\''"))
+        } else {
+            a
+        }
+    };
+    RunInfo {
+        started_utc: utc(now),
+        host,
+        command_line: std::env::args().map(quote).collect::<Vec<_>>().join(" "),
+        revision: REVISION.to_string(),
+        profile_digest: profile_digest(profile),
+    }
+}
+
+/// Seconds since 1970 as ISO 8601 UTC (days to a civil date: H. Hinnant's algorithm).
+pub fn utc(secs: u64) -> String {
+    let days = (secs / 86_400) as i64;
+    let rest = secs % 86_400;
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097);
+    let yoe = (doe - doe / 1_460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!("{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}Z", rest / 3600, rest % 3600 / 60, rest % 60)
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn seconds_since_1970_read_as_the_calendar_does() {
+        assert_eq!(super::utc(0), "1970-01-01T00:00:00Z");
+        assert_eq!(super::utc(951_782_400), "2000-02-29T00:00:00Z");
+        assert_eq!(super::utc(1_795_678_212), "2026-11-26T07:30:12Z");
+        assert_eq!(super::utc(4_107_542_399), "2100-02-28T23:59:59Z");
+    }
 }

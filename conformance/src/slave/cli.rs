@@ -117,6 +117,7 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
         delay_after_ms: rs485_delay_after_ms,
     };
     let profile = profile_file::resolve(&profile)?;
+    let run_info = report::run_info(&profile);
     if let Some(dir) = &dir {
         report::prepare_dir(dir)?;
     }
@@ -149,8 +150,9 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
         Err(e) => {
             if let Some(dir) = &dir {
                 let options = Options { grading, timing: timing.unwrap_or(TimingMode::Strict), ..Options::default() };
-                let partial =
+                let mut partial =
                     super::Report::aborted_before_start(&profile, &port.to_string(), &options, &e.to_string());
+                partial.run_info = Some(run_info.clone());
                 if report::write_all(&partial, dir).is_ok() {
                     eprintln!("partial report written to {}", dir.display());
                 }
@@ -206,6 +208,7 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
         b.finish_and_clear();
     }
     drop(simulator);
+    report.run_info = Some(run_info);
     if let Some(g) = &rs485_guard {
         report.line_notes.push(format!("The port ran in the kernel's {} (--rs485), put back afterwards.", g.in_force));
     }

@@ -133,6 +133,7 @@ pub fn run(master: &mut dyn MasterUnderTest, name: &str, profile: Profile, optio
         uart_faults: None,
         delivery: None,
         not_used: options.not_used.iter().map(|c| c.to_string()).collect(),
+        run_info: None,
         record: Some(MasterRecord {
             format: FORMAT.into(),
             tool,

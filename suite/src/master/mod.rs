@@ -85,6 +85,9 @@ pub struct DriveReport {
     /// Data": the scenarios about them are NOT-APPLICABLE.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub not_used: Vec<String>,
+    /// When, where and how the run was made, where the harness made it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub run_info: Option<crate::report::RunInfo>,
     /// The record of the wire: every scenario run as the encoder took it in, which
     /// `decode` takes in again (`master::record`).
     #[serde(skip_serializing_if = "Option::is_none")]

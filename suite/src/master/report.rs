@@ -68,7 +68,7 @@ fn markdown(r: &DriveReport) -> String {
 /// What the encoder found of a drive's port: its echo, and the master's characters
 /// with UART faults.
 fn port_rows(r: &DriveReport) -> Vec<(&'static str, String)> {
-    let mut rows = Vec::new();
+    let mut rows: Vec<(&'static str, String)> = r.run_info.iter().flat_map(|i| i.rows()).collect();
     if !r.not_used.is_empty() {
         let what =
             format!("{} (the master's declaration: the scenarios about them were not run)", r.not_used.join(", "));

@@ -5,6 +5,44 @@
 
 use crate::verdict::CaseVerdict;
 
+/// Where and when a run was made, as the harness knows it (the core reads no clock,
+/// host or process): for the reader of a certificate, who must tell one run from
+/// another and redo it.
+#[derive(Debug, Clone, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct RunInfo {
+    /// When the run started, UTC, ISO 8601 ("2026-11-26T07:50:12Z").
+    pub started_utc: String,
+    pub host: String,
+    /// The command line as given.
+    pub command_line: String,
+    /// The source revision the tool was built from (git), or "unknown".
+    pub revision: String,
+    /// The profile as TOML, digested (FNV-1a, 64 bits): two certificates of the same
+    /// data sheet show the same digest.
+    pub profile_digest: String,
+}
+
+impl RunInfo {
+    /// The certificate's rows.
+    pub fn rows(&self) -> Vec<(&'static str, String)> {
+        vec![
+            ("run started (UTC)", self.started_utc.clone()),
+            ("host", self.host.clone()),
+            ("command line", self.command_line.clone()),
+            ("tool revision", self.revision.clone()),
+            ("profile digest", self.profile_digest.clone()),
+        ]
+    }
+}
+
+/// The digest of a profile as its TOML reads (FNV-1a, 64 bits, hex).
+pub fn profile_digest(profile: &hiperface_model::Profile) -> String {
+    let toml = crate::profile_file::to_toml(profile);
+    let hash =
+        toml.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3));
+    format!("fnv1a64:{hash:016x}")
+}
+
 /// A run's report in the four forms every front end writes.
 pub trait Reports {
     /// The people's certificate's file name, without extension.

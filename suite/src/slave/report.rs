@@ -87,6 +87,7 @@ fn header(r: &Report) -> Vec<(&'static str, String)> {
         ("grading of physical values", r.grading.clone()),
     ];
     rows.extend(r.identity.lines());
+    rows.extend(r.run_info.iter().flat_map(|i| i.rows()));
     rows.push((
         "wall time",
         format!("{:.0} ms (the same exchanges on a real line: {:.0} ms)", r.wall_time_ms, r.line_time_ms),

@@ -61,6 +61,9 @@ pub struct Report {
     /// "writes EEPROM; run with --allow-writes"), for the top of every form.
     #[serde(skip_serializing_if = "Vec::is_empty", default)]
     pub not_run: Vec<NotRun>,
+    /// When, where and how the run was made, where the harness made it.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub run_info: Option<crate::report::RunInfo>,
     /// Set when the run stopped early (port gone, Ctrl-C): the report is partial.
     pub aborted: Option<String>,
     /// The record of the wire: what `decode` grades again (see `record`).
@@ -115,6 +118,7 @@ impl Report {
             line_time_ms: 0.0,
             notes: Vec::new(),
             not_run: Vec::new(),
+            run_info: None,
             aborted: None,
             record: None,
         }
