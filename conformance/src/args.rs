@@ -57,17 +57,9 @@ fn parse_init_fault(s: &str) -> Result<InitFault, String> {
     InitFault::from_name(s).ok_or_else(|| format!("unknown start-up fault `{s}`"))
 }
 
-/// A command byte as `--not-used` takes it: `4Ah`, `4A` or `0x4A`, one of 000 Table 10.
-pub fn parse_command(s: &str) -> Result<hiperface_model::CommandId, String> {
-    let t = s.trim();
-    let hex = t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")).unwrap_or(t);
-    let hex = hex.strip_suffix('h').or_else(|| hex.strip_suffix('H')).unwrap_or(hex);
-    let byte = u8::from_str_radix(hex, 16).map_err(|_| format!("`{s}` is not a command byte (e.g. 4Ah)"))?;
-    let id = hiperface_model::CommandId::decode(byte);
-    match id.spec() {
-        Some(_) => Ok(id),
-        None => Err(format!("{byte:02X}h is not a HIPERFACE command (000 Table 10)")),
-    }
+/// A command byte as `--not-used` takes it (`hiperface_suite::master::parse_command`).
+pub fn parse_command(s: &str) -> Result<hiperface_model::CommandId, hiperface_suite::master::BadCommand> {
+    hiperface_suite::master::parse_command(s)
 }
 
 #[cfg(test)]

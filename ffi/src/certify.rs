@@ -8,7 +8,7 @@ use crate::{c_text, profile, tell, HfStatus, HF_CLAUSE_LEN, HF_MAX_FRAME, HF_REA
 use crate::{HfFault, HF_ID_LEN};
 use core::ffi::{c_char, c_int, c_void, CStr};
 use hiperface_model::datalink::{ReceivedFrame, RxChar};
-use hiperface_model::{CommandId, Frame, Profile, UartFault, UartSettings};
+use hiperface_model::{Frame, Profile, UartFault, UartSettings};
 use hiperface_suite::line::frame_encoder::Answer;
 use hiperface_suite::master::in_process::{self, MasterAction, MasterUnderTest, Transmit};
 use hiperface_suite::master::report::MasterCertificate;
@@ -235,18 +235,52 @@ impl CEncoder {
     }
 }
 
-/// The profile of a run: TOML text, or a built-in one by name.
+/// The start of a certification: no report at `out` until one is made. `Err` where
+/// `out` is null.
 ///
 /// # Safety
-/// `name` is null or NUL-terminated; `toml` likewise.
-unsafe fn run_profile(name: *const c_char, toml: *const c_char) -> Result<Profile, (HfStatus, String)> {
-    if toml.is_null() {
-        // SAFETY: the caller's promise.
-        return unsafe { profile(name) }.map_err(|s| (s, "no built-in profile has that name".into()));
+/// `out` is null or writable.
+unsafe fn no_report_yet(out: *mut *mut HfReport) -> Result<(), HfStatus> {
+    if out.is_null() {
+        return Err(HfStatus::Null);
     }
-    // SAFETY: not null, NUL-terminated by the caller's promise.
-    let text = unsafe { CStr::from_ptr(toml) }.to_str().map_err(|_| (HfStatus::Invalid, "not UTF-8".to_string()))?;
-    profile_file::parse(text, Path::new("the profile")).map_err(|e| (HfStatus::Invalid, e.to_string()))
+    // SAFETY: writable by the caller's promise.
+    unsafe { *out = core::ptr::null_mut() };
+    Ok(())
+}
+
+/// The profile of a run: TOML text, or a built-in one by name (both null: `Null`).
+/// Why it does not load is told in `error`.
+///
+/// # Safety
+/// `name` is null or NUL-terminated; `toml` likewise; `error` is null or points to
+/// `error_len` writable chars.
+unsafe fn run_profile(
+    name: *const c_char,
+    toml: *const c_char,
+    error: *mut c_char,
+    error_len: usize,
+) -> Result<Profile, HfStatus> {
+    if name.is_null() && toml.is_null() {
+        return Err(HfStatus::Null);
+    }
+    let loaded = if toml.is_null() {
+        // SAFETY: the caller's promise.
+        unsafe { profile(name) }.map_err(|s| (s, "no built-in profile has that name".to_string()))
+    } else {
+        // SAFETY: not null, NUL-terminated by the caller's promise.
+        match unsafe { CStr::from_ptr(toml) }.to_str() {
+            Ok(text) => {
+                profile_file::parse(text, Path::new("the profile")).map_err(|e| (HfStatus::Invalid, e.to_string()))
+            }
+            Err(_) => Err((HfStatus::Invalid, "not UTF-8".to_string())),
+        }
+    };
+    loaded.map_err(|(status, why)| {
+        // SAFETY: the caller's promise.
+        unsafe { tell(error, error_len, why) };
+        status
+    })
 }
 
 /// Certify the encoder `encoder` (called with `context` for each request) with the
@@ -278,27 +312,19 @@ pub unsafe extern "C" fn hf_certify(
     error: *mut c_char,
     error_len: usize,
 ) -> HfStatus {
-    if out.is_null() {
-        return HfStatus::Null;
+    // SAFETY: the caller's promise.
+    if let Err(status) = unsafe { no_report_yet(out) } {
+        return status;
     }
-    // SAFETY: writable by the caller's promise: null until a report is made.
-    unsafe { *out = core::ptr::null_mut() };
     let Some(answer) = encoder else { return HfStatus::Null };
     // SAFETY: null or valid by the caller's promise.
     let o = unsafe { options.as_ref() }.copied();
-    let toml = o.map_or(core::ptr::null(), |o| o.profile_toml);
-    if profile.is_null() && toml.is_null() {
-        return HfStatus::Null;
-    }
     // SAFETY: the caller's promise.
-    let profile = match unsafe { run_profile(profile, toml) } {
-        Ok(p) => p,
-        Err((status, why)) => {
-            // SAFETY: the caller's promise.
-            unsafe { tell(error, error_len, why) };
-            return status;
-        }
-    };
+    let profile =
+        match unsafe { run_profile(profile, o.map_or(core::ptr::null(), |o| o.profile_toml), error, error_len) } {
+            Ok(p) => p,
+            Err(status) => return status,
+        };
     let mut run = Options::all_allowed();
     if let Some(o) = o {
         run.allow_writes = !o.skip_writes;
@@ -457,30 +483,22 @@ pub unsafe extern "C" fn hf_certify_master(
     error: *mut c_char,
     error_len: usize,
 ) -> HfStatus {
-    if out.is_null() {
-        return HfStatus::Null;
+    // SAFETY: the caller's promise.
+    if let Err(status) = unsafe { no_report_yet(out) } {
+        return status;
     }
-    // SAFETY: writable by the caller's promise: null until a report is made.
-    unsafe { *out = core::ptr::null_mut() };
     // SAFETY: null or valid by the caller's promise.
     let Some(HfMaster { power_on, step: Some(step), context }) = (unsafe { master.as_ref() }).copied() else {
         return HfStatus::Null;
     };
     // SAFETY: null or valid by the caller's promise.
     let o = unsafe { options.as_ref() }.copied();
-    let toml = o.map_or(core::ptr::null(), |o| o.profile_toml);
-    if profile.is_null() && toml.is_null() {
-        return HfStatus::Null;
-    }
     // SAFETY: the caller's promise.
-    let profile = match unsafe { run_profile(profile, toml) } {
-        Ok(p) => p,
-        Err((status, why)) => {
-            // SAFETY: the caller's promise.
-            unsafe { tell(error, error_len, why) };
-            return status;
-        }
-    };
+    let profile =
+        match unsafe { run_profile(profile, o.map_or(core::ptr::null(), |o| o.profile_toml), error, error_len) } {
+            Ok(p) => p,
+            Err(status) => return status,
+        };
     let mut run = in_process::Options::default();
     let mut name = "master".to_string();
     if let Some(o) = o {
@@ -502,13 +520,14 @@ pub unsafe extern "C" fn hf_certify_master(
             // SAFETY: `not_used_len` readable bytes by the caller's promise.
             let bytes = unsafe { core::slice::from_raw_parts(o.not_used, o.not_used_len) };
             for &b in bytes {
-                let id = CommandId::decode(b);
-                if id.spec().is_none() {
-                    // SAFETY: the caller's promise.
-                    unsafe { tell(error, error_len, format!("not_used: {b:02X}h is not a HIPERFACE command")) };
-                    return HfStatus::Invalid;
+                match hiperface_suite::master::command_of(b) {
+                    Ok(id) => run.not_used.push(id),
+                    Err(e) => {
+                        // SAFETY: the caller's promise.
+                        unsafe { tell(error, error_len, format!("not_used: {e}")) };
+                        return HfStatus::Invalid;
+                    }
                 }
-                run.not_used.push(id);
             }
         }
         if o.polling_period_ms > 0 {

@@ -8,6 +8,7 @@ use hiperface_model::datalink::{ReceivedFrame, RxChar};
 use hiperface_model::master::obligations::POLLING_PERIOD_MS;
 use hiperface_model::{CommandId, Frame as WireFrame, UartFault, UartSettings};
 use hiperface_suite::line::frame_encoder::Answer;
+use hiperface_suite::master;
 use hiperface_suite::master::in_process::{self, MasterAction, MasterUnderTest, Transmit};
 use hiperface_suite::master::report::MasterCertificate;
 use hiperface_suite::profile_file;
@@ -233,22 +234,11 @@ impl MasterUnderTest for PyMaster {
 
 /// A command a master declares it never sends: its byte (0x4A) or its text ("4Ah").
 fn command(given: &Bound<'_, PyAny>) -> PyResult<CommandId> {
-    let byte = match given.extract::<u8>() {
-        Ok(b) => b,
-        Err(_) => {
-            let text: String = given.extract()?;
-            let t = text.trim();
-            let hex = t.strip_prefix("0x").unwrap_or(t);
-            let hex = hex.strip_suffix(['h', 'H']).unwrap_or(hex);
-            u8::from_str_radix(hex, 16).map_err(|_| {
-                PyValueError::new_err(format!("not_used: `{text}` is not a command byte (e.g. \"4Ah\")"))
-            })?
-        }
+    let parsed = match given.extract::<u8>() {
+        Ok(byte) => master::command_of(byte),
+        Err(_) => master::parse_command(&given.extract::<String>()?),
     };
-    let id = CommandId::decode(byte);
-    id.spec()
-        .map(|_| id)
-        .ok_or_else(|| PyValueError::new_err(format!("not_used: {byte:02X}h is not a HIPERFACE command")))
+    parsed.map_err(|e| PyValueError::new_err(format!("not_used: {e}")))
 }
 
 /// Certify `master` with the scenario catalogue in virtual time, for an encoder of

@@ -121,36 +121,8 @@ pub fn run_with(
 ) -> DriveReport {
     let started = Instant::now();
     let chosen = scenarios::chosen(options.scenarios.as_deref());
-    let mut report = DriveReport {
-        tool: format!("hiperface {}", env!("CARGO_PKG_VERSION")),
-        profile: profile.name.as_str().to_string(),
-        edition: format!("{:?}", profile.edition),
-        master: options.attach.to_string(),
-        scenarios: Vec::new(),
-        summary: Default::default(),
-        output: Default::default(),
-        wall_time_ms: 0.0,
-        needed_ms: 0.0,
-        rerun_ms: 0.0,
-        notes: Vec::new(),
-        notes_per_scenario: Vec::new(),
-        real_time_scenarios: 0,
-        cut_short: None,
-        echo: None,
-        uart_faults: None,
-        delivery: None,
-        not_used: options.not_used.iter().map(|c| c.to_string()).collect(),
-        run_info: None,
-        record: Some(record::MasterRecord {
-            format: record::FORMAT.into(),
-            tool: format!("hiperface {}", env!("CARGO_PKG_VERSION")),
-            profile: crate::profile_file::to_toml(&profile),
-            polling_period_ms: options.polling_period_ms,
-            not_used: options.not_used.iter().map(|c| c.byte()).collect(),
-            runs: Vec::new(),
-            interrupted: false,
-        }),
-    };
+    let mut report =
+        DriveReport::new(&profile, options.attach.to_string(), options.polling_period_ms, &options.not_used);
     report.notes.push(match options.attach {
         Attach::Exec(_) => "The master's data rate was read from its pseudo-terminal's settings; parity and character \
                             size cannot be read there (Linux keeps a pseudo-terminal at 8 bits, no parity) and were \
@@ -207,10 +179,8 @@ pub fn run_with(
     for (i, scenario) in chosen.iter().enumerate() {
         let profile = scenario.encoder.map_or(profile, |make| make(profile));
         let declared_out = hiperface_suite::master::declared_out(scenario, &options.not_used);
-        let result = if let Some(finding) = declared_out {
+        let result = if let Some(result) = declared_out {
             // Left out by the master's declaration: nothing of it runs.
-            let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
-            result.push(finding);
             if let Some(r) = report.record.as_mut() {
                 r.runs.push(ScenarioRun::early(result.clone()).record);
             }

@@ -10,7 +10,7 @@
 //! writes is taken in again by [`super::record::replay`] as a real run's is.
 
 use super::encoder::{DriveEncoder, MasterSettings};
-use super::record::{compact, Fact, MasterRecord, ScenarioRecord, Start, FORMAT};
+use super::record::{compact, Fact, ScenarioRecord, Start};
 use super::scenario::Scenario;
 use super::{grade, scenarios, DriveReport};
 use crate::serve::{planned_reply, Hooks, READ_US};
@@ -101,56 +101,24 @@ fn char_time_us(bps: u32) -> u64 {
 /// and a fresh power-on of the master.
 pub fn run(master: &mut dyn MasterUnderTest, name: &str, profile: Profile, options: &Options) -> DriveReport {
     let chosen = scenarios::chosen(options.scenarios.as_deref());
-    let tool = format!("hiperface {}", env!("CARGO_PKG_VERSION"));
-    let mut report = DriveReport {
-        tool: tool.clone(),
-        profile: profile.name.as_str().to_string(),
-        edition: format!("{:?}", profile.edition),
-        master: name.to_string(),
-        scenarios: Vec::new(),
-        summary: Default::default(),
-        output: Default::default(),
-        wall_time_ms: 0.0,
-        needed_ms: 0.0,
-        rerun_ms: 0.0,
-        notes: vec![
-            "The master was certified in-process, in virtual time: what it sent was on the line exactly when it \
-             said, each reply character reached it exactly when it ended; nothing of a machine's load is in the \
-             verdicts."
-                .into(),
-            "The master's data rate was the one it gave with what it sent; parity and character size were not \
-             graded (a character is taken as 11 bits, 8E1)."
-                .into(),
-            format!(
-                "A sufficient cyclic request (000:3.2.2) was taken as one at least every {} ms.",
-                options.polling_period_ms
-            ),
-        ],
-        notes_per_scenario: Vec::new(),
-        real_time_scenarios: 0,
-        cut_short: None,
-        echo: None,
-        uart_faults: None,
-        delivery: None,
-        not_used: options.not_used.iter().map(|c| c.to_string()).collect(),
-        run_info: None,
-        record: Some(MasterRecord {
-            format: FORMAT.into(),
-            tool,
-            profile: crate::profile_file::to_toml(&profile),
-            polling_period_ms: options.polling_period_ms,
-            not_used: options.not_used.iter().map(|c| c.byte()).collect(),
-            runs: Vec::new(),
-            interrupted: false,
-        }),
-    };
+    let mut report = DriveReport::new(&profile, name.to_string(), options.polling_period_ms, &options.not_used);
+    report.notes = vec![
+        "The master was certified in-process, in virtual time: what it sent was on the line exactly when it said, \
+         each reply character reached it exactly when it ended; nothing of a machine's load is in the verdicts."
+            .into(),
+        "The master's data rate was the one it gave with what it sent; parity and character size were not graded \
+         (a character is taken as 11 bits, 8E1)."
+            .into(),
+        format!(
+            "A sufficient cyclic request (000:3.2.2) was taken as one at least every {} ms.",
+            options.polling_period_ms
+        ),
+    ];
     report.notes.extend(super::declaration_note(&options.not_used));
     for scenario in &chosen {
         let encoder = scenario.encoder.map_or(profile, |make| make(profile));
         let (result, record, length_us) = match super::declared_out(scenario, &options.not_used) {
-            Some(finding) => {
-                let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
-                result.push(finding);
+            Some(result) => {
                 let record = ScenarioRecord::early_of(&result);
                 (result, record, 0)
             }

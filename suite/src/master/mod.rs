@@ -20,20 +20,47 @@ pub mod timeline;
 
 use crate::line::echo::{Echo, EchoMode};
 use crate::verdict::{CaseResult, Finding, Outcome};
-use hiperface_model::CommandId;
+use hiperface_model::{CommandId, Profile};
 use serde::Serialize;
 
-/// The scenario's NOT-APPLICABLE finding where the master declared it never sends a
-/// command the scenario is about (`--not-used`); `None` where the scenario runs.
-pub fn declared_out(scenario: &scenario::Scenario, not_used: &[CommandId]) -> Option<Finding> {
+/// The scenario's result where the master declared it never sends a command the
+/// scenario is about (`--not-used`): NOT-APPLICABLE, not run; `None` where it runs.
+pub fn declared_out(scenario: &scenario::Scenario, not_used: &[CommandId]) -> Option<CaseResult> {
     let hit: Vec<String> =
         scenario.commands().into_iter().filter(|c| not_used.contains(c)).map(|c| c.to_string()).collect();
     (!hit.is_empty()).then(|| {
-        Finding::not_applicable(format!(
+        let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
+        result.push(Finding::not_applicable(format!(
             "declared not used: the master never sends {}, which this scenario is about",
             hit.join(", ")
-        ))
+        )));
+        result
     })
+}
+
+/// A command a master declares it never sends, as people write it: `4Ah`, `4A` or
+/// `0x4A`; one of 000 Table 10 (the command line's `--not-used`, Python's `not_used`).
+pub fn parse_command(text: &str) -> Result<CommandId, BadCommand> {
+    let t = text.trim();
+    let hex = t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")).unwrap_or(t);
+    let hex = hex.strip_suffix(['h', 'H']).unwrap_or(hex);
+    let byte = u8::from_str_radix(hex, 16).map_err(|_| BadCommand::NotAByte(text.to_string()))?;
+    command_of(byte)
+}
+
+/// The command of a byte, where 000 Table 10 has one.
+pub fn command_of(byte: u8) -> Result<CommandId, BadCommand> {
+    let id = CommandId::decode(byte);
+    id.spec().map(|_| id).ok_or(BadCommand::NotACommand(byte))
+}
+
+/// Why a declared command is none.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum BadCommand {
+    #[error("`{0}` is not a command byte (e.g. 4Ah)")]
+    NotAByte(String),
+    #[error("{0:02X}h is not a HIPERFACE command (000 Table 10)")]
+    NotACommand(u8),
 }
 
 /// The declaration's note for the certificate, where there is one.
@@ -95,6 +122,42 @@ pub struct DriveReport {
 }
 
 impl DriveReport {
+    /// The report of a run before its first scenario, with an empty record of the
+    /// wire: `master` names the master, the notes are the caller's.
+    pub fn new(profile: &Profile, master: String, polling_period_ms: u32, not_used: &[CommandId]) -> DriveReport {
+        let tool = format!("hiperface {}", env!("CARGO_PKG_VERSION"));
+        DriveReport {
+            tool: tool.clone(),
+            profile: profile.name.as_str().to_string(),
+            edition: format!("{:?}", profile.edition),
+            master,
+            scenarios: Vec::new(),
+            summary: Default::default(),
+            output: Default::default(),
+            wall_time_ms: 0.0,
+            needed_ms: 0.0,
+            rerun_ms: 0.0,
+            notes: Vec::new(),
+            notes_per_scenario: Vec::new(),
+            real_time_scenarios: 0,
+            cut_short: None,
+            echo: None,
+            uart_faults: None,
+            delivery: None,
+            not_used: not_used.iter().map(|c| c.to_string()).collect(),
+            run_info: None,
+            record: Some(record::MasterRecord {
+                format: record::FORMAT.into(),
+                tool,
+                profile: crate::profile_file::to_toml(profile),
+                polling_period_ms,
+                not_used: not_used.iter().map(|c| c.byte()).collect(),
+                runs: Vec::new(),
+                interrupted: false,
+            }),
+        }
+    }
+
     /// PASSED only when every scenario was run, exercised and graded, none FAILed.
     pub fn outcome(&self) -> Outcome {
         Outcome::of(self.scenarios.iter().map(|s| s.verdict), self.cut_short.is_none())
