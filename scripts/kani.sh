@@ -20,7 +20,7 @@
 # the bug does not arise; 136 covers the largest array a reply or request is built in
 # (a frame, 135 bytes), and no more: the slave's data field table (255 statuses, 4080
 # bytes of memory) stays one array, as field-by-field it multiplies the work of every
-# copy of the slave. docs/design.md, "Kani" has the minimal reproduction.
+# copy of the slave. docs/src/design.md, "Kani" has the minimal reproduction.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 LIMIT=${LIMIT:-300}

@@ -2,7 +2,7 @@
 //! Type Label, Read Encoder Status, Read Position, an exchange every 40 ms) read,
 //! framed, told apart and graded by the listener, without printing. Target (issue
 //! 13): >= 1 M frames/s (a request and its reply are two frames). Memory does not
-//! grow with the capture: see README, "Watching a live bus".
+//! grow with the capture: see docs/src/watching-a-live-bus.md.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use hiperface_conformance::capture::{Format, ReadOptions};

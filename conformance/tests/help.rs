@@ -89,7 +89,7 @@ fn a_tolerance_in_milliseconds_takes_a_decimal() {
     assert!(text.contains("PASSED"), "{text}");
 }
 
-/// Renamed flags keep their old name for one release (README, "The command line").
+/// Renamed flags keep their old name for one release (docs/src/command-line.md).
 #[test]
 fn the_old_flag_names_still_work() {
     // `master --poll-ms` is `--polling-period-ms`: the reference master on the model in

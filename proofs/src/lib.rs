@@ -212,7 +212,7 @@ mod harnesses {
     /// Domain: a command byte and 0 to 6 reply bytes.
     /// Unwind 8: the loops run over the reply's bytes (at most 6, +1 for the exit
     /// check). Run with CBMC's `--max-field-sensitivity-array-size 136`
-    /// (scripts/kani.sh; docs/design.md, "Kani"): without it CBMC 6.6 misreads the
+    /// (scripts/kani.sh; docs/src/design.md, "Kani"): without it CBMC 6.6 misreads the
     /// fields of a `Response`.
     #[kani::proof]
     #[kani::unwind(8)]
@@ -366,7 +366,7 @@ mod tests {
     }
 
     /// The two inputs Kani 0.63 reported against `response_decoder` (a CBMC fault,
-    /// docs/design.md "Kani"): both decode, as Store Data replies, and re-encode to
+    /// docs/src/design.md "Kani"): both decode, as Store Data replies, and re-encode to
     /// the same bytes.
     #[test]
     fn the_replies_kani_reported_round_trip() {
@@ -382,7 +382,7 @@ mod tests {
 
     #[test]
     fn model_checking_of_the_slave() {
-        // CI bound: depth 8 (README: the deeper release bound, HF_MC_DEPTH=14).
+        // CI bound: depth 8 (docs/src/verification.md: the deeper release bound, HF_MC_DEPTH=20).
         let depth = std::env::var("HF_MC_DEPTH").ok().and_then(|d| d.parse().ok()).unwrap_or(8);
         let t = std::time::Instant::now();
         let r = model_check::explore(depth).unwrap_or_else(|e| panic!("{e}"));
