@@ -4,7 +4,7 @@
 //! A clause id is `DOC:PLACE`: `DOC` is the seed file's number (000 = the current
 //! HIPERFACE specification, 001 = Kübler S36 manual, 002 = the legacy SICK-STEGMANN
 //! description), `PLACE` is a section (`2.3.3`) or a table (`T13`). `DESIGN` marks a
-//! decision of this project where the documents are silent (docs/design.md).
+//! decision of this project where the documents are silent (docs/src/design.md).
 //!
 //! Clauses are typed: only this module constructs them. A [`Normative`] clause is a
 //! rule of 000 or 002 that binds a device of the editions it names; only a normative

@@ -1,7 +1,7 @@
 //! Built-in profiles of the device families the documents describe.
 //!
 //! Sources: resolutions from 000:T11 and 003 §11.2; type codes 22h (SRS), 27h (SRM),
-//! 42h (SEK) as drive masters in the field accept them (see docs/design.md,
+//! 42h (SEK) as drive masters in the field accept them (see docs/src/design.md,
 //! "Built-in profiles"); families whose type code the
 //! documents do not give use FFh with an Extended Type Label (000:T19 "new and
 //! future"). The S36 follows 001 §5.1.4; the legacy encoder follows 002.

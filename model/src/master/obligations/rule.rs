@@ -167,7 +167,7 @@ pub struct DataRates {
 pub const REACTION_REQUESTS: u8 = 3;
 /// The polling period unless the user sets the application's: a request at least this
 /// often is "a sufficient cyclic request" (000:3.2.2); the figure is a decision of
-/// this project (docs/design.md).
+/// this project (docs/src/design.md).
 pub const POLLING_PERIOD_MS: u32 = 1000;
 /// How many times in a row the same request may fail before the master resets.
 pub const RETRY_BOUND: u8 = 8;
