@@ -5,7 +5,7 @@
 //! flags for `simulate` and `certify slave --port sim`.
 //!
 //! Flags renamed for this agreement keep their old name as a hidden alias for one
-//! release (README, "Command line"): `master --poll-ms` (now `--polling-period-ms`) and
+//! release (docs/src/command-line.md): `master --poll-ms` (now `--polling-period-ms`) and
 //! `monitor --duration-s` (now `--duration-ms`).
 
 use crate::world::World;

@@ -129,7 +129,7 @@ pub fn open_for_slave(
         PortSpec::Sim => {
             let (sim, port) = PtySimulator::start_in(profile, world.clone())
                 .map_err(|reason| LineError::Open { port: "sim".into(), reason })?;
-            let name = format!("{} (simulator)", sim.path);
+            let name = format!("{} to the built-in reference encoder", sim.path);
             let mut line = SerialLine::from_port(port, name, profile.settings, true);
             if let Some(t) = tolerance_us {
                 line = line.with_tolerance(t);

@@ -8,7 +8,7 @@
 //! instead of a guess: a read that returned a character after the reader waited 11 ms
 //! for a processor may have got it 11 ms after it came. On a pseudo-terminal with
 //! three busy loops on two cores, what a reader's stamps lost (up to 6 ms) was its own
-//! run delay to within 0.2 ms (docs/design.md, "The harness's own lateness").
+//! run delay to within 0.2 ms (docs/src/design.md, "The harness's own lateness").
 
 use std::fs::File;
 use std::os::unix::fs::FileExt;

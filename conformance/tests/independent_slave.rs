@@ -331,3 +331,77 @@ fn every_legacy_defect_switch_fails_its_own_case() {
     }
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
+
+/// A FAILED certificate as its customer reads it: HX-1 with two defects (a wrong
+/// checksum on 56h, Read Counter answered 12 ms late, its limit 5 ms), certified by the command. In
+/// every form (console, Markdown, HTML, JSON) the failures come first, each with its
+/// case, its clause and the clause's sentence, the request and the reply it is about,
+/// and for the late reply the figure against its limit; the run names itself (UTC
+/// start, host, command line); the wire log marks the exchange that failed.
+#[test]
+#[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
+fn a_failed_certificate_puts_its_failures_first_in_every_form() {
+    let _one = common::one_at_a_time();
+    let hx1 = Hx1::start(&["--defect", "reply-checksum", "--defect", "late-reply"]);
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("report");
+    let profile = common::hx1::dir().join("hx1.toml");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_hiperface"))
+        .args(["certify", "slave", "--port", &hx1.path, "--allow-writes", "--allow-counter-change"])
+        .args(["--cases", "identity.version,counter.read,position.read"])
+        .arg("--profile")
+        .arg(&profile)
+        .arg("--report")
+        .arg(&dir)
+        .output()
+        .unwrap();
+    drop(hx1);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "FAILED: {stdout}\n{}", String::from_utf8_lossy(&out.stderr));
+    // What each form must say of the two failures.
+    let checksum = ["identity.version", "000:2.3.3", "XOR operation on all frame bytes", "56h Read Version"];
+    let late = ["counter.read", "000:T10", "maximum response times", "46h Read Counter", "at most 5.000 ms allowed"];
+    let first_section = |text: &str, start: &str, end: &str| -> String {
+        let from = text.find(start).unwrap_or_else(|| panic!("no {start:?} in {text}"));
+        let body = from + start.len();
+        let to = text[body..].find(end).map_or(text.len(), |i| body + i);
+        text[from..to].to_string()
+    };
+    let check = |form: &str, section: &str| {
+        // The JSON holds the figure as numbers (checked below), the others in words.
+        let words = |w: &&&str| form != "report.json" || !w.starts_with("at most");
+        for what in checksum.iter().chain(&late).filter(words) {
+            assert!(section.contains(what), "{form}: {what:?} missing from the failures first:\n{section}");
+        }
+        assert!(section.find("identity.version").is_some() && section.find("counter.read").is_some(), "{section}");
+    };
+    // The console ends with the same list.
+    check("console", &first_section(&stdout, "findings to read first", "FAILED"));
+    let md = std::fs::read_to_string(dir.join("certificate.md")).unwrap();
+    let md_first = first_section(&md, "## Findings to read first", "\n## ");
+    check("certificate.md", &md_first);
+    assert!(md_first.contains("request: `40 56"), "the request as sent: {md_first}");
+    assert!(md.find("## Findings to read first") < md.find("## Cases"), "first: {md}");
+    for row in ["run started (UTC)", "host", "command line", "tool revision", "profile digest"] {
+        assert!(md.contains(&format!("| {row} |")), "{row}: {md}");
+    }
+    assert!(md.contains("--defect") || md.contains("certify slave --port"), "the command line: {md}");
+    // The wire log marks the exchange the FAIL is about.
+    assert!(md.lines().any(|l| l.contains("M>  40 46") && l.contains("<-- FAIL 000:T10")), "{md}");
+    let html = std::fs::read_to_string(dir.join("certificate.html")).unwrap();
+    let html_first = first_section(&html, "<h2>Findings to read first</h2>", "<h2>");
+    check("certificate.html", &html_first);
+    assert!(html.find("Findings to read first") < html.find("<h2>Cases</h2>"), "first: {html}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    assert_eq!(json["outcome"], "FAILED");
+    let attention = json["attention"].as_array().expect("attention in the JSON");
+    check("report.json", &serde_json::to_string(attention).unwrap());
+    let late_one = attention.iter().find(|a| a["unit"] == "counter.read").expect("counter.read first");
+    assert_eq!(late_one["verdict"], "FAIL");
+    assert_eq!(late_one["figure"]["limit_us"], 5_000, "Table 10: Read Counter 5 ms");
+    assert!(late_one["figure"]["measured_us"].as_i64().unwrap() > 5_000, "{late_one}");
+    assert!(late_one["request"].as_str().unwrap().starts_with("40 46"), "{late_one}");
+    assert!(late_one["reply"].as_str().is_some(), "the late reply as heard: {late_one}");
+    assert!(json["run_info"]["started_utc"].as_str().unwrap().ends_with('Z'));
+}

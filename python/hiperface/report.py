@@ -50,9 +50,19 @@ class Report:
     def outcome(self) -> str:
         """"PASSED", "FAILED" (a case FAILed) or "INCOMPLETE" (nothing failed, but not
         everything was observed), as the command's last line says."""
+        stated = self.raw.get("outcome")
+        if isinstance(stated, str):
+            return stated
         if any(c.verdict == "FAIL" for c in self.cases):
             return "FAILED"
         return "PASSED" if self.passed else "INCOMPLETE"
+
+    @property
+    def attention(self) -> List[Dict[str, Any]]:
+        """The findings the certificate puts first (FAILs, then ERRORs, NOT-EXERCISED
+        and UNKNOWNs), each with its case, clause and the clause's sentence, the request
+        and reply it is about and the figure against its limit, as in report.json."""
+        return list(self.raw.get("attention", []))
 
     def write(self, directory: Union[str, Path]) -> Path:
         """Write the report's files into ``directory`` (created if need be), as

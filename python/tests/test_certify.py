@@ -131,6 +131,12 @@ def test_each_defect_fails_on_the_clause_it_breaks(profile, defect):
     found = fails(report)
     assert any(f.clause == clause for _, f in found), found
     assert {f.clause for _, f in found} == {clause}, found
+    # The certificate's first section, as report.json has it: the FAIL with its
+    # clause's sentence and the request it is about.
+    first = [a for a in report.attention if a["verdict"] == "FAIL"]
+    assert first and all(a["clause"] == clause and a["clause_text"] for a in first), first
+    assert all(a.get("request") for a in first), first
+    assert "Findings to read first" in report.files["certificate.md"]
 
 
 def test_an_encoder_may_be_a_plain_function(profile):

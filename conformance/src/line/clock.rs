@@ -1,7 +1,7 @@
 //! Real time on a line: the clock, sleeping, bounded reads, receive stamps, and the
 //! window in which a request written at once ended for the peer.
 //!
-//! Timing convention (see docs/design.md, "Timing on lines without a UART clock"):
+//! Timing convention (see docs/src/design.md, "Timing on lines without a UART clock"):
 //! a character's *stamp* is when the far end's UART would have completed it (the end
 //! of its stop bit). On a real port the UART clocks the characters; a
 //! pseudo-terminal or a TCP connection has no baud rate, so the harness writes a

@@ -319,7 +319,7 @@ impl Line for SerialLine {
     }
 
     fn describe(&self) -> String {
-        format!("{} ({})", self.name, self.kind().label())
+        format!("{} {}", self.kind().label(), self.name)
     }
 
     fn notes(&self) -> Vec<String> {

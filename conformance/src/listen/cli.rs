@@ -107,6 +107,7 @@ pub fn decode(args: &DecodeArgs) -> Result<Ended, CommandError> {
     if let Some(dir) = &args.listening.report {
         crate::report::prepare_dir(dir)?;
     }
+    let run_info = crate::report::run_info(&profile);
     let options = DecodeOptions {
         profile,
         baud: args.listening.baud,
@@ -119,12 +120,17 @@ pub fn decode(args: &DecodeArgs) -> Result<Ended, CommandError> {
     let mut view = LiveView::new(args.listening.quiet, false);
     let report = grade_capture(input, &name, &options, &mut |h| view.print(h))?;
     drop(view);
-    conclude(report, args.listening.report.as_deref())
+    conclude(report, run_info, args.listening.report.as_deref())
 }
 
 /// End a listening run (`decode`, `monitor`): the summary on standard output, the
 /// reports, and the exit code of the run's outcome (0 PASSED, 1 FAILED, 3 INCOMPLETE).
-pub fn conclude(report: ListeningReport, report_dir: Option<&std::path::Path>) -> Result<Ended, CommandError> {
+pub fn conclude(
+    mut report: ListeningReport,
+    run_info: crate::report::RunInfo,
+    report_dir: Option<&std::path::Path>,
+) -> Result<Ended, CommandError> {
+    report.run_info = Some(run_info);
     print_summary(&report);
     if let Some(dir) = report_dir {
         crate::report::write_all(&report, dir)?;

@@ -55,14 +55,15 @@ pub struct CertifyMasterArgs {
 /// `hiperface master`.
 #[derive(clap::Args, Debug, Clone)]
 pub struct MasterArgs {
-    /// A serial port path (a pseudo-terminal path works), `tcp://host:port`, or `sim`.
+    /// A serial port path (a pseudo-terminal path works), `tcp://host:port`,
+    /// `rfc2217://host:port`, or `sim`.
     #[arg(long)]
     pub port: PortSpec,
     /// The encoder's profile: a built-in name or a TOML file.
     #[arg(long, default_value = "SRS50")]
     pub profile: String,
     /// Period of Read Position, ms.
-    // `--poll-ms`: the old name, kept for one release (README, "The command line").
+    // `--poll-ms`: the old name, kept for one release (docs/src/command-line.md).
     #[arg(long, alias = "poll-ms", default_value_t = 20, value_parser = clap::value_parser!(u32).range(1..))]
     pub polling_period_ms: u32,
     /// Stop after this many ms (default: run until the port fails or Ctrl-C).
@@ -151,6 +152,9 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<Ended, CommandError> {
     for n in &report.notes {
         say!("note: {n}");
     }
+    for line in crate::report::NotRun::lines(&report.not_run()) {
+        say!("{line}");
+    }
     for n in &report.notes_per_scenario {
         say!("re-run: {n}");
     }
@@ -166,6 +170,7 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<Ended, CommandError> {
         crate::report::write_all(&certificate, dir)?;
         eprintln!("reports written to {}", dir.display());
     }
+    crate::report::say_attention(&report.attention());
     say!("{}", report.outcome().label());
     Ok(Ended::Graded(report.outcome()))
 }

@@ -8,9 +8,27 @@
 use crate::command::CommandError;
 use std::path::Path;
 
-pub use hiperface_suite::report::{escape, junit_suite, page_head, profile_digest, wire_text, Reports, RunInfo};
+pub use hiperface_suite::report::{
+    escape, junit_suite, page_head, profile_digest, wire_text, Attention, NotRun, Reports, RunInfo,
+};
 
 pub mod recorded;
+
+/// The console's end: the findings the certificate puts first, the same list.
+pub fn say_attention(items: &[Attention]) {
+    if items.is_empty() {
+        return;
+    }
+    say!("findings to read first ({}):", items.len());
+    for (i, a) in items.iter().enumerate() {
+        for (j, line) in a.lines().into_iter().enumerate() {
+            match j {
+                0 => say!("{:>3}. {line}", i + 1),
+                _ => say!("  {line}"),
+            }
+        }
+    }
+}
 
 /// Write report.json, junit.xml and the certificate as .md and .html into `dir`.
 pub fn write_all<R: Reports>(r: &R, dir: &Path) -> Result<(), CommandError> {

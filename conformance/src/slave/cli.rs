@@ -20,16 +20,19 @@ use super::Options;
 pub struct CertifySlaveArgs {
     /// `sim` (the reference model on an in-process pseudo-terminal, real time),
     /// `virtual` (the reference model in-process, virtual time), a serial port path,
-    /// or `tcp://host:port` (a serial device server such as ser2net).
+    /// `tcp://host:port` (a serial device server such as ser2net, raw) or
+    /// `rfc2217://host:port` (one that takes the line's settings, RFC 2217).
     #[arg(long)]
     pub port: PortSpec,
     /// The device's profile: a built-in name or a TOML file.
     #[arg(long, default_value = "SRS50")]
     pub profile: String,
-    /// Allow EEPROM writes (each case restores what it changes). Implied by `--port sim`.
+    /// Allow EEPROM writes (each case restores what it changes). Implied by `--port sim`
+    /// and `--port virtual` (the reference model).
     #[arg(long)]
     pub allow_writes: bool,
-    /// Allow changing the counter, which cannot be restored. Implied by `--port sim`.
+    /// Allow changing the counter, which cannot be restored. Implied by `--port sim` and
+    /// `--port virtual` (the reference model).
     #[arg(long)]
     pub allow_counter_change: bool,
     /// Cap on EEPROM writes in the run.
@@ -241,8 +244,8 @@ fn summarize(report: &super::Report, profile: &Profile) {
     } else {
         say!("wall time {:.0} ms; nothing was exchanged", report.wall_time_ms);
     }
-    for n in &report.not_run {
-        say!("not run ({}): {}: {}", n.cases.len(), n.reason, n.cases.join(", "));
+    for line in crate::report::NotRun::lines(&report.not_run) {
+        say!("{line}");
     }
     for c in report.rerun_cases() {
         say!("re-run: {c}: the harness's own lateness left a verdict untold");
@@ -262,5 +265,6 @@ fn summarize(report: &super::Report, profile: &Profile) {
             say!("  {c}");
         }
     }
+    crate::report::say_attention(&report.attention());
     say!("{}", report.outcome().label());
 }

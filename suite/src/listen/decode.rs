@@ -124,6 +124,7 @@ pub fn report(listener: Listener, source: Source, options: &Options) -> Listenin
         outcome,
         incomplete,
         summary: listener.summary,
+        run_info: None,
     }
 }
 

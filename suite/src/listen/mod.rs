@@ -358,4 +358,7 @@ pub struct ListeningReport {
     /// Why it is not PASSED, where that is not a FAIL.
     pub incomplete: Option<String>,
     pub summary: Summary,
+    /// When, where and how the run was made, where the harness made it.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub run_info: Option<crate::report::RunInfo>,
 }

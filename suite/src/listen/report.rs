@@ -46,6 +46,9 @@ fn markdown(r: &ListeningReport) -> String {
     for (k, v) in &s.verdicts {
         let _ = writeln!(m, "  - {k}: {v}");
     }
+    for (k, v) in r.run_info.iter().flat_map(|i| i.rows()) {
+        let _ = writeln!(m, "- {k}: {v}");
+    }
     for a in &r.assumptions {
         let _ = writeln!(m, "- Assumed: {a}");
     }
@@ -164,7 +167,7 @@ fn html(r: &ListeningReport) -> String {
             ),
         ),
     ];
-    for (k, v) in rows {
+    for (k, v) in rows.into_iter().chain(r.run_info.iter().flat_map(|i| i.rows())) {
         let _ = write!(h, "<tr><th>{k}</th><td>{}</td></tr>", escape(&v));
     }
     for (k, n) in &s.verdicts {

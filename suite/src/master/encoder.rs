@@ -293,7 +293,7 @@ impl DriveEncoder {
     /// scenario's situation where that is an injection.
     fn injected(&mut self, at_us: u64, what: String) {
         self.arises(Situation::Injected, at_us);
-        self.note(at_us, "!", what);
+        self.note(at_us, WireEntry::INJECTED, what);
     }
 
     /// `situation` arose at `at_us`: the first time counts.
@@ -343,7 +343,11 @@ impl DriveEncoder {
                 let seen = &mut self.timeline.observations;
                 self.observer.master_data_rate(start_us, now, &mut |o| seen.push(o));
             }
-            _ => self.note(start_us, "?", "data rate not graded: the master's settings changed as it sent".into()),
+            _ => self.note(
+                start_us,
+                WireEntry::HARNESS,
+                "data rate not graded: the master's settings changed as it sent".into(),
+            ),
         }
     }
 
@@ -374,7 +378,7 @@ impl DriveEncoder {
         let bytes: Vec<u8> = self.heard.iter().map(|c| c.byte).collect();
         let t = last.at_us;
         self.heard.clear();
-        self.note(t, "M>", Hex(&bytes).to_string());
+        self.note(t, WireEntry::REQUEST, Hex(&bytes).to_string());
     }
 
     pub fn profile(&self) -> &Profile {
@@ -408,7 +412,7 @@ impl Hooks for DriveEncoder {
             self.timeline.uart_faults += 1;
             // The kernel marks both alike (listen::tap::Marks): "parity" may be either.
             let what = format!("{:02X} read with a {fault:?} error (a UART fault, 000:T47)", ch.byte);
-            self.note(ch.at_us, "!", what);
+            self.note(ch.at_us, WireEntry::INJECTED, what);
         }
         let seen = &mut self.timeline.observations;
         self.observer.master_char(ch, &mut |o| seen.push(o));
@@ -540,7 +544,7 @@ impl Hooks for DriveEncoder {
             split_by_harness: planned.split_by_harness,
         });
         let start_us = planned.start_us;
-        self.note(start_us, "S<", Hex(&planned.frame).to_string());
+        self.note(start_us, WireEntry::REPLY, Hex(&planned.frame).to_string());
         if planned.disturbed_us > 0 || planned.answered_late_us > 0 {
             let d = Disturbance {
                 at_us: start_us,
@@ -557,7 +561,7 @@ impl Hooks for DriveEncoder {
             } else {
                 format!("an unplanned pause of {:.3} ms in it", d.pause_us as f64 / 1000.0)
             };
-            self.note(start_us, "?", format!("the harness's own timing: {what}"));
+            self.note(start_us, WireEntry::HARNESS, format!("the harness's own timing: {what}"));
         }
         // A reply with a pause of the timeout inside is two transmissions to the master
         // (000:2.2.2): the first ends at the pause, and what follows is unsolicited; a

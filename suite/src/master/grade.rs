@@ -31,7 +31,7 @@ pub fn finish(
     for o in &hooks.timeline.observations {
         result.wire.push(crate::verdict::WireEntry {
             t_us: o.at_us,
-            direction: "×",
+            direction: crate::verdict::WireEntry::BROKEN,
             bytes: format!("{} ({})", o.rule.text(), o.rule.clause()),
         });
     }
@@ -59,7 +59,7 @@ fn exercised(result: &mut CaseResult, timeline: &Timeline, scenario: &Scenario, 
             timeline.end_us.saturating_sub(at_us) / 1000,
             at_us as f64 / 1000.0
         );
-        result.push(Finding::broken(reaction.clause(), message, edition));
+        result.push(Finding::broken(reaction.clause(), message, edition).at(at_us));
     }
 }
 
@@ -83,7 +83,7 @@ fn grade(
             0 => String::new(),
             n => format!(" ({n} more faults of the line after it)"),
         };
-        result.push(Finding::error(format!("at {:.3} ms: {what}{more}", *at_us as f64 / 1000.0)));
+        result.push(Finding::error(format!("at {:.3} ms: {what}{more}", *at_us as f64 / 1000.0)).at(*at_us));
     }
     if timeline.characters >= encoder::MAX_CHARACTERS {
         result.push(Finding::error(format!("the master flooded the line ({} characters)", timeline.characters)));
@@ -162,7 +162,7 @@ fn grade(
         };
         let times = if count > 1 { format!(" ({count} times)") } else { String::new() };
         let message = format!("{} at {:.3} ms{figure}{times}", rule.text(), at_us as f64 / 1000.0);
-        let mut finding = Finding::broken(rule.clause(), message, edition);
+        let mut finding = Finding::broken(rule.clause(), message, edition).at(at_us);
         if let (None, Some(why)) = (standing, shown.and_then(unproven)) {
             finding = finding.untold(&why);
             any_unproven.get_or_insert(why);

@@ -162,4 +162,14 @@ impl DriveReport {
     pub fn outcome(&self) -> Outcome {
         Outcome::of(self.scenarios.iter().map(|s| s.verdict), self.cut_short.is_none())
     }
+
+    /// The findings the certificate puts first (every form, and the console).
+    pub fn attention(&self) -> Vec<crate::report::Attention> {
+        crate::report::attention(&self.scenarios)
+    }
+
+    /// The scenarios not run, by reason ("declared not used").
+    pub fn not_run(&self) -> Vec<crate::report::NotRun> {
+        crate::report::NotRun::of(&self.scenarios)
+    }
 }

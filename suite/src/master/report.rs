@@ -4,7 +4,7 @@
 //! as an SVG drawing in HTML.
 
 use super::DriveReport;
-use crate::report::{escape, junit_suite, page_head, wire_text, Reports};
+use crate::report::{escape, junit_suite, page_head, wire_text, NotRun, Reports};
 use hiperface_model::Profile;
 use std::fmt::Write as _;
 
@@ -18,7 +18,10 @@ impl Reports for MasterCertificate<'_> {
     const CERTIFICATE: &'static str = "certificate";
 
     fn json(&self) -> serde_json::Result<String> {
-        serde_json::to_string_pretty(self.report)
+        let r = self.report;
+        let mut summarized = crate::report::Summarized::new(r.outcome(), r.attention(), r);
+        summarized.not_run = Some(r.not_run());
+        serde_json::to_string_pretty(&summarized)
     }
 
     fn junit(&self) -> String {
@@ -34,36 +37,82 @@ impl Reports for MasterCertificate<'_> {
     }
 }
 
-/// The certificate: verdicts, findings with their clauses, and each scenario's timeline
-/// (the master's requests `M>`, the encoder's replies `S<`, the injected faults `!`,
-/// and the broken rules `×` on one time axis).
-fn markdown(r: &DriveReport) -> String {
-    let mut s = format!("# HIPERFACE master certificate\n\n| | |\n|---|---|\n| master | `{}` |\n", r.master);
-    s += &format!("| encoder profile | {} ({} edition) |\n| tool | {} |\n", r.profile, r.edition, r.tool);
+/// What the first section says when nothing kept the run from PASSED.
+const NOTHING: &str =
+    "Nothing failed, and nothing was left unobserved: every scenario that ran was graded PASS or NON-STRICT.";
+
+/// The certificate's first line under the title.
+fn outcome_line(r: &DriveReport) -> String {
     let summary: Vec<String> = r.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
-    for (name, value) in port_rows(r) {
-        s += &format!("| {name} | {value} |\n");
+    format!(
+        "the master \u{201c}{}\u{201d} against an encoder of profile {} ({} edition): {}",
+        r.master,
+        r.profile,
+        r.edition,
+        summary.join(", ")
+    )
+}
+
+/// The run's rows: what was certified, how, where and when.
+fn run_rows(r: &DriveReport) -> Vec<(&'static str, String)> {
+    let mut rows = vec![
+        ("master", r.master.clone()),
+        ("encoder profile", format!("{} ({} edition)", r.profile, r.edition)),
+        ("tool", r.tool.clone()),
+    ];
+    rows.extend(port_rows(r));
+    if let Some(c) = &r.cut_short {
+        rows.push(("cut short", c.clone()));
     }
-    s += &format!("| result | {} — {} |\n\n", r.outcome().label(), summary.join(", "));
-    for n in &r.notes {
-        s += &format!("Note: {n}\n\n");
+    rows
+}
+
+/// The certificate: the outcome and the findings to read first, what was not run,
+/// the run, the scenarios, each scenario's findings and timeline (the master's
+/// requests `M>`, the encoder's replies `S<`, the injected faults `!`, the broken
+/// rules `×`, the harness's own timing `?`), and the re-runs in an appendix.
+fn markdown(r: &DriveReport) -> String {
+    let verdict = r.outcome().label();
+    let mut s = format!("# HIPERFACE master certificate: {verdict}\n\n**{verdict}**: {}\n\n", outcome_line(r));
+    if let Some(i) = &r.run_info {
+        s += &format!("{}\n\n", i.line());
     }
-    for n in &r.notes_per_scenario {
-        s += &format!("Run again: {n}\n\n");
+    s += "## Findings to read first\n\n";
+    s += &crate::report::attention::markdown(&r.attention(), NOTHING);
+    s += &NotRun::markdown(&r.not_run());
+    s += "\n## The run\n\n| | |\n|---|---|\n";
+    for (name, value) in run_rows(r) {
+        s += &format!("| {name} | {} |\n", value.replace('|', "\\|"));
     }
-    s += "| scenario | verdict | runs | clauses |\n|---|---|---|---|\n";
+    if !r.notes.is_empty() {
+        s += "\n## Notes\n\n";
+        for n in &r.notes {
+            s += &format!("- {n}\n");
+        }
+    }
+    s += "\n## Scenarios\n\n| scenario | verdict | runs | clauses |\n|---|---|---|---|\n";
     for c in &r.scenarios {
         s += &format!("| `{}` {} | {} | {} | {} |\n", c.id, c.title, c.verdict.label(), c.attempts, c.clause_list());
     }
     for c in &r.scenarios {
-        s += &format!("\n## {} — {}\n\n{}\n\n", c.id, c.title, c.verdict.label());
+        s += &format!("\n### {} — {}\n\n{}\n\n", c.id, c.title, c.verdict.label());
         for f in &c.findings {
             s += &format!("- {} {f}\n", f.verdict().label());
         }
         s += &format!("\n```\n{}```\n", wire_text(c));
     }
+    if !r.notes_per_scenario.is_empty() {
+        s += &format!("\n## Appendix: scenarios run again\n\n{RERUNS}\n\n");
+        for n in &r.notes_per_scenario {
+            s += &format!("- {n}\n");
+        }
+    }
     s
 }
+
+/// Why the appendix is there, in words.
+const RERUNS: &str = "The harness's own timing (a busy machine) disturbed these runs, so they were run again; \
+each scenario's verdict above is its last run's. Not a verdict on the master.";
 
 /// What the encoder found of a drive's port: its echo, and the master's characters
 /// with UART faults.
@@ -94,24 +143,35 @@ fn html(r: &DriveReport, profile: &Profile) -> String {
     s.push_str(&page_head("HIPERFACE master certificate"));
     let _ = write!(
         s,
-        "<h1>HIPERFACE master certificate: {verdict}</h1><table><tr><th>master</th><td><code>{}</code></td></tr>\
-         <tr><th>encoder profile</th><td>{} ({} edition)</td></tr><tr><th>tool</th><td>{}</td></tr>",
-        escape(&r.master),
-        escape(&r.profile),
-        escape(&r.edition),
-        escape(&r.tool)
+        "<h1>HIPERFACE master certificate: <span class=\"{verdict}\">{verdict}</span></h1><p><b class=\"{verdict}\">{verdict}</b>: {}</p>",
+        escape(&outcome_line(r))
     );
-    for (name, value) in port_rows(r) {
+    if let Some(i) = &r.run_info {
+        let _ = write!(s, "<p>{}</p>", escape(&i.line()));
+    }
+    s += "<h2>Findings to read first</h2>";
+    s += &crate::report::attention::html(&r.attention(), NOTHING);
+    s += &NotRun::html(&r.not_run());
+    s += "<h2>The run</h2><table>";
+    for (name, value) in run_rows(r) {
         let _ = write!(s, "<tr><th>{name}</th><td>{}</td></tr>", escape(&value));
     }
     s += "</table>";
-    s += "<h2>Scenarios</h2><table><tr><th>scenario</th><th>verdict</th><th>clauses</th></tr>";
+    if !r.notes.is_empty() {
+        s += "<h2>Notes</h2><ul>";
+        for n in &r.notes {
+            let _ = write!(s, "<li>{}</li>", escape(n));
+        }
+        s += "</ul>";
+    }
+    s += "<h2>Scenarios</h2><table><tr><th>scenario</th><th>verdict</th><th>runs</th><th>clauses</th></tr>";
     for c in &r.scenarios {
         let v = c.verdict.label();
         let _ = write!(
             s,
-            "<tr><td><a href=\"#{id}\">{id}</a> {}</td><td class=\"{v}\">{v}</td><td>{}</td></tr>",
+            "<tr><td><a href=\"#{id}\">{id}</a> {}</td><td class=\"{v}\">{v}</td><td>{}</td><td>{}</td></tr>",
             escape(c.title),
+            c.attempts,
             escape(&c.clause_list()),
             id = c.id
         );
@@ -119,13 +179,20 @@ fn html(r: &DriveReport, profile: &Profile) -> String {
     s += "</table>";
     for c in &r.scenarios {
         let v = c.verdict.label();
-        let _ = write!(s, "<h2 id=\"{}\">{} — {}</h2><p class=\"{v}\">{v}</p><ul>", c.id, c.id, escape(c.title));
+        let _ = write!(s, "<h3 id=\"{}\">{} — {}</h3><p class=\"{v}\">{v}</p><ul>", c.id, c.id, escape(c.title));
         for f in &c.findings {
             let fv = f.verdict().label();
             let _ = write!(s, "<li class=\"{fv}\">{fv} {}</li>", escape(&f.to_string()));
         }
         s += "</ul>";
         s += &crate::master::timeline::svg(c, profile);
+    }
+    if !r.notes_per_scenario.is_empty() {
+        let _ = write!(s, "<h2>Appendix: scenarios run again</h2><p>{}</p><ul>", escape(RERUNS));
+        for n in &r.notes_per_scenario {
+            let _ = write!(s, "<li>{}</li>", escape(n));
+        }
+        s += "</ul>";
     }
     s += "</body></html>\n";
     s

@@ -3,7 +3,7 @@
 //! faults and the broken rules on one time axis (hover for the bytes and the clause).
 
 use crate::report::escape;
-use crate::verdict::CaseResult;
+use crate::verdict::{CaseResult, WireEntry};
 use hiperface_model::Profile;
 use std::fmt::Write as _;
 
@@ -17,7 +17,8 @@ const CHAR_MS: f64 = 11.0 / 9.6;
 pub fn svg(c: &CaseResult, profile: &Profile) -> String {
     let end_ms = c.wire.iter().map(|w| w.t_us as f64 / 1000.0).fold(0.0, f64::max).max(1.0) + 20.0;
     let x = |ms: f64| LEFT + ms / end_ms * WIDTH;
-    let rows = ["encoder state", "master", "encoder", "injected", "rules"];
+    // The harness's own timing has a lane of its own, grey: it is no rule broken.
+    let rows = ["encoder state", "master", "encoder", "injected", "rules broken", "harness timing"];
     let height = ROW * (rows.len() as f64 + 1.0);
     let mut s = format!(
         "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{height}\" font-size=\"11\">",
@@ -57,10 +58,11 @@ pub fn svg(c: &CaseResult, profile: &Profile) -> String {
         let title = escape(&format!("{ms:.3} ms {} {}", w.direction, w.bytes));
         let (row, colour, start, len) = match w.direction {
             // A request is stamped at its last character, a reply at its first.
-            "M>" => (1.0, "#36c", ms - n * CHAR_MS, n * CHAR_MS),
-            "S<" => (2.0, "#393", ms, n * CHAR_MS),
-            "!" => (3.0, "#c80", ms, 0.0),
-            _ => (4.0, "#c00", ms, 0.0),
+            WireEntry::REQUEST => (1.0, "#36c", ms - n * CHAR_MS, n * CHAR_MS),
+            WireEntry::REPLY => (2.0, "#393", ms, n * CHAR_MS),
+            WireEntry::INJECTED => (3.0, "#c80", ms, 0.0),
+            WireEntry::BROKEN => (4.0, "#c00", ms, 0.0),
+            _ => (5.0, "#999", ms, 0.0),
         };
         let y = ROW * row + 2.0;
         if len > 0.0 {

@@ -3,6 +3,10 @@
 //! shares. Each front end's report says what goes into each form (`slave::report`,
 //! `master::report`, `listen::report`); the harness writes them to files.
 
+pub mod attention;
+
+pub use attention::{attention, Attention};
+
 use crate::verdict::CaseVerdict;
 
 /// Where and when a run was made, as the harness knows it (the core reads no clock,
@@ -23,6 +27,14 @@ pub struct RunInfo {
 }
 
 impl RunInfo {
+    /// One line for the top of a certificate: when, where and how.
+    pub fn line(&self) -> String {
+        format!(
+            "run started {} (UTC) on {}, tool revision {}: {}",
+            self.started_utc, self.host, self.revision, self.command_line
+        )
+    }
+
     /// The certificate's rows.
     pub fn rows(&self) -> Vec<(&'static str, String)> {
         vec![
@@ -41,6 +53,84 @@ pub fn profile_digest(profile: &hiperface_model::Profile) -> String {
     let hash =
         toml.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3));
     format!("fnv1a64:{hash:016x}")
+}
+
+/// Units not run for one reason (NOT-APPLICABLE): the reason says what would run them
+/// ("writes EEPROM; run with --allow-writes", "declared not used").
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct NotRun {
+    pub reason: String,
+    pub cases: Vec<String>,
+}
+
+impl NotRun {
+    /// The NOT-APPLICABLE cases of `cases`, grouped by their reason, in run order.
+    pub fn of(cases: &[crate::verdict::CaseResult]) -> Vec<NotRun> {
+        let mut out: Vec<NotRun> = Vec::new();
+        for c in cases.iter().filter(|c| c.verdict == CaseVerdict::NotApplicable) {
+            let reason = c.findings.first().map_or("not applicable", |f| f.message()).to_string();
+            match out.iter_mut().find(|n| n.reason == reason) {
+                Some(n) => n.cases.push(c.id.to_string()),
+                None => out.push(NotRun { reason, cases: vec![c.id.to_string()] }),
+            }
+        }
+        out
+    }
+
+    /// The certificate's section, in Markdown ("" where everything ran).
+    pub fn markdown(groups: &[NotRun]) -> String {
+        let mut s = String::new();
+        if !groups.is_empty() {
+            s.push_str("\n## Not run\n\n");
+        }
+        for n in groups {
+            let ids: Vec<String> = n.cases.iter().map(|c| format!("`{c}`")).collect();
+            s.push_str(&format!("- {} ({}): {}\n", n.reason, n.cases.len(), ids.join(", ")));
+        }
+        s
+    }
+
+    /// The certificate's section, in HTML.
+    pub fn html(groups: &[NotRun]) -> String {
+        if groups.is_empty() {
+            return String::new();
+        }
+        let mut s = String::from("<h2>Not run</h2><ul>");
+        for n in groups {
+            s.push_str(&format!(
+                "<li>{} ({}): <code>{}</code></li>",
+                escape(&n.reason),
+                n.cases.len(),
+                n.cases.join(", ")
+            ));
+        }
+        s.push_str("</ul>");
+        s
+    }
+
+    /// The console's lines.
+    pub fn lines(groups: &[NotRun]) -> Vec<String> {
+        groups.iter().map(|n| format!("not run ({}): {}: {}", n.cases.len(), n.reason, n.cases.join(", "))).collect()
+    }
+}
+
+/// A report as its JSON form has it: the outcome and the findings to read first
+/// ahead of everything the report holds, as on the certificate.
+#[derive(serde::Serialize)]
+pub struct Summarized<'a, R: serde::Serialize> {
+    pub outcome: crate::verdict::Outcome,
+    pub attention: Vec<Attention>,
+    /// What was not run, where the report does not hold it itself.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub not_run: Option<Vec<NotRun>>,
+    #[serde(flatten)]
+    pub report: &'a R,
+}
+
+impl<'a, R: serde::Serialize> Summarized<'a, R> {
+    pub fn new(outcome: crate::verdict::Outcome, attention: Vec<Attention>, report: &'a R) -> Self {
+        Summarized { outcome, attention, not_run: None, report }
+    }
 }
 
 /// A run's report in the four forms every front end writes.
@@ -92,9 +182,18 @@ pub fn junit_suite(name: String, cases: &[crate::verdict::CaseResult]) -> String
     r.to_string().unwrap_or_else(|e| format!("<!-- cannot serialise: {e} -->"))
 }
 
-/// A case's wire log as text, a line per frame.
+/// A case's wire log as text, a line per frame; a request a finding is about is marked
+/// with the finding's verdict ("<-- FAIL 000:T10"), so that the exchange that failed
+/// stands out of a long log.
 pub fn wire_text(c: &crate::verdict::CaseResult) -> String {
-    c.wire.iter().map(|w| format!("{:>12.3} ms  {}  {}\n", w.t_us as f64 / 1000.0, w.direction, w.bytes)).collect()
+    c.wire
+        .iter()
+        .zip(attention::marks(c))
+        .map(|(w, mark)| {
+            let mark = if mark.is_empty() { String::new() } else { format!("  <-- {mark}") };
+            format!("{:>12.3} ms  {}  {}{mark}\n", w.t_us as f64 / 1000.0, w.direction, w.bytes)
+        })
+        .collect()
 }
 
 /// Text made safe inside HTML.
@@ -108,7 +207,8 @@ pub fn page_head(title: &str) -> String {
         "<!doctype html><html><head><meta charset=\"utf-8\"><title>{}</title>\
          <style>body{{font-family:sans-serif;max-width:75em;margin:2em auto}}table{{border-collapse:collapse}}\
          td,th{{border:1px solid #ccc;padding:.2em .5em;text-align:left}}.PASS{{color:#070}}\
-         .FAIL{{color:#b00;font-weight:bold}}.NON-STRICT{{color:#a60}}.ERROR{{color:#b0b}}.UNKNOWN{{color:#066}}\
+         .FAIL{{color:#b00;font-weight:bold}}.NON-STRICT{{color:#a60}}.ERROR{{color:#b0b}}.NOT-EXERCISED{{color:#b0b}}.UNKNOWN{{color:#066}}\
+         .NOT-APPLICABLE{{color:#666}}\
          pre{{background:#f4f4f4;padding:.5em}}svg{{border:1px solid #ddd}}</style></head><body>",
         escape(title)
     )

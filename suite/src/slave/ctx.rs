@@ -150,9 +150,15 @@ impl Ctx<'_> {
         self.model.nonvolatile().address.byte()
     }
 
-    /// Record a finding; the case verdict is the worst of its findings.
+    /// Record a finding; the case verdict is the worst of its findings. A finding
+    /// not placed on the wire already is about the last exchange (a check across
+    /// exchanges is made after its last reply).
     pub fn push(&mut self, finding: Finding) {
-        self.result.push(finding);
+        let last = self.result.wire.iter().rev().find(|w| w.direction == WireEntry::REQUEST).map(|w| w.t_us);
+        self.result.push(match last {
+            Some(t_us) => finding.at(t_us),
+            None => finding,
+        });
     }
 
     /// The device broke `rule` (FAIL where the rule binds the profile's edition).
@@ -396,7 +402,7 @@ impl Ctx<'_> {
         // The exchange's verdict is the worst of its findings, as the case's is.
         let verdict = found.iter().fold(graded, |v, f| v.worst(f.verdict()));
         for f in found {
-            self.push(f);
+            self.push(f.at(x.request_end.earliest_us));
         }
         if let Some(s) = expected.then_settings {
             self.master.configure(s)?;
@@ -407,10 +413,10 @@ impl Ctx<'_> {
     fn log(&mut self, frame: &[u8], x: &Exchange, observed: Option<&[u8]>) {
         self.result.exchanges += 1;
         let t_us = x.request_end.earliest_us;
-        self.result.wire.push(WireEntry { t_us, direction: "M>", bytes: Hex(frame).to_string() });
+        self.result.wire.push(WireEntry { t_us, direction: WireEntry::REQUEST, bytes: Hex(frame).to_string() });
         if let (Some(bytes), Some(start)) = (observed, x.reply_start) {
             let t_us = start.earliest_us;
-            self.result.wire.push(WireEntry { t_us, direction: "S<", bytes: Hex(bytes).to_string() });
+            self.result.wire.push(WireEntry { t_us, direction: WireEntry::REPLY, bytes: Hex(bytes).to_string() });
         }
     }
 

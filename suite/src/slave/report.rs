@@ -3,7 +3,7 @@
 //! case, the safety section and the response times.
 
 use super::{Report, TimingMode};
-use crate::report::{escape, junit_suite, page_head, wire_text, Reports};
+use crate::report::{escape, junit_suite, page_head, wire_text, NotRun, Reports};
 use crate::verdict::CaseVerdict;
 use std::fmt::Write as _;
 
@@ -11,7 +11,7 @@ impl Reports for Report {
     const CERTIFICATE: &'static str = "certificate";
 
     fn json(&self) -> serde_json::Result<String> {
-        serde_json::to_string_pretty(self)
+        serde_json::to_string_pretty(&crate::report::Summarized::new(self.outcome(), self.attention(), self))
     }
 
     fn junit(&self) -> String {
@@ -27,43 +27,59 @@ impl Reports for Report {
     }
 }
 
+/// The certificate's first line under the title: what, on what, and the counts.
+fn outcome_line(r: &Report) -> String {
+    let summary: Vec<String> = r.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
+    format!("{} ({} edition) on {}: {}", r.profile, r.edition, r.line, summary.join(", "))
+}
+
+/// What the first section says when nothing kept the run from PASSED.
+const NOTHING: &str =
+    "Nothing failed, and nothing was left unobserved: every case that ran was graded PASS or NON-STRICT.";
+
 fn markdown(r: &Report) -> String {
     let mut s = String::new();
     let verdict = r.outcome().label();
     let _ = writeln!(s, "# HIPERFACE slave certificate: {verdict}\n");
-    let _ = writeln!(s, "| | |\n|---|---|");
-    for (k, v) in header(r) {
-        let _ = writeln!(s, "| {k} | {} |", v.replace('|', "\\|"));
+    let _ = writeln!(s, "**{verdict}**: {}\n", outcome_line(r).replace('|', "\\|"));
+    if let Some(i) = &r.run_info {
+        let _ = writeln!(s, "{}\n", i.line().replace('|', "\\|"));
     }
     if let Some(a) = &r.aborted {
-        let _ = writeln!(s, "| **aborted** | {a} (partial report) |");
+        let _ = writeln!(s, "**Aborted**: {a} (a partial report)\n");
     }
-    if !r.not_run.is_empty() {
-        let _ = writeln!(s, "\n## Not run\n");
-        for n in &r.not_run {
-            let ids: Vec<String> = n.cases.iter().map(|c| format!("`{c}`")).collect();
-            let _ = writeln!(s, "- {} ({}): {}", n.reason, n.cases.len(), ids.join(", "));
+    let _ = writeln!(s, "## Findings to read first\n");
+    s.push_str(&crate::report::attention::markdown(&r.attention(), NOTHING));
+    s.push_str(&NotRun::markdown(&r.not_run));
+    for (title, rows) in [("The device", r.identity.lines()), ("The run", header(r))] {
+        let _ = writeln!(s, "\n## {title}\n\n| | |\n|---|---|");
+        for (k, v) in rows {
+            let _ = writeln!(s, "| {k} | {} |", v.replace('|', "\\|"));
         }
     }
     let _ = writeln!(s, "\n## Cases\n\n| case | verdict | clauses | title |\n|---|---|---|---|");
     for c in &r.cases {
         let _ = writeln!(s, "| `{}` | {} | {} | {} |", c.id, c.verdict.label(), c.clause_list(), c.title);
     }
-    let _ = writeln!(s, "\n## Findings\n");
+    let _ = writeln!(s, "\n## Findings of each case\n");
     for c in r.cases.iter().filter(|c| !c.findings.is_empty() && c.verdict != CaseVerdict::NotApplicable) {
         let _ = writeln!(s, "### `{}`: {}\n", c.id, c.verdict.label());
         for f in &c.findings {
             let _ = writeln!(s, "- {}: {f}", f.verdict().label());
         }
-        if c.verdict == CaseVerdict::Fail {
-            let _ = writeln!(s, "\nWire log:\n\n```\n{}```\n", wire_text(c));
+        if shows_wire(c) {
+            let _ = writeln!(
+                s,
+                "\nWire log (`<--` marks the exchanges the findings are about):\n\n```\n{}```\n",
+                wire_text(c)
+            );
         }
     }
     let _ = writeln!(s, "\n## Safety: the device as the run left it\n");
     for line in safety_lines(r) {
         let _ = writeln!(s, "- {line}");
     }
-    let _ = writeln!(s, "\n## Response times (at most, after the request's timeout)\n\n| command | n | min | median | max |\n|---|---|---|---|---|");
+    let _ = writeln!(s, "\n## Response times\n\n{RESPONSE_TIMES}\n\n| command | replies | fastest | median | slowest |\n|---|---|---|---|---|");
     for t in &r.response_times {
         let ms = |us: i64| format!("{:.3} ms", us as f64 / 1000.0);
         let _ =
@@ -76,6 +92,15 @@ fn markdown(r: &Report) -> String {
     s
 }
 
+/// What the response-time table measures, in words.
+const RESPONSE_TIMES: &str = "From the end of the request's timeout to the reply's first character, per command \
+(on a line that cannot tell exactly, the most it allows); Table 10 of 000 gives each command's limit.";
+
+/// A case's wire log goes on the certificate where a finding in it needs reading.
+fn shows_wire(c: &crate::verdict::CaseResult) -> bool {
+    matches!(c.verdict, CaseVerdict::Fail | CaseVerdict::Error | CaseVerdict::NotExercised | CaseVerdict::Unknown)
+}
+
 /// The certificate's header: what was certified, how, and what it said of itself.
 fn header(r: &Report) -> Vec<(&'static str, String)> {
     let mut rows = vec![
@@ -86,14 +111,11 @@ fn header(r: &Report) -> Vec<(&'static str, String)> {
         ("timing", timing_text(r)),
         ("grading of physical values", r.grading.clone()),
     ];
-    rows.extend(r.identity.lines());
     rows.extend(r.run_info.iter().flat_map(|i| i.rows()));
     rows.push((
         "wall time",
         format!("{:.0} ms (the same exchanges on a real line: {:.0} ms)", r.wall_time_ms, r.line_time_ms),
     ));
-    let summary: Vec<String> = r.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
-    rows.push(("verdicts", summary.join(", ")));
     let rerun = r.rerun_cases();
     if !rerun.is_empty() {
         let why = "the harness's own lateness left a verdict untold; each case's result is its last run's";
@@ -152,19 +174,26 @@ fn html(r: &Report) -> String {
     let mut s = String::new();
     s.push_str(&page_head(&format!("HIPERFACE certificate: {}", r.profile)));
     let verdict = r.outcome().label();
-    let _ = write!(s, "<h1>HIPERFACE slave certificate: {verdict}</h1><table>");
-    let rows = header(r);
-    for (k, v) in rows {
-        let _ = write!(s, "<tr><th>{k}</th><td>{}</td></tr>", escape(&v));
+    let _ = write!(
+        s,
+        "<h1>HIPERFACE slave certificate: <span class=\"{verdict}\">{verdict}</span></h1><p><b class=\"{verdict}\">{verdict}</b>: {}</p>",
+        escape(&outcome_line(r))
+    );
+    if let Some(i) = &r.run_info {
+        let _ = write!(s, "<p>{}</p>", escape(&i.line()));
     }
-    s.push_str("</table>");
-    if !r.not_run.is_empty() {
-        s.push_str("<h2>Not run</h2><ul>");
-        for n in &r.not_run {
-            let _ =
-                write!(s, "<li>{} ({}): <code>{}</code></li>", escape(&n.reason), n.cases.len(), n.cases.join(", "));
+    if let Some(a) = &r.aborted {
+        let _ = write!(s, "<p class=\"FAIL\">Aborted: {} (a partial report)</p>", escape(a));
+    }
+    s.push_str("<h2>Findings to read first</h2>");
+    s.push_str(&crate::report::attention::html(&r.attention(), NOTHING));
+    s.push_str(&NotRun::html(&r.not_run));
+    for (title, rows) in [("The device", r.identity.lines()), ("The run", header(r))] {
+        let _ = write!(s, "<h2>{title}</h2><table>");
+        for (k, v) in rows {
+            let _ = write!(s, "<tr><th>{k}</th><td>{}</td></tr>", escape(&v));
         }
-        s.push_str("</ul>");
+        s.push_str("</table>");
     }
     let _ = write!(
         s,
@@ -172,30 +201,25 @@ fn html(r: &Report) -> String {
     );
     for c in &r.cases {
         let findings: String = c.findings.iter().map(|f| format!("{}<br>", escape(&f.to_string()))).collect();
-        let wire = if c.verdict == CaseVerdict::Fail {
-            format!("<pre>{}</pre>", escape(&wire_text(c)))
-        } else {
-            String::new()
-        };
+        let wire = if shows_wire(c) { format!("<pre>{}</pre>", escape(&wire_text(c))) } else { String::new() };
         let _ = write!(
             s,
-            "<tr><td><code>{}</code></td><td class=\"{}\">{}</td><td>{}</td><td>{}</td><td>{findings}{wire}</td></tr>",
-            c.id,
-            c.verdict.label(),
-            c.verdict.label(),
+            "<tr id=\"{id}\"><td><code>{id}</code></td><td class=\"{v}\">{v}</td><td>{}</td><td>{}</td><td>{findings}{wire}</td></tr>",
             c.clause_list(),
-            escape(c.title)
+            escape(c.title),
+            id = c.id,
+            v = c.verdict.label(),
         );
     }
     let _ = write!(s, "</table><h2>Safety: the device as the run left it</h2><ul>");
     for line in safety_lines(r) {
         let _ = write!(s, "<li>{}</li>", escape(&line));
     }
-    let _ = write!(s, "</ul><h2>Response times (at most, after the request's timeout)</h2><table><tr><th>command</th><th>n</th><th>min ms</th><th>median ms</th><th>max ms</th></tr>");
+    let _ = write!(s, "</ul><h2>Response times</h2><p>{}</p><table><tr><th>command</th><th>replies</th><th>fastest</th><th>median</th><th>slowest</th></tr>", escape(RESPONSE_TIMES));
     for t in &r.response_times {
         let _ = write!(
             s,
-            "<tr><td>{}</td><td>{}</td><td>{:.3}</td><td>{:.3}</td><td>{:.3}</td></tr>",
+            "<tr><td>{}</td><td>{}</td><td>{:.3} ms</td><td>{:.3} ms</td><td>{:.3} ms</td></tr>",
             escape(&t.command),
             t.count,
             t.min_us as f64 / 1000.0,

@@ -10,7 +10,7 @@ use crate::exchange::{Bus, BusMaster};
 use crate::line::frame_encoder::{FrameEncoder, FramedEncoder};
 use crate::line::virtual_line::VirtualLine;
 use crate::line::{Line, LineError, LineKind};
-use crate::verdict::{CaseVerdict, MAX_ATTEMPTS};
+use crate::verdict::MAX_ATTEMPTS;
 use hiperface_model::{CommandId, Grading, Profile, Slave};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -60,7 +60,7 @@ pub struct Report {
     /// The cases not run, grouped by why (and so by the flag that would run them:
     /// "writes EEPROM; run with --allow-writes"), for the top of every form.
     #[serde(skip_serializing_if = "Vec::is_empty", default)]
-    pub not_run: Vec<NotRun>,
+    pub not_run: Vec<crate::report::NotRun>,
     /// When, where and how the run was made, where the harness made it.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub run_info: Option<crate::report::RunInfo>,
@@ -69,28 +69,6 @@ pub struct Report {
     /// The record of the wire: what `decode` grades again (see `record`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub record: Option<Record>,
-}
-
-/// Cases not run for one reason (NOT-APPLICABLE): the reason says what would run them.
-#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub struct NotRun {
-    pub reason: String,
-    pub cases: Vec<String>,
-}
-
-impl NotRun {
-    /// The NOT-APPLICABLE cases of `cases`, grouped by their reason, in run order.
-    pub fn of(cases: &[CaseResult]) -> Vec<NotRun> {
-        let mut out: Vec<NotRun> = Vec::new();
-        for c in cases.iter().filter(|c| c.verdict == CaseVerdict::NotApplicable) {
-            let reason = c.findings.first().map_or("not applicable", |f| f.message()).to_string();
-            match out.iter_mut().find(|n| n.reason == reason) {
-                Some(n) => n.cases.push(c.id.to_string()),
-                None => out.push(NotRun { reason, cases: vec![c.id.to_string()] }),
-            }
-        }
-        out
-    }
 }
 
 impl Report {
@@ -140,6 +118,11 @@ impl Report {
     /// "id (N runs)".
     pub fn rerun_cases(&self) -> Vec<String> {
         self.cases.iter().filter(|c| c.attempts > 1).map(|c| format!("{} ({} runs)", c.id, c.attempts)).collect()
+    }
+
+    /// The findings the certificate puts first (every form, and the console).
+    pub fn attention(&self) -> Vec<crate::report::Attention> {
+        crate::report::attention(&self.cases)
     }
 }
 
@@ -295,7 +278,7 @@ fn run_on(
     for r in &report.cases {
         *report.summary.entry(r.verdict.label()).or_insert(0) += 1;
     }
-    report.not_run = NotRun::of(&report.cases);
+    report.not_run = crate::report::NotRun::of(&report.cases);
     report.response_times = tally
         .response_times
         .into_iter()

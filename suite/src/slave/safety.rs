@@ -202,7 +202,12 @@ impl Safety {
         );
         let memory = |m: Option<(u8, u8)>| m.map(|(free, n)| format!("{free} blocks free, {n} fields"));
         item("memory status (4Eh)", memory(before.memory), memory(after.memory), false);
-        let statuses = |s: &Option<Vec<u8>>| s.as_ref().map(|v| format!("{v:02X?}"));
+        let statuses = |s: &Option<Vec<u8>>| {
+            s.as_ref().map(|v| match v.as_slice() {
+                [] => "no data fields".to_string(),
+                v => v.iter().map(|b| format!("{b:02X}h")).collect::<Vec<_>>().join(" "),
+            })
+        };
         item("data field statuses (4Ch)", statuses(&before.statuses), statuses(&after.statuses), false);
         item(
             "counter (46h)",

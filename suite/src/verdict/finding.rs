@@ -19,6 +19,26 @@ fn clause_ids<S: Serializer>(c: &[Clause], s: S) -> Result<S::Ok, S::Error> {
     s.collect_seq(c.iter().map(|c| c.id()))
 }
 
+/// A figure measured against its limit, for the reader of a certificate who must see
+/// by how much (a reply's start after the request's timeout against Table 10's limit).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct Figure {
+    /// What was measured, in words.
+    pub what: &'static str,
+    pub measured_us: i64,
+    pub limit_us: i64,
+    /// The limit is a most (else a least).
+    pub at_most: bool,
+}
+
+impl std::fmt::Display for Figure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let ms = |us: i64| us as f64 / 1000.0;
+        let bound = if self.at_most { "at most" } else { "at least" };
+        write!(f, "{}: {:.3} ms measured, {bound} {:.3} ms allowed", self.what, ms(self.measured_us), ms(self.limit_us))
+    }
+}
+
 /// One statement of a case's result.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
 pub struct Finding {
@@ -26,9 +46,20 @@ pub struct Finding {
     message: String,
     #[serde(serialize_with = "clause_id")]
     clause: Option<Clause>,
+    /// Where on the wire it is, µs since the run started: the end of the request of the
+    /// exchange it grades (for a check across exchanges, the last one before it), or
+    /// the moment a master broke a rule. `None` for what is about no exchange.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    at_us: Option<u64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    figure: Option<Figure>,
 }
 
 impl Finding {
+    fn new(verdict: CaseVerdict, message: String, clause: Option<Clause>) -> Finding {
+        Finding { verdict, message, clause, at_us: None, figure: None }
+    }
+
     /// The device broke `rule`: FAIL if the rule binds its edition, NON-STRICT (with
     /// the reason) if it is a rule of the other edition's document.
     pub fn fail(message: impl Into<String>, rule: Normative, edition: Edition) -> Finding {
@@ -39,7 +70,7 @@ impl Finding {
             message.push_str(&format!(" ({rule} does not bind a {edition:?}-edition device)"));
             CaseVerdict::NonStrict
         };
-        Finding { verdict, message, clause: Some(rule.clause()) }
+        Finding::new(verdict, message, Some(rule.clause()))
     }
 
     /// Acceptable where the documents leave latitude, or a departure from a decision.
@@ -53,27 +84,27 @@ impl Finding {
     }
 
     pub fn non_strict(message: impl Into<String>, clause: impl Into<Clause>) -> Finding {
-        Finding { verdict: CaseVerdict::NonStrict, message: message.into(), clause: Some(clause.into()) }
+        Finding::new(CaseVerdict::NonStrict, message.into(), Some(clause.into()))
     }
 
     /// The situation the unit is about never arose: nothing about it was seen.
     pub fn not_exercised(message: impl Into<String>) -> Finding {
-        Finding { verdict: CaseVerdict::NotExercised, message: message.into(), clause: None }
+        Finding::new(CaseVerdict::NotExercised, message.into(), None)
     }
 
     /// Heard, but the harness cannot tell whether it was right.
     pub fn unknown(message: impl Into<String>) -> Finding {
-        Finding { verdict: CaseVerdict::Unknown, message: message.into(), clause: None }
+        Finding::new(CaseVerdict::Unknown, message.into(), None)
     }
 
     /// The harness could not run (part of) the case.
     pub fn error(message: impl Into<String>) -> Finding {
-        Finding { verdict: CaseVerdict::Error, message: message.into(), clause: None }
+        Finding::new(CaseVerdict::Error, message.into(), None)
     }
 
     /// The profile or the options exclude the case.
     pub fn not_applicable(message: impl Into<String>) -> Finding {
-        Finding { verdict: CaseVerdict::NotApplicable, message: message.into(), clause: None }
+        Finding::new(CaseVerdict::NotApplicable, message.into(), None)
     }
 
     /// The oracle's grade of the exchange of `request` (PASS grades make no finding,
@@ -82,11 +113,8 @@ impl Finding {
         let verdict = CaseVerdict::from(grade.verdict());
         (verdict != CaseVerdict::Pass).then(|| {
             let reason = grade.deviation().map_or(String::new(), |d| d.to_string());
-            Finding {
-                verdict,
-                message: format!("request [{}]: {reason}", hiperface_model::frame::Hex(request)),
-                clause: Some(grade.clause()),
-            }
+            let message = format!("request [{}]: {reason}", hiperface_model::frame::Hex(request));
+            Finding::new(verdict, message, Some(grade.clause()))
         })
     }
 
@@ -112,8 +140,28 @@ impl Finding {
         self
     }
 
+    /// The finding is about the wire at `at_us` (kept where it was placed already).
+    pub fn at(mut self, at_us: u64) -> Finding {
+        self.at_us.get_or_insert(at_us);
+        self
+    }
+
+    /// The finding measured `figure`.
+    pub fn with_figure(mut self, figure: Figure) -> Finding {
+        self.figure = Some(figure);
+        self
+    }
+
     pub fn verdict(&self) -> CaseVerdict {
         self.verdict
+    }
+
+    pub fn at_us(&self) -> Option<u64> {
+        self.at_us
+    }
+
+    pub fn figure(&self) -> Option<Figure> {
+        self.figure
     }
 
     pub fn message(&self) -> &str {
@@ -148,6 +196,19 @@ pub struct WireEntry {
     pub t_us: u64,
     pub direction: &'static str,
     pub bytes: String,
+}
+
+impl WireEntry {
+    /// A master's request (stamped at its last character).
+    pub const REQUEST: &'static str = "M>";
+    /// A slave's reply (stamped at its first character).
+    pub const REPLY: &'static str = "S<";
+    /// A fault the encoder injected or read (a master's certificate).
+    pub const INJECTED: &'static str = "!";
+    /// A rule the master broke (a master's certificate).
+    pub const BROKEN: &'static str = "×";
+    /// The harness's own timing (a master's certificate): not the device's.
+    pub const HARNESS: &'static str = "?";
 }
 
 #[derive(Debug, Clone, Serialize)]

@@ -15,7 +15,7 @@
 mod finding;
 pub mod timing;
 
-pub use finding::{CaseResult, Finding, WireEntry};
+pub use finding::{CaseResult, Figure, Finding, WireEntry};
 
 use hiperface_model::oracle::Verdict;
 use serde::Serialize;

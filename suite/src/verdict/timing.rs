@@ -13,7 +13,7 @@
 //! explain a reply being late (or on time when it was early), the timing is UNKNOWN:
 //! neither FAIL, which it could explain, nor PASS, which was not observed.
 
-use super::Finding;
+use super::{Figure, Finding};
 use crate::exchange::Exchange;
 use hiperface_model::clause;
 use hiperface_model::command::ResponseLimit;
@@ -69,14 +69,19 @@ pub fn grade(
         let msg = format!("reply started at least {} µs before the request's timeout elapsed", -hi);
         // 002 words the timeout its own way (11/44 bit times, DESIGN:legacy-timeout).
         let rule = if edition == Edition::Legacy { clause::LEGACY_TIMEOUT } else { clause::FRAME_TIMING };
-        found.push(Finding::fail(msg, rule, edition));
+        found.push(Finding::fail(msg, rule, edition).with_figure(Figure {
+            what: "reply start after the request's timeout",
+            measured_us: hi,
+            limit_us: 0,
+            at_most: false,
+        }));
     } else if lo - tol - before > limit {
         let msg = format!(
             "reply started at least {:.3} ms after the request's timeout; the limit is {} ms",
             late_ms(lo),
             limits.max_ms
         );
-        found.push(Finding::fail(msg, clause::COMMANDS, edition));
+        found.push(Finding::fail(msg, clause::COMMANDS, edition).with_figure(late(lo, limit)));
     } else if lo - tol + after > limit {
         let line = if x.line_late.both_ways_us() > 0 {
             format!(
@@ -94,7 +99,7 @@ pub fn grade(
             limits.max_ms,
             late_ms(after.max(before))
         );
-        found.push(Finding::unknown(msg));
+        found.push(Finding::unknown(msg).with_figure(late(lo, limit)));
     } else if hi + tol - (x.heard_late.reply_start_us as i64) < 0 {
         let msg = format!(
             "cannot tell whether the reply waited for the request's timeout: the harness heard it {:.3} ms \
@@ -108,12 +113,17 @@ pub fn grade(
             "reply after at least {:.3} ms: within Table 10's limit, beyond Table 36's {strict} ms",
             lo as f64 / 1000.0
         );
-        found.push(Finding::non_strict(msg, clause::READ_SYNC_OFFSET));
+        found.push(Finding::non_strict(msg, clause::READ_SYNC_OFFSET).with_figure(late(lo, strict as i64 * 1000)));
     }
     if mode == TimingMode::Lenient {
         found = found.into_iter().map(|f| f.softened("timing graded leniently on this line")).collect();
     }
     found
+}
+
+/// A reply's start after the request's timeout against the command's limit.
+fn late(measured_us: i64, limit_us: i64) -> Figure {
+    Figure { what: "reply start after the request's timeout", measured_us, limit_us, at_most: true }
 }
 
 /// The response time as one figure for statistics: the most the line's uncertainty

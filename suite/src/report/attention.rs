@@ -1,0 +1,310 @@
+//! What a certificate puts first: every finding that kept the run from PASSED (FAIL,
+//! ERROR, NOT-EXERCISED, UNKNOWN), each with what its reader needs to judge it there and
+//! then: the case or scenario, the clause with its sentence, the exchange it is about
+//! and the figure measured against its limit. The same list in every form (Markdown,
+//! HTML, JSON, the console), so that a customer and a CI log read the same thing.
+
+use crate::report::escape;
+use crate::verdict::{CaseResult, CaseVerdict, Figure, WireEntry};
+use hiperface_model::CommandId;
+use serde::Serialize;
+
+/// The verdicts a certificate puts first, in the order it lists them.
+const FIRST: [CaseVerdict; 4] =
+    [CaseVerdict::Fail, CaseVerdict::Error, CaseVerdict::NotExercised, CaseVerdict::Unknown];
+
+/// One finding the reader must see first.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Attention {
+    /// The case or scenario id.
+    pub unit: &'static str,
+    pub title: &'static str,
+    pub verdict: CaseVerdict,
+    pub finding: String,
+    /// The clause id, "" for what the harness states of itself.
+    pub clause: &'static str,
+    /// The clause's sentence as the registry quotes it.
+    pub clause_text: &'static str,
+    /// Where on the wire, ms since the run started.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub at_ms: Option<f64>,
+    /// The request it is about, as sent ("40 42 02"), and its command in words.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub request: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub command: Option<String>,
+    /// The reply to it, as heard; `None` where none came (or there was no request).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reply: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub figure: Option<Figure>,
+    /// More findings of the unit with the same verdict and clause, left out of this
+    /// list (in the unit's own section).
+    pub more: usize,
+}
+
+/// The findings of `units` to put first: FAILs, then ERRORs, NOT-EXERCISED and
+/// UNKNOWNs, in run order; of a unit's findings with the same verdict and clause, the
+/// first, with how many more.
+pub fn attention(units: &[CaseResult]) -> Vec<Attention> {
+    let mut out: Vec<Attention> = Vec::new();
+    for verdict in FIRST {
+        for u in units {
+            let first = out.len();
+            for f in u.findings.iter().filter(|f| f.verdict() == verdict) {
+                if let Some(same) = out[first..].iter_mut().find(|a| a.clause == f.clause_id()) {
+                    same.more += 1;
+                    continue;
+                }
+                let (request, reply) = f.at_us().map_or((None, None), |t| exchange(u, t));
+                out.push(Attention {
+                    unit: u.id,
+                    title: u.title,
+                    verdict,
+                    finding: f.message().to_string(),
+                    clause: f.clause_id(),
+                    clause_text: f.clause().map_or("", |c| c.quote()),
+                    at_ms: f.at_us().map(|t| t as f64 / 1000.0),
+                    command: request.map(|r| command_of(&r.bytes)),
+                    request: request.map(|r| r.bytes.clone()),
+                    reply: reply.map(|r| r.bytes.clone()),
+                    figure: f.figure(),
+                    more: 0,
+                });
+            }
+        }
+    }
+    out
+}
+
+/// The request a finding at `at_us` is about, and the reply to it (before the next
+/// request).
+fn exchange(u: &CaseResult, at_us: u64) -> (Option<&WireEntry>, Option<&WireEntry>) {
+    let Some(i) = request_index(u, at_us) else { return (None, None) };
+    let reply = u
+        .wire
+        .iter()
+        .skip(i + 1)
+        .take_while(|w| w.direction != WireEntry::REQUEST)
+        .find(|w| w.direction == WireEntry::REPLY);
+    (u.wire.get(i), reply)
+}
+
+/// The wire entry of the request a finding at `at_us` is about. A slave's finding is
+/// placed at its request's end, that request's time in the wire log; a master's broken
+/// rule at the start of the frame that broke it, whose entry (stamped at its end) is
+/// the next one. So: the first request at or after `at_us` with no reply before it,
+/// else the last one sent by then (a reaction missing after a reply with a fault).
+fn request_index(u: &CaseResult, at_us: u64) -> Option<usize> {
+    let frame = |w: &WireEntry| w.direction == WireEntry::REQUEST || w.direction == WireEntry::REPLY;
+    match u.wire.iter().position(|w| w.t_us >= at_us && frame(w)) {
+        Some(i) if u.wire.get(i).is_some_and(|w| w.direction == WireEntry::REQUEST) => Some(i),
+        _ => u.wire.iter().rposition(|w| w.direction == WireEntry::REQUEST && w.t_us <= at_us),
+    }
+}
+
+/// A frame's command in words, from its hex bytes ("40 42 02" -> "42h Read Position").
+fn command_of(hex: &str) -> String {
+    let bytes: Vec<u8> = hex.split_whitespace().filter_map(|b| u8::from_str_radix(b, 16).ok()).collect();
+    match bytes.len() {
+        0 | 1 => "no command byte".to_string(),
+        _ => CommandId::of_frame(&bytes).to_string(),
+    }
+}
+
+/// For each wire entry, the verdicts of the findings whose request it is ("FAIL
+/// 000:T10"), for the marks in a wire log; "" for an entry no finding is about.
+pub(super) fn marks(c: &CaseResult) -> Vec<String> {
+    let mut marks: Vec<Vec<String>> = vec![Vec::new(); c.wire.len()];
+    for f in c.findings.iter().filter(|f| !matches!(f.verdict(), CaseVerdict::Pass | CaseVerdict::NotApplicable)) {
+        let Some(entry) = f.at_us().and_then(|t| request_index(c, t)).and_then(|i| marks.get_mut(i)) else {
+            continue;
+        };
+        let m = match f.clause_id() {
+            "" => f.verdict().label().to_string(),
+            id => format!("{} {id}", f.verdict().label()),
+        };
+        if !entry.contains(&m) {
+            entry.push(m);
+        }
+    }
+    marks.into_iter().map(|m| m.join(", ")).collect()
+}
+
+impl Attention {
+    /// The headline: verdict, unit and finding.
+    pub fn headline(&self) -> String {
+        format!("{} {} ({}): {}", self.verdict.label(), self.unit, self.title, self.finding)
+    }
+
+    /// What follows the headline, as (what, text) pairs in plain words.
+    pub fn details(&self) -> Vec<(&'static str, String)> {
+        let mut rows = Vec::new();
+        if !self.clause.is_empty() {
+            rows.push(("clause", format!("{}: \u{201c}{}\u{201d}", self.clause, self.clause_text)));
+        }
+        if let (Some(request), Some(command)) = (&self.request, &self.command) {
+            let at = self.at_ms.map_or(String::new(), |t| format!(", the exchange at {t:.3} ms"));
+            rows.push(("request", format!("{request} ({command}{at})")));
+            rows.push(("reply", self.reply.clone().unwrap_or_else(|| "none heard".to_string())));
+        }
+        if let Some(f) = self.figure {
+            rows.push(("measured", f.to_string()));
+        }
+        if self.more > 0 {
+            let what = if self.more == 1 { "finding" } else { "findings" };
+            rows.push(("more", format!("{} more {what} like it in {}'s own section", self.more, self.unit)));
+        }
+        rows
+    }
+
+    /// The console's lines: the headline, then the details indented.
+    pub fn lines(&self) -> Vec<String> {
+        let mut out = vec![self.headline()];
+        out.extend(self.details().into_iter().map(|(k, v)| format!("    {k}: {v}")));
+        out
+    }
+}
+
+/// The section in Markdown; `nothing`: what to say when the list is empty.
+pub fn markdown(items: &[Attention], nothing: &str) -> String {
+    let mut s = String::new();
+    if items.is_empty() {
+        s.push_str(nothing);
+        s.push('\n');
+    }
+    for (i, a) in items.iter().enumerate() {
+        s.push_str(&format!(
+            "{}. **{}** `{}` ({}): {}\n",
+            i + 1,
+            a.verdict.label(),
+            a.unit,
+            a.title,
+            a.finding.replace('|', "\\|")
+        ));
+        for (k, v) in a.details() {
+            let v = match k {
+                "request" | "reply" => code_first(&v),
+                _ => v,
+            };
+            s.push_str(&format!("   - {k}: {v}\n"));
+        }
+    }
+    s
+}
+
+/// Hex bytes as code, words after them as they are.
+fn code_first(v: &str) -> String {
+    match v.split_once(" (") {
+        Some((bytes, rest)) => format!("`{bytes}` ({rest}"),
+        None if v == "none heard" => v.to_string(),
+        None => format!("`{v}`"),
+    }
+}
+
+/// The section in HTML.
+pub fn html(items: &[Attention], nothing: &str) -> String {
+    if items.is_empty() {
+        return format!("<p class=\"PASS\">{}</p>", escape(nothing));
+    }
+    let mut s = String::from("<ol class=\"attention\">");
+    for a in items {
+        let v = a.verdict.label();
+        s.push_str(&format!(
+            "<li><span class=\"{v}\">{v}</span> <a href=\"#{id}\"><code>{id}</code></a> ({}): {}<ul>",
+            escape(a.title),
+            escape(&a.finding),
+            id = a.unit
+        ));
+        for (k, val) in a.details() {
+            let val = match k {
+                "request" | "reply" => match val.split_once(" (") {
+                    Some((bytes, rest)) => format!("<code>{}</code> ({}", escape(bytes), escape(rest)),
+                    None if val == "none heard" => escape(&val),
+                    None => format!("<code>{}</code>", escape(&val)),
+                },
+                _ => escape(&val),
+            };
+            s.push_str(&format!("<li>{k}: {val}</li>"));
+        }
+        s.push_str("</ul></li>");
+    }
+    s.push_str("</ol>");
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::verdict::Finding;
+    use hiperface_model::clause;
+    use hiperface_model::Edition;
+
+    fn unit() -> CaseResult {
+        let mut c = CaseResult::named("timing.read-position", "Read Position answered in time", &[]);
+        for (t_us, direction, bytes) in [
+            (1_000, WireEntry::REQUEST, "40 42 02"),
+            (1_500, WireEntry::REPLY, "40 42 00 00 00 00 02"),
+            (9_000, WireEntry::REQUEST, "40 42 02"),
+            (30_000, WireEntry::REPLY, "40 42 00 00 00 01 03"),
+        ] {
+            c.wire.push(WireEntry { t_us, direction, bytes: bytes.to_string() });
+        }
+        c
+    }
+
+    #[test]
+    fn a_fail_names_its_exchange_clause_and_figure_and_repeats_fold_into_a_count() {
+        let mut c = unit();
+        let late = Figure { what: "reply start", measured_us: 17_904, limit_us: 10_000, at_most: true };
+        for _ in 0..3 {
+            c.push(Finding::fail("reply late", clause::COMMANDS, Edition::Current).with_figure(late).at(9_000));
+        }
+        c.push(Finding::unknown("cannot tell").at(1_000));
+        c.push(Finding::non_strict("acceptable", clause::CHECK_ORDER).at(1_000));
+        let a = attention(&[c.clone()]);
+        assert_eq!(a.len(), 2, "{a:?}");
+        assert_eq!((a[0].verdict, a[0].clause, a[0].more), (CaseVerdict::Fail, "000:T10", 2));
+        assert_eq!(a[0].request.as_deref(), Some("40 42 02"));
+        assert_eq!(a[0].reply.as_deref(), Some("40 42 00 00 00 01 03"), "the reply to the second request");
+        assert_eq!(a[0].command.as_deref(), Some("42h Read Position"));
+        assert!(a[0].clause_text.starts_with("User command summary"));
+        assert_eq!(a[1].verdict, CaseVerdict::Unknown, "FAILs first; NON-STRICT not listed");
+        let lines = a[0].lines().join("\n");
+        assert!(lines.contains("17.904 ms measured, at most 10.000 ms allowed"), "{lines}");
+        assert!(lines.contains("2 more findings like it"), "{lines}");
+        // The wire log marks the request the FAIL is about, and only it.
+        let wire = crate::report::wire_text(&c);
+        let marked: Vec<&str> = wire.lines().filter(|l| l.contains("<--")).collect();
+        assert_eq!(marked.len(), 2, "{wire}");
+        assert!(marked[1].contains("9.000 ms") && marked[1].contains("FAIL 000:T10"), "{wire}");
+        assert!(marked[0].contains("UNKNOWN") && marked[0].contains("NON-STRICT"), "{wire}");
+    }
+
+    #[test]
+    fn a_masters_rule_is_about_the_frame_that_broke_it_and_a_missed_reaction_about_the_last_request() {
+        // A master's broken rule is placed at the start of its frame; the frame's
+        // entry is stamped at its end, after it.
+        let mut c = unit();
+        c.push(Finding::fail("a frame that is no request", clause::CHECKSUM, Edition::Current).at(6_000));
+        // A reaction missing after the reply at 30 ms (its situation).
+        c.push(Finding::fail("no reset", clause::WARNING_BIT, Edition::Current).at(30_000));
+        let a = attention(&[c.clone()]);
+        assert_eq!((a[0].request.as_deref(), a[0].at_ms), (Some("40 42 02"), Some(6.0)));
+        assert_eq!(a[0].reply.as_deref(), Some("40 42 00 00 00 01 03"), "the one after 9 ms");
+        assert_eq!(a[1].reply.as_deref(), Some("40 42 00 00 00 01 03"), "the reply it followed");
+        let wire = crate::report::wire_text(&c);
+        let marked: Vec<&str> = wire.lines().filter(|l| l.contains("<--")).collect();
+        assert_eq!(marked.len(), 1, "{wire}");
+        assert!(marked[0].contains("9.000 ms") && marked[0].contains("FAIL 000:2.3.3, FAIL 000:2.3.4"), "{wire}");
+    }
+
+    #[test]
+    fn a_finding_before_any_request_has_no_exchange() {
+        let mut c = CaseResult::named("x", "x", &[]);
+        c.push(Finding::error("port gone").at(5));
+        let a = attention(&[c]);
+        assert_eq!((a[0].request.as_deref(), a[0].reply.as_deref()), (None, None));
+        assert!(a[0].details().is_empty(), "{:?}", a[0].details());
+    }
+}
