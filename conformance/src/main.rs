@@ -55,7 +55,7 @@ enum Command {
     CheckProfile { profile: String },
     /// Print the command table (000 Table 10 and legacy 63h).
     Commands,
-    /// Golden vectors: generate, verify, export.
+    /// Golden vectors: generate, verify, export, the protocol reference (book).
     Vectors {
         #[command(subcommand)]
         what: VectorsCommand,
@@ -134,6 +134,16 @@ enum VectorsCommand {
         #[arg(long)]
         out: Option<PathBuf>,
         #[arg(default_value = "vectors")]
+        dir: PathBuf,
+    },
+    /// Write the protocol reference (a Markdown chapter per command, every frame a byte
+    /// diagram from a vector) into DIR, e.g. `--out docs/src/reference` for the user guide.
+    Book {
+        /// The folder to write the pages into (made if need be).
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+        /// The folder of the vector files.
+        #[arg(long, default_value = "vectors")]
         dir: PathBuf,
     },
 }
@@ -298,6 +308,33 @@ fn vectors_command(what: VectorsCommand) -> Result<Ended, CommandError> {
                     say!("{}", dir.join(name).display());
                 }
                 None => print_all(&text)?,
+            }
+            Ok(Ended::Done)
+        }
+        VectorsCommand::Book { out, dir } => {
+            let mut files = Vec::new();
+            for path in vectors::files(&dir)? {
+                let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+                files.push((name, vectors::load(&path)?));
+            }
+            let pages = vectors::reference::book(&files);
+            std::fs::create_dir_all(&out).map_err(CommandError::file(&out))?;
+            for (name, text) in &pages {
+                let path = out.join(name);
+                std::fs::write(&path, text).map_err(CommandError::file(&path))?;
+            }
+            say!("{}: {} pages (the index and a chapter per command)", out.display(), pages.len());
+            // A page this run did not write is left alone, but named: the reference's
+            // test fails on it.
+            let written: Vec<&str> = pages.iter().map(|(n, _)| n.as_str()).collect();
+            let mut others: Vec<String> = std::fs::read_dir(&out)
+                .map_err(CommandError::file(&out))?
+                .filter_map(|e| e.ok().map(|e| e.file_name().to_string_lossy().into_owned()))
+                .filter(|n| n.ends_with(".md") && !written.contains(&n.as_str()))
+                .collect();
+            others.sort();
+            for name in others {
+                say!("{}: not written by this run (a page of an earlier one? remove it)", out.join(name).display());
             }
             Ok(Ended::Done)
         }

@@ -2,10 +2,11 @@
 //!
 //! - The README stays a front door: fewer than 200 lines, with the two commands CI
 //!   runs as "the README's" (`.ci/run`).
-//! - Every chapter of `docs/src` is in `SUMMARY.md`, and every relative link of the
-//!   README and the guide leads to a file that is there and, where it names an anchor,
-//!   to a heading of that file (mdBook's and GitHub's rule for a heading's anchor). A
-//!   link in the guide stays inside `docs/src`, so that it works in the built book too.
+//! - Every chapter of `docs/src` (its subfolders too) is in `SUMMARY.md`, and every
+//!   relative link of the README and the guide leads to a file that is there and, where
+//!   it names an anchor, to a heading of that file (mdBook's and GitHub's rule for a
+//!   heading's anchor). A link in the guide stays inside `docs/src`, so that it works in
+//!   the built book too.
 //! - Every count they state about the program is the program's own, read from its
 //!   output, so that a figure cannot go stale: a count is recognised by its phrase
 //!   ("33 cases", "22 scenarios", "144 exchanges", "505 vectors", "10 built-in
@@ -58,13 +59,20 @@ impl Doc {
     }
 }
 
-/// The guide's chapters (`docs/src/*.md`, `SUMMARY.md` among them), in name order.
+/// The guide's chapters (`docs/src/**/*.md`, `SUMMARY.md` and the generated protocol
+/// reference in `docs/src/reference/` among them), in path order.
 fn chapters() -> Vec<PathBuf> {
-    let mut paths: Vec<PathBuf> = std::fs::read_dir(root().join("docs/src"))
-        .expect("docs/src")
-        .map(|e| e.expect("docs/src").path())
-        .filter(|p| p.extension().is_some_and(|e| e == "md"))
-        .collect();
+    fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
+        for path in std::fs::read_dir(dir).expect("docs/src").map(|e| e.expect("docs/src").path()) {
+            if path.is_dir() {
+                walk(&path, out);
+            } else if path.extension().is_some_and(|e| e == "md") {
+                out.push(path);
+            }
+        }
+    }
+    let mut paths = Vec::new();
+    walk(&root().join("docs/src"), &mut paths);
     paths.sort();
     paths
 }
@@ -309,7 +317,7 @@ fn every_chapter_is_in_the_summary() {
     let summary = root().join("docs/src/SUMMARY.md");
     let listed: HashSet<String> = links(&read(&summary)).into_iter().map(|l| l.target).collect();
     for chapter in chapters().iter().filter(|p| **p != summary) {
-        let name = chapter.file_name().expect("a file").to_string_lossy().to_string();
+        let name = chapter.strip_prefix(root().join("docs/src")).expect("in docs/src").to_string_lossy().to_string();
         assert!(listed.contains(&name), "docs/src/{name} is not in SUMMARY.md: the built book would not have it");
     }
     for target in &listed {

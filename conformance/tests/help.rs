@@ -21,6 +21,7 @@ const COMMANDS: &[&[&str]] = &[
     &["vectors", "generate"],
     &["vectors", "verify"],
     &["vectors", "export"],
+    &["vectors", "book"],
     &["export-profile"],
     &["master"],
     &["decode"],

@@ -218,3 +218,270 @@ fn master_tables_are_the_printed_tables() {
     wrong.table_case.as_mut().unwrap().output = "-1".into();
     assert!(vectors::replay(&wrong).is_err());
 }
+
+// ---------------------------------------------------------------------------------
+// The protocol reference (docs/src/reference/), generated from the vector files
+// ---------------------------------------------------------------------------------
+
+/// The vector files with their names, as `hiperface vectors book` loads them.
+fn named_files() -> Vec<(String, vectors::VectorFile)> {
+    vectors::files(&dir())
+        .unwrap()
+        .into_iter()
+        .map(|p| (p.file_name().unwrap().to_string_lossy().into_owned(), vectors::load(&p).unwrap()))
+        .collect()
+}
+
+fn reference_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/src/reference")
+}
+
+/// The Markdown pages of a folder, by name.
+fn pages_in(dir: &Path) -> Vec<(String, String)> {
+    let mut pages: Vec<(String, String)> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "md"))
+        .map(|p| (p.file_name().unwrap().to_string_lossy().into_owned(), std::fs::read_to_string(&p).unwrap()))
+        .collect();
+    pages.sort();
+    pages
+}
+
+/// What is stale in the reference at `dir`, against what the generator writes now.
+fn stale(dir: &Path) -> Vec<String> {
+    let expected = vectors::reference::book(&named_files());
+    vectors::reference::differences(&expected, &pages_in(dir))
+}
+
+#[test]
+fn the_reference_is_what_the_generator_writes() {
+    let stale = stale(&reference_dir());
+    assert!(
+        stale.is_empty(),
+        "docs/src/reference is out of date; regenerate it with `{}` (or `cargo run -p hiperface-conformance -- \
+         vectors book --out docs/src/reference`):\n{}",
+        vectors::reference::REGENERATE,
+        stale.join("\n")
+    );
+    // And the user guide's summary lists every page, as the generator lists them.
+    let summary = std::fs::read_to_string(reference_dir().join("../SUMMARY.md")).unwrap();
+    let listed = vectors::reference::summary(&vectors::reference::book(&named_files()));
+    assert!(
+        summary.contains(&format!("# Protocol reference\n\n{listed}")),
+        "docs/src/SUMMARY.md does not list the reference's pages under `# Protocol reference` as:\n{listed}"
+    );
+}
+
+#[test]
+fn a_changed_byte_in_the_reference_is_caught() {
+    let tmp = temp();
+    for (name, text) in pages_in(&reference_dir()) {
+        std::fs::write(tmp.path().join(name), text).unwrap();
+    }
+    assert!(stale(tmp.path()).is_empty(), "the copy is the committed reference");
+    // One byte of a diagram: 40 42 02 becomes 40 42 03.
+    let page = tmp.path().join("42h-read-position.md");
+    let text = std::fs::read_to_string(&page).unwrap();
+    let cell = "<td class=\"hf-b hf-sum\">02</td>";
+    assert!(text.contains(cell), "Read Position's checksum cell");
+    std::fs::write(&page, text.replacen(cell, &cell.replace("02", "03"), 1)).unwrap();
+    let stale = stale(tmp.path());
+    assert_eq!(stale.len(), 1, "{stale:?}");
+    assert!(stale[0].starts_with("42h-read-position.md: differs from line "), "{stale:?}");
+}
+
+/// A frame a page shows: its caption (request, reply, as printed, corrected), its bytes
+/// as the cells give them, and the checksum line after its tables.
+#[derive(Debug)]
+struct Shown {
+    page: String,
+    caption: String,
+    bytes: Vec<u8>,
+    checksum_line: String,
+}
+
+/// `s` without its HTML tags.
+fn untagged(s: &str) -> String {
+    let mut out = String::new();
+    let mut inside = false;
+    for c in s.chars() {
+        match c {
+            '<' => inside = true,
+            '>' => inside = false,
+            c if !inside => out.push(c),
+            _ => {}
+        }
+    }
+    out
+}
+
+/// The byte diagrams of a page, read back from their HTML: a frame is a `hf-f` block of
+/// tables (sixteen bytes each), the bytes in its `hf-b` cells; a block without a byte
+/// is a silence.
+fn shown_frames(page: &str, text: &str) -> Vec<Shown> {
+    let mut out = Vec::new();
+    for part in text.split("<div class=\"hf-f\">").skip(1) {
+        let block = part.split_once("</div>").expect("a frame's end").0;
+        let mut bytes = Vec::new();
+        for cell in block.split("<td class=\"hf-b").skip(1) {
+            let value = cell.split_once('>').and_then(|(_, v)| v.split_once("</td>")).expect("a byte cell").0;
+            bytes.push(u8::from_str_radix(value, 16).unwrap_or_else(|_| panic!("{page}: a byte cell holds {value}")));
+        }
+        if bytes.is_empty() {
+            continue;
+        }
+        let caption = block.split_once("<caption>").and_then(|(_, c)| c.split_once("</caption>")).expect("a caption").0;
+        let line = block
+            .split_once("<p class=\"hf-xor\">")
+            .and_then(|(_, l)| l.split_once("</p>"))
+            .map_or(String::new(), |(l, _)| untagged(l));
+        out.push(Shown { page: page.to_string(), caption: caption.to_string(), bytes, checksum_line: line });
+    }
+    out
+}
+
+/// Every request and every reply of the vector files (setup requests among the
+/// requests).
+fn vector_frames() -> (std::collections::BTreeSet<Vec<u8>>, std::collections::BTreeSet<Vec<u8>>) {
+    let (mut requests, mut replies) = (std::collections::BTreeSet::new(), std::collections::BTreeSet::new());
+    for (_, file) in named_files() {
+        for v in &file.vectors {
+            requests.extend(v.setup.requests.iter().map(|r| vectors::parse_hex(r).unwrap()));
+            for s in &v.steps {
+                requests.insert(vectors::parse_hex(&s.request).unwrap());
+                replies.extend(s.response.iter().map(|r| vectors::parse_hex(r).unwrap()));
+            }
+        }
+    }
+    (requests, replies)
+}
+
+/// What is wrong with the frames shown: one that is no request or reply of a vector (an
+/// erratum's printed and corrected frames are frames of vectors too), a checksum line
+/// that does not work out the frame's bytes.
+fn wrong_frames(shown: &[Shown]) -> Vec<String> {
+    let (requests, replies) = vector_frames();
+    let mut wrong = Vec::new();
+    for f in shown {
+        let hex = vectors::hex(&f.bytes);
+        let at = format!("{}: {} [{hex}]", f.page, f.caption);
+        let known = match f.caption.as_str() {
+            "request" => requests.contains(&f.bytes),
+            "reply" => replies.contains(&f.bytes),
+            _ => requests.contains(&f.bytes) || replies.contains(&f.bytes),
+        };
+        if !known {
+            wrong.push(format!("{at}: no vector has this frame"));
+        }
+        let n = f.bytes.len();
+        if n < 3 {
+            if f.checksum_line.contains("XOR") {
+                wrong.push(format!("{at}: a checksum worked out for a frame without one"));
+            }
+            continue;
+        }
+        let operands: Vec<String> = f.bytes[..n - 1].iter().map(|b| format!("{b:02X}h")).collect();
+        let xor = f.bytes[..n - 1].iter().fold(0, |a, b| a ^ b);
+        let mut expected = format!("checksum: {} = {xor:02X}h", operands.join(" XOR "));
+        if xor != f.bytes[n - 1] {
+            expected.push_str(&format!("; the frame carries {:02X}h: wrong", f.bytes[n - 1]));
+        }
+        if f.checksum_line != expected {
+            wrong.push(format!("{at}: the checksum line says \"{}\", not \"{expected}\"", f.checksum_line));
+        }
+    }
+    wrong
+}
+
+/// What is wrong with the XORs a page works out anywhere ("40h XOR 42h = 02h").
+fn wrong_xors(page: &str, text: &str) -> (Vec<String>, usize) {
+    let text = untagged(text);
+    let words: Vec<&str> = text.split_whitespace().collect();
+    let byte = |w: &str| {
+        let w = w.trim_end_matches([',', ';', '.', ')']);
+        (w.len() == 3 && w.ends_with('h')).then(|| u8::from_str_radix(&w[..2], 16).ok()).flatten()
+    };
+    let (mut wrong, mut checked) = (Vec::new(), 0);
+    for (i, w) in words.iter().enumerate() {
+        if *w != "=" || i < 3 || words[i - 2] != "XOR" {
+            continue;
+        }
+        let mut j = i - 1;
+        let mut operands = vec![byte(words[j])];
+        while j >= 2 && words[j - 1] == "XOR" {
+            j -= 2;
+            operands.push(byte(words[j]));
+        }
+        let (Some(operands), Some(result)) =
+            (operands.into_iter().collect::<Option<Vec<u8>>>(), words.get(i + 1).and_then(|w| byte(w)))
+        else {
+            wrong.push(format!("{page}: an XOR not of bytes: {}", words[j..=i + 1].join(" ")));
+            continue;
+        };
+        checked += 1;
+        if operands.iter().fold(0, |a, b| a ^ b) != result {
+            wrong.push(format!("{page}: {} is wrong", words[j..=i + 1].join(" ")));
+        }
+    }
+    (wrong, checked)
+}
+
+#[test]
+fn every_frame_of_the_reference_is_a_vectors_and_every_checksum_is_right() {
+    let pages = pages_in(&reference_dir());
+    let shown: Vec<Shown> = pages.iter().flat_map(|(p, t)| shown_frames(p, t)).collect();
+    let wrong = wrong_frames(&shown);
+    assert!(wrong.is_empty(), "frames of the reference:\n{}", wrong.join("\n"));
+    let mut xors = 0;
+    for (page, text) in &pages {
+        let (wrong, checked) = wrong_xors(page, text);
+        assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+        xors += checked;
+    }
+    // Not vacuous: every frame of 3 bytes or more has its checksum worked out, and the
+    // index works out 000 Table 7's two.
+    let with_checksum = shown.iter().filter(|f| f.bytes.len() >= 3).count();
+    assert!(with_checksum > 200, "only {with_checksum} frames found");
+    assert_eq!(xors, with_checksum + 2);
+    // Every example of the documents is there (001's 19 pairs, 002's sequence), each
+    // erratum with its printed and its corrected frame.
+    let all: String = pages.iter().map(|(_, t)| t.as_str()).collect();
+    for v in documents().vectors.iter() {
+        assert!(all.contains(&format!("`{}`", v.id)), "the reference does not show {}", v.id);
+    }
+    let errata = shown.iter().filter(|f| f.caption == "as printed").count();
+    assert_eq!(errata, 3, "001's 4Ch and 57h, 002's 4Dh");
+}
+
+#[test]
+fn a_frame_no_vector_has_or_a_wrong_checksum_is_caught() {
+    let page = "<div class=\"hf-f\"><table class=\"hf-frame\"><caption>request</caption>\n<tr>\
+                <td class=\"hf-b hf-addr\">40</td><td class=\"hf-b hf-cmd\">42</td><td class=\"hf-b hf-sum\">02</td>\
+                </tr></table>\n<p class=\"hf-xor\">checksum: <code>40h XOR 42h = 02h</code></p>\n</div>";
+    assert!(wrong_frames(&shown_frames("x.md", page)).is_empty());
+    let unknown = page.replace(">42<", ">43<");
+    let wrong = wrong_frames(&shown_frames("x.md", &unknown));
+    assert_eq!(wrong.len(), 2, "{wrong:?}");
+    assert!(wrong[0].ends_with("x.md: request [40 43 02]: no vector has this frame"), "{wrong:?}");
+    assert!(wrong[1].contains("not \"checksum: 40h XOR 43h = 03h; the frame carries 02h: wrong\""), "{wrong:?}");
+    let (wrong, checked) = wrong_xors("x.md", "<code>40h XOR 4Eh XOR 70h XOR 00h = 7Eh</code>, 40h XOR 42h = 03h.");
+    assert_eq!(checked, 2);
+    assert_eq!(wrong, ["x.md: 40h XOR 42h = 03h. is wrong"]);
+}
+
+#[test]
+fn vectors_book_writes_the_reference() {
+    let tmp = temp();
+    let out = Command::new(env!("CARGO_BIN_EXE_hiperface"))
+        .args(["vectors", "book", "--dir"])
+        .arg(dir())
+        .arg("--out")
+        .arg(tmp.path())
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains(" pages (the index and a chapter per command)"), "{stdout}");
+    assert!(stale(tmp.path()).is_empty(), "the command writes what the generator gives");
+}

@@ -7,6 +7,7 @@ mod disk;
 pub mod export;
 pub mod fixtures;
 pub mod generate;
+pub mod reference;
 mod replay;
 pub mod tables;
 
