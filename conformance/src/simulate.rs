@@ -10,7 +10,7 @@ use hiperface_model::{Hex, Profile, Slave, Step};
 pub use hiperface_suite::serve::{disturbed_from_us, planned_reply, Hooks, Plain, Planned, READ_US, REPLY_DELAY_US};
 use serialport::SerialPort;
 use std::io::{ErrorKind, Write};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -31,6 +31,26 @@ pub fn serve(
     world.apply(&mut slave);
     let mut logger = Logger { log };
     serve_with(port, &mut slave, Instant::now(), &stop, &mut logger, None)
+}
+
+/// The simulator behind `--port sim`: the model as it is, telling the harness how
+/// late it was (a read of the line overdue, a reply written after it was due), the
+/// largest since the harness last took it. The harness adds it to its own lateness:
+/// what a busy machine did to its own encoder is never the encoder's (a late reply
+/// that lateness explains is UNKNOWN, and its case is run again).
+struct Punctuality {
+    late_us: Arc<AtomicU64>,
+}
+
+impl Hooks for Punctuality {
+    fn read(&mut self, unwatched_us: u64) {
+        self.late_us.fetch_max(unwatched_us, Ordering::SeqCst);
+    }
+    fn writing(&mut self, late_us: u64) {
+        if late_us >= UNWATCHED_US {
+            self.late_us.fetch_max(late_us, Ordering::SeqCst);
+        }
+    }
 }
 
 /// The line's settings are the other end's (see [`Hooks::follows_line_settings`]).
@@ -168,6 +188,7 @@ pub fn serve_with(
                 let runs: Vec<&[u8]> = if p.paced { part.chunks(1).collect() } else { vec![part] };
                 for run in runs {
                     watch_until(port.as_mut(), epoch, start + ct, &mut watched, &mut buf, &mut heard)?;
+                    hooks.writing(now(epoch).saturating_sub(start + ct));
                     port.write_all(run)?;
                     port.flush()?;
                     // The run is complete as written: its characters began `ct` each before.
@@ -338,6 +359,9 @@ pub struct PtySimulator {
     pub path: String,
     stop: Arc<AtomicBool>,
     thread: Option<std::thread::JoinHandle<std::io::Result<()>>>,
+    /// How late the simulator was since the harness last took it, µs (see
+    /// [`PtySimulator::lateness`]).
+    late_us: Arc<AtomicU64>,
 }
 
 impl PtySimulator {
@@ -358,7 +382,22 @@ impl PtySimulator {
 
     /// Start in a given world (inputs, start-up faults).
     pub fn start_in(profile: Profile, world: World) -> Result<(PtySimulator, Box<dyn SerialPort>), String> {
-        PtySimulator::serving(move |port, stop| serve(port, profile, &world, stop, None))
+        let late_us = Arc::new(AtomicU64::new(0));
+        let mut hooks = Punctuality { late_us: late_us.clone() };
+        let (mut sim, port) = PtySimulator::serving(move |port, stop| {
+            let mut slave = Slave::operational(profile);
+            world.apply(&mut slave);
+            serve_with(port, &mut slave, Instant::now(), &stop, &mut hooks, None)
+        })?;
+        sim.late_us = late_us;
+        Ok((sim, port))
+    }
+
+    /// How late the simulator was (a read of the line overdue, a reply written after
+    /// it was due), the largest since it was last taken: a line to it adds this to the
+    /// harness's own lateness ([`crate::line::serial::SerialLine::with_peer_lateness`]).
+    pub fn lateness(&self) -> Arc<AtomicU64> {
+        self.late_us.clone()
     }
 
     /// A pseudo-terminal pair, `serve` run on one end by a thread until the stop flag it
@@ -372,7 +411,8 @@ impl PtySimulator {
         let stop = Arc::new(AtomicBool::new(false));
         let flag = stop.clone();
         let thread = std::thread::spawn(move || serve(Box::new(sim_end), flag));
-        Ok((PtySimulator { path, stop, thread: Some(thread) }, Box::new(harness_end)))
+        let late_us = Arc::new(AtomicU64::new(0));
+        Ok((PtySimulator { path, stop, thread: Some(thread), late_us }, Box::new(harness_end)))
     }
 }
 

@@ -49,6 +49,9 @@ pub trait Hooks {
     fn reply(&mut self, _slave: &mut Slave, _step: &Step, planned: Planned) -> Option<Planned> {
         Some(planned)
     }
+    /// A run of a reply's characters is about to be written, `late_us` after it was
+    /// due (a busy machine woke the serving thread late; 0 when on time).
+    fn writing(&mut self, _late_us: u64) {}
     /// A reply went out as planned, its last character ending at `end_us`.
     fn sent(&mut self, _planned: &Planned, _end_us: u64) {}
     /// Whether the port marks UART faults in what it delivers (`PARMRK`: see

@@ -71,6 +71,10 @@ pub struct RealTime {
     pub tolerance_us: u64,
     lateness_us: std::cell::Cell<u64>,
     run_delay: std::cell::RefCell<crate::sched::RunDelay>,
+    /// The harness's own device on the far end (the simulator behind `--port sim`):
+    /// how late it was since the last call, which is the harness's too (the model on
+    /// a busy machine is late, not wrong).
+    pub peer_lateness: Option<std::sync::Arc<std::sync::atomic::AtomicU64>>,
 }
 
 impl RealTime {
@@ -81,6 +85,7 @@ impl RealTime {
             tolerance_us,
             lateness_us: Default::default(),
             run_delay: std::cell::RefCell::new(crate::sched::RunDelay::of_this_thread()),
+            peer_lateness: None,
         }
     }
 
@@ -108,10 +113,12 @@ impl RealTime {
     }
 
     /// The longest scheduling delay seen since the last call: the latest timed wait,
-    /// or all the time the harness waited for a processor since, if longer.
+    /// or all the time the harness waited for a processor since, if longer; and where
+    /// the far end is the harness's own simulator, how late it read or wrote, if later.
     pub fn take_lateness_us(&self) -> u64 {
         let waited = self.run_delay.borrow_mut().take_us().unwrap_or(0);
-        self.lateness_us.replace(0).max(waited)
+        let peer = self.peer_lateness.as_ref().map_or(0, |l| l.swap(0, std::sync::atomic::Ordering::SeqCst));
+        self.lateness_us.replace(0).max(waited).max(peer)
     }
 }
 
@@ -210,5 +217,16 @@ mod tests {
         let mut clock = RxClock::default();
         let stamps: Vec<u64> = (0..4).map(|i| clock.stamp(i, 1_000, Some(500)).at_us).collect();
         assert_eq!(stamps, vec![1_000, 1_500, 2_000, 2_500]);
+    }
+
+    #[test]
+    fn the_simulators_lateness_is_the_harness_and_taken_once() {
+        let mut clock = RealTime::new(0);
+        let peer = std::sync::Arc::new(std::sync::atomic::AtomicU64::new(0));
+        clock.peer_lateness = Some(peer.clone());
+        peer.store(7_000, std::sync::atomic::Ordering::SeqCst);
+        assert!(clock.take_lateness_us() >= 7_000, "the simulator's 7 ms late reply is the harness's");
+        assert_eq!(peer.load(std::sync::atomic::Ordering::SeqCst), 0, "taken: the next exchange starts from nothing");
+        assert!(clock.take_lateness_us() < 7_000);
     }
 }

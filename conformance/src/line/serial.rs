@@ -185,6 +185,13 @@ impl SerialLine {
         self
     }
 
+    /// The far end is the harness's own simulator, which reports how late it was
+    /// ([`crate::simulate::PtySimulator::lateness`]): its lateness is the harness's.
+    pub fn with_peer_lateness(mut self, lateness: std::sync::Arc<std::sync::atomic::AtomicU64>) -> SerialLine {
+        self.time.peer_lateness = Some(lateness);
+        self
+    }
+
     /// The USB adapter behind the port, if one was found.
     pub fn adapter(&self) -> Option<&Adapter> {
         self.adapter.as_ref()

@@ -185,19 +185,28 @@ fn grade(
     let late = deciding.iter().map(|d| d.answered_late_us).max().unwrap_or(0);
     match disturbed_from {
         Some(from) if late > 0 => Some(format!(
-            "{} replies disturbed by the harness's own timing from {:.3} ms on (a request read up to {:.3} ms late, \
+            "{} disturbed by the harness's own timing from {:.3} ms on (a request read up to {:.3} ms late, \
              answered after its limit)",
-            deciding.len(),
+            replies(deciding.len()),
             from as f64 / 1000.0,
             late as f64 / 1000.0
         )),
         Some(from) => Some(format!(
-            "{} replies written with an unplanned pause (up to {:.3} ms) from {:.3} ms on, and what the master did \
+            "{} written with an unplanned pause (up to {:.3} ms) from {:.3} ms on, and what the master did \
              after them",
-            deciding.len(),
+            replies(deciding.len()),
             pause as f64 / 1000.0,
             from as f64 / 1000.0
         )),
         None => any_unproven,
+    }
+}
+
+/// "1 reply", "3 replies".
+fn replies(n: usize) -> String {
+    if n == 1 {
+        "1 reply".to_string()
+    } else {
+        format!("{n} replies")
     }
 }

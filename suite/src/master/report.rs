@@ -101,6 +101,7 @@ fn markdown(r: &DriveReport) -> String {
         }
         s += &format!("\n```\n{}```\n", wire_text(c));
     }
+    s += &crate::report::documents_markdown(&r.scenarios);
     if !r.notes_per_scenario.is_empty() {
         s += &format!("\n## Appendix: scenarios run again\n\n{RERUNS}\n\n");
         for n in &r.notes_per_scenario {
@@ -187,6 +188,7 @@ fn html(r: &DriveReport, profile: &Profile) -> String {
         s += "</ul>";
         s += &crate::master::timeline::svg(c, profile);
     }
+    s += &crate::report::documents_html(&r.scenarios);
     if !r.notes_per_scenario.is_empty() {
         let _ = write!(s, "<h2>Appendix: scenarios run again</h2><p>{}</p><ul>", escape(RERUNS));
         for n in &r.notes_per_scenario {

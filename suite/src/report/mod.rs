@@ -114,6 +114,43 @@ impl NotRun {
     }
 }
 
+/// The documents a clause id names by its prefix ("000:T10"), for a certificate's
+/// reader who has only the certificate.
+const DOCUMENTS: [(&str, &str); 4] = [
+    ("000", "the SICK HIPERFACE specification: the normative document (the \"current\" edition)"),
+    ("001", "the Kübler Sendix S36 HIPERFACE manual: its worked examples"),
+    ("002", "the SICK-STEGMANN HIPERFACE description: the \"legacy\" edition"),
+    ("DESIGN", "a decision of this project where the documents are silent (the user guide's design notes)"),
+];
+
+/// The documents the units' clauses and findings cite, in the order of [`DOCUMENTS`].
+pub fn documents_cited(units: &[crate::verdict::CaseResult]) -> Vec<(&'static str, &'static str)> {
+    let cited = |prefix: &str| {
+        let of = |id: &str| id.split_once(':').is_some_and(|(doc, _)| doc == prefix);
+        units.iter().any(|u| u.clauses.iter().any(|c| of(c.id())) || u.findings.iter().any(|f| of(f.clause_id())))
+    };
+    DOCUMENTS.into_iter().filter(|(prefix, _)| cited(prefix)).collect()
+}
+
+/// The certificate's "Documents cited" section in Markdown.
+pub fn documents_markdown(units: &[crate::verdict::CaseResult]) -> String {
+    let mut s = String::from("\n## Documents cited\n\n");
+    for (prefix, what) in documents_cited(units) {
+        s.push_str(&format!("- `{prefix}`: {what}\n"));
+    }
+    s
+}
+
+/// The certificate's "Documents cited" section in HTML.
+pub fn documents_html(units: &[crate::verdict::CaseResult]) -> String {
+    let mut s = String::from("<h2>Documents cited</h2><ul>");
+    for (prefix, what) in documents_cited(units) {
+        s.push_str(&format!("<li><code>{prefix}</code>: {}</li>", escape(what)));
+    }
+    s.push_str("</ul>");
+    s
+}
+
 /// A report as its JSON form has it: the outcome and the findings to read first
 /// ahead of everything the report holds, as on the certificate.
 #[derive(serde::Serialize)]

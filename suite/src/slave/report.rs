@@ -61,8 +61,12 @@ fn markdown(r: &Report) -> String {
     for c in &r.cases {
         let _ = writeln!(s, "| `{}` | {} | {} | {} |", c.id, c.verdict.label(), c.clause_list(), c.title);
     }
-    let _ = writeln!(s, "\n## Findings of each case\n");
-    for c in r.cases.iter().filter(|c| !c.findings.is_empty() && c.verdict != CaseVerdict::NotApplicable) {
+    let with_findings: Vec<_> =
+        r.cases.iter().filter(|c| !c.findings.is_empty() && c.verdict != CaseVerdict::NotApplicable).collect();
+    if !with_findings.is_empty() {
+        let _ = writeln!(s, "\n## Findings of each case\n");
+    }
+    for c in with_findings {
         let _ = writeln!(s, "### `{}`: {}\n", c.id, c.verdict.label());
         for f in &c.findings {
             let _ = writeln!(s, "- {}: {f}", f.verdict().label());
@@ -89,6 +93,7 @@ fn markdown(r: &Report) -> String {
     for n in &r.notes {
         let _ = writeln!(s, "- {n}");
     }
+    s.push_str(&crate::report::documents_markdown(&r.cases));
     s
 }
 
@@ -231,6 +236,8 @@ fn html(r: &Report) -> String {
     for n in &r.notes {
         let _ = write!(s, "<li>{}</li>", escape(n));
     }
-    s.push_str("</ul></body></html>\n");
+    s.push_str("</ul>");
+    s.push_str(&crate::report::documents_html(&r.cases));
+    s.push_str("</body></html>\n");
     s
 }
