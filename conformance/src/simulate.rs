@@ -374,7 +374,7 @@ impl PtySimulator {
     /// pseudo-terminal sets (a serial device server that takes settings through RFC
     /// 2217): see [`Hooks::follows_line_settings`].
     pub fn start_following_line_settings(profile: Profile) -> Result<(PtySimulator, Box<dyn SerialPort>), String> {
-        PtySimulator::serving(move |port, stop| {
+        PtySimulator::serving(Arc::default(), move |port, stop| {
             let mut slave = Slave::operational(profile);
             serve_with(port, &mut slave, Instant::now(), &stop, &mut FollowLine, None)
         })
@@ -384,13 +384,11 @@ impl PtySimulator {
     pub fn start_in(profile: Profile, world: World) -> Result<(PtySimulator, Box<dyn SerialPort>), String> {
         let late_us = Arc::new(AtomicU64::new(0));
         let mut hooks = Punctuality { late_us: late_us.clone() };
-        let (mut sim, port) = PtySimulator::serving(move |port, stop| {
+        PtySimulator::serving(late_us, move |port, stop| {
             let mut slave = Slave::operational(profile);
             world.apply(&mut slave);
             serve_with(port, &mut slave, Instant::now(), &stop, &mut hooks, None)
-        })?;
-        sim.late_us = late_us;
-        Ok((sim, port))
+        })
     }
 
     /// How late the simulator was (a read of the line overdue, a reply written after
@@ -401,8 +399,10 @@ impl PtySimulator {
     }
 
     /// A pseudo-terminal pair, `serve` run on one end by a thread until the stop flag it
-    /// is given is set; the other end for the harness.
+    /// is given is set; the other end for the harness. `late_us`: where `serve` reports
+    /// how late it was (see [`PtySimulator::lateness`]).
     fn serving(
+        late_us: Arc<AtomicU64>,
         serve: impl FnOnce(Box<dyn SerialPort>, Arc<AtomicBool>) -> std::io::Result<()> + Send + 'static,
     ) -> Result<(PtySimulator, Box<dyn SerialPort>), String> {
         let (sim_end, harness_end) =
@@ -411,7 +411,6 @@ impl PtySimulator {
         let stop = Arc::new(AtomicBool::new(false));
         let flag = stop.clone();
         let thread = std::thread::spawn(move || serve(Box::new(sim_end), flag));
-        let late_us = Arc::new(AtomicU64::new(0));
         Ok((PtySimulator { path, stop, thread: Some(thread), late_us }, Box::new(harness_end)))
     }
 }

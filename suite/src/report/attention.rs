@@ -9,6 +9,12 @@ use crate::verdict::{CaseResult, CaseVerdict, Figure, WireEntry};
 use hiperface_model::CommandId;
 use serde::Serialize;
 
+/// Whether a unit with verdict `v` is one a certificate puts first (and shows the
+/// wire log of).
+pub fn read_first(v: CaseVerdict) -> bool {
+    FIRST.contains(&v)
+}
+
 /// The verdicts a certificate puts first, in the order it lists them.
 const FIRST: [CaseVerdict; 4] =
     [CaseVerdict::Fail, CaseVerdict::Error, CaseVerdict::NotExercised, CaseVerdict::Unknown];
@@ -137,23 +143,27 @@ impl Attention {
         format!("{} {} ({}): {}", self.verdict.label(), self.unit, self.title, self.finding)
     }
 
-    /// What follows the headline, as (what, text) pairs in plain words.
-    pub fn details(&self) -> Vec<(&'static str, String)> {
+    /// What follows the headline, in plain words, with the frames' bytes apart.
+    pub fn details(&self) -> Vec<Detail> {
+        let words = |what, words: String| Detail { what, bytes: None, words };
         let mut rows = Vec::new();
         if !self.clause.is_empty() {
-            rows.push(("clause", format!("{}: \u{201c}{}\u{201d}", self.clause, self.clause_text)));
+            rows.push(words("clause", format!("{}: \u{201c}{}\u{201d}", self.clause, self.clause_text)));
         }
         if let (Some(request), Some(command)) = (&self.request, &self.command) {
             let at = self.at_ms.map_or(String::new(), |t| format!(", the exchange at {t:.3} ms"));
-            rows.push(("request", format!("{request} ({command}{at})")));
-            rows.push(("reply", self.reply.clone().unwrap_or_else(|| "none heard".to_string())));
+            rows.push(Detail { what: "request", bytes: Some(request.clone()), words: format!("{command}{at}") });
+            rows.push(match &self.reply {
+                Some(reply) => Detail { what: "reply", bytes: Some(reply.clone()), words: String::new() },
+                None => words("reply", "none heard".to_string()),
+            });
         }
         if let Some(f) = self.figure {
-            rows.push(("measured", f.to_string()));
+            rows.push(words("measured", f.to_string()));
         }
         if self.more > 0 {
             let what = if self.more == 1 { "finding" } else { "findings" };
-            rows.push(("more", format!("{} more {what} like it in {}'s own section", self.more, self.unit)));
+            rows.push(words("more", format!("{} more {what} like it in {}'s own section", self.more, self.unit)));
         }
         rows
     }
@@ -161,8 +171,31 @@ impl Attention {
     /// The console's lines: the headline, then the details indented.
     pub fn lines(&self) -> Vec<String> {
         let mut out = vec![self.headline()];
-        out.extend(self.details().into_iter().map(|(k, v)| format!("    {k}: {v}")));
+        out.extend(
+            self.details().iter().map(|d| format!("    {}: {}", d.what, d.render(str::to_string, str::to_string))),
+        );
         out
+    }
+}
+
+/// One line under a finding's headline: what it is, the frame's bytes where it shows
+/// one (raw, as sent or heard), and words.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Detail {
+    pub what: &'static str,
+    pub bytes: Option<String>,
+    pub words: String,
+}
+
+impl Detail {
+    /// As one form writes it: `code` for the bytes, `text` for the words, the words in
+    /// parentheses after the bytes.
+    fn render(&self, code: impl Fn(&str) -> String, text: impl Fn(&str) -> String) -> String {
+        match (&self.bytes, self.words.is_empty()) {
+            (Some(b), true) => code(b),
+            (Some(b), false) => format!("{} ({})", code(b), text(&self.words)),
+            (None, _) => text(&self.words),
+        }
     }
 }
 
@@ -182,24 +215,11 @@ pub fn markdown(items: &[Attention], nothing: &str) -> String {
             a.title,
             a.finding.replace('|', "\\|")
         ));
-        for (k, v) in a.details() {
-            let v = match k {
-                "request" | "reply" => code_first(&v),
-                _ => v,
-            };
-            s.push_str(&format!("   - {k}: {v}\n"));
+        for d in a.details() {
+            s.push_str(&format!("   - {}: {}\n", d.what, d.render(|b| format!("`{b}`"), str::to_string)));
         }
     }
     s
-}
-
-/// Hex bytes as code, words after them as they are.
-fn code_first(v: &str) -> String {
-    match v.split_once(" (") {
-        Some((bytes, rest)) => format!("`{bytes}` ({rest}"),
-        None if v == "none heard" => v.to_string(),
-        None => format!("`{v}`"),
-    }
 }
 
 /// The section in HTML.
@@ -216,16 +236,9 @@ pub fn html(items: &[Attention], nothing: &str) -> String {
             escape(&a.finding),
             id = a.unit
         ));
-        for (k, val) in a.details() {
-            let val = match k {
-                "request" | "reply" => match val.split_once(" (") {
-                    Some((bytes, rest)) => format!("<code>{}</code> ({}", escape(bytes), escape(rest)),
-                    None if val == "none heard" => escape(&val),
-                    None => format!("<code>{}</code>", escape(&val)),
-                },
-                _ => escape(&val),
-            };
-            s.push_str(&format!("<li>{k}: {val}</li>"));
+        for d in a.details() {
+            let val = d.render(|b| format!("<code>{}</code>", escape(b)), escape);
+            s.push_str(&format!("<li>{}: {val}</li>", d.what));
         }
         s.push_str("</ul></li>");
     }

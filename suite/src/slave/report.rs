@@ -103,7 +103,7 @@ const RESPONSE_TIMES: &str = "From the end of the request's timeout to the reply
 
 /// A case's wire log goes on the certificate where a finding in it needs reading.
 fn shows_wire(c: &crate::verdict::CaseResult) -> bool {
-    matches!(c.verdict, CaseVerdict::Fail | CaseVerdict::Error | CaseVerdict::NotExercised | CaseVerdict::Unknown)
+    crate::report::attention::read_first(c.verdict)
 }
 
 /// The certificate's header: what was certified, how, and what it said of itself.
