@@ -96,6 +96,15 @@ enum Command {
     },
 }
 
+/// How `vectors show` writes its piece.
+#[derive(Clone, Copy, ValueEnum)]
+enum PieceFormat {
+    #[value(alias = "md")]
+    Markdown,
+    Html,
+    Svg,
+}
+
 /// A table for people or for programs (`clauses`, `vectors export`).
 #[derive(Clone, Copy, ValueEnum)]
 enum TextFormat {
@@ -136,8 +145,22 @@ enum VectorsCommand {
         #[arg(default_value = "vectors")]
         dir: PathBuf,
     },
+    /// One example or diagram of the protocol reference on its own, for a manual of your
+    /// own: a vector's example by its id (Markdown, or --format html), a timing diagram by
+    /// its id (SVG, or --format markdown or html).
+    Show {
+        /// A vector's id (001-5.1.4.1-read-position) or a diagram's (exchange-42h).
+        id: String,
+        /// Markdown or HTML for an example; SVG (its own), Markdown or HTML for a diagram.
+        #[arg(long, value_enum)]
+        format: Option<PieceFormat>,
+        /// The folder of the vector files.
+        #[arg(long, default_value = "vectors")]
+        dir: PathBuf,
+    },
     /// Write the protocol reference (a Markdown chapter per command, every frame a byte
-    /// diagram from a vector) into DIR, e.g. `--out docs/src/reference` for the user guide.
+    /// diagram from a vector, timing diagrams as SVG) into DIR, e.g. `--out
+    /// docs/src/reference` for the user guide.
     Book {
         /// The folder to write the pages into (made if need be).
         #[arg(long, value_name = "DIR")]
@@ -146,6 +169,19 @@ enum VectorsCommand {
         #[arg(long, default_value = "vectors")]
         dir: PathBuf,
     },
+}
+
+/// The vector files of `dir`, each with its file name.
+fn named_vector_files(
+    dir: &std::path::Path,
+) -> Result<Vec<(String, hiperface_suite::vectors::VectorFile)>, CommandError> {
+    use hiperface_suite::vectors;
+    let mut files = Vec::new();
+    for path in vectors::files(dir)? {
+        let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        files.push((name, vectors::load(&path)?));
+    }
+    Ok(files)
 }
 
 /// `hiperface clauses`: exit 1 when a normative clause is neither covered nor listed.
@@ -311,27 +347,47 @@ fn vectors_command(what: VectorsCommand) -> Result<Ended, CommandError> {
             }
             Ok(Ended::Done)
         }
+        VectorsCommand::Show { id, format, dir } => {
+            let files = named_vector_files(&dir)?;
+            let format = format.map(|f| match f {
+                PieceFormat::Markdown => vectors::reference::PieceFormat::Markdown,
+                PieceFormat::Html => vectors::reference::PieceFormat::Html,
+                PieceFormat::Svg => vectors::reference::PieceFormat::Svg,
+            });
+            let text = vectors::reference::piece(&files, &id, format).map_err(CommandError::Usage)?;
+            print_all(&text)?;
+            Ok(Ended::Done)
+        }
         VectorsCommand::Book { out, dir } => {
-            let mut files = Vec::new();
-            for path in vectors::files(&dir)? {
-                let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-                files.push((name, vectors::load(&path)?));
-            }
+            let files = named_vector_files(&dir)?;
             let pages = vectors::reference::book(&files);
-            std::fs::create_dir_all(&out).map_err(CommandError::file(&out))?;
             for (name, text) in &pages {
                 let path = out.join(name);
+                if let Some(parent) = path.parent() {
+                    std::fs::create_dir_all(parent).map_err(CommandError::file(parent))?;
+                }
                 std::fs::write(&path, text).map_err(CommandError::file(&path))?;
             }
-            say!("{}: {} pages (the index and a chapter per command)", out.display(), pages.len());
+            let svg = pages.iter().filter(|(n, _)| n.ends_with(".svg")).count();
+            say!(
+                "{}: {} pages (the index, a chapter per command, timing, error codes, editions, master-side tables) and {svg} diagrams",
+                out.display(),
+                pages.len() - svg
+            );
             // A page this run did not write is left alone, but named: the reference's
             // test fails on it.
             let written: Vec<&str> = pages.iter().map(|(n, _)| n.as_str()).collect();
-            let mut others: Vec<String> = std::fs::read_dir(&out)
-                .map_err(CommandError::file(&out))?
-                .filter_map(|e| e.ok().map(|e| e.file_name().to_string_lossy().into_owned()))
-                .filter(|n| n.ends_with(".md") && !written.contains(&n.as_str()))
-                .collect();
+            let mut others = Vec::new();
+            for sub in ["", "svg"] {
+                let Ok(entries) = std::fs::read_dir(out.join(sub)) else { continue };
+                others.extend(
+                    entries
+                        .filter_map(|e| e.ok().map(|e| e.file_name().to_string_lossy().into_owned()))
+                        .filter(|n| n.ends_with(".md") || n.ends_with(".svg"))
+                        .map(|n| if sub.is_empty() { n } else { format!("{sub}/{n}") })
+                        .filter(|n| !written.contains(&n.as_str())),
+                );
+            }
             others.sort();
             for name in others {
                 say!("{}: not written by this run (a page of an earlier one? remove it)", out.join(name).display());

@@ -22,6 +22,7 @@ const COMMANDS: &[&[&str]] = &[
     &["vectors", "verify"],
     &["vectors", "export"],
     &["vectors", "book"],
+    &["vectors", "show"],
     &["export-profile"],
     &["master"],
     &["decode"],

@@ -236,16 +236,29 @@ fn reference_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/src/reference")
 }
 
-/// The Markdown pages of a folder, by name.
+/// The Markdown pages of a folder and the SVG diagrams of its `svg/`, by name
+/// (`svg/exchange-42h.svg`).
 fn pages_in(dir: &Path) -> Vec<(String, String)> {
-    let mut pages: Vec<(String, String)> = std::fs::read_dir(dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "md"))
-        .map(|p| (p.file_name().unwrap().to_string_lossy().into_owned(), std::fs::read_to_string(&p).unwrap()))
-        .collect();
+    let mut pages = Vec::new();
+    for (sub, ext) in [("", "md"), ("svg", "svg")] {
+        let Ok(entries) = std::fs::read_dir(dir.join(sub)) else { continue };
+        for p in entries.map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|e| e == ext)) {
+            let name = p.file_name().unwrap().to_string_lossy().into_owned();
+            let name = if sub.is_empty() { name } else { format!("{sub}/{name}") };
+            pages.push((name, std::fs::read_to_string(&p).unwrap()));
+        }
+    }
     pages.sort();
     pages
+}
+
+/// The pages written into `dir` as they are named (making `svg/`).
+fn write_pages(dir: &Path, pages: &[(String, String)]) {
+    for (name, text) in pages {
+        let path = dir.join(name);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(path, text).unwrap();
+    }
 }
 
 /// What is stale in the reference at `dir`, against what the generator writes now.
@@ -276,10 +289,14 @@ fn the_reference_is_what_the_generator_writes() {
 #[test]
 fn a_changed_byte_in_the_reference_is_caught() {
     let tmp = temp();
-    for (name, text) in pages_in(&reference_dir()) {
-        std::fs::write(tmp.path().join(name), text).unwrap();
-    }
+    write_pages(tmp.path(), &pages_in(&reference_dir()));
     assert!(stale(tmp.path()).is_empty(), "the copy is the committed reference");
+    // A diagram changed is caught as a page is.
+    let svg = tmp.path().join("svg/exchange-42h.svg");
+    let drawn = std::fs::read_to_string(&svg).unwrap();
+    std::fs::write(&svg, drawn.replacen("</svg>", "<!-- edited --></svg>", 1)).unwrap();
+    assert_eq!(stale(tmp.path()).len(), 1, "{:?}", stale(tmp.path()));
+    std::fs::write(&svg, drawn).unwrap();
     // One byte of a diagram: 40 42 02 becomes 40 42 03.
     let page = tmp.path().join("42h-read-position.md");
     let text = std::fs::read_to_string(&page).unwrap();
@@ -482,6 +499,87 @@ fn vectors_book_writes_the_reference() {
         .unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(0), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
-    assert!(stdout.contains(" pages (the index and a chapter per command)"), "{stdout}");
+    assert!(stdout.contains(" pages (the index, a chapter per command, timing, "), "{stdout}");
+    assert!(stdout.contains(" diagrams\n"), "{stdout}");
     assert!(stale(tmp.path()).is_empty(), "the command writes what the generator gives");
+}
+
+#[test]
+fn every_diagram_of_the_reference_is_well_formed_svg_and_shown() {
+    let pages = pages_in(&reference_dir());
+    let diagrams: Vec<&(String, String)> = pages.iter().filter(|(n, _)| n.ends_with(".svg")).collect();
+    assert!(diagrams.len() >= 5, "exchange, power-up of both editions, 53h, 67h: {diagrams:?}");
+    let markdown: String = pages.iter().filter(|(n, _)| n.ends_with(".md")).map(|(_, t)| t.as_str()).collect();
+    for (name, svg) in diagrams {
+        let doc = roxmltree::Document::parse(svg).unwrap_or_else(|e| panic!("{name} is not well-formed XML: {e}"));
+        assert_eq!(doc.root_element().tag_name().name(), "svg", "{name}");
+        assert_eq!(doc.root_element().tag_name().namespace(), Some("http://www.w3.org/2000/svg"), "{name}");
+        assert!(markdown.contains(&format!("]({name})")), "no page shows {name}");
+    }
+    // The check itself fails on a broken document.
+    assert!(
+        roxmltree::Document::parse("<svg xmlns=\"http://www.w3.org/2000/svg\"><text>a &amp b</text></svg>").is_err()
+    );
+}
+
+#[test]
+fn every_hex_frame_the_reference_prints_is_a_vectors() {
+    // Byte diagrams are checked above; frames also appear as hex in code spans (the
+    // starting state's requests, the editions' table).
+    let (requests, replies) = vector_frames();
+    let mut checked = 0;
+    for (page, text) in pages_in(&reference_dir()).iter().filter(|(n, _)| n.ends_with(".md")) {
+        for span in text.split('`').skip(1).step_by(2) {
+            let Ok(bytes) = vectors::parse_hex(span) else { continue };
+            if bytes.len() < 3 {
+                continue;
+            }
+            checked += 1;
+            assert!(
+                requests.contains(&bytes) || replies.contains(&bytes),
+                "{page}: `{span}` is no request or reply of a vector"
+            );
+        }
+    }
+    assert!(checked > 20, "only {checked} frames in code spans");
+}
+
+#[test]
+fn vectors_show_exports_one_example_or_diagram() {
+    let show = |args: &[&str]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_hiperface"))
+            .args(["vectors", "show", "--dir"])
+            .arg(dir())
+            .args(args)
+            .output()
+            .unwrap();
+        (
+            out.status.code(),
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    };
+    // An example in Markdown, as the book has it, with the diagrams' style.
+    let (code, md, _) = show(&["001-5.1.4.1-read-position"]);
+    assert_eq!(code, Some(0));
+    assert!(md.starts_with("<style>"), "{md}");
+    assert!(md.contains("`001-5.1.4.1-read-position`"), "{md}");
+    assert!(md.contains("<code>40h XOR 42h = 02h</code>"), "{md}");
+    // A standalone page.
+    let (code, html, _) = show(&["001-5.1.4.1-read-position", "--format", "html"]);
+    assert_eq!(code, Some(0));
+    assert!(html.starts_with("<!DOCTYPE html>"), "{html}");
+    assert!(html.contains("<h3>") && html.contains("<table class=\"hf-frame\">"), "{html}");
+    // A diagram as SVG, the same as the book's file.
+    let (code, svg, _) = show(&["exchange-42h"]);
+    assert_eq!(code, Some(0));
+    let book = std::fs::read_to_string(reference_dir().join("svg/exchange-42h.svg")).unwrap();
+    assert_eq!(svg, book);
+    // What cannot be: an unknown id, an example as SVG.
+    let (code, _, err) = show(&["no-such-id"]);
+    assert_eq!(code, Some(2));
+    assert!(err.contains("no vector or diagram has the id \"no-such-id\"") && err.contains("exchange-42h"), "{err}");
+    let (code, _, err) = show(&["001-5.1.4.1-read-position", "--format", "svg"]);
+    assert_eq!(code, Some(2));
+    assert!(err.contains("SVG is for the timing diagrams"), "{err}");
 }

@@ -12,6 +12,9 @@
 //! Past 400 lines for a reason: the pages, the diagrams and the names of the bytes are
 //! one generator, read together.
 
+mod bits;
+mod pages;
+
 use super::{parse_hex, Erratum, Expected, Setup, Vector, VectorFile, VectorStep};
 use hiperface_model::clause;
 use hiperface_model::command::{AccessCodeRule, CommandSet, CommandSpec, DataLength, Editions, COMMAND_TABLE};
@@ -32,6 +35,10 @@ pub fn book(files: &[(String, VectorFile)]) -> Vec<(String, String)> {
     let chapters = chapters(files);
     let mut pages = vec![(INDEX.to_string(), index(files, &chapters))];
     pages.extend(chapters.iter().map(|c| (c.file.clone(), c.text.clone())));
+    pages.extend(timing_pages());
+    pages.push((pages::ERROR_CODES.to_string(), pages::error_codes()));
+    pages.push((pages::EDITIONS.to_string(), pages::editions(files)));
+    pages.push((pages::MASTER_TABLES.to_string(), pages::master_tables(files)));
     pages
 }
 
@@ -39,7 +46,7 @@ pub fn book(files: &[(String, VectorFile)]) -> Vec<(String, String)> {
 /// `# Protocol reference`.
 pub fn summary(pages: &[(String, String)]) -> String {
     let mut s = String::new();
-    for (i, (path, text)) in pages.iter().enumerate() {
+    for (i, (path, text)) in pages.iter().filter(|(p, _)| p.ends_with(".md")).enumerate() {
         let title = text.lines().next().and_then(|l| l.strip_prefix("# ")).unwrap_or(path);
         let indent = if i == 0 { "" } else { "    " };
         let _ = writeln!(s, "{indent}- [{title}](reference/{path})");
@@ -66,6 +73,139 @@ pub fn differences(expected: &[(String, String)], found: &[(String, String)]) ->
         out.push(format!("{path}: not generated (a stale page?)"));
     }
     out
+}
+
+/// The timing diagrams' pages and their SVG files (`svg/<id>.svg`): the power-up
+/// sequences on a page of their own, the exchanges on another.
+fn timing_pages() -> Vec<(String, String)> {
+    let diagrams = crate::timing_diagrams::diagrams();
+    let page = |title: &str, intro: &str, power_up: bool| {
+        let mut s = format!("# {title}\n\n{GENERATED}\n\n{intro}\n");
+        for d in diagrams.iter().filter(|d| d.id.starts_with("power-up") == power_up) {
+            let _ = write!(
+                s,
+                "\n## {}\n\n{}\n\n{}\n\nOn its own: `hiperface vectors show {}` (SVG).\n",
+                md(&d.title),
+                image(d),
+                d.caption.trim(),
+                d.id
+            );
+        }
+        s
+    };
+    let mut out = vec![
+        (
+            TIMING.to_string(),
+            page(
+                "Timing",
+                "Each diagram is drawn from the model run in virtual time: the characters at the line's \
+                 rate, the times the model takes a request, answers it and listens again; every figure \
+                 on a diagram is the model's, with the clause it comes from. The power-up sequence has \
+                 [a page of its own](power-up.md).",
+                false,
+            ),
+        ),
+        (
+            POWER_UP.to_string(),
+            page(
+                "The power-up sequence",
+                "What a slave does after power-on or an Encoder Reset (53h), in both editions: when it \
+                 does not listen, when it listens with the default settings and when with the stored \
+                 ones (000 Table 9; 002 for the legacy edition). Drawn from the model's power-up state \
+                 machine; every figure is the model's. [Timing](timing.md) has the exchanges.",
+                true,
+            ),
+        ),
+    ];
+    out.extend(diagrams.iter().map(|d| (format!("svg/{}.svg", d.id), d.svg.clone())));
+    out
+}
+
+/// A diagram on a page, a link to its SVG for the full size.
+fn image(d: &crate::timing_diagrams::Diagram) -> String {
+    format!("[![{}](svg/{}.svg)](svg/{}.svg)", md(&d.title), d.id, d.id)
+}
+
+/// A command's own timing diagram (`exchange-42h`, `encoder-reset-53h`), shown in its
+/// chapter too.
+fn timing_of(id: CommandId) -> String {
+    let suffix = format!("-{:02x}h", id.byte());
+    let diagrams = crate::timing_diagrams::diagrams();
+    let Some(d) = diagrams.iter().find(|d| d.id.ends_with(&suffix)) else {
+        return String::new();
+    };
+    format!(
+        "\n## Timing\n\n{}\n\nDrawn from the model in virtual time; the figures and their clauses are on the \
+         [timing](timing.md) page. On its own: `hiperface vectors show {}` (SVG).\n",
+        image(d),
+        d.id
+    )
+}
+
+pub const TIMING: &str = "timing.md";
+pub const POWER_UP: &str = "power-up.md";
+
+/// How a piece of the reference is written out on its own.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PieceFormat {
+    /// Markdown with the byte diagrams as HTML tables and their style (what the book's
+    /// pages hold).
+    Markdown,
+    /// A standalone HTML page.
+    Html,
+    /// A timing diagram as an SVG document.
+    Svg,
+}
+
+/// One example or diagram of the reference on its own, for a writer to put into a manual
+/// of their own: a vector's example by the vector's id (Markdown or HTML), a timing
+/// diagram by its id (SVG by default, or Markdown or HTML around it). `None` for the
+/// format: the piece's own (Markdown for an example, SVG for a diagram).
+pub fn piece(files: &[(String, VectorFile)], id: &str, format: Option<PieceFormat>) -> Result<String, String> {
+    let found = files.iter().find_map(|(n, f)| f.vectors.iter().find(|v| v.id == id).map(|v| (n.as_str(), v)));
+    if let Some((file, v)) = found {
+        if v.steps.is_empty() {
+            return Err(format!("vector {id} has no frames to draw (a table row or a checksum example)"));
+        }
+        let text = format!("{STYLE}\n{}", example(file, v, &mut Vec::new()));
+        return match format.unwrap_or(PieceFormat::Markdown) {
+            PieceFormat::Markdown => Ok(text),
+            PieceFormat::Html => Ok(standalone(id, &text)),
+            PieceFormat::Svg => Err(format!(
+                "vector {id} is an example, drawn as byte diagrams in Markdown or HTML (--format markdown or html); \
+                 SVG is for the timing diagrams"
+            )),
+        };
+    }
+    let diagrams = crate::timing_diagrams::diagrams();
+    if let Some(d) = diagrams.iter().find(|d| d.id == id) {
+        let text = format!("## {}\n\n{}\n\n{}\n", md(&d.title), d.svg.trim(), d.caption.trim());
+        return Ok(match format.unwrap_or(PieceFormat::Svg) {
+            PieceFormat::Svg => d.svg.clone(),
+            PieceFormat::Markdown => text,
+            PieceFormat::Html => standalone(id, &text),
+        });
+    }
+    let known: Vec<&str> = diagrams.iter().map(|d| d.id).collect();
+    Err(format!(
+        "no vector or diagram has the id {id:?}; `hiperface vectors export` lists the vectors' ids, the diagrams are {}",
+        known.join(", ")
+    ))
+}
+
+/// A standalone HTML page around Markdown (with HTML blocks in it).
+fn standalone(title: &str, markdown: &str) -> String {
+    let mut body = String::new();
+    pulldown_cmark::html::push_html(
+        &mut body,
+        pulldown_cmark::Parser::new_ext(markdown, pulldown_cmark::Options::ENABLE_TABLES),
+    );
+    format!(
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{}</title>\n\
+         <style>body {{ font-family: sans-serif; max-width: 60em; margin: 1em auto; padding: 0 1em; }}</style>\n\
+         </head>\n<body>\n{body}</body>\n</html>\n",
+        html(title)
+    )
 }
 
 /// A chapter: a command's page.
@@ -141,6 +281,8 @@ fn chapter(spec: &'static CommandSpec, legacy: bool, all: &[Named]) -> Chapter {
     let title = format!("{name} {}{}", spec.name, if legacy { " (legacy edition)" } else { "" });
     let mut s = format!("# {title}\n\n{GENERATED}\n\n{STYLE}\n\n");
     s.push_str(&what_it_does(spec, legacy));
+    s.push_str(&bit_fields(spec.id));
+    s.push_str(&timing_of(spec.id));
     let mut errata = Vec::new();
     let mut cited: Vec<String> = vec![spec.clause.id().to_string()];
     if !documents.is_empty() {
@@ -182,8 +324,13 @@ fn chapter(spec: &'static CommandSpec, legacy: bool, all: &[Named]) -> Chapter {
             }
         }
     }
-    let file = format!("{:02x}h-{}.md", spec.id.byte(), slug(spec.name));
+    let file = chapter_file(spec);
     Chapter { spec, legacy, file, text: s, documents: documents.len(), generated: generated.len() }
+}
+
+/// A command's chapter's file name: `42h-read-position.md`.
+fn chapter_file(spec: &CommandSpec) -> String {
+    format!("{:02x}h-{}.md", spec.id.byte(), slug(spec.name))
 }
 
 const GENERATED: &str = "<!-- Generated by `hiperface vectors book` from the vector files: do not edit. -->";
@@ -203,7 +350,10 @@ table.hf-frame td.hf-addr { background: rgba(38, 139, 210, 0.2); }
 table.hf-frame td.hf-cmd { background: rgba(181, 137, 0, 0.25); }
 table.hf-frame td.hf-sum { background: rgba(133, 153, 0, 0.25); }
 table.hf-frame td.hf-bad { background: rgba(220, 50, 47, 0.45); font-weight: bold; }
-p.hf-xor, p.hf-warn, p.hf-none { margin: 2px 0; font-size: 0.8em; }
+p.hf-xor, p.hf-warn, p.hf-none, p.hf-bits-said { margin: 2px 0; font-size: 0.8em; }
+table.hf-bits { border-collapse: collapse; margin: 0.4em 0 1em; font-size: 0.85em; }
+table.hf-bits th, table.hf-bits td { border: 1px solid rgba(128, 128, 128, 0.7); padding: 2px 6px; text-align: left; vertical-align: top; }
+table.hf-bits tr:nth-child(2n) { background: transparent; }
 </style>";
 
 /// The paragraph of what the command does: its row of the command table, its clause.
@@ -255,6 +405,39 @@ fn what_it_does(spec: &CommandSpec, legacy: bool) -> String {
         errors.join(", ")
     );
     s.trim_end().to_string() + "\n"
+}
+
+/// The bytes of the command's frames that pack bits, drawn bit by bit (the layout's
+/// values are the model's decoder's), and the Read Type Label's bytes.
+fn bit_fields(id: CommandId) -> String {
+    use bits::Packed;
+    let packed: &[Packed] = match id {
+        CommandId::ReadTypeLabel | CommandId::SetSerialInterface | CommandId::TemporarilySetSerialInterface => {
+            &[Packed::Settings]
+        }
+        CommandId::DataFieldStatus => &[Packed::FieldStatus],
+        CommandId::CreateDataField => &[Packed::CreateRequest, Packed::CreateReply],
+        _ => return String::new(),
+    };
+    let mut s = String::from("\n## Bit fields\n");
+    if id == CommandId::ReadTypeLabel {
+        s.push_str(
+            "\nThe reply's four data bytes (000:T28): the UART settings byte as drawn below; the \
+             encoder type, 00h to FEh a specific type, FFh an Extended Type Label available as data \
+             field FFh (000:T19); the total memory in 16-byte blocks; the option code, 00h on new \
+             devices.\n",
+        );
+    }
+    for p in packed {
+        let _ = write!(s, "\n### {} ({})\n\n{}", p.title(), p.clause(), bits::layout_html(*p));
+        if matches!(p, Packed::Settings) && id != CommandId::ReadTypeLabel {
+            s.push_str(
+                "\nA value answered with 0Dh is one the model's settings decoder rejects; a data rate \
+                 the device's data sheet does not list is answered with 0Dh too.\n",
+            );
+        }
+    }
+    s
 }
 
 /// One example: a vector, its starting state, the erratum once, then each step's
@@ -471,6 +654,9 @@ fn frame_html(bytes: &[u8], role: Role, caption: &str, marked: &[bool]) -> Strin
         let _ =
             writeln!(s, "<p class=\"hf-xor\">{bytes}: too short for a checksum after the address and the command</p>");
     }
+    for line in meanings(bytes, role, &labels) {
+        let _ = writeln!(s, "<p class=\"hf-bits-said\">{}</p>", html(&line));
+    }
     if let (Role::Reply(_), Some(&command)) = (role, bytes.get(1)) {
         if command & 0x80 != 0 {
             let id = CommandId::decode(command & 0x7F);
@@ -488,6 +674,47 @@ fn frame_html(bytes: &[u8], role: Role, caption: &str, marked: &[bool]) -> Strin
     }
     s.push_str("</div>");
     s
+}
+
+/// What the bytes of a frame that pack bits or count blocks say, by the model's
+/// decoders (000:T23-T25, T28, T32, T33).
+fn meanings(bytes: &[u8], role: Role, labels: &[String]) -> Vec<String> {
+    use bits::Packed;
+    let command = CommandId::of_frame(bytes);
+    let mut out = Vec::new();
+    for (byte, label) in bytes.iter().zip(labels) {
+        let packed = match (label.as_str(), role) {
+            ("settings", _) => Some(Packed::Settings),
+            ("status", Role::Request) if command == CommandId::CreateDataField => Some(Packed::CreateRequest),
+            ("status", Role::Reply(CommandId::CreateDataField)) => Some(Packed::CreateReply),
+            ("status", Role::Reply(CommandId::DataFieldStatus)) => Some(Packed::FieldStatus),
+            _ => None,
+        };
+        let said = match (packed, label.as_str()) {
+            (Some(p), _) => format!("{label} {}", bits::spelled(p, *byte)),
+            (None, "free 16-byte blocks") => {
+                format!(
+                    "free user memory {byte:02X}h = {byte} blocks of 16 bytes = {} bytes (000:T25)",
+                    *byte as usize * 16
+                )
+            }
+            (None, "memory, 16-byte blocks") => {
+                format!(
+                    "total memory {byte:02X}h = {byte} blocks of 16 bytes = {} bytes (000:T28)",
+                    *byte as usize * 16
+                )
+            }
+            (None, "data fields") => format!("{byte} data fields exist (000:T25)"),
+            (None, "encoder type") if *byte == 0xFF => {
+                "encoder type FFh: an Extended Type Label is available, read it as data field FFh (000:T28, 000:T19)"
+                    .to_string()
+            }
+            (None, "encoder type") => format!("encoder type {byte:02X}h: a specific encoder type (000:T28)"),
+            _ => continue,
+        };
+        out.push(said);
+    }
+    out
 }
 
 /// The address, the command and the checksum, and the data bytes between them.
@@ -617,7 +844,7 @@ fn index(files: &[(String, VectorFile)], chapters: &[Chapter]) -> String {
         .map(|(n, _)| format!("`{n}`"))
         .collect();
     let mut s = format!(
-        "# The protocol reference\n\n{GENERATED}\n\n\
+        "# The protocol reference\n\n{GENERATED}\n\n{STYLE}\n\n\
          A chapter per command of the current edition (000 Table 10), in byte order, and one for \
          the legacy edition's own command 63h (002). Every frame shown is a request or a reply of a \
          [golden vector](../golden-vectors.md), drawn as a byte diagram, with its checksum worked out; \
@@ -641,7 +868,13 @@ fn index(files: &[(String, VectorFile)], chapters: &[Chapter]) -> String {
          data bytes named as the model's request and reply types name them, and the checksum, the \
          XOR of all the bytes before it (000:2.3.3). A reply's command byte with bit 7 set carries \
          the **warning bit** (000:2.3.4); an error response carries 50h with the error code \
-         (D0h with the warning bit).\n",
+         (D0h with the warning bit).\n\n\
+         The command byte of a reply (000:2.3.4):\n\n\
+         <table class=\"hf-bits\">\n<tr><th>bit</th><th>7</th><th>6</th><th>5</th><th>4</th><th>3</th>\
+         <th>2</th><th>1</th><th>0</th></tr>\n<tr><th>field</th><td><b>warning bit</b></td>\
+         <td colspan=\"7\"><b>command</b></td></tr>\n<tr><th>values</th><td><code>0</code> no \
+         warning<br><code>1</code> a warning or an error is on the stack</td><td colspan=\"7\">the \
+         request's command byte, 40h to 6Ch; 50h in an error response</td></tr>\n</table>\n",
     );
     let examples: Vec<&Vector> = files.iter().flat_map(|(_, f)| &f.vectors).collect();
     let sums: Vec<&Vector> = examples.iter().copied().filter(|v| v.checksum_example.is_some()).collect();
@@ -671,9 +904,18 @@ fn index(files: &[(String, VectorFile)], chapters: &[Chapter]) -> String {
         );
     }
     s.push_str(
-        "\nNot here yet: timing diagrams, the bit fields of the settings, type label and status \
-         bytes, the error codes' table and the master-side tables; see the [golden \
-         vectors](../golden-vectors.md) for the files themselves.\n",
+        "\n## Beyond the commands\n\n\
+         - [Timing](timing.md): a request's bits on the wire, the timeout, the response window and the \
+         pause, the power-up sequence of both editions, Encoder Reset, a change of settings; drawn from \
+         the model in virtual time.\n\
+         - [Error codes](error-codes.md): every code, its group and severity, how it reaches the master \
+         and which commands list it.\n\
+         - [The two editions](editions.md): where the legacy edition (002) differs, figure by figure.\n\
+         - [Master-side tables](master-side-tables.md): quadrature counting, synchronization, octants and \
+         the fault reaction, each row beside the model's answer.\n\n\
+         One example or diagram on its own, for a manual of your own: `hiperface vectors show ID` \
+         (a vector's id, such as `doc.001.4a-read-data`, or a diagram's, such as `exchange-42h`; \
+         `--format html` for a page with the diagrams' style, `--format svg` for a diagram).\n",
     );
     s
 }
@@ -728,7 +970,10 @@ mod tests {
         let pages = book(&files());
         assert_eq!(pages[0].0, INDEX);
         let names: Vec<&str> = pages.iter().map(|(p, _)| p.as_str()).collect();
-        assert_eq!(pages.len(), 1 + 22 + 1, "{names:?}");
+        let md = names.iter().filter(|n| n.ends_with(".md")).count();
+        // The index, 22 commands, 63h, timing, power-up, error codes, editions, master tables.
+        assert_eq!(md, 1 + 22 + 1 + 5, "{names:?}");
+        assert!(names.iter().filter(|n| !n.ends_with(".md")).all(|n| n.starts_with("svg/") && n.ends_with(".svg")));
         assert_eq!(names[1], "42h-read-position.md");
         assert_eq!(names[23], "63h-set-position-with-internal-track-synchronisation.md");
         // Deterministic.
