@@ -354,7 +354,8 @@ fn vectors_command(what: VectorsCommand) -> Result<Ended, CommandError> {
                 PieceFormat::Html => vectors::reference::PieceFormat::Html,
                 PieceFormat::Svg => vectors::reference::PieceFormat::Svg,
             });
-            let text = vectors::reference::piece(&files, &id, format).map_err(CommandError::Usage)?;
+            let text =
+                vectors::reference::piece(&files, &id, format).map_err(|e| CommandError::Usage(e.to_string()))?;
             print_all(&text)?;
             Ok(Ended::Done)
         }

@@ -161,20 +161,17 @@ pub enum PieceFormat {
 /// of their own: a vector's example by the vector's id (Markdown or HTML), a timing
 /// diagram by its id (SVG by default, or Markdown or HTML around it). `None` for the
 /// format: the piece's own (Markdown for an example, SVG for a diagram).
-pub fn piece(files: &[(String, VectorFile)], id: &str, format: Option<PieceFormat>) -> Result<String, String> {
+pub fn piece(files: &[(String, VectorFile)], id: &str, format: Option<PieceFormat>) -> Result<String, PieceError> {
     let found = files.iter().find_map(|(n, f)| f.vectors.iter().find(|v| v.id == id).map(|v| (n.as_str(), v)));
     if let Some((file, v)) = found {
         if v.steps.is_empty() {
-            return Err(format!("vector {id} has no frames to draw (a table row or a checksum example)"));
+            return Err(PieceError::NoFrames(id.to_string()));
         }
         let text = format!("{STYLE}\n{}", example(file, v, &mut Vec::new()));
         return match format.unwrap_or(PieceFormat::Markdown) {
             PieceFormat::Markdown => Ok(text),
             PieceFormat::Html => Ok(standalone(id, &text)),
-            PieceFormat::Svg => Err(format!(
-                "vector {id} is an example, drawn as byte diagrams in Markdown or HTML (--format markdown or html); \
-                 SVG is for the timing diagrams"
-            )),
+            PieceFormat::Svg => Err(PieceError::ExampleAsSvg(id.to_string())),
         };
     }
     let diagrams = crate::timing_diagrams::diagrams();
@@ -187,10 +184,24 @@ pub fn piece(files: &[(String, VectorFile)], id: &str, format: Option<PieceForma
         });
     }
     let known: Vec<&str> = diagrams.iter().map(|d| d.id).collect();
-    Err(format!(
-        "no vector or diagram has the id {id:?}; `hiperface vectors export` lists the vectors' ids, the diagrams are {}",
-        known.join(", ")
-    ))
+    Err(PieceError::Unknown { id: id.to_string(), diagrams: known.join(", ") })
+}
+
+/// Why [`piece`] has nothing to give.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum PieceError {
+    #[error("vector {0} has no frames to draw (a table row or a checksum example)")]
+    NoFrames(String),
+    #[error(
+        "vector {0} is an example, drawn as byte diagrams in Markdown or HTML (--format markdown or html); \
+         SVG is for the timing diagrams"
+    )]
+    ExampleAsSvg(String),
+    #[error(
+        "no vector or diagram has the id {id:?}; `hiperface vectors export` lists the vectors' ids, the diagrams \
+         are {diagrams}"
+    )]
+    Unknown { id: String, diagrams: String },
 }
 
 /// A standalone HTML page around Markdown (with HTML blocks in it).
