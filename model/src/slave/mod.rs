@@ -280,6 +280,30 @@ impl Slave {
         self.eeprom_writes
     }
 
+    /// Count EEPROM writes from zero again. The count is the model's bookkeeping, no
+    /// part of the device's state: no command reads it, so a model checker that
+    /// compares states leaves it out this way.
+    pub fn reset_eeprom_writes(&mut self) {
+        self.eeprom_writes = 0;
+    }
+
+    /// Since when the slave is powered on or reset, and whether it kept the default
+    /// settings. // 000:T9
+    pub fn power_up(&self) -> PowerUp {
+        self.power
+    }
+
+    /// The stored settings as of the last power-on or reset: those the Operational
+    /// state uses. // 000:T32
+    pub fn boot_settings(&self) -> UartSettings {
+        self.boot_settings
+    }
+
+    /// The settings a Temporarily Set Serial Interface set, until the next reset. // 000:T33
+    pub fn temporary_settings(&self) -> Option<UartSettings> {
+        self.temp_settings
+    }
+
     pub fn state(&self, now_us: u64) -> CommState {
         self.power.state(&self.profile, now_us)
     }
