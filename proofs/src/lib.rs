@@ -4,6 +4,8 @@
 //! proptest). Also: explicit-state model checking of the slave (`model_check`) and
 //! the fuzz target bodies (`targets`), whose corpus a stable `cargo test` replays.
 
+pub mod fixpoint;
+pub mod invariant;
 pub mod model_check;
 pub mod properties;
 pub mod targets;

@@ -4,7 +4,7 @@
 //! checking the invariants in every state and that every state returns to
 //! Operational after a reset.
 
-use crate::targets::invariants;
+use crate::invariant::slave_invariant;
 use hiperface_model::slave::powerup::CommState;
 use hiperface_model::{checksum, profiles, Reply, Slave};
 use std::collections::{HashSet, VecDeque};
@@ -117,7 +117,7 @@ pub fn explore(max_depth: usize) -> Result<ModelCheckReport, String> {
 /// Invariants, and: an Encoder Reset then the power-up windows lead back to
 /// Operational, and the slave answers.
 fn check_state(s: &Slave) -> Result<(), String> {
-    std::panic::catch_unwind(|| invariants(s)).map_err(|_| format!("invariant violated in {s:?}"))?;
+    slave_invariant(s).map_err(|v| format!("invariant violated: {v} in {s:?}"))?;
     let mut r = s.clone();
     apply(&mut r, &Action::Request(vec![0xFF, 0x53]));
     if r.state(0) != CommState::Initialization {

@@ -200,29 +200,12 @@ pub fn holds_each_code_once(stack: &hiperface_model::slave::stack::ErrorStack) -
     !repeated
 }
 
-/// Invariants of every reachable state. Allocation-free and with loops of fixed
-/// length (every slot visited), so that Kani checks this same function and bounds its
-/// loops whatever it knows of the state.
+/// Invariants of every reachable state: [`crate::invariant::slave_invariant`], whose
+/// violation panics here (a fuzz target reports a panic).
 pub fn invariants(s: &Slave) {
-    use hiperface_model::slave::stack::STACK_DEPTH;
-    let stack = s.error_stack();
-    assert!(stack.len() <= STACK_DEPTH, "stack over 4 entries");
-    assert!(holds_each_code_once(stack), "duplicate stack entry in {stack:?}");
-    let nv = s.nonvolatile();
-    let fields = &nv.fields;
-    assert_eq!(
-        fields.used_blocks() + fields.free_blocks() as u32,
-        fields.capacity_blocks() as u32,
-        "memory not conserved"
-    );
-    // Fields 0..count exist (a number at or above count has no status, checked below
-    // for count itself).
-    for n in 0..fields.count() {
-        assert!(fields.status(n).is_some_and(|st| st.exists()), "field numbers not contiguous");
+    if let Err(v) = crate::invariant::slave_invariant(s) {
+        panic!("invariant violated: {v}");
     }
-    assert!(fields.status(fields.count()).is_none());
-    assert!(nv.offset < s.profile().range());
-    assert!(nv.counter <= 0xFF_FFFF);
 }
 
 /// What the observer of a master is told: a master's character, a reply of the

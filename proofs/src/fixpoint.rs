@@ -1,0 +1,670 @@
+//! Model checking of the slave to a fixpoint: a breadth-first search over abstract
+//! states that ends because no new abstract state appears, not at a depth
+//! (docs/src/verification.md, "Model checking to a fixpoint").
+//!
+//! What makes the concrete state space infinite or too large is abstracted:
+//!
+//! - the counter (24 bits, 000:T16) as the classes the slave tells apart: 0, 1, 2 to
+//!   FFFFFDh, FFFFFEh and FFFFFFh (Increment Counter compares it with FFFFFFh only;
+//!   Read Counter copies it into the reply); each class has representatives at its
+//!   ends, so that one Increment Counter from the class reaches every class it can;
+//! - the Set Position offset as 0, the last step of the range, and the steps between
+//!   (no command branches on it; Read Position and Read Synchronization Offset copy
+//!   it, Set Position overwrites it);
+//! - time as the power-up phases of 000:T9: the slave's clock is the power-up's, a
+//!   state is taken at the start of its phase, and a reset at any time is the same
+//!   reset at 0;
+//! - the count of EEPROM writes, the model's bookkeeping, left out.
+//!
+//! The field contents stay concrete: the alphabet writes one value, so they take
+//! finitely many values; no command branches on them.
+//!
+//! The slave under check is a [`StepFn`]: the model, or a deliberately defective
+//! [`mutant`] that shows what the search catches that a depth-bounded one misses.
+
+use crate::invariant::{slave_invariant, COUNTER_MAX};
+use hiperface_model::slave::powerup::CommState;
+use hiperface_model::{checksum, AddressByte, CommandId, Outcome, Profile, Reply, ResponseFrame, Silence, Slave};
+use std::collections::{HashSet, VecDeque};
+use std::hash::{Hash, Hasher};
+
+/// What the environment does: the master's frames, time, power and the sensor.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Event {
+    /// A request (body without checksum), its checksum appended.
+    Request(Vec<u8>),
+    /// A request whose checksum is wrong (the right one with its low bit flipped).
+    BadChecksum(Vec<u8>),
+    /// Time passes to the power-up state's next change (000:T9), if it has one.
+    Advance,
+    /// Power off and on: EEPROM contents survive, the clock starts again.
+    PowerCycle,
+    /// The temperature the slave measures from now on, °C.
+    Temperature(i16),
+}
+
+/// The slave and the time of the next event, µs since power-on.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct World {
+    pub slave: Slave,
+    pub now_us: u64,
+}
+
+/// How a slave handles a whole frame at a time: the model's [`model_step`], or a
+/// mutant's.
+pub type StepFn = fn(&mut Slave, &[u8], u64) -> Outcome;
+
+/// The model itself.
+pub fn model_step(s: &mut Slave, frame: &[u8], at_us: u64) -> Outcome {
+    s.handle_frame(frame, at_us)
+}
+
+/// The alphabet for a profile: every command of either edition with boundary
+/// arguments, codes, field numbers and sizes, sent broadcast (FFh, so that address
+/// changes do not hide the slave) or to 40h and 41h; a corrupted checksum; the passing
+/// of the power-up windows; a power cycle; a normal and an out-of-range temperature.
+pub fn alphabet(profile: &Profile) -> Vec<Event> {
+    let b = 0xFF;
+    let range = profile.range();
+    let preset = |command: u8, value: u64, code0: u8| {
+        let v = (value as u32).to_be_bytes();
+        Event::Request(vec![b, command, v[0], v[1], v[2], v[3], code0])
+    };
+    let req = |body: &[u8]| Event::Request(body.to_vec());
+    vec![
+        req(&[b, 0x42]),
+        req(&[0x40, 0x42]), // to the factory address
+        req(&[0x41, 0x42]), // to the address 55h sets
+        Event::BadChecksum(vec![b, 0x42]),
+        preset(0x43, 0, 0x55),
+        preset(0x43, range / 2, 0x55),
+        preset(0x43, range - 1, 0x55), // the last position of the range
+        preset(0x43, range, 0x55),     // one past it: 0Dh
+        preset(0x43, 0, 0x54),         // wrong Code0
+        preset(0x63, range - 1, 0x55), // legacy edition only // 002:63h
+        preset(0x6A, range / 2, 0x55), // optional, current edition
+        req(&[b, 0x44, 0x48]),
+        req(&[b, 0x44, 0xF0]),
+        req(&[b, 0x46]),
+        req(&[b, 0x47]),
+        req(&[b, 0x49, 0x55]),
+        req(&[b, 0x49, 0x54]), // wrong Code0
+        req(&[b, 0x4A, 0, 0, 16, 0x55]),
+        req(&[b, 0x4A, 0, 15, 2, 0x55]), // off the end of a 16-byte field
+        req(&[b, 0x4B, 0, 15, 1, 0x55, 0xA5]),
+        req(&[b, 0x4C, 0]),
+        req(&[b, 0x4D, 0, 0xC0, 0x55]), // create/modify field 0, 16 bytes
+        req(&[b, 0x4D, 0, 0xC7, 0x55]), // resize field 0 to 128 bytes
+        req(&[b, 0x4D, 1, 0xF8, 0x56]), // field 1, Code3 enabled (needs Code3 = 56h)
+        req(&[b, 0x4D, 1, 0x78, 0x56]), // delete field 1
+        req(&[b, 0x4D, 0, 0x40, 0x55]), // delete field 0 (16 bytes)
+        req(&[b, 0x4D, 0, 0x47, 0x55]), // delete field 0 (128 bytes)
+        req(&[b, 0x4E]),
+        req(&[b, 0x4F, 3, 0x55, 0x56]),
+        req(&[b, 0x4F, 3, 0x56, 0x55]),
+        req(&[b, 0x50]),
+        req(&[b, 0x52]),
+        req(&[b, 0x53]),
+        req(&[b, 0x55, 0x41, 0x55]),
+        req(&[b, 0x55, 0x40, 0x55]),
+        req(&[b, 0x57, 0xE5, 0x55]),
+        req(&[b, 0x57, 0xE4, 0x55]),
+        req(&[b, 0x67, 0xE5]), // optional, current edition
+        req(&[b, 0x45]),       // unknown command
+        Event::Advance,
+        Event::PowerCycle,
+        Event::Temperature(25),
+        Event::Temperature(130),
+    ]
+}
+
+/// The counter's classes: the values Increment Counter tells apart (000:T16, 000:T46,
+/// 002:47h), and `Beyond` for a value no state may hold, kept concrete so that the
+/// invariant sees it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CounterClass {
+    Zero,
+    One,
+    Between,
+    BelowTop,
+    Top,
+    Beyond,
+}
+
+impl CounterClass {
+    pub fn of(counter: u32) -> CounterClass {
+        match counter {
+            0 => CounterClass::Zero,
+            1 => CounterClass::One,
+            c if c < COUNTER_MAX - 1 => CounterClass::Between,
+            c if c == COUNTER_MAX - 1 => CounterClass::BelowTop,
+            COUNTER_MAX => CounterClass::Top,
+            _ => CounterClass::Beyond,
+        }
+    }
+
+    /// The values the search runs each command from: the class's ends (the first is
+    /// the class's canonical value). `Beyond` has none: it is never abstracted.
+    pub fn representatives(self) -> &'static [u32] {
+        match self {
+            CounterClass::Zero => &[0],
+            CounterClass::One => &[1],
+            CounterClass::Between => &[2, COUNTER_MAX - 2],
+            CounterClass::BelowTop => &[COUNTER_MAX - 1],
+            CounterClass::Top => &[COUNTER_MAX],
+            CounterClass::Beyond => &[],
+        }
+    }
+}
+
+/// The offset's canonical value in its class: 0, the last step, or the middle of the
+/// range for every step between.
+fn canonical_offset(offset: u64, range: u64) -> u64 {
+    if offset == 0 || offset + 1 == range || offset >= range {
+        offset
+    } else {
+        range / 2
+    }
+}
+
+/// The start of the power-up phase `now` is in: the earliest of power-on and the
+/// windows' ends (000:T9) at or before `now` from which the state is the same.
+fn phase_start(s: &Slave, now: u64) -> u64 {
+    let p = s.profile();
+    let state = s.state(now);
+    let Some(since) = s.power_up().since_us else { return 0 };
+    let at = |ms: u16| since.saturating_add(ms as u64 * 1000);
+    [since, at(p.init_ms), at(p.default_window_ms), at(p.user_settings_ms)]
+        .into_iter()
+        .filter(|t| *t <= now && s.state(*t) == state)
+        .min()
+        .unwrap_or(now)
+}
+
+/// The abstraction: the canonical world of `w`'s class.
+pub fn abstraction(w: &World) -> World {
+    let mut a = w.clone();
+    let nv = a.slave.nonvolatile();
+    let (counter, offset, range) = (nv.counter, nv.offset, a.slave.profile().range());
+    if let Some(c) = CounterClass::of(counter).representatives().first() {
+        a.slave.set_counter(*c);
+    }
+    let offset = canonical_offset(offset, range);
+    if offset < range {
+        // The raw position is 0 in the search: the preset is the offset.
+        let raw = a.slave.inputs().position % range;
+        a.slave.adopt_preset((offset + raw) % range);
+    }
+    a.slave.reset_eeprom_writes();
+    a.now_us = phase_start(&a.slave, a.now_us);
+    a
+}
+
+/// The worlds the search runs each event from for abstract world `a`: one per
+/// representative of its counter's class.
+pub fn representatives(a: &World) -> Vec<World> {
+    let class = CounterClass::of(a.slave.nonvolatile().counter);
+    if class == CounterClass::Beyond {
+        return vec![a.clone()];
+    }
+    class
+        .representatives()
+        .iter()
+        .map(|c| {
+            let mut w = a.clone();
+            w.slave.set_counter(*c);
+            w
+        })
+        .collect()
+}
+
+/// Apply an event; the outcome of a frame, if the event was one.
+pub fn apply(step: StepFn, w: &mut World, e: &Event) -> Option<Outcome> {
+    match e {
+        Event::Request(body) | Event::BadChecksum(body) => {
+            let mut f = body.clone();
+            let sum = checksum::xor(body);
+            f.push(if matches!(e, Event::BadChecksum(_)) { sum ^ 1 } else { sum });
+            let outcome = step(&mut w.slave, &f, w.now_us);
+            if outcome.reply == Reply::Silent(Silence::Reset) {
+                // The state after a reset at any time is the state after the same reset
+                // at 0 with the clock at 0: only the time since the reset counts (000:T9).
+                w.slave.power_cycle(0);
+                w.now_us = 0;
+            }
+            Some(outcome)
+        }
+        Event::Advance => {
+            if let Some(t) = w.slave.next_deadline(w.now_us) {
+                w.now_us = t;
+            }
+            None
+        }
+        Event::PowerCycle => {
+            w.slave.power_cycle(0);
+            w.now_us = 0;
+            None
+        }
+        Event::Temperature(c) => {
+            let mut inputs = w.slave.inputs();
+            inputs.temperature_c = *c;
+            w.slave.set_inputs(inputs);
+            None
+        }
+    }
+}
+
+/// The frame-level rules for `frame`'s outcome, from `before` to `after`: silent
+/// exactly when not listening (000:T9), not addressed (000:2.3.1) or reset (53h);
+/// otherwise a well-formed reply (its checksum, and it decodes to itself) that carries
+/// the own address (after 55h the new one, 000:T30) and the warning bit exactly when
+/// the error stack is not empty (000:2.3.4).
+pub fn frame_rules(before: &World, frame: &[u8], outcome: &Outcome, after: &Slave) -> Result<(), String> {
+    let listening = before.slave.listening_settings(before.now_us).is_some();
+    let own = before.slave.nonvolatile().address;
+    let addressed = frame.first().is_some_and(|b| AddressByte::decode(*b).addresses(own));
+    let command = CommandId::of_frame(frame);
+    match outcome.reply {
+        Reply::Silent(Silence::NotListening) if !listening => Ok(()),
+        Reply::Silent(Silence::NotAddressed) if listening && !addressed => Ok(()),
+        Reply::Silent(Silence::Reset) if listening && addressed && command == CommandId::EncoderReset => Ok(()),
+        Reply::Silent(why) => Err(format!("silent ({why:?}): listening {listening}, addressed {addressed}")),
+        Reply::Frame(_) if !listening || !addressed => {
+            Err(format!("a reply while listening {listening}, addressed {addressed}"))
+        }
+        Reply::Frame(rf) => {
+            let bytes = rf.encode();
+            let bytes = bytes.as_bytes();
+            if !checksum::is_valid(bytes) {
+                return Err(format!("reply {bytes:02X?} with a bad checksum"));
+            }
+            if ResponseFrame::decode(bytes, command).as_ref() != Ok(&rf) {
+                return Err(format!("reply {bytes:02X?} does not decode to itself"));
+            }
+            if rf.address != after.nonvolatile().address.byte() {
+                return Err(format!("reply from {:02X}h, own address {:?}", rf.address, after.nonvolatile().address));
+            }
+            if rf.warning == after.error_stack().is_empty() {
+                return Err(format!("warning bit {} with the stack {:?}", rf.warning, after.error_stack()));
+            }
+            Ok(())
+        }
+    }
+}
+
+/// A 128-bit fingerprint of a world: the search keeps fingerprints of the states it
+/// has seen, not the states (about 5 KB each, most of it the data field memory), and
+/// hashes each once (hash compaction; docs/src/verification.md says what it costs).
+/// Two lanes of multiply-rotate over 8-byte words, each finished by MurmurHash3's
+/// mixer: fast in a debug build, where SipHash takes 50 µs per state.
+#[derive(Default)]
+struct Fingerprint {
+    a: u64,
+    b: u64,
+    len: u64,
+}
+
+impl Fingerprint {
+    fn of(w: &World) -> u128 {
+        let mut f = Fingerprint { a: 0x243F_6A88_85A3_08D3, b: 0x1319_8A2E_0370_7344, len: 0 };
+        w.hash(&mut f);
+        let fmix = |mut k: u64| {
+            k ^= k >> 33;
+            k = k.wrapping_mul(0xFF51_AFD7_ED55_8CCD);
+            k ^= k >> 33;
+            k = k.wrapping_mul(0xC4CE_B9FE_1A85_EC53);
+            k ^ (k >> 33)
+        };
+        let (a, b) = (fmix(f.a ^ f.len), fmix(f.b.wrapping_add(f.len)));
+        ((a as u128) << 64) | b as u128
+    }
+
+    fn words(&mut self, bytes: &[u8]) {
+        let mut chunks = bytes.chunks_exact(8);
+        for c in &mut chunks {
+            let mut w = [0u8; 8];
+            w.copy_from_slice(c);
+            self.word(u64::from_le_bytes(w));
+        }
+        let rest = chunks.remainder();
+        if !rest.is_empty() {
+            let mut w = [0u8; 8];
+            w[..rest.len()].copy_from_slice(rest);
+            self.word(u64::from_le_bytes(w) ^ ((rest.len() as u64) << 56));
+        }
+    }
+
+    fn word(&mut self, w: u64) {
+        self.a = (self.a ^ w).wrapping_mul(0x9E37_79B9_7F4A_7C15).rotate_left(31);
+        self.b = (self.b.rotate_left(27) ^ w).wrapping_mul(0xC2B2_AE3D_27D4_EB4F);
+        self.len += 1;
+    }
+}
+
+impl Hasher for Fingerprint {
+    fn write(&mut self, bytes: &[u8]) {
+        // Blocks of 64 bytes that are all FFh (erased memory) or all 00h (memory no
+        // one knows, unused status slots) are one tag each: most of a state, found by
+        // a comparison (memcmp) rather than a debug build's loop over its words. The
+        // encoding stays one-to-one: a tag, or another tag and the block's words.
+        const ERASED: [u8; 64] = [0xFF; 64];
+        const ZERO: [u8; 64] = [0; 64];
+        let mut blocks = bytes.chunks_exact(64);
+        for block in &mut blocks {
+            if block == ERASED {
+                self.word(0xE5E5_E5E5_0000_00FF);
+            } else if block == ZERO {
+                self.word(0xE5E5_E5E5_0000_0000);
+            } else {
+                self.word(0xE5E5_E5E5_0000_0B0C);
+                self.words(block);
+            }
+        }
+        self.words(blocks.remainder());
+    }
+
+    fn write_u8(&mut self, i: u8) {
+        self.word(i as u64 | 0x100);
+    }
+
+    fn write_u64(&mut self, i: u64) {
+        self.word(i);
+    }
+
+    fn finish(&self) -> u64 {
+        self.a ^ self.b
+    }
+}
+
+/// How far a search goes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Bound {
+    /// Concrete states, to this many events from the start.
+    Depth(usize),
+    /// Abstract states, until no new one appears; give up (an error) beyond this many.
+    Fixpoint { max_states: usize },
+}
+
+#[derive(Debug, Clone)]
+pub struct Report {
+    pub profile: String,
+    /// Distinct (abstract, for a fixpoint) states reached.
+    pub states: usize,
+    /// Concrete states the invariant was checked in: representatives and successors.
+    pub checked: u64,
+    pub transitions: u64,
+    /// The longest shortest path to a state, in events.
+    pub depth: usize,
+    /// No new state appeared: every reachable (abstract) state was explored.
+    pub fixpoint: bool,
+}
+
+impl core::fmt::Display for Report {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(
+            f,
+            "{}: {} states, {} transitions, {} concrete states checked, depth {}, {}",
+            self.profile,
+            self.states,
+            self.transitions,
+            self.checked,
+            self.depth,
+            if self.fixpoint { "fixpoint reached" } else { "bounded" }
+        )
+    }
+}
+
+/// A violated rule and the events that lead to it from the start.
+#[derive(Debug, Clone)]
+pub struct Counterexample {
+    pub what: String,
+    pub trace: Vec<Event>,
+}
+
+impl core::fmt::Display for Counterexample {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        writeln!(f, "{} after {} events:", self.what, self.trace.len())?;
+        for e in &self.trace {
+            writeln!(f, "  {e:?}")?;
+        }
+        Ok(())
+    }
+}
+
+/// A factory-state slave of `profile`, powered on long ago, at a normal temperature.
+pub fn start(profile: Profile) -> World {
+    World { slave: Slave::operational(profile), now_us: 0 }
+}
+
+/// Breadth-first search from `start` over `alphabet`, the slave stepping with `step`:
+/// the invariant in every concrete state run from and reached, the frame rules on
+/// every frame, and that a power cycle and the power-up windows lead to a reply.
+pub fn search(start: World, alphabet: &[Event], step: StepFn, bound: Bound) -> Result<Report, Counterexample> {
+    let abstracted = matches!(bound, Bound::Fixpoint { .. });
+    // A depth-bounded search compares concrete states, but for the count of EEPROM
+    // writes (the model's bookkeeping, which no command reads).
+    let key = |mut w: World| {
+        if abstracted {
+            abstraction(&w)
+        } else {
+            w.slave.reset_eeprom_writes();
+            w
+        }
+    };
+    let profile = start.slave.profile().name.as_str().to_string();
+    let first = key(start);
+    // Every state's fingerprint, and how each was first reached: (parent, event).
+    let mut seen: HashSet<u128> = HashSet::new();
+    let mut parents: Vec<(u32, u16)> = vec![(u32::MAX, 0)];
+    seen.insert(Fingerprint::of(&first));
+    // A state left unexpanded at the depth bound: no fixpoint.
+    let mut cut = false;
+    let mut queue = VecDeque::from([(first, 0u32, 0usize)]);
+    let (mut checked, mut transitions, mut depth) = (0u64, 0u64, 0usize);
+    let trace = |parents: &[(u32, u16)], mut i: u32, last: Option<u16>| {
+        let mut t: Vec<Event> = last.map(|e| alphabet[e as usize].clone()).into_iter().collect();
+        while let Some((p, e)) = parents.get(i as usize).copied().filter(|(p, _)| *p != u32::MAX) {
+            t.push(alphabet[e as usize].clone());
+            i = p;
+        }
+        t.reverse();
+        t
+    };
+    while let Some((state, id, d)) = queue.pop_front() {
+        depth = depth.max(d);
+        let fail = |parents: &[(u32, u16)], what: String, last: Option<u16>| Counterexample {
+            what,
+            trace: trace(parents, id, last),
+        };
+        if let Err(what) = recovers(&state, step) {
+            return Err(fail(&parents, what, None));
+        }
+        if matches!(bound, Bound::Depth(max) if d >= max) {
+            // Checked, not expanded.
+            cut = true;
+            if let Err(v) = slave_invariant(&state.slave) {
+                return Err(fail(&parents, format!("invariant: {v}"), None));
+            }
+            checked += 1;
+            continue;
+        }
+        let froms = if abstracted { representatives(&state) } else { vec![state.clone()] };
+        for from in &froms {
+            let counter = from.slave.nonvolatile().counter;
+            if let Err(v) = slave_invariant(&from.slave) {
+                return Err(fail(&parents, format!("invariant: {v} (counter {counter:X}h)"), None));
+            }
+            checked += 1;
+            for (i, e) in alphabet.iter().enumerate() {
+                let mut next = from.clone();
+                let outcome = apply(step, &mut next, e);
+                transitions += 1;
+                if let Err(what) = successor_rules(from, e, outcome.as_ref(), &next) {
+                    return Err(fail(&parents, format!("{what} (from counter {counter:X}h)"), Some(i as u16)));
+                }
+                checked += 1;
+                let k = key(next);
+                let print = Fingerprint::of(&k);
+                if seen.insert(print) {
+                    if let Bound::Fixpoint { max_states } = bound {
+                        if parents.len() >= max_states {
+                            return Err(fail(&parents, format!("no fixpoint within {max_states} states"), None));
+                        }
+                    }
+                    let n = parents.len() as u32;
+                    parents.push((id, i as u16));
+                    queue.push_back((k, n, d + 1));
+                }
+            }
+        }
+    }
+    Ok(Report { profile, states: seen.len(), checked, transitions, depth, fixpoint: !cut })
+}
+
+/// The rules for one event from `from` to `next`: the frame rules on a frame's
+/// outcome, and the invariant in the state reached.
+fn successor_rules(from: &World, e: &Event, outcome: Option<&Outcome>, next: &World) -> Result<(), String> {
+    if let (Some(o), Event::Request(body) | Event::BadChecksum(body)) = (outcome, e) {
+        let mut f = body.clone();
+        let sum = checksum::xor(body);
+        f.push(if matches!(e, Event::BadChecksum(_)) { sum ^ 1 } else { sum });
+        // After a reset the world is the power cycle's (see `apply`): a silent
+        // outcome, which reads nothing of it.
+        frame_rules(from, &f, o, &next.slave).map_err(|w| format!("frame rule: {w}"))?;
+    }
+    slave_invariant(&next.slave).map_err(|v| format!("invariant: {v}"))
+}
+
+/// A power cycle and the power-up windows lead to Operational with the stored
+/// settings, and the slave answers there. // 000:T9
+fn recovers(w: &World, step: StepFn) -> Result<(), String> {
+    let mut r = w.clone();
+    apply(step, &mut r, &Event::PowerCycle);
+    for _ in 0..4 {
+        apply(step, &mut r, &Event::Advance);
+    }
+    if r.slave.state(r.now_us) != CommState::OperationalUser {
+        return Err(format!("not Operational after the power-up windows: {:?}", r.slave.state(r.now_us)));
+    }
+    match apply(step, &mut r, &Event::Request(vec![0xFF, 0x42])).map(|o| o.reply) {
+        Some(Reply::Frame(_)) => Ok(()),
+        other => Err(format!("no reply after the power-up windows: {other:?}")),
+    }
+}
+
+/// Deliberate defects, for showing what a search catches. Never the model's own
+/// behaviour: only a [`StepFn`] passed to [`search`] runs them.
+pub mod mutant {
+    use super::*;
+
+    /// Increment Counter at the top of the counter (the legacy edition shows the
+    /// overflow by the warning bit, 002:47h) answers with the warning bit of the stack
+    /// as it was before the overflow's code was stored: the bit is computed too early.
+    /// It shows only after 16 777 215 increments.
+    pub fn overflow_warning_too_early(s: &mut Slave, frame: &[u8], at_us: u64) -> Outcome {
+        let (was_empty, full) = (s.error_stack().is_empty(), s.nonvolatile().counter >= COUNTER_MAX);
+        let mut outcome = s.handle_frame(frame, at_us);
+        if let Reply::Frame(rf) = &mut outcome.reply {
+            if full && CommandId::of_frame(frame) == CommandId::IncrementCounter {
+                rf.warning = !was_empty;
+            }
+        }
+        outcome
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hiperface_model::profiles;
+
+    fn run(profile: Profile, step: StepFn, bound: Bound) -> Result<Report, Counterexample> {
+        let t = std::time::Instant::now();
+        let alphabet = alphabet(&profile);
+        let r = search(start(profile), &alphabet, step, bound);
+        match &r {
+            Ok(r) => eprintln!("{r}, {} events, {:.1} s", alphabet.len(), t.elapsed().as_secs_f64()),
+            Err(c) => eprintln!("counterexample in {:.1} s: {c}", t.elapsed().as_secs_f64()),
+        }
+        r
+    }
+
+    /// The current edition (SEK37) to a fixpoint: no state or frame breaks a rule, and
+    /// the search ends because no new abstract state appears.
+    #[test]
+    fn fixpoint_of_the_current_edition() {
+        let r = run(profiles::sek37(), model_step, Bound::Fixpoint { max_states: 1_000_000 })
+            .unwrap_or_else(|c| panic!("{c}"));
+        assert!(r.fixpoint, "{r}");
+        assert!(r.to_string().contains("fixpoint reached"), "{r}");
+        // The counter's five classes were all reached: its top takes 16 777 215 events.
+        assert!(r.depth > 8 && r.states > 10_000, "{r}");
+    }
+
+    /// The legacy edition (002) to a fixpoint.
+    #[test]
+    fn fixpoint_of_the_legacy_edition() {
+        let r = run(profiles::legacy_srs(), model_step, Bound::Fixpoint { max_states: 1_000_000 })
+            .unwrap_or_else(|c| panic!("{c}"));
+        assert!(r.fixpoint, "{r}");
+        assert!(r.to_string().contains("fixpoint reached"), "{r}");
+        assert!(r.depth > 8 && r.states > 10_000, "{r}");
+    }
+
+    /// Every counter class is reached in the abstract state space, and each class's
+    /// representatives are in it.
+    #[test]
+    fn the_counter_classes_and_their_representatives() {
+        for c in [0, 1, 2, 0x1234, COUNTER_MAX - 2, COUNTER_MAX - 1, COUNTER_MAX, COUNTER_MAX + 1] {
+            let class = CounterClass::of(c);
+            let reps = class.representatives();
+            assert!(reps.iter().all(|r| CounterClass::of(*r) == class), "{c:X}");
+            assert_eq!(reps.is_empty(), c > COUNTER_MAX, "{c:X}");
+        }
+        // The abstraction keeps a class and forgets the value inside it.
+        let mut w = start(profiles::sek37());
+        w.slave.set_counter(0x12_3456);
+        let a = abstraction(&w);
+        assert_eq!(a.slave.nonvolatile().counter, 2);
+        assert_eq!(
+            representatives(&a).iter().map(|r| r.slave.nonvolatile().counter).collect::<Vec<_>>(),
+            [2, COUNTER_MAX - 2]
+        );
+    }
+
+    /// A reset at any time is the same abstract state as a reset at 0, and a state is
+    /// taken at the start of its power-up phase.
+    #[test]
+    fn time_is_abstracted_to_the_power_up_phases() {
+        let p = profiles::sek37();
+        let mut w = start(p);
+        apply(model_step, &mut w, &Event::PowerCycle);
+        let mut later = w.clone();
+        later.now_us = 50_000; // still Initialization (100 ms)
+        assert_eq!(abstraction(&later), abstraction(&w));
+        apply(model_step, &mut w, &Event::Advance);
+        assert_eq!(w.now_us, 100_000);
+        assert_eq!(w.slave.state(w.now_us), CommState::DefaultCommunication);
+        let mut w2 = w.clone();
+        w2.now_us = 500_000;
+        assert_eq!(abstraction(&w2), abstraction(&w));
+        assert_ne!(abstraction(&w2), abstraction(&later));
+    }
+
+    /// The long-sequence defect: the warning bit of Increment Counter at the counter's
+    /// top computed before the overflow is stored (legacy edition). The depth-8
+    /// search passes it; the fixpoint search finds it.
+    #[test]
+    fn the_fixpoint_catches_what_depth_8_misses() {
+        let mutant = mutant::overflow_warning_too_early;
+        let bounded = run(profiles::legacy_srs(), mutant, Bound::Depth(8)).unwrap_or_else(|c| panic!("{c}"));
+        assert!(!bounded.fixpoint && bounded.depth == 8, "{bounded}");
+        let found = run(profiles::legacy_srs(), mutant, Bound::Fixpoint { max_states: 1_000_000 })
+            .expect_err("the fixpoint search finds the defect");
+        assert!(found.what.contains("frame rule: warning bit false"), "{found}");
+        // Found where the counter is at its top, past any depth a bounded search reaches.
+        assert!(found.what.contains("from counter FFFFFFh"), "{found}");
+        assert_eq!(found.trace.last(), Some(&Event::Request(vec![0xFF, 0x47])), "{found}");
+        // The model itself passes the same search (`fixpoint_of_the_legacy_edition`).
+    }
+}
