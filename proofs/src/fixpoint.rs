@@ -221,19 +221,7 @@ pub fn representatives(a: &World) -> Vec<World> {
 /// Apply an event; the outcome of a frame, if the event was one.
 pub fn apply(step: StepFn, w: &mut World, e: &Event) -> Option<Outcome> {
     match e {
-        Event::Request(body) | Event::BadChecksum(body) => {
-            let mut f = body.clone();
-            let sum = checksum::xor(body);
-            f.push(if matches!(e, Event::BadChecksum(_)) { sum ^ 1 } else { sum });
-            let outcome = step(&mut w.slave, &f, w.now_us);
-            if outcome.reply == Reply::Silent(Silence::Reset) {
-                // The state after a reset at any time is the state after the same reset
-                // at 0 with the clock at 0: only the time since the reset counts (000:T9).
-                w.slave.power_cycle(0);
-                w.now_us = 0;
-            }
-            Some(outcome)
-        }
+        Event::Request(_) | Event::BadChecksum(_) => frame_of(e).map(|f| apply_frame(step, w, &f)),
         Event::Advance => {
             if let Some(t) = w.slave.next_deadline(w.now_us) {
                 w.now_us = t;
@@ -254,9 +242,31 @@ pub fn apply(step: StepFn, w: &mut World, e: &Event) -> Option<Outcome> {
     }
 }
 
+/// A whole frame (checksum included) at the world's time.
+pub fn apply_frame(step: StepFn, w: &mut World, frame: &[u8]) -> Outcome {
+    let outcome = step(&mut w.slave, frame, w.now_us);
+    if outcome.reply == Reply::Silent(Silence::Reset) {
+        // The state after a reset at any time is the state after the same reset at 0
+        // with the clock at 0: only the time since the reset counts (000:T9).
+        w.slave.power_cycle(0);
+        w.now_us = 0;
+    }
+    outcome
+}
+
+/// The frame an event sends, checksum included, if it sends one.
+pub fn frame_of(e: &Event) -> Option<Vec<u8>> {
+    let (Event::Request(body) | Event::BadChecksum(body)) = e else { return None };
+    let sum = checksum::xor(body);
+    let mut f = body.clone();
+    f.push(if matches!(e, Event::BadChecksum(_)) { sum ^ 1 } else { sum });
+    Some(f)
+}
+
 /// The frame-level rules for `frame`'s outcome, from `before` to `after`: silent
 /// exactly when not listening (000:T9), not addressed (000:2.3.1) or reset (53h);
-/// otherwise a well-formed reply (its checksum, and it decodes to itself) that carries
+/// otherwise a well-formed reply (its checksum; it decodes as a reply to the request's
+/// command and encodes back to the same bytes) that carries
 /// the own address (after 55h the new one, 000:T30) and the warning bit exactly when
 /// the error stack is not empty (000:2.3.4).
 pub fn frame_rules(before: &World, frame: &[u8], outcome: &Outcome, after: &Slave) -> Result<(), String> {
@@ -278,8 +288,11 @@ pub fn frame_rules(before: &World, frame: &[u8], outcome: &Outcome, after: &Slav
             if !checksum::is_valid(bytes) {
                 return Err(format!("reply {bytes:02X?} with a bad checksum"));
             }
-            if ResponseFrame::decode(bytes, command).as_ref() != Ok(&rf) {
-                return Err(format!("reply {bytes:02X?} does not decode to itself"));
+            // The master decodes it as a reply to its command, to the same bytes (an
+            // error reply to 50h reads as an Encoder Status: the same bytes, 000:T27).
+            let decoded = ResponseFrame::decode(bytes, command).map(|d| d.encode());
+            if decoded.as_ref().map(|d| d.as_bytes()) != Ok(bytes) {
+                return Err(format!("reply {bytes:02X?} to {command:?} does not decode to itself: {decoded:?}"));
             }
             if rf.address != after.nonvolatile().address.byte() {
                 return Err(format!("reply from {:02X}h, own address {:?}", rf.address, after.nonvolatile().address));
@@ -524,11 +537,8 @@ pub fn search(start: World, alphabet: &[Event], step: StepFn, bound: Bound) -> R
 /// The rules for one event from `from` to `next`: the frame rules on a frame's
 /// outcome, and the invariant in the state reached.
 fn successor_rules(from: &World, e: &Event, outcome: Option<&Outcome>, next: &World) -> Result<(), String> {
-    if let (Some(o), Event::Request(body) | Event::BadChecksum(body)) = (outcome, e) {
-        let mut f = body.clone();
-        let sum = checksum::xor(body);
-        f.push(if matches!(e, Event::BadChecksum(_)) { sum ^ 1 } else { sum });
-        // After a reset the world is the power cycle's (see `apply`): a silent
+    if let (Some(o), Some(f)) = (outcome, frame_of(e)) {
+        // After a reset the world is the power cycle's (see `apply_frame`): a silent
         // outcome, which reads nothing of it.
         frame_rules(from, &f, o, &next.slave).map_err(|w| format!("frame rule: {w}"))?;
     }

@@ -122,6 +122,44 @@ pub fn memory_is_conserved(ops: &[u8]) -> bool {
     true
 }
 
+/// An event of a sampled sequence: one of the fixpoint alphabet's (its index modulo
+/// the alphabet's length), or any frame's bytes, sent as they are.
+#[derive(Debug, Clone)]
+pub enum SequenceEvent {
+    Alphabet(usize),
+    Frame(Vec<u8>),
+}
+
+/// From the factory state of SEK37 or (`legacy`) the legacy SRS: after every event
+/// the invariant holds, and every frame's outcome keeps the frame rules.
+pub fn invariant_holds_along(legacy: bool, events: &[SequenceEvent]) -> bool {
+    use crate::fixpoint;
+    let profile = if legacy { profiles::legacy_srs() } else { profiles::sek37() };
+    let alphabet = fixpoint::alphabet(&profile);
+    let mut w = fixpoint::start(profile);
+    for e in events {
+        let before = w.clone();
+        let (outcome, frame) = match e {
+            SequenceEvent::Alphabet(i) => {
+                let e = &alphabet[i % alphabet.len()];
+                (fixpoint::apply(fixpoint::model_step, &mut w, e), fixpoint::frame_of(e))
+            }
+            SequenceEvent::Frame(bytes) => {
+                (Some(fixpoint::apply_frame(fixpoint::model_step, &mut w, bytes)), Some(bytes.clone()))
+            }
+        };
+        if let (Some(o), Some(f)) = (outcome, frame) {
+            if fixpoint::frame_rules(&before, &f, &o, &w.slave).is_err() {
+                return false;
+            }
+        }
+        if crate::invariant::slave_invariant(&w.slave).is_err() {
+            return false;
+        }
+    }
+    true
+}
+
 /// The data link never merges characters a timeout apart, loses none, never panics.
 pub fn datalink_frames(timeout: u16, chars: &[(u8, u16)]) -> bool {
     targets::datalink_of(timeout, chars.iter().map(|(b, g)| (*b, *g, None)));
@@ -386,6 +424,22 @@ pub const PROPERTIES: &[Property] = &[
         exhaustive: true,
         harness: None,
         run: slave_step_reachable,
+    },
+    Property {
+        name: "slave_invariant",
+        claim: "the slave's invariant (invariant::slave_invariant) and the frame rules hold after every event of any sequence",
+        domain: "2 000 sequences of up to 64 events (the fixpoint alphabet and any frame of up to 8 bytes), both editions (proptest)",
+        exhaustive: false,
+        harness: None,
+        run: || {
+            let event = prop_oneof![
+                (0usize..64).prop_map(SequenceEvent::Alphabet),
+                prop::collection::vec(any::<u8>(), 0..8).prop_map(SequenceEvent::Frame),
+            ];
+            sample((any::<bool>(), prop::collection::vec(event, 0..64)), 2000, |(legacy, events)| {
+                invariant_holds_along(*legacy, events)
+            })
+        },
     },
     Property {
         name: "quadrature_table",
