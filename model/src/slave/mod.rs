@@ -98,6 +98,34 @@ impl Slave {
         s
     }
 
+    /// A slave in a state given part by part, for proofs that start from any state
+    /// satisfying an invariant the caller assumes (proofs/src/inductive.rs): the data
+    /// link empty, the physical inputs and injected faults at their defaults (set them
+    /// with [`Slave::set_inputs`] and the `inject_*` functions), no EEPROM write counted.
+    pub fn from_parts(
+        profile: Profile,
+        nv: NonVolatile,
+        stack: ErrorStack,
+        power: PowerUp,
+        boot_settings: UartSettings,
+        temp_settings: Option<UartSettings>,
+        locks: Locks,
+    ) -> Slave {
+        Slave {
+            link: DataLink::new(UartSettings::DEFAULT.timeout_us(profile.edition)),
+            profile,
+            nv,
+            stack,
+            power,
+            boot_settings,
+            temp_settings,
+            inputs: PhysicalInputs::default(),
+            injected: InjectedFaults::default(),
+            locks,
+            eeprom_writes: 0,
+        }
+    }
+
     /// A slave powered on long ago: Operational with its stored settings at any time,
     /// for callers that only exchange frames.
     pub fn operational(profile: Profile) -> Slave {
