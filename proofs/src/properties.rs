@@ -2,7 +2,7 @@
 //! with the domain `cargo test` checks (exhausted or sampled with proptest); the Kani
 //! harnesses in `lib.rs` call the same functions on symbolic inputs.
 
-use crate::targets;
+use crate::{inductive, targets};
 use hiperface_model::command::CommandByte;
 use hiperface_model::slave::stack::{ErrorStack, STACK_DEPTH};
 use hiperface_model::{profile::StackOrder, profiles, FaultCode, RequestFrame, Slave};
@@ -274,6 +274,127 @@ fn sequences(n: u32, alphabet: u32) -> impl Iterator<Item = Vec<u8>> {
 /// Every property, with its domain. A property with a harness checks the harness's
 /// domain, named by the same words as the harness's `Domain:` line (a test compares
 /// the two); one without checks a further domain only `cargo test` reaches.
+/// [`inductive::Parts`] as proptest samples them: biased towards parts that make a
+/// state satisfying the invariant (valid address and settings bytes, codes of the fault
+/// table on the stack, fields that exist), with any value among them now and then.
+pub fn parts_strategy() -> impl Strategy<Value = inductive::Parts> {
+    let settings = || {
+        prop_oneof![
+            9 => (0u8..7, prop::sample::select(vec![0x00u8, 0x20, 0x30]), any::<bool>(), any::<bool>())
+                .prop_map(|(baud, parity, long, standard)| baud | parity | u8::from(long) << 6 | u8::from(standard) << 7),
+            1 => any::<u8>(),
+        ]
+    };
+    let codes: Vec<u8> = FaultCode::ALL.iter().map(|c| c.byte()).filter(|b| *b != 0).collect();
+    let nv = (
+        prop_oneof![9 => 0x40u8..=0x5F, 1 => any::<u8>()],
+        settings(),
+        settings(),
+        any::<bool>(),
+        settings(),
+        any::<[u8; 4]>(),
+        prop_oneof![9 => 0u64..32_768, 1 => any::<u64>()],
+        prop_oneof![6 => 0u32..=0xFF_FFFF, 2 => Just(0xFF_FFFF), 1 => Just(0xFF_FFFE), 1 => any::<u32>()],
+    );
+    // Field sizes mostly small, so that three fields fit a legacy device's 8 blocks too.
+    let status =
+        prop_oneof![3 => any::<u8>().prop_map(|b| (b | 0x80) & !0x06), 1 => any::<u8>().prop_map(|b| b | 0x80)];
+    let fields = (0u8..=inductive::MAX_FIELDS as u8, prop::array::uniform3(status));
+    let stack = (0u8..=STACK_DEPTH as u8, prop::array::uniform4(prop::sample::select(codes)));
+    let power = (any::<bool>(), 0u64..2_000_000, any::<bool>(), any::<[bool; 3]>());
+    let inputs = (
+        any::<u64>(),
+        -20_000i32..20_000,
+        -60i16..150,
+        0u16..100,
+        any::<bool>(),
+        prop::array::uniform7(prop_oneof![5 => Just(false), 1 => Just(true)]),
+    );
+    (nv, fields, stack, power, inputs).prop_map(
+        |(
+            (address, settings, boot_settings, temporary, temporary_settings, codes, offset, counter),
+            (field_count, statuses),
+            (stack_len, stack),
+            (settled, since_us, kept_default, locks),
+            (position, speed, temperature_c, led_current_ma, i2c_fault, position_faults),
+        )| inductive::Parts {
+            address,
+            settings,
+            boot_settings,
+            temporary,
+            temporary_settings,
+            codes,
+            offset,
+            counter,
+            field_count,
+            statuses,
+            stack_len,
+            stack,
+            settled,
+            since_us,
+            // Kept default settings only after a power-up (else the invariant rejects
+            // the parts: kept once in ten samples, to check that it does).
+            kept_default: kept_default && (!settled || since_us % 10 == 0),
+            locks,
+            position,
+            speed,
+            temperature_c,
+            led_current_ma,
+            i2c_fault,
+            position_faults,
+        },
+    )
+}
+
+/// The twin of an inductive harness: sampled parts (those that build a state
+/// satisfying the invariant), each command of the family with sampled bytes, time and
+/// UART fault. Fails when fewer than half the samples build a state (a vacuous run).
+pub fn inductive_sampled(profile: hiperface_model::Profile, family: &[(u8, usize)], cases: u32) -> Result<u64, String> {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    let built = AtomicU64::new(0);
+    let frame = any::<[u8; inductive::MAX_FAMILY_FRAME]>();
+    // Most frames to the own address or broadcast with their checksum right, so that the
+    // command's own code runs (Kani takes every byte).
+    let to = prop_oneof![6 => Just(0u8), 2 => Just(1u8), 1 => Just(2u8)];
+    let sealed = prop_oneof![4 => Just(true), 1 => Just(false)];
+    let strategy =
+        (parts_strategy(), frame, to, sealed, 0u64..3_000_000, prop_oneof![4 => Just(false), 1 => Just(true)]);
+    let n = sample(strategy, cases, |(parts, frame, to, sealed, now, fault)| {
+        let Some(state) = parts.build(profile) else { return true };
+        built.fetch_add(1, Ordering::Relaxed);
+        family.iter().all(|&(command, data)| {
+            let mut frame = inductive::request_of(frame, command, data);
+            match to {
+                0 => frame[0] = state.nonvolatile().address.byte(),
+                1 => frame[0] = 0xFF,
+                _ => {}
+            }
+            let frame = &mut frame[..3 + data];
+            if *sealed {
+                let (sum, body) = frame.split_last_mut().expect("3 bytes or more");
+                *sum = hiperface_model::checksum::xor(body);
+            }
+            inductive::step_keeps_invariant(&state, frame, *now, *fault)
+        })
+    })?;
+    let built = built.load(Ordering::Relaxed);
+    if built * 2 < n {
+        return Err(format!("only {built} of {n} samples built a state satisfying the invariant"));
+    }
+    Ok(built)
+}
+
+/// The commands of the table without data, in three groups of three (a Kani harness
+/// each, so that each verifies within the budget); `tests` checks they are all of them.
+pub const NO_DATA_GROUPS: [&[u8]; 3] = [&[0x42, 0x46, 0x47], &[0x4E, 0x50, 0x52], &[0x53, 0x56, 0x6C]];
+
+/// Every command of `commands` to 40h with every checksum byte, on a factory SEK37.
+fn no_data_steps(commands: &[u8]) -> Result<u64, String> {
+    let s = Slave::operational(profiles::sek37());
+    let frames = commands.iter().flat_map(|c| (0..=255u8).map(move |cs| [0x40, *c, cs]));
+    exhaust(frames, |f| slave_step_is_total(&s, f))
+}
+
 pub const PROPERTIES: &[Property] = &[
     Property {
         name: "checksum",
@@ -406,17 +527,29 @@ pub const PROPERTIES: &[Property] = &[
     },
     Property {
         name: "slave_step_no_data",
-        claim: "the slave's step never panics on any command without data, with any checksum byte; invariants hold",
-        domain: "every command of the table without data to 40h with any checksum byte, on a factory-state SEK37",
+        claim: "the slave's step never panics on a command without data, with any checksum byte; invariants hold",
+        domain: "the commands without data 42h, 46h, 47h to 40h with any checksum byte, on a factory-state SEK37",
         exhaustive: true,
         harness: Some("slave_step_no_data"),
-        run: || {
-            let s = Slave::operational(profiles::sek37());
-            let no_data = hiperface_model::COMMAND_TABLE.iter().filter(|c| c.master_data.accepts(0));
-            let frames = no_data.flat_map(|c| (0..=255u8).map(move |cs| [0x40, c.id.byte(), cs]));
-            exhaust(frames, |f| slave_step_is_total(&s, f))
-        },
+        run: || no_data_steps(NO_DATA_GROUPS[0]),
     },
+    Property {
+        name: "slave_step_no_data_2",
+        claim: "the slave's step never panics on a command without data, with any checksum byte; invariants hold",
+        domain: "the commands without data 4Eh, 50h, 52h to 40h with any checksum byte, on a factory-state SEK37",
+        exhaustive: true,
+        harness: Some("slave_step_no_data_2"),
+        run: || no_data_steps(NO_DATA_GROUPS[1]),
+    },
+    Property {
+        name: "slave_step_no_data_3",
+        claim: "the slave's step never panics on a command without data, with any checksum byte; invariants hold",
+        domain: "the commands without data 53h, 56h, 6Ch to 40h with any checksum byte, on a factory-state SEK37",
+        exhaustive: true,
+        harness: Some("slave_step_no_data_3"),
+        run: || no_data_steps(NO_DATA_GROUPS[2]),
+    },
+
     Property {
         name: "slave_step_reachable",
         claim: "the slave's step never panics for any frame of up to 3 bytes in reachable states; invariants hold",
@@ -424,6 +557,62 @@ pub const PROPERTIES: &[Property] = &[
         exhaustive: true,
         harness: None,
         run: slave_step_reachable,
+    },
+    Property {
+        name: "inductive_position",
+        claim: "the invariant is inductive: from any state satisfying it, one frame of the family keeps it and the frame rules hold (000:2.3.4, 000:T9, 000:T27, 000:2.4.2)",
+        domain: "(no harness yet) every state of the Reference profile satisfying the invariant (at most 3 data fields), every frame of 42h, 43h, 44h, 6Ah, 6Bh, 6Ch at any time, with and without a UART fault",
+        exhaustive: false,
+        harness: None,
+        run: || inductive_sampled(profiles::reference(), inductive::POSITION, 3000),
+    },
+    Property {
+        name: "inductive_counter",
+        claim: "the invariant is inductive: from any state satisfying it, one frame of the family keeps it and the frame rules hold (000:2.3.4, 000:T9, 000:T27, 000:2.4.2)",
+        domain: "(no harness yet) every state of the Reference profile satisfying the invariant (at most 3 data fields), every frame of 46h, 47h, 49h at any time, with and without a UART fault",
+        exhaustive: false,
+        harness: None,
+        run: || inductive_sampled(profiles::reference(), inductive::COUNTER, 3000),
+    },
+    Property {
+        name: "inductive_fields",
+        claim: "the invariant is inductive: from any state satisfying it, one frame of the family keeps it and the frame rules hold (000:2.3.4, 000:T9, 000:T27, 000:2.4.2)",
+        domain: "(no harness yet) every state of the Reference profile satisfying the invariant (at most 3 data fields), every frame of 4Ah, 4Ch, 4Dh, 4Eh at any time, with and without a UART fault",
+        exhaustive: false,
+        harness: None,
+        run: || inductive_sampled(profiles::reference(), inductive::FIELDS, 3000),
+    },
+    Property {
+        name: "inductive_store_data",
+        claim: "the invariant is inductive: from any state satisfying it, one frame of the family keeps it and the frame rules hold (000:2.3.4, 000:T9, 000:T27, 000:2.4.2)",
+        domain: "(no harness yet) every state of the Reference profile satisfying the invariant (at most 3 data fields), every Store Data frame with 1 to 4 data bytes at any time, with and without a UART fault",
+        exhaustive: false,
+        harness: None,
+        run: || inductive_sampled(profiles::reference(), inductive::STORE_DATA, 3000),
+    },
+    Property {
+        name: "inductive_settings",
+        claim: "the invariant is inductive: from any state satisfying it, one frame of the family keeps it and the frame rules hold (000:2.3.4, 000:T9, 000:T27, 000:2.4.2)",
+        domain: "(no harness yet) every state of the Reference profile satisfying the invariant (at most 3 data fields), every frame of 4Fh, 55h, 57h, 67h at any time, with and without a UART fault",
+        exhaustive: false,
+        harness: None,
+        run: || inductive_sampled(profiles::reference(), inductive::SETTINGS, 3000),
+    },
+    Property {
+        name: "inductive_status",
+        claim: "the invariant is inductive: from any state satisfying it, one frame of the family keeps it and the frame rules hold (000:2.3.4, 000:T9, 000:T27, 000:2.4.2)",
+        domain: "(no harness yet) every state of the Reference profile satisfying the invariant (at most 3 data fields), every frame of 50h, 52h, 53h, 56h at any time, with and without a UART fault",
+        exhaustive: false,
+        harness: None,
+        run: || inductive_sampled(profiles::reference(), inductive::STATUS, 3000),
+    },
+    Property {
+        name: "inductive_legacy",
+        claim: "the invariant is inductive: from any state satisfying it, one frame of the family keeps it and the frame rules hold (000:2.3.4, 000:T9, 000:T27, 000:2.4.2)",
+        domain: "(no harness yet) every state of the Legacy-SRS profile satisfying the invariant (at most 3 data fields), every frame of 63h, 47h, 57h at any time, with and without a UART fault",
+        exhaustive: false,
+        harness: None,
+        run: || inductive_sampled(profiles::legacy_srs(), inductive::LEGACY, 3000),
     },
     Property {
         name: "slave_invariant",

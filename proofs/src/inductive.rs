@@ -1,0 +1,232 @@
+//! The slave's invariant is inductive: from **any** state that satisfies it
+//! ([`invariant::slave_invariant`]), any frame of a command, at any time, with or
+//! without a UART fault, the slave does not panic, the invariant holds afterwards, and
+//! the frame-level rules hold ([`rules_hold`]). Together with the factory state of
+//! every built-in profile satisfying it, the invariant holds in every state the slave
+//! can reach, with no bound on the number of steps.
+//!
+//! A state is built from [`Parts`], plain values a Kani harness makes symbolic
+//! (`kani::any()`) and a property test samples; [`Parts::build`] gives `None` for parts
+//! that do not form a state satisfying the invariant, which both then skip (Kani:
+//! `kani::assume`). What the parts keep and leave out, and why that is sound, is in
+//! docs/src/verification.md, "The invariant is inductive".
+
+use crate::invariant::slave_invariant;
+use hiperface_model::address::{AddressByte, SlaveAddress};
+use hiperface_model::slave::fields::DataFields;
+use hiperface_model::slave::inputs::{PhysicalInputs, PositionFault};
+use hiperface_model::slave::powerup::PowerUp;
+use hiperface_model::slave::stack::{ErrorStack, STACK_DEPTH};
+use hiperface_model::slave::{Locks, NonVolatile};
+use hiperface_model::{checksum, CommandId, FaultCode, Outcome, Profile, Reply, Silence, Slave, UartSettings};
+
+/// The data fields a built state has at most: the addressed field, the last one and
+/// one before them are what the data field commands tell apart (the sizes of the
+/// others enter only through the free memory, which the parts make any).
+pub const MAX_FIELDS: usize = 3;
+
+/// A slave's state as plain values: every part of [`Slave`] that a command reads or
+/// writes, the field memory's contents excepted (they read FFh: no command's control
+/// flow depends on them).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(kani, derive(kani::Arbitrary))]
+pub struct Parts {
+    pub address: u8,
+    /// Stored settings, as of the last reset, and 67h's (when `temporary` is set).
+    pub settings: u8,
+    pub boot_settings: u8,
+    pub temporary: bool,
+    pub temporary_settings: u8,
+    pub codes: [u8; 4],
+    pub offset: u64,
+    pub counter: u32,
+    pub field_count: u8,
+    pub statuses: [u8; MAX_FIELDS],
+    pub stack_len: u8,
+    pub stack: [u8; STACK_DEPTH],
+    /// Powered on long ago (`settled`), or at `since_us`.
+    pub settled: bool,
+    pub since_us: u64,
+    pub kept_default: bool,
+    pub locks: [bool; 3],
+    pub position: u64,
+    pub speed: i32,
+    pub temperature_c: i16,
+    pub led_current_ma: u16,
+    pub i2c_fault: bool,
+    /// Each of the position faults (000:T38-T68) present or not.
+    pub position_faults: [bool; 7],
+}
+
+impl Parts {
+    /// The state these parts make on a device of `profile`, if they make one that
+    /// satisfies the invariant.
+    pub fn build(&self, profile: Profile) -> Option<Slave> {
+        let address = SlaveAddress::new(self.address)?;
+        let settings = UartSettings::decode(self.settings).ok()?;
+        let boot_settings = UartSettings::decode(self.boot_settings).ok()?;
+        let temp_settings = match self.temporary {
+            true => Some(UartSettings::decode(self.temporary_settings).ok()?),
+            false => None,
+        };
+        let count = (self.field_count as usize).min(MAX_FIELDS);
+        let fields = DataFields::from_statuses(profile.user_memory_blocks, self.statuses.get(..count)?)?;
+        let nv =
+            NonVolatile { address, settings, codes: self.codes, offset: self.offset, counter: self.counter, fields };
+        let mut stack = ErrorStack::new();
+        for (i, code) in self.stack.iter().enumerate() {
+            if i < self.stack_len as usize {
+                stack.push(FaultCode::decode(*code));
+            }
+        }
+        let power = PowerUp { since_us: (!self.settled).then_some(self.since_us), kept_default: self.kept_default };
+        let [position, nonvolatile, data_fields] = self.locks;
+        let locks = Locks { position, nonvolatile, data_fields };
+        let mut s = Slave::from_parts(profile, nv, stack, power, boot_settings, temp_settings, locks);
+        s.set_inputs(PhysicalInputs {
+            position: self.position,
+            speed: self.speed,
+            temperature_c: self.temperature_c,
+            led_current_ma: self.led_current_ma,
+        });
+        s.inject_i2c_fault(self.i2c_fault);
+        for (fault, on) in PositionFault::ALL.iter().zip(self.position_faults) {
+            s.inject_position_fault(*fault, on);
+        }
+        slave_invariant(&s).ok().map(|()| s)
+    }
+}
+
+/// The frame-level rules of one step, without allocating (so that Kani checks the same
+/// function): a slave that does not listen stays silent; one that listens answers a
+/// frame addressed to it (or is silent after Encoder Reset) and is silent to any other;
+/// a reply's checksum is right, it carries the own address (after 55h the new one,
+/// 000:T30) and the warning bit exactly when the error stack is not empty
+/// (000:2.3.4). The same rules as `fixpoint::frame_rules`, which also decodes the reply.
+pub fn rules_hold(before: &Slave, frame: &[u8], now_us: u64, outcome: &Outcome, after: &Slave) -> bool {
+    let listening = before.listening_settings(now_us).is_some();
+    let own = before.nonvolatile().address;
+    let addressed = frame.first().is_some_and(|b| AddressByte::decode(*b).addresses(own));
+    let command = CommandId::of_frame(frame);
+    match outcome.reply {
+        Reply::Silent(Silence::NotListening) => !listening,
+        Reply::Silent(Silence::NotAddressed) => listening && !addressed,
+        Reply::Silent(Silence::Reset) => listening && addressed && command == CommandId::EncoderReset,
+        Reply::Frame(rf) => {
+            let bytes = rf.encode();
+            listening
+                && addressed
+                && checksum::is_valid(bytes.as_bytes())
+                && rf.address == after.nonvolatile().address.byte()
+                && rf.warning != after.error_stack().is_empty()
+        }
+    }
+}
+
+/// The command families the inductive harnesses take one at a time: each command byte
+/// with its number of data bytes (000:T10). Store Data, whose length varies, is a
+/// family of its own (`STORE_DATA`, 1 to 4 data bytes).
+pub const POSITION: &[(u8, usize)] = &[(0x42, 0), (0x43, 5), (0x44, 1), (0x6A, 5), (0x6B, 2), (0x6C, 0)];
+pub const COUNTER: &[(u8, usize)] = &[(0x46, 0), (0x47, 0), (0x49, 1)];
+pub const FIELDS: &[(u8, usize)] = &[(0x4A, 4), (0x4C, 1), (0x4D, 3), (0x4E, 0)];
+pub const STORE_DATA: &[(u8, usize)] = &[(0x4B, 5), (0x4B, 6), (0x4B, 7), (0x4B, 8)];
+pub const SETTINGS: &[(u8, usize)] = &[(0x4F, 3), (0x55, 2), (0x57, 2), (0x67, 1)];
+pub const STATUS: &[(u8, usize)] = &[(0x50, 0), (0x52, 0), (0x53, 0), (0x56, 0)];
+/// The legacy edition's own command and those whose behaviour differs there.
+pub const LEGACY: &[(u8, usize)] = &[(0x63, 5), (0x47, 0), (0x57, 2)];
+
+/// The longest frame a family above sends: Store Data with 4 data bytes.
+pub const MAX_FAMILY_FRAME: usize = 3 + 8;
+
+/// `frame` made a request of `command` with `data` data bytes: the command byte set,
+/// the rest as given (any address byte, data and checksum byte).
+pub fn request_of(frame: &[u8; MAX_FAMILY_FRAME], command: u8, data: usize) -> [u8; MAX_FAMILY_FRAME] {
+    let mut f = *frame;
+    f[1] = command;
+    // Store Data's count byte says how many data bytes follow its 4 header bytes.
+    if command == 0x4B && data >= 4 {
+        f[4] = (data - 4) as u8;
+    }
+    f
+}
+
+/// One step from `state`: no panic, the invariant afterwards, the frame rules.
+pub fn step_keeps_invariant(state: &Slave, frame: &[u8], now_us: u64, uart_fault: bool) -> bool {
+    let mut after = state.clone();
+    let outcome = match uart_fault {
+        true => after.handle_faulty_frame(frame, now_us),
+        false => after.handle_frame(frame, now_us),
+    };
+    slave_invariant(&after).is_ok() && rules_hold(state, frame, now_us, &outcome, &after)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hiperface_model::profiles;
+
+    fn factory() -> Parts {
+        Parts {
+            address: 0x40,
+            settings: 0xE4,
+            boot_settings: 0xE4,
+            temporary: false,
+            temporary_settings: 0,
+            codes: [0x55; 4],
+            offset: 0,
+            counter: 0,
+            field_count: 0,
+            statuses: [0; MAX_FIELDS],
+            stack_len: 0,
+            stack: [0; STACK_DEPTH],
+            settled: true,
+            since_us: 0,
+            kept_default: false,
+            locks: [false; 3],
+            position: 0,
+            speed: 0,
+            temperature_c: 25,
+            led_current_ma: 10,
+            i2c_fault: false,
+            position_faults: [false; 7],
+        }
+    }
+
+    #[test]
+    fn the_factory_parts_are_the_operational_slave() {
+        let built = factory().build(profiles::srs50()).unwrap();
+        assert_eq!(built, Slave::operational(profiles::srs50()));
+    }
+
+    #[test]
+    fn parts_that_break_the_invariant_build_nothing() {
+        let p = profiles::srs50();
+        assert!(Parts { counter: 0x100_0000, ..factory() }.build(p).is_none());
+        assert!(Parts { address: 0x60, ..factory() }.build(p).is_none());
+        assert!(Parts { settings: 0xE7, ..factory() }.build(p).is_none());
+        assert!(Parts { offset: p.range(), ..factory() }.build(p).is_none());
+        // 00h is never stacked (ErrorStack::push ignores it): an empty stack.
+        assert!(Parts { stack_len: 1, ..factory() }.build(p).is_some_and(|s| s.error_stack().is_empty()));
+        assert!(Parts { settled: true, kept_default: true, ..factory() }.build(p).is_none());
+        // Fields that do not fit the memory (8 blocks of 128 bytes on 8 blocks: one fits).
+        let legacy = profiles::legacy_srs();
+        assert!(Parts { field_count: 1, statuses: [0xC7, 0, 0], ..factory() }.build(legacy).is_some());
+        assert!(Parts { field_count: 2, statuses: [0xC7, 0xC0, 0], ..factory() }.build(legacy).is_none());
+    }
+
+    #[test]
+    fn the_rules_fail_a_reply_with_the_wrong_warning_bit() {
+        let s = Parts { stack_len: 1, stack: [0x1E, 0, 0, 0], ..factory() }.build(profiles::srs50()).unwrap();
+        let frame = [0x40, 0x42, 0x02];
+        let mut after = s.clone();
+        let mut outcome = after.handle_frame(&frame, 0);
+        assert!(rules_hold(&s, &frame, 0, &outcome, &after));
+        if let Reply::Frame(rf) = &mut outcome.reply {
+            rf.warning = false;
+        }
+        assert!(!rules_hold(&s, &frame, 0, &outcome, &after));
+        // Silent where it must answer.
+        outcome.reply = Reply::Silent(Silence::NotAddressed);
+        assert!(!rules_hold(&s, &frame, 0, &outcome, &after));
+    }
+}
