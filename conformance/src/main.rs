@@ -171,19 +171,6 @@ enum VectorsCommand {
     },
 }
 
-/// The vector files of `dir`, each with its file name.
-fn named_vector_files(
-    dir: &std::path::Path,
-) -> Result<Vec<(String, hiperface_suite::vectors::VectorFile)>, CommandError> {
-    use hiperface_suite::vectors;
-    let mut files = Vec::new();
-    for path in vectors::files(dir)? {
-        let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-        files.push((name, vectors::load(&path)?));
-    }
-    Ok(files)
-}
-
 /// `hiperface clauses`: exit 1 when a normative clause is neither covered nor listed.
 fn print_clauses(uncovered: bool, format: TextFormat) -> Result<Ended, CommandError> {
     use hiperface_conformance::clauses;
@@ -348,7 +335,7 @@ fn vectors_command(what: VectorsCommand) -> Result<Ended, CommandError> {
             Ok(Ended::Done)
         }
         VectorsCommand::Show { id, format, dir } => {
-            let files = named_vector_files(&dir)?;
+            let files = vectors::load_named(&dir)?;
             let format = format.map(|f| match f {
                 PieceFormat::Markdown => vectors::reference::PieceFormat::Markdown,
                 PieceFormat::Html => vectors::reference::PieceFormat::Html,
@@ -360,7 +347,7 @@ fn vectors_command(what: VectorsCommand) -> Result<Ended, CommandError> {
             Ok(Ended::Done)
         }
         VectorsCommand::Book { out, dir } => {
-            let files = named_vector_files(&dir)?;
+            let files = vectors::load_named(&dir)?;
             let pages = vectors::reference::book(&files);
             for (name, text) in &pages {
                 let path = out.join(name);

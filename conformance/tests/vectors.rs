@@ -225,11 +225,7 @@ fn master_tables_are_the_printed_tables() {
 
 /// The vector files with their names, as `hiperface vectors book` loads them.
 fn named_files() -> Vec<(String, vectors::VectorFile)> {
-    vectors::files(&dir())
-        .unwrap()
-        .into_iter()
-        .map(|p| (p.file_name().unwrap().to_string_lossy().into_owned(), vectors::load(&p).unwrap()))
-        .collect()
+    vectors::load_named(&dir()).unwrap()
 }
 
 fn reference_dir() -> PathBuf {

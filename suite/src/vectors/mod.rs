@@ -296,6 +296,15 @@ pub fn files(dir: &Path) -> Result<Vec<PathBuf>, LoadError> {
     Ok(out)
 }
 
+/// The vector files of a directory, loaded, each with its file name (the reference
+/// names the file an example comes from).
+pub fn load_named(dir: &Path) -> Result<Vec<(String, VectorFile)>, LoadError> {
+    files(dir)?
+        .into_iter()
+        .map(|p| Ok((p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default(), load(&p)?)))
+        .collect()
+}
+
 /// What is wrong with one vector: its printed checksums, then its replay against the
 /// model (empty: it agrees).
 pub fn verify(v: &Vector) -> Vec<String> {

@@ -16,6 +16,7 @@ mod bits;
 mod pages;
 
 use super::{parse_hex, Erratum, Expected, Setup, Vector, VectorFile, VectorStep};
+use crate::timing_diagrams::Diagram;
 use hiperface_model::clause;
 use hiperface_model::command::{AccessCodeRule, CommandSet, CommandSpec, DataLength, Editions, COMMAND_TABLE};
 use hiperface_model::{checksum, CommandId, Edition, Request, RequestFrame, Response, ResponseFrame};
@@ -32,10 +33,12 @@ pub const INDEX: &str = "index.md";
 /// order of the book: the index, then a chapter per command of the current edition in
 /// byte order, then the legacy edition's own commands that vectors exist for.
 pub fn book(files: &[(String, VectorFile)]) -> Vec<(String, String)> {
-    let chapters = chapters(files);
+    // Drawn once: each run of the model is the same.
+    let diagrams = crate::timing_diagrams::diagrams();
+    let chapters = chapters(files, &diagrams);
     let mut pages = vec![(INDEX.to_string(), index(files, &chapters))];
     pages.extend(chapters.iter().map(|c| (c.file.clone(), c.text.clone())));
-    pages.extend(timing_pages());
+    pages.extend(timing_pages(&diagrams));
     pages.push((pages::ERROR_CODES.to_string(), pages::error_codes()));
     pages.push((pages::EDITIONS.to_string(), pages::editions(files)));
     pages.push((pages::MASTER_TABLES.to_string(), pages::master_tables(files)));
@@ -77,8 +80,7 @@ pub fn differences(expected: &[(String, String)], found: &[(String, String)]) ->
 
 /// The timing diagrams' pages and their SVG files (`svg/<id>.svg`): the power-up
 /// sequences on a page of their own, the exchanges on another.
-fn timing_pages() -> Vec<(String, String)> {
-    let diagrams = crate::timing_diagrams::diagrams();
+fn timing_pages(diagrams: &[Diagram]) -> Vec<(String, String)> {
     let page = |title: &str, intro: &str, power_up: bool| {
         let mut s = format!("# {title}\n\n{GENERATED}\n\n{intro}\n");
         for d in diagrams.iter().filter(|d| d.id.starts_with("power-up") == power_up) {
@@ -122,15 +124,14 @@ fn timing_pages() -> Vec<(String, String)> {
 }
 
 /// A diagram on a page, a link to its SVG for the full size.
-fn image(d: &crate::timing_diagrams::Diagram) -> String {
+fn image(d: &Diagram) -> String {
     format!("[![{}](svg/{}.svg)](svg/{}.svg)", md(&d.title), d.id, d.id)
 }
 
 /// A command's own timing diagram (`exchange-42h`, `encoder-reset-53h`), shown in its
 /// chapter too.
-fn timing_of(id: CommandId) -> String {
+fn timing_of(id: CommandId, diagrams: &[Diagram]) -> String {
     let suffix = format!("-{:02x}h", id.byte());
-    let diagrams = crate::timing_diagrams::diagrams();
     let Some(d) = diagrams.iter().find(|d| d.id.ends_with(&suffix)) else {
         return String::new();
     };
@@ -233,15 +234,15 @@ struct Chapter {
 /// A vector with the name of its file.
 type Named<'a> = (&'a str, &'a Vector);
 
-fn chapters(files: &[(String, VectorFile)]) -> Vec<Chapter> {
+fn chapters(files: &[(String, VectorFile)], diagrams: &[Diagram]) -> Vec<Chapter> {
     let all: Vec<Named> = files.iter().flat_map(|(n, f)| f.vectors.iter().map(move |v| (n.as_str(), v))).collect();
     let current = CommandSet::all_for(false);
     let mut out = Vec::new();
     for spec in COMMAND_TABLE.iter().filter(|s| current.contains(s.id)) {
-        out.push(chapter(spec, false, &all));
+        out.push(chapter(spec, false, &all, diagrams));
     }
     for spec in COMMAND_TABLE.iter().filter(|s| s.editions == Editions::LegacyOnly) {
-        let c = chapter(spec, true, &all);
+        let c = chapter(spec, true, &all, diagrams);
         if c.documents + c.generated > 0 {
             out.push(c);
         }
@@ -276,7 +277,7 @@ fn outcomes(v: &Vector) -> Vec<Outcome> {
         .collect()
 }
 
-fn chapter(spec: &'static CommandSpec, legacy: bool, all: &[Named]) -> Chapter {
+fn chapter(spec: &'static CommandSpec, legacy: bool, all: &[Named], diagrams: &[Diagram]) -> Chapter {
     let name = command_name(spec);
     let ours = |v: &Vector| v.command == name && !v.steps.is_empty();
     let documents: Vec<Named> = all.iter().copied().filter(|(_, v)| ours(v) && v.source != "generated").collect();
@@ -293,7 +294,7 @@ fn chapter(spec: &'static CommandSpec, legacy: bool, all: &[Named]) -> Chapter {
     let mut s = format!("# {title}\n\n{GENERATED}\n\n{STYLE}\n\n");
     s.push_str(&what_it_does(spec, legacy));
     s.push_str(&bit_fields(spec.id));
-    s.push_str(&timing_of(spec.id));
+    s.push_str(&timing_of(spec.id, diagrams));
     let mut errata = Vec::new();
     let mut cited: Vec<String> = vec![spec.clause.id().to_string()];
     if !documents.is_empty() {
@@ -967,13 +968,8 @@ fn md(s: &str) -> String {
 mod tests {
     use super::*;
 
-    fn files() -> Vec<(String, VectorFile)> {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../vectors");
-        super::super::files(&dir)
-            .unwrap()
-            .into_iter()
-            .map(|p| (p.file_name().unwrap().to_string_lossy().into_owned(), super::super::load(&p).unwrap()))
-            .collect()
+    pub(super) fn files() -> Vec<(String, VectorFile)> {
+        super::super::load_named(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../vectors")).unwrap()
     }
 
     #[test]

@@ -277,18 +277,9 @@ mod tests {
         assert!(page.contains("[57h](57h-set-serial-interface.md)"), "{page}");
     }
 
-    fn files() -> Vec<(String, VectorFile)> {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../vectors");
-        crate::vectors::files(&dir)
-            .unwrap()
-            .into_iter()
-            .map(|p| (p.file_name().unwrap().to_string_lossy().into_owned(), crate::vectors::load(&p).unwrap()))
-            .collect()
-    }
-
     #[test]
     fn the_editions_differ_where_the_model_says() {
-        let page = editions(&files());
+        let page = editions(&super::super::tests::files());
         assert!(page.contains("| initialization, no UART | 100 ms | 100 ms |"), "{page}");
         assert!(page.contains("| default settings until | 900 ms | 1000 ms |"), "{page}");
         assert!(page
