@@ -23,6 +23,7 @@
 //! [`mutant`] that shows what the search catches that a depth-bounded one misses.
 
 use crate::invariant::{slave_invariant, COUNTER_MAX};
+use crate::model_check::{addressed, FIELDS_TO_SETTINGS};
 use hiperface_model::slave::powerup::CommState;
 use hiperface_model::{checksum, AddressByte, CommandId, Outcome, Profile, Reply, ResponseFrame, Silence, Slave};
 use std::collections::{HashSet, VecDeque};
@@ -89,33 +90,18 @@ pub fn alphabet(profile: &Profile) -> Vec<Event> {
         req(&[b, 0x47]),
         req(&[b, 0x49, 0x55]),
         req(&[b, 0x49, 0x54]), // wrong Code0
-        req(&[b, 0x4A, 0, 0, 16, 0x55]),
-        req(&[b, 0x4A, 0, 15, 2, 0x55]), // off the end of a 16-byte field
-        req(&[b, 0x4B, 0, 15, 1, 0x55, 0xA5]),
-        req(&[b, 0x4C, 0]),
-        req(&[b, 0x4D, 0, 0xC0, 0x55]), // create/modify field 0, 16 bytes
-        req(&[b, 0x4D, 0, 0xC7, 0x55]), // resize field 0 to 128 bytes
-        req(&[b, 0x4D, 1, 0xF8, 0x56]), // field 1, Code3 enabled (needs Code3 = 56h)
-        req(&[b, 0x4D, 1, 0x78, 0x56]), // delete field 1
-        req(&[b, 0x4D, 0, 0x40, 0x55]), // delete field 0 (16 bytes)
-        req(&[b, 0x4D, 0, 0x47, 0x55]), // delete field 0 (128 bytes)
-        req(&[b, 0x4E]),
-        req(&[b, 0x4F, 3, 0x55, 0x56]),
-        req(&[b, 0x4F, 3, 0x56, 0x55]),
-        req(&[b, 0x50]),
-        req(&[b, 0x52]),
-        req(&[b, 0x53]),
-        req(&[b, 0x55, 0x41, 0x55]),
-        req(&[b, 0x55, 0x40, 0x55]),
-        req(&[b, 0x57, 0xE5, 0x55]),
-        req(&[b, 0x57, 0xE4, 0x55]),
+    ]
+    .into_iter()
+    .chain(FIELDS_TO_SETTINGS.iter().map(|r| Event::Request(addressed(b, r))))
+    .chain([
         req(&[b, 0x67, 0xE5]), // optional, current edition
         req(&[b, 0x45]),       // unknown command
         Event::Advance,
         Event::PowerCycle,
         Event::Temperature(25),
         Event::Temperature(130),
-    ]
+    ])
+    .collect()
 }
 
 /// The counter's classes: the values Increment Counter tells apart (000:T16, 000:T46,
@@ -603,21 +589,20 @@ mod tests {
     /// the search ends because no new abstract state appears.
     #[test]
     fn fixpoint_of_the_current_edition() {
-        let r = run(profiles::sek37(), model_step, Bound::Fixpoint { max_states: 1_000_000 })
-            .unwrap_or_else(|c| panic!("{c}"));
-        assert!(r.fixpoint, "{r}");
-        assert!(r.to_string().contains("fixpoint reached"), "{r}");
-        // The counter's five classes were all reached: its top takes 16 777 215 events.
-        assert!(r.depth > 8 && r.states > 10_000, "{r}");
+        reaches_a_fixpoint(profiles::sek37());
     }
 
     /// The legacy edition (002) to a fixpoint.
     #[test]
     fn fixpoint_of_the_legacy_edition() {
-        let r = run(profiles::legacy_srs(), model_step, Bound::Fixpoint { max_states: 1_000_000 })
-            .unwrap_or_else(|c| panic!("{c}"));
+        reaches_a_fixpoint(profiles::legacy_srs());
+    }
+
+    fn reaches_a_fixpoint(profile: Profile) {
+        let r = run(profile, model_step, Bound::Fixpoint { max_states: 1_000_000 }).unwrap_or_else(|c| panic!("{c}"));
         assert!(r.fixpoint, "{r}");
         assert!(r.to_string().contains("fixpoint reached"), "{r}");
+        // The counter's five classes were all reached: its top takes 16 777 215 events.
         assert!(r.depth > 8 && r.states > 10_000, "{r}");
     }
 

@@ -22,6 +22,37 @@ fn req(body: &[u8]) -> Action {
     Action::Request(body.to_vec())
 }
 
+/// The boundary requests of the data field, access code, status, address and settings
+/// commands (4Ah to 57h), after the address byte: both searches send them
+/// (`fixpoint::alphabet` too).
+pub const FIELDS_TO_SETTINGS: &[&[u8]] = &[
+    &[0x4A, 0, 0, 16, 0x55],
+    &[0x4A, 0, 15, 2, 0x55], // off the end of a 16-byte field
+    &[0x4B, 0, 15, 1, 0x55, 0xA5],
+    &[0x4C, 0],
+    &[0x4D, 0, 0xC0, 0x55], // create/modify field 0, 16 bytes
+    &[0x4D, 0, 0xC7, 0x55], // resize field 0 to 128 bytes
+    &[0x4D, 1, 0xF8, 0x56], // field 1, Code3 enabled (needs Code3 = 56h)
+    &[0x4D, 1, 0x78, 0x56], // delete field 1
+    &[0x4D, 0, 0x40, 0x55], // delete field 0 (16 bytes)
+    &[0x4D, 0, 0x47, 0x55], // delete field 0 (128 bytes)
+    &[0x4E],
+    &[0x4F, 3, 0x55, 0x56],
+    &[0x4F, 3, 0x56, 0x55],
+    &[0x50],
+    &[0x52],
+    &[0x53],
+    &[0x55, 0x41, 0x55],
+    &[0x55, 0x40, 0x55],
+    &[0x57, 0xE5, 0x55],
+    &[0x57, 0xE4, 0x55],
+];
+
+/// A request of [`FIELDS_TO_SETTINGS`] to `address`.
+pub fn addressed(address: u8, request: &[u8]) -> Vec<u8> {
+    [&[address][..], request].concat()
+}
+
 /// The alphabet: every command with boundary arguments, sent broadcast (FFh) so that
 /// address changes do not hide the slave.
 pub fn alphabet() -> Vec<Action> {
@@ -36,29 +67,14 @@ pub fn alphabet() -> Vec<Action> {
         req(&[b, 0x46]),
         req(&[b, 0x47]),
         req(&[b, 0x49, 0x55]),
-        req(&[b, 0x4A, 0, 0, 16, 0x55]),
-        req(&[b, 0x4A, 0, 15, 2, 0x55]), // off the end of a 16-byte field
-        req(&[b, 0x4B, 0, 15, 1, 0x55, 0xA5]),
-        req(&[b, 0x4C, 0]),
-        req(&[b, 0x4D, 0, 0xC0, 0x55]), // create/modify field 0, 16 bytes
-        req(&[b, 0x4D, 0, 0xC7, 0x55]), // resize field 0 to 128 bytes
-        req(&[b, 0x4D, 1, 0xF8, 0x56]), // field 1, Code3 enabled (needs Code3 = 56h)
-        req(&[b, 0x4D, 1, 0x78, 0x56]), // delete field 1
-        req(&[b, 0x4D, 0, 0x40, 0x55]), // delete field 0 (16 bytes)
-        req(&[b, 0x4D, 0, 0x47, 0x55]), // delete field 0 (128 bytes)
-        req(&[b, 0x4E]),
-        req(&[b, 0x4F, 3, 0x55, 0x56]),
-        req(&[b, 0x4F, 3, 0x56, 0x55]),
-        req(&[b, 0x50]),
-        req(&[b, 0x52]),
-        req(&[b, 0x53]),
-        req(&[b, 0x55, 0x41, 0x55]),
-        req(&[b, 0x55, 0x40, 0x55]),
-        req(&[b, 0x57, 0xE5, 0x55]),
-        req(&[b, 0x57, 0xE4, 0x55]),
+    ]
+    .into_iter()
+    .chain(FIELDS_TO_SETTINGS.iter().map(|r| Action::Request(addressed(b, r))))
+    .chain([
         req(&[b, 0x45]), // unknown command
         Action::Settle,
-    ]
+    ])
+    .collect()
 }
 
 pub struct ModelCheckReport {
