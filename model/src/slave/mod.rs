@@ -81,19 +81,9 @@ impl Slave {
             counter: 0,
             fields: DataFields::new(profile.user_memory_blocks),
         };
-        let mut s = Slave {
-            profile,
-            boot_settings: nv.settings,
-            nv,
-            stack: ErrorStack::new(),
-            power: PowerUp::at(0),
-            temp_settings: None,
-            link: DataLink::new(UartSettings::DEFAULT.timeout_us(profile.edition)),
-            inputs: PhysicalInputs::default(),
-            injected: InjectedFaults::default(),
-            locks: Locks::default(),
-            eeprom_writes: 0,
-        };
+        let boot_settings = nv.settings;
+        let mut s =
+            Slave::from_parts(profile, nv, ErrorStack::new(), PowerUp::at(0), boot_settings, None, Locks::default());
         s.initialize(0);
         s
     }
