@@ -262,13 +262,13 @@ impl Observer {
     /// progress completes once its timeout has elapsed.
     pub fn poll(&mut self, now_us: u64, out: &mut impl FnMut(Observation)) {
         if let Some(last) = self.framer.last_us() {
-            if now_us >= last + self.timeout_us() {
+            if now_us >= last.saturating_add(self.timeout_us()) {
                 self.complete(out);
             }
         }
         // A held fragment with nothing after it for long: it was malformed on its own.
         if let Some(h) = &self.held {
-            let quiet = h.framer.last_us().unwrap_or(0) + 4 * self.timeout_us();
+            let quiet = h.framer.last_us().unwrap_or(0).saturating_add(self.timeout_us().saturating_mul(4));
             if self.framer.bytes.is_empty() && now_us >= quiet {
                 self.release_held(out);
             }
@@ -279,7 +279,7 @@ impl Observer {
     pub fn master_char(&mut self, ch: RxChar, out: &mut impl FnMut(Observation)) {
         let start = ch.at_us.saturating_sub(self.char_time_us());
         if let Some(last) = self.framer.last_us() {
-            if start >= last + self.timeout_us() {
+            if start >= last.saturating_add(self.timeout_us()) {
                 self.complete(out);
             }
         }
@@ -299,7 +299,8 @@ impl Observer {
         if let Some(t0) = self.started_us {
             let init = self.profile.init_ms as u64 * 1000;
             let since = start.saturating_sub(t0);
-            if start < t0 + init {
+            // Saturating: the observer takes any time a capture gives, up to u64::MAX.
+            if start < t0.saturating_add(init) {
                 let rule = if self.after_reset { Rule::TooSoonAfterReset } else { Rule::DuringInitialization };
                 report(rule, Some(since));
             } else if self.profile.edition == Edition::Current

@@ -67,12 +67,13 @@ impl Observer {
                 }
             }
             let max_ms = self.profile.response_limit(command).max_ms as u64;
-            self.window_until_us = (command != CommandId::EncoderReset).then_some(end + timeout + max_ms * 1000);
+            self.window_until_us = (command != CommandId::EncoderReset)
+                .then_some(end.saturating_add(timeout).saturating_add(max_ms * 1000));
         }
         // Reactions, from the most specific.
         match command {
             CommandId::EncoderReset => {
-                self.started_us = Some(end + timeout);
+                self.started_us = Some(end.saturating_add(timeout));
                 self.after_reset = true;
                 self.kept_default = false;
                 self.settings = UartSettings::DEFAULT;
