@@ -109,6 +109,23 @@ impl DataFields {
         Some(f)
     }
 
+    /// A table as stored, for proofs that start from any state satisfying an invariant
+    /// the caller checks (proofs/src/inductive.rs): the fields `statuses` (each with its
+    /// exists bit set) in free memory, no check that they fit. Unlike
+    /// [`DataFields::from_statuses`] the count is the number of statuses on every path,
+    /// which a bounded model checker then knows as a constant (no field created and
+    /// then refused). `None` for more statuses than the table holds.
+    pub fn from_table(capacity_blocks: u8, statuses: &[u8]) -> Option<DataFields> {
+        let mut f = DataFields::new(capacity_blocks);
+        f.statuses.get_mut(..statuses.len())?.copy_from_slice(statuses);
+        for s in f.statuses.iter_mut().take(statuses.len()) {
+            *s |= FieldStatus::EXISTS;
+        }
+        f.count = statuses.len() as u8;
+        f.adopted = f.count;
+        Some(f)
+    }
+
     /// The statuses of the fields, in number order.
     pub fn statuses(&self) -> &[u8] {
         self.statuses.get(..self.count as usize).unwrap_or(&[])
@@ -287,6 +304,17 @@ mod tests {
         assert_eq!(f.read(0, 29, 3), Some(&[0xFF; 3][..]), "re-created field starts at FFh");
         assert_eq!(f.read(0, 0, 0), None);
         assert_eq!(f.read(1, 0, 1), None);
+    }
+
+    #[test]
+    fn a_table_as_stored_is_the_table_created_field_by_field() {
+        for statuses in [&[][..], &[0xC9], &[0x41, 0xE0, 0x80]] {
+            assert_eq!(DataFields::from_table(8, statuses), DataFields::from_statuses(8, statuses));
+        }
+        // Fields that do not fit are taken as stored (the caller's invariant refuses them).
+        let f = DataFields::from_table(8, &[0xC7, 0xC0]).unwrap();
+        assert_eq!((f.count(), f.used_blocks(), DataFields::from_statuses(8, &[0xC7, 0xC0])), (2, 9, None));
+        assert!(DataFields::from_table(8, &[0x80; 256]).is_none());
     }
 
     #[test]
