@@ -436,7 +436,10 @@ impl Slave {
         self.handle(bytes, true, at_us)
     }
 
-    fn handle(&mut self, bytes: &[u8], uart_fault: bool, at_us: u64) -> Outcome {
+    /// As [`Slave::handle_frame`], with or without a UART fault as `uart_fault` says:
+    /// for a proof that takes both at once (a bounded model checker then runs the
+    /// step once with the fault symbolic, not once per case).
+    pub fn handle(&mut self, bytes: &[u8], uart_fault: bool, at_us: u64) -> Outcome {
         match self.listening_settings(at_us) {
             None => Outcome::NOT_LISTENING,
             Some(_) => self.execute(bytes, uart_fault, false, at_us),
