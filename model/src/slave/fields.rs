@@ -8,6 +8,8 @@ use crate::frame::MAX_FIELD_BYTES;
 pub const BLOCK: usize = 16;
 /// The memory size byte counts blocks: at most 255 blocks.
 pub const MAX_MEMORY: usize = 255 * BLOCK;
+/// The most blocks one field has (size bits 111: 8 blocks of 16 bytes). // 000:T23
+pub const MAX_FIELD_BLOCKS: usize = 8;
 /// The number of fields is bounded by the number of blocks.
 pub const MAX_FIELDS: usize = 255;
 /// Erased EEPROM reads FFh (001 §5.1.4 reads 16 x FFh from a new field).
@@ -146,16 +148,27 @@ impl DataFields {
     /// it, so a new field and the grown blocks of the last one read FFh (DESIGN:fields)
     /// with nothing more to do. Nothing writes past the fields' end, so after a change
     /// of where they end only the blocks between the new end and `old_end` (a field
-    /// shrunk or deleted: at most 8 blocks) need freeing. An index loop over those
-    /// bytes rather than a `fill` of the rest of the memory: Kani unrolls it at most
-    /// 128 times, not as often as the 4 080 bytes of the memory allow.
+    /// shrunk or deleted: at most one field's 8 blocks) need freeing. Block by block,
+    /// in loops of fixed length (8 blocks of 16 bytes, 2 bytes of `known` each) rather
+    /// than a `fill` of the rest of the memory: Kani unrolls them as often as that, not
+    /// as often as the 4 080 bytes of the memory allow.
     fn free_up_to(&mut self, old_end: usize) {
-        for i in self.start(self.count)..old_end {
-            if let Some(byte) = self.memory.get_mut(i) {
-                *byte = ERASED;
+        let end = self.start(self.count);
+        for block in 0..MAX_FIELD_BLOCKS {
+            let at = end + block * BLOCK;
+            if at >= old_end {
+                continue;
             }
-            if let Some(known) = self.known.get_mut(i / 8) {
-                *known &= !(1u8 << (i % 8));
+            for i in at..at + BLOCK {
+                if let Some(byte) = self.memory.get_mut(i) {
+                    *byte = ERASED;
+                }
+            }
+            // Fields end on block boundaries: whole bytes of `known`.
+            for i in at / 8..(at + BLOCK) / 8 {
+                if let Some(known) = self.known.get_mut(i) {
+                    *known = 0;
+                }
             }
         }
     }
@@ -335,6 +348,8 @@ mod tests {
     /// stays erased and unknown, so that growing needs no freeing.
     #[test]
     fn the_memory_past_the_fields_stays_free() {
+        // `free_up_to` frees at most one field's blocks.
+        assert_eq!(FieldStatus(0xFF).blocks() as usize, MAX_FIELD_BLOCKS);
         let mut f = DataFields::new(8);
         assert!(f.rest_is_free());
         assert!(f.create(FieldStatus(0xC3)) && f.create(FieldStatus(0xC3)));
@@ -349,6 +364,9 @@ mod tests {
         assert!(f.create(FieldStatus(0xC3)));
         assert_eq!(f.read(1, 0, 64), Some(&[0xFF; 64][..]), "the deleted field's bytes were freed");
         assert!(f.delete_last() && f.delete_last() && f.rest_is_free());
+        // The largest field given up whole, after its bytes were written.
+        assert!(f.create(FieldStatus(0xC7)) && f.write(0, 112, &[3; 16]));
+        assert!(f.delete_last() && f.rest_is_free());
     }
 
     #[test]
