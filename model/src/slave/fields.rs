@@ -149,9 +149,8 @@ impl DataFields {
     /// with nothing more to do. Nothing writes past the fields' end, so after a change
     /// of where they end only the blocks between the new end and `old_end` (a field
     /// shrunk or deleted: at most one field's 8 blocks) need freeing. Block by block,
-    /// in loops of fixed length (8 blocks of 16 bytes, 2 bytes of `known` each) rather
-    /// than a `fill` of the rest of the memory: Kani unrolls them as often as that, not
-    /// as often as the 4 080 bytes of the memory allow.
+    /// in a loop of fixed length (8 blocks) rather than a `fill` of the rest of the
+    /// memory: Kani unrolls it 8 times, not as often as the 4 080 bytes allow.
     fn free_up_to(&mut self, old_end: usize) {
         let end = self.start(self.count);
         for block in 0..MAX_FIELD_BLOCKS {
@@ -159,16 +158,13 @@ impl DataFields {
             if at >= old_end {
                 continue;
             }
-            for i in at..at + BLOCK {
-                if let Some(byte) = self.memory.get_mut(i) {
-                    *byte = ERASED;
-                }
+            // Whole blocks copied (a `memcpy` for Kani, no loop); fields end on block
+            // boundaries, so a block is whole bytes of `known`.
+            if let Some(bytes) = self.memory.get_mut(at..at + BLOCK) {
+                bytes.copy_from_slice(&[ERASED; BLOCK]);
             }
-            // Fields end on block boundaries: whole bytes of `known`.
-            for i in at / 8..(at + BLOCK) / 8 {
-                if let Some(known) = self.known.get_mut(i) {
-                    *known = 0;
-                }
+            if let Some(known) = self.known.get_mut(at / 8..(at + BLOCK) / 8) {
+                known.copy_from_slice(&[0; BLOCK / 8]);
             }
         }
     }
