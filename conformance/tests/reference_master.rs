@@ -179,3 +179,85 @@ fn the_reference_masters_transcript_legacy_edition() {
 fn the_reference_masters_transcript_when_faults_persist() {
     insta::assert_snapshot!(transcript(profiles::sek37(), 20, 4_000));
 }
+
+/// The joint exploration of the reference master (proofs/src/master_fixpoint.rs) runs
+/// on its own model of the line: with the encoder answering every request, its
+/// master decides at the same instants and asks the same things as the reference
+/// master on the harness's `BusMaster` over the virtual line, both editions.
+#[test]
+fn the_exploration_times_the_reference_master_as_the_harness_does() {
+    use hiperface_model::master::reference::{Action, Done, ReferenceMaster};
+    use hiperface_proofs::master_fixpoint::{self as mf, Act};
+    for profile in [profiles::sek37(), profiles::legacy_srs()] {
+        let world = &mf::worlds(profile)[0];
+        assert_eq!(world.name, "calm");
+        let steps = 60;
+        let explored: Vec<(u64, Action)> = mf::play(world, mf::reference_step, std::iter::repeat_n(Act::Answer, steps))
+            .into_iter()
+            .map(|s| (s.at_us, s.action))
+            .collect();
+        // The driver's loop (conformance/src/master/reference.rs), each decision noted.
+        let mut bus = BusMaster::new(VirtualLine::new(Slave::new(profile)), profile.edition);
+        let options = master::reference::Options { polling_period_ms: mf::POLLING_PERIOD_MS, duration_ms: None };
+        let mut machine = ReferenceMaster::new(profile, options);
+        let mut action = machine.power_on();
+        let mut harness = Vec::new();
+        for _ in 0..steps {
+            harness.push((bus.now_us(), action));
+            action = match action {
+                Action::Stop => break,
+                Action::WaitUntil(t) => {
+                    bus.line.wait_until(t).unwrap();
+                    machine.next(Done::Waited { now_us: bus.now_us() }, &mut |_| {})
+                }
+                Action::Exchange { request, listen_ms } => {
+                    let x = bus.exchange(request.encode().as_bytes(), listen_ms).unwrap();
+                    let reply = x.reply_bytes().unwrap_or_default();
+                    let done = Done::Exchanged {
+                        now_us: bus.now_us(),
+                        request_end_us: x.request_end.latest_us,
+                        timeout_us: x.timeout_us,
+                        reply: &reply,
+                    };
+                    machine.next(done, &mut |_| {})
+                }
+            };
+        }
+        assert_eq!(explored, harness, "{}", profile.name.as_str());
+    }
+}
+
+/// The exploration's encoder does every act the scenario catalogue injects, in every
+/// world and encoder the catalogue has.
+#[test]
+fn the_exploration_covers_the_catalogues_acts_and_worlds() {
+    use hiperface_proofs::master_fixpoint::{self as mf, Act as Explored};
+    let profile = profiles::sek37();
+    let acts = mf::acts();
+    let worlds = mf::worlds(profile);
+    for scenario in master::scenarios::catalogue() {
+        for inj in scenario.plan {
+            let act = match inj.act {
+                Act::Error(code) => Explored::Error(code),
+                Act::Silence => Explored::Silence,
+                Act::LateMs(ms) => Explored::LateMs(ms),
+                Act::CorruptChecksum => Explored::CorruptChecksum,
+                Act::Gap { before, us } => Explored::Gap { before, us },
+                Act::PositionFault(f) => Explored::PositionFault(f),
+                Act::Restart => Explored::Restart,
+            };
+            assert!(acts.contains(&act), "{}: {act:?} not explored", scenario.id);
+        }
+        let world = (scenario.world)(&profile);
+        let encoder = scenario.encoder.map_or(profile, |make| make(profile));
+        let hot = world.inputs.is_some_and(|i| i.temperature_c > encoder.temperature_max_c);
+        let same = |w: &&mf::World| {
+            w.init_faults == world.init_faults
+                && w.hot == hot
+                && w.encoder.type_code == encoder.type_code
+                && w.encoder.settings == encoder.settings
+                && w.encoder.init_ms == encoder.init_ms
+        };
+        assert!(worlds.iter().any(|w| same(&w)), "{}: its world is not explored", scenario.id);
+    }
+}
