@@ -87,6 +87,17 @@ impl DataLink {
         self.timeout_us = timeout_us;
     }
 
+    /// Move the clock of the frame in progress from `now_us` to `to_us` (its times
+    /// move by the same amount; those before `now_us - to_us` would move to 0).
+    pub fn rebase(&mut self, now_us: u64, to_us: u64) {
+        let moved = |t: u64| t.saturating_add(to_us).saturating_sub(now_us);
+        if let Some(f) = self.current.as_mut() {
+            f.first_us = moved(f.first_us);
+            f.last_us = moved(f.last_us);
+            f.complete_us = moved(f.complete_us);
+        }
+    }
+
     /// Drop any frame in progress.
     pub fn clear(&mut self) {
         self.current = None;

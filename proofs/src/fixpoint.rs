@@ -297,14 +297,14 @@ pub fn frame_rules(before: &World, frame: &[u8], outcome: &Outcome, after: &Slav
 /// Two lanes of multiply-rotate over 8-byte words, each finished by MurmurHash3's
 /// mixer: fast in a debug build, where SipHash takes 50 µs per state.
 #[derive(Default)]
-struct Fingerprint {
+pub(crate) struct Fingerprint {
     a: u64,
     b: u64,
     len: u64,
 }
 
 impl Fingerprint {
-    fn of(w: &World) -> u128 {
+    pub(crate) fn of(w: &impl Hash) -> u128 {
         let mut f = Fingerprint { a: 0x243F_6A88_85A3_08D3, b: 0x1319_8A2E_0370_7344, len: 0 };
         w.hash(&mut f);
         let fmix = |mut k: u64| {

@@ -7,6 +7,7 @@
 pub mod fixpoint;
 pub mod inductive;
 pub mod invariant;
+pub mod master_fixpoint;
 pub mod model_check;
 pub mod properties;
 pub mod targets;

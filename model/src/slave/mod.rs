@@ -311,6 +311,29 @@ impl Slave {
         self.power
     }
 
+    /// Move the slave's clock from `now_us` to `to_us`: its power-up and the frame in
+    /// its data link move by the same amount, so that it does at and after `to_us`
+    /// what it would have done at and after `now_us` (it reads time only against
+    /// them). A power-up whose windows can no longer change anything (000:T9: after
+    /// the initialization once the default settings are kept, after the change of
+    /// settings otherwise) becomes one long past ([`PowerUp::settled`], keeping the
+    /// default settings where it did), so that slaves that differ only in how long
+    /// ago they were powered on become equal: for model checking with a master
+    /// (proofs/src/master_fixpoint.rs). Times before `now_us - to_us` would move to 0.
+    pub fn rebase(&mut self, now_us: u64, to_us: u64) {
+        let moved = |t: u64| t.saturating_add(to_us).saturating_sub(now_us);
+        if let Some(since) = self.power.since_us {
+            let p = &self.profile;
+            let windows = match self.power.kept_default {
+                true => p.init_ms,
+                false => p.init_ms.max(p.default_window_ms).max(p.user_settings_ms),
+            };
+            let over = now_us >= since.saturating_add(windows as u64 * 1000);
+            self.power.since_us = if over { None } else { Some(moved(since)) };
+        }
+        self.link.rebase(now_us, to_us);
+    }
+
     /// The stored settings as of the last power-on or reset: those the Operational
     /// state uses. // 000:T32
     pub fn boot_settings(&self) -> UartSettings {

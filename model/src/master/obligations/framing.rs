@@ -13,7 +13,7 @@ use crate::frame::{Frame, MAX_FRAME};
 use crate::request::{RequestChecks, RequestFrame};
 
 /// The master's characters of the frame in progress, with their receive times.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub(super) struct Framer {
     pub(super) bytes: Frame,
     pub(super) ends_us: [u64; MAX_FRAME],
@@ -39,7 +39,7 @@ impl Framer {
 }
 
 /// A completed frame that was no request, held to see what follows.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub(super) struct Held {
     pub(super) framer: Framer,
     pub(super) start_us: u64,

@@ -34,7 +34,7 @@ use reaction::{Pending, StackRead};
 pub use rule::{DataRates, Observation, Rule, POLLING_PERIOD_MS, REACTION_REQUESTS, RETRY_BOUND};
 
 /// The observer of one master. See the module documentation.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Observer {
     profile: Profile,
     settings: UartSettings,
@@ -137,6 +137,82 @@ impl Observer {
 
     fn timeout_us(&self) -> u64 {
         self.settings.timeout_us(self.profile.edition)
+    }
+
+    /// How far back from now the observer's judgments of what comes later can read a
+    /// time it keeps, µs: the power-up windows (000:T9), the polling period. A caller
+    /// that moves the clock ([`Observer::rebase`]) moves it to at least this.
+    pub fn look_back_us(&self) -> u64 {
+        let p = &self.profile;
+        let windows = p.init_ms.max(p.default_window_ms).max(p.user_settings_ms) as u64 * 1000;
+        windows.max(self.polling_period_us + 1)
+    }
+
+    /// Forget what only the recommendations' rules read (the reactions the replies
+    /// asked for, the status and the Extended Type Label read or not, the retries
+    /// counted, the last frame for the polling gap): the rules on a normative clause
+    /// (framing, pauses, the reply, power-up and reset timing, the data rate) judge
+    /// what follows as before; the recommendations' judgments from here on mean
+    /// nothing. For a model checker of the musts (proofs/src/master_fixpoint.rs), where
+    /// that memory would make states differ that the musts cannot tell apart.
+    pub fn forget_recommendations(&mut self) {
+        let fresh = Observer::new(self.profile);
+        self.status_read = fresh.status_read;
+        self.status_reported = fresh.status_reported;
+        self.warning_left = fresh.warning_left;
+        self.warning_reported = fresh.warning_reported;
+        self.pending = fresh.pending;
+        self.last_request = fresh.last_request;
+        self.answered = fresh.answered;
+        self.sync_fault = fresh.sync_fault;
+        self.unknown_code = fresh.unknown_code;
+        self.label_pending = fresh.label_pending;
+        self.stack_read = fresh.stack_read;
+        self.last_frame_us = fresh.last_frame_us;
+        self.gap_reported = fresh.gap_reported;
+    }
+
+    /// Move the observer's clock from `now_us` to `to_us`: every time it keeps moves by
+    /// the same amount, so that it judges what comes at or after `now_us` as it would
+    /// have, at times moved alike (the rules compare times with one another, never with
+    /// a fixed instant). A time further back than any rule reads it from now on is
+    /// brought forward to the latest instant that reads the same: power-on once the
+    /// windows of 000:T9 that still matter are over, a reply that has ended, a reply
+    /// window that has closed, a last frame older than the polling period. So two
+    /// observers that differ only in how long ago such things happened become equal
+    /// (model checking the reference master to a fixpoint,
+    /// proofs/src/master_fixpoint.rs). A judgment's figure (`measured_us`) may read the
+    /// moved time; its rule does not change. `to_us` must be at least
+    /// [`Observer::look_back_us`]; the characters of a frame in progress older than
+    /// `now_us - to_us` would be moved to 0.
+    pub fn rebase(&mut self, now_us: u64, to_us: u64) {
+        let moved = |t: u64| t.saturating_add(to_us).saturating_sub(now_us);
+        let at_least = |t: u64, back: u64| moved(t.max(now_us.saturating_sub(back)));
+        if let Some(t0) = self.started_us {
+            // After the initialization only the default window and the change of
+            // settings read power-on, and only until the encoder kept the default
+            // settings (000:T9, DESIGN:power-up).
+            let p = &self.profile;
+            let windows = if self.kept_default { p.init_ms } else { p.init_ms.max(p.user_settings_ms) };
+            self.started_us = Some(at_least(t0, windows as u64 * 1000));
+        }
+        // A reply that ended, a window that closed, before now: every later instant is
+        // after it, and a reply's start after a closed window is late (`start > until`).
+        self.reply_start_us = self.reply_start_us.map(|t| at_least(t, 0));
+        self.reply_end_us = self.reply_end_us.map(|t| at_least(t, 0));
+        self.window_until_us = self.window_until_us.map(|t| at_least(t, 1));
+        self.last_frame_us = self.last_frame_us.map(|t| at_least(t, self.polling_period_us + 1));
+        let n = self.framer.bytes.len();
+        for t in self.framer.ends_us.iter_mut().take(n) {
+            *t = moved(*t);
+        }
+        if let Some(h) = self.held.as_mut() {
+            h.start_us = moved(h.start_us);
+            let n = h.framer.bytes.len();
+            for t in h.framer.ends_us.iter_mut().take(n) {
+                *t = moved(*t);
+            }
+        }
     }
 
     fn char_time_us(&self) -> u64 {

@@ -10,7 +10,7 @@ use crate::request::RequestFrame;
 use crate::settings::UartSettings;
 
 /// What the encoder's last reply asked of the master.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub(super) enum Pending {
     Nothing,
     /// A protocol error to this request: the next request should be it again.
@@ -22,7 +22,7 @@ pub(super) enum Pending {
 }
 
 /// The codes the master read from the stack since its last other request.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub(super) struct StackRead {
     codes: [FaultCode; 4],
     len: usize,
