@@ -118,11 +118,15 @@ impl DataFields {
     /// which a bounded model checker then knows as a constant (no field created and
     /// then refused). `None` for more statuses than the table holds.
     pub fn from_table(capacity_blocks: u8, statuses: &[u8]) -> Option<DataFields> {
+        if statuses.len() > MAX_FIELDS {
+            return None;
+        }
         let mut f = DataFields::new(capacity_blocks);
-        f.statuses.get_mut(..statuses.len())?.copy_from_slice(statuses);
+        // Slot by slot, not a copy of a slice of symbolic length (which CBMC encodes
+        // over the whole table).
         for i in 0..statuses.len() {
-            if let Some(s) = f.statuses.get_mut(i) {
-                *s |= FieldStatus::EXISTS;
+            if let (Some(slot), Some(s)) = (f.statuses.get_mut(i), statuses.get(i)) {
+                *slot = s | FieldStatus::EXISTS;
             }
         }
         f.count = statuses.len() as u8;
