@@ -113,25 +113,24 @@ impl DataFields {
 
     /// A table as stored, for proofs that start from any state satisfying an invariant
     /// the caller checks (proofs/src/inductive.rs): the fields `statuses` (each with its
-    /// exists bit set) in free memory, no check that they fit. Unlike
-    /// [`DataFields::from_statuses`] the count is the number of statuses on every path,
-    /// which a bounded model checker then knows as a constant (no field created and
-    /// then refused). `None` for more statuses than the table holds.
-    pub fn from_table(capacity_blocks: u8, statuses: &[u8]) -> Option<DataFields> {
-        if statuses.len() > MAX_FIELDS {
-            return None;
-        }
+    /// exists bit set; the first 255, as many as the table holds) in free memory, no
+    /// check that they fit. Unlike [`DataFields::from_statuses`] it has no path that
+    /// refuses: a bounded model checker would merge the refusing path's table with the
+    /// built one, and the count (a constant on every path that builds) and the memory
+    /// would be symbolic after the merge.
+    pub fn from_table(capacity_blocks: u8, statuses: &[u8]) -> DataFields {
         let mut f = DataFields::new(capacity_blocks);
         // Slot by slot, not a copy of a slice of symbolic length (which CBMC encodes
         // over the whole table).
-        for i in 0..statuses.len() {
+        let count = statuses.len().min(MAX_FIELDS);
+        for i in 0..count {
             if let (Some(slot), Some(s)) = (f.statuses.get_mut(i), statuses.get(i)) {
                 *slot = s | FieldStatus::EXISTS;
             }
         }
-        f.count = statuses.len() as u8;
+        f.count = count as u8;
         f.adopted = f.count;
-        Some(f)
+        f
     }
 
     /// The statuses of the fields, in number order.
@@ -372,12 +371,12 @@ mod tests {
     #[test]
     fn a_table_as_stored_is_the_table_created_field_by_field() {
         for statuses in [&[][..], &[0xC9], &[0x41, 0xE0, 0x80]] {
-            assert_eq!(DataFields::from_table(8, statuses), DataFields::from_statuses(8, statuses));
+            assert_eq!(Some(DataFields::from_table(8, statuses)), DataFields::from_statuses(8, statuses));
         }
         // Fields that do not fit are taken as stored (the caller's invariant refuses them).
-        let f = DataFields::from_table(8, &[0xC7, 0xC0]).unwrap();
+        let f = DataFields::from_table(8, &[0xC7, 0xC0]);
         assert_eq!((f.count(), f.used_blocks(), DataFields::from_statuses(8, &[0xC7, 0xC0])), (2, 9, None));
-        assert!(DataFields::from_table(8, &[0x80; 256]).is_none());
+        assert_eq!(DataFields::from_table(255, &[0x80; 256]).count(), 255, "as many as the table holds");
     }
 
     #[test]
