@@ -11,9 +11,10 @@
 //! `kani::assume`). What the parts keep and leave out, and why that is sound, is in
 //! docs/src/verification.md, "The invariant is inductive".
 
-use crate::invariant::slave_invariant;
+use crate::invariant::{fields_invariant, slave_invariant, stack_invariant};
 use hiperface_model::address::{AddressByte, SlaveAddress};
-use hiperface_model::slave::fields::DataFields;
+use hiperface_model::profile::StackOrder;
+use hiperface_model::slave::fields::{DataFields, FieldStatus};
 use hiperface_model::slave::inputs::{PhysicalInputs, PositionFault};
 use hiperface_model::slave::powerup::PowerUp;
 use hiperface_model::slave::stack::{ErrorStack, STACK_DEPTH};
@@ -62,17 +63,39 @@ impl Parts {
     /// The state these parts make on a device of `profile`, if they make one that
     /// satisfies the invariant.
     pub fn build(&self, profile: Profile) -> Option<Slave> {
-        let address = SlaveAddress::new(self.address)?;
-        let settings = UartSettings::decode(self.settings).ok()?;
-        let boot_settings = UartSettings::decode(self.boot_settings).ok()?;
-        let temp_settings = match self.temporary {
-            true => Some(UartSettings::decode(self.temporary_settings).ok()?),
-            false => None,
-        };
+        let (s, holds) = self.state(profile);
+        holds.then_some(s)
+    }
+
+    /// The state these parts make on a device of `profile`, and whether they make one
+    /// that satisfies the invariant (parts that decode to nothing are replaced by the
+    /// factory values and make it false). Straight-line, with no `Option` around the
+    /// slave: a bounded model checker merges the paths of an early return, and a field
+    /// that is a constant on every path that builds a state (the field count) would be
+    /// a symbolic value after the merge, its loops unrolled to the bound.
+    pub fn state(&self, profile: Profile) -> (Slave, bool) {
+        let address = SlaveAddress::new(self.address);
+        let decode = |byte| UartSettings::decode(byte).ok();
+        let (settings, boot_settings) = (decode(self.settings), decode(self.boot_settings));
+        let temp_settings = decode(self.temporary_settings);
+        let decoded = address.is_some()
+            && settings.is_some()
+            && boot_settings.is_some()
+            && (!self.temporary || temp_settings.is_some());
         let count = (self.field_count as usize).min(MAX_FIELDS);
-        let fields = DataFields::from_statuses(profile.user_memory_blocks, self.statuses.get(..count)?)?;
-        let nv =
-            NonVolatile { address, settings, codes: self.codes, offset: self.offset, counter: self.counter, fields };
+        // As stored, fitting or not: the invariant decides (`from_statuses` would refuse
+        // what does not fit, on paths a model checker then has to merge).
+        let statuses = self.statuses.get(..count).unwrap_or(&[]);
+        let capacity = profile.user_memory_blocks;
+        let fields = DataFields::from_table(capacity, statuses);
+        let nv = NonVolatile {
+            address: address.unwrap_or(SlaveAddress::DEFAULT),
+            settings: settings.unwrap_or(UartSettings::DEFAULT),
+            codes: self.codes,
+            offset: self.offset,
+            counter: self.counter,
+            fields,
+        };
         let mut stack = ErrorStack::new();
         for (i, code) in self.stack.iter().enumerate() {
             if i < self.stack_len as usize {
@@ -82,6 +105,8 @@ impl Parts {
         let power = PowerUp { since_us: (!self.settled).then_some(self.since_us), kept_default: self.kept_default };
         let [position, nonvolatile, data_fields] = self.locks;
         let locks = Locks { position, nonvolatile, data_fields };
+        let temp_settings = temp_settings.filter(|_| self.temporary);
+        let boot_settings = boot_settings.unwrap_or(UartSettings::DEFAULT);
         let mut s = Slave::from_parts(profile, nv, stack, power, boot_settings, temp_settings, locks);
         s.set_inputs(PhysicalInputs {
             position: self.position,
@@ -93,7 +118,8 @@ impl Parts {
         for (fault, on) in PositionFault::ALL.iter().zip(self.position_faults) {
             s.inject_position_fault(*fault, on);
         }
-        slave_invariant(&s).ok().map(|()| s)
+        let holds = decoded && slave_invariant(&s).is_ok();
+        (s, holds)
     }
 }
 
@@ -158,6 +184,86 @@ pub fn step_keeps_invariant(state: &Slave, frame: &[u8], now_us: u64, uart_fault
         false => after.handle_frame(frame, now_us),
     };
     slave_invariant(&after).is_ok() && rules_hold(state, frame, now_us, &outcome, &after)
+}
+
+/// The error stack's part of the invariant is inductive on its own: from any stack
+/// that satisfies it (`codes` pushed in order, the first `len`: every stack of at most
+/// four distinct codes other than 00h is one), one operation the slave performs on it
+/// (`op`: push `code`, pop oldest first, pop newest first, clear) keeps it, and the
+/// warning bit the slave derives from it (`is_empty`) says whether a code is left.
+/// // 000:T27, 000:2.3.4
+pub fn stack_step_keeps_invariant(codes: [u8; STACK_DEPTH], len: u8, op: u8, code: u8) -> bool {
+    let mut stack = ErrorStack::new();
+    for (i, c) in codes.iter().enumerate() {
+        if i < len as usize {
+            stack.push(FaultCode::decode(*c));
+        }
+    }
+    if stack_invariant(&stack).is_err() {
+        return true;
+    }
+    let popped = match op % 4 {
+        0 => {
+            stack.push(FaultCode::decode(code));
+            // A code pushed is on the stack afterwards (a full stack drops its oldest),
+            // unless it is 00h, never stored.
+            code == 0 || stack.contains(FaultCode::decode(code))
+        }
+        1 => stack.pop(StackOrder::OldestFirst) != FaultCode::NoFault || stack.is_empty(),
+        2 => stack.pop(StackOrder::NewestFirst) != FaultCode::NoFault || stack.is_empty(),
+        _ => {
+            stack.clear();
+            stack.is_empty()
+        }
+    };
+    // The warning bit's source agrees with the slots: empty exactly when none holds a code.
+    let mut none = true;
+    for i in 0..STACK_DEPTH {
+        none &= stack.slot(i).is_none();
+    }
+    popped && stack_invariant(&stack).is_ok() && stack.is_empty() == none
+}
+
+/// A data field table and one operation on it, as plain values (see
+/// [`fields_step_keeps_invariant`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(kani, derive(kani::Arbitrary))]
+pub struct FieldsStep {
+    pub statuses: [u8; MAX_FIELDS],
+    pub count: u8,
+    pub capacity: u8,
+    pub op: u8,
+    pub number: u8,
+    pub status: u8,
+}
+
+/// The data field table's part of the invariant is inductive on its own: from any
+/// table of at most [`MAX_FIELDS`] fields on `capacity` blocks that satisfies it, one
+/// operation Create Data Field performs on it (`op`: create a field with `status`,
+/// change field `number` to `status` (attributes, or the last field's size), delete
+/// the last) keeps it; an operation refused leaves the table as it was. Store Data
+/// (`DataFields::write`) writes contents only, never the table. // 000:2.4.2, 000:T24,
+/// DESIGN:fields
+pub fn fields_step_keeps_invariant(step: &FieldsStep) -> bool {
+    let FieldsStep { statuses, count, capacity, op, number, status } = *step;
+    let count = (count as usize).min(MAX_FIELDS);
+    let mut fields = DataFields::from_table(capacity, statuses.get(..count).unwrap_or(&[]));
+    if fields_invariant(&fields, capacity).is_err() {
+        return true;
+    }
+    let done = match op % 3 {
+        0 => fields.create(FieldStatus(status)),
+        1 => fields.modify(number, FieldStatus(status)),
+        _ => fields.delete_last(),
+    };
+    // A fixed loop (for Kani), no allocation.
+    let mut unchanged = fields.count() as usize == count;
+    for (i, s) in statuses.iter().enumerate() {
+        if i < count {
+            unchanged &= fields.status(i as u8).map(|f| f.0) == Some(s | FieldStatus::EXISTS);
+        }
+    }
+    (done || unchanged) && fields_invariant(&fields, capacity).is_ok()
 }
 
 #[cfg(test)]

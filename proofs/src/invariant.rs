@@ -4,8 +4,9 @@
 //! no allocation, and every loop over a fixed count or over the fields in use.
 
 use hiperface_model::settings::UartSettings;
+use hiperface_model::slave::fields::DataFields;
 use hiperface_model::slave::powerup::CommState;
-use hiperface_model::slave::stack::STACK_DEPTH;
+use hiperface_model::slave::stack::{ErrorStack, STACK_DEPTH};
 use hiperface_model::{FaultCode, Profile, Slave};
 
 /// The largest counter value: 24 bits. // 000:T16
@@ -109,7 +110,12 @@ pub fn slave_invariant(s: &Slave) -> Result<(), Violation> {
 /// At most four codes, none twice, never 00h. Every pair of slots visited: a loop of
 /// fixed length. // 000:T27
 fn error_stack(s: &Slave) -> Result<(), Violation> {
-    let stack = s.error_stack();
+    stack_invariant(s.error_stack())
+}
+
+/// The error stack's part of the invariant, on its own (for the stack's inductive
+/// harness). // 000:T27
+pub fn stack_invariant(stack: &ErrorStack) -> Result<(), Violation> {
     if stack.len() > STACK_DEPTH {
         return Err(Violation::StackOverfull { len: stack.len() });
     }
@@ -130,7 +136,13 @@ fn error_stack(s: &Slave) -> Result<(), Violation> {
 /// Free + allocated = total, the total the device's, fields 0..count and no other.
 /// // 000:2.4.2, 000:T24
 fn memory(s: &Slave) -> Result<(), Violation> {
-    let fields = &s.nonvolatile().fields;
+    fields_invariant(&s.nonvolatile().fields, s.profile().user_memory_blocks)
+}
+
+/// The data field table's part of the invariant, on its own, for a device with
+/// `device_blocks` blocks of user memory (for the table's inductive harness).
+/// // 000:2.4.2, 000:T24
+pub fn fields_invariant(fields: &DataFields, device_blocks: u8) -> Result<(), Violation> {
     let (used, free, capacity) = (fields.used_blocks(), fields.free_blocks() as u32, fields.capacity_blocks() as u32);
     if used > capacity {
         return Err(Violation::FieldsBeyondMemory { used, capacity });
@@ -138,9 +150,8 @@ fn memory(s: &Slave) -> Result<(), Violation> {
     if used + free != capacity {
         return Err(Violation::MemoryNotConserved { used, free, capacity });
     }
-    let profile = s.profile().user_memory_blocks;
-    if fields.capacity_blocks() != profile {
-        return Err(Violation::MemoryNotTheDevices { capacity: fields.capacity_blocks(), profile });
+    if fields.capacity_blocks() != device_blocks {
+        return Err(Violation::MemoryNotTheDevices { capacity: fields.capacity_blocks(), profile: device_blocks });
     }
     for number in 0..fields.count() {
         if !fields.status(number).is_some_and(|st| st.exists()) {

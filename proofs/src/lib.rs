@@ -9,6 +9,7 @@ pub mod inductive;
 pub mod invariant;
 pub mod master_fixpoint;
 pub mod model_check;
+pub mod observer;
 pub mod properties;
 pub mod targets;
 
@@ -305,6 +306,17 @@ mod harnesses {
         }
     }
 
+    /// Domain: every error stack satisfying the invariant (any 4 codes, the first 0 to 4 pushed), then one push of any code, pop (either order) or clear.
+    /// Unwind 5: the stack's loops run over its 4 slots (+1).
+    #[kani::proof]
+    #[kani::unwind(5)]
+    fn inductive_stack() {
+        let (codes, len, op, code) = (kani::any(), kani::any(), kani::any(), kani::any());
+        kani::assume(len <= 4);
+        kani::cover!(len == 4 && op % 4 == 0, "a push on a full stack");
+        assert!(crate::inductive::stack_step_keeps_invariant(codes, len, op, code));
+    }
+
     /// Domain: the commands without data 42h, 46h, 47h to 40h with any checksum byte, on a factory-state SEK37.
     #[kani::proof]
     #[kani::unwind(24)]
@@ -343,7 +355,7 @@ mod tests {
         let mut twins: Vec<&str> = properties::PROPERTIES.iter().filter_map(|p| p.harness).collect();
         harnesses.sort_unstable();
         twins.sort_unstable();
-        assert_eq!(harnesses.len(), 17, "{harnesses:?}");
+        assert_eq!(harnesses.len(), 18, "{harnesses:?}");
         assert_eq!(harnesses, twins);
     }
 
@@ -377,7 +389,7 @@ mod tests {
             assert_eq!(domain, twin.domain, "{name}");
             checked += 1;
         }
-        assert_eq!(checked, 17);
+        assert_eq!(checked, 18);
     }
 
     #[test]

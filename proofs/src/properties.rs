@@ -118,6 +118,10 @@ pub fn memory_is_conserved(ops: &[u8]) -> bool {
         if std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| targets::invariants(&s))).is_err() {
             return false;
         }
+        // What freeing only the blocks given up relies on (`DataFields::rest_is_free`).
+        if !s.nonvolatile().fields.rest_is_free() {
+            return false;
+        }
     }
     true
 }
@@ -384,6 +388,59 @@ pub fn inductive_sampled(profile: hiperface_model::Profile, family: &[(u8, usize
     Ok(built)
 }
 
+/// The observer is told sampled streams of 3 events: times mostly within the
+/// first seconds after power-on, now and then anywhere up to `u64::MAX`; it must not
+/// panic. Fails if no stream drew an observation (a vacuous run).
+fn observer_streams() -> Result<u64, String> {
+    use crate::observer::{observe, LineEvent, KINDS};
+    use std::sync::atomic::{AtomicU64, Ordering};
+    let reported = AtomicU64::new(0);
+    let time = || prop_oneof![8 => 0u64..3_000_000, 1 => any::<u64>(), 1 => (u64::MAX - 1_000_000)..=u64::MAX];
+    let event = (0..KINDS, any::<u8>(), any::<u8>(), time(), time())
+        .prop_map(|(kind, byte, code, at_us, until_us)| LineEvent { kind, byte, code, at_us, until_us });
+    let streams = prop::collection::vec(event, 3);
+    let n = sample(streams, 20_000, |events| {
+        let seen = observe(profiles::sek37(), events);
+        reported.fetch_add(u64::from(seen > 0), Ordering::Relaxed);
+        true
+    })?;
+    match reported.load(Ordering::Relaxed) {
+        0 => Err("no stream drew an observation".into()),
+        _ => Ok(n),
+    }
+}
+
+/// The stack's inductive step on sampled stacks and operations: codes mostly from a
+/// few (so that duplicates and full stacks occur), now and then any byte.
+fn stack_steps() -> Result<u64, String> {
+    let code = || prop_oneof![4 => prop::sample::select(vec![0x00u8, 0x01, 0x07, 0x1E, 0x22, 0xFF]), 1 => any::<u8>()];
+    let strategy = (prop::array::uniform4(code()), 0u8..=4, any::<u8>(), code());
+    sample(strategy, 50_000, |(codes, len, op, c)| inductive::stack_step_keeps_invariant(*codes, *len, *op, *c))
+}
+
+/// The data field table's inductive step on sampled tables and operations: sizes
+/// mostly small and memories mostly tight, so that tables fill up, resizes are
+/// refused and the last field is deleted.
+fn fields_steps() -> Result<u64, String> {
+    let step = (
+        prop::array::uniform3(any::<u8>()),
+        0u8..=3,
+        prop_oneof![3 => 0u8..12, 1 => any::<u8>()],
+        any::<u8>(),
+        prop_oneof![3 => 0u8..4, 1 => any::<u8>()],
+        any::<u8>(),
+    )
+        .prop_map(|(statuses, count, capacity, op, number, status)| inductive::FieldsStep {
+            statuses,
+            count,
+            capacity,
+            op,
+            number,
+            status,
+        });
+    sample(step, 50_000, inductive::fields_step_keeps_invariant)
+}
+
 /// The commands of the table without data, in three groups of three (a Kani harness
 /// each, so that each verifies within the budget); `tests` checks they are all of them.
 pub const NO_DATA_GROUPS: [&[u8]; 3] = [&[0x42, 0x46, 0x47], &[0x4E, 0x50, 0x52], &[0x53, 0x56, 0x6C]];
@@ -559,9 +616,33 @@ pub const PROPERTIES: &[Property] = &[
         run: slave_step_reachable,
     },
     Property {
+        name: "observer",
+        claim: "the master obligations' observer never panics, whatever it is told in whatever order (000:2.2.2, 000:3.3.1)",
+        domain: "(no harness: over the Kani budget) 3 events of any kind (the master's characters with and without a UART fault, replies, polls, power-on, settings, address, data rate, end) at any times, SEK37",
+        exhaustive: false,
+        harness: None,
+        run: observer_streams,
+    },
+    Property {
+        name: "inductive_stack",
+        claim: "the error stack's part of the invariant is inductive: from any stack satisfying it, a push, pop or clear keeps it; a code pushed is on it (000:T27, 000:2.3.4)",
+        domain: "every error stack satisfying the invariant (any 4 codes, the first 0 to 4 pushed), then one push of any code, pop (either order) or clear",
+        exhaustive: false,
+        harness: Some("inductive_stack"),
+        run: stack_steps,
+    },
+    Property {
+        name: "inductive_data_fields",
+        claim: "the data field table's part of the invariant is inductive: from any table satisfying it, a create, change or delete keeps it; one refused changes nothing (000:2.4.2, 000:T24)",
+        domain: "(no harness: over the Kani budget) every data field table of at most 3 fields satisfying the invariant, on any memory size, then one create, change or delete of a field with any status",
+        exhaustive: false,
+        harness: None,
+        run: fields_steps,
+    },
+    Property {
         name: "inductive_position",
         claim: "the invariant is inductive: from any state satisfying it, one frame of the family keeps it and the frame rules hold (000:2.3.4, 000:T9, 000:T27, 000:2.4.2)",
-        domain: "(no harness yet) every state of the Reference profile satisfying the invariant (at most 3 data fields), every frame of 42h, 43h, 44h, 6Ah, 6Bh, 6Ch at any time, with and without a UART fault",
+        domain: "(no harness: over the Kani budget) every state of the Reference profile satisfying the invariant (at most 3 data fields), every frame of 42h, 43h, 44h, 6Ah, 6Bh, 6Ch at any time, with and without a UART fault",
         exhaustive: false,
         harness: None,
         run: || inductive_sampled(profiles::reference(), inductive::POSITION, 3000),
@@ -569,7 +650,7 @@ pub const PROPERTIES: &[Property] = &[
     Property {
         name: "inductive_counter",
         claim: "the invariant is inductive: from any state satisfying it, one frame of the family keeps it and the frame rules hold (000:2.3.4, 000:T9, 000:T27, 000:2.4.2)",
-        domain: "(no harness yet) every state of the Reference profile satisfying the invariant (at most 3 data fields), every frame of 46h, 47h, 49h at any time, with and without a UART fault",
+        domain: "(no harness: over the Kani budget) every state of the Reference profile satisfying the invariant (at most 3 data fields), every frame of 46h, 47h, 49h at any time, with and without a UART fault",
         exhaustive: false,
         harness: None,
         run: || inductive_sampled(profiles::reference(), inductive::COUNTER, 3000),
@@ -577,7 +658,7 @@ pub const PROPERTIES: &[Property] = &[
     Property {
         name: "inductive_fields",
         claim: "the invariant is inductive: from any state satisfying it, one frame of the family keeps it and the frame rules hold (000:2.3.4, 000:T9, 000:T27, 000:2.4.2)",
-        domain: "(no harness yet) every state of the Reference profile satisfying the invariant (at most 3 data fields), every frame of 4Ah, 4Ch, 4Dh, 4Eh at any time, with and without a UART fault",
+        domain: "(no harness: over the Kani budget) every state of the Reference profile satisfying the invariant (at most 3 data fields), every frame of 4Ah, 4Ch, 4Dh, 4Eh at any time, with and without a UART fault",
         exhaustive: false,
         harness: None,
         run: || inductive_sampled(profiles::reference(), inductive::FIELDS, 3000),
@@ -585,7 +666,7 @@ pub const PROPERTIES: &[Property] = &[
     Property {
         name: "inductive_store_data",
         claim: "the invariant is inductive: from any state satisfying it, one frame of the family keeps it and the frame rules hold (000:2.3.4, 000:T9, 000:T27, 000:2.4.2)",
-        domain: "(no harness yet) every state of the Reference profile satisfying the invariant (at most 3 data fields), every Store Data frame with 1 to 4 data bytes at any time, with and without a UART fault",
+        domain: "(no harness: over the Kani budget) every state of the Reference profile satisfying the invariant (at most 3 data fields), every Store Data frame with 1 to 4 data bytes at any time, with and without a UART fault",
         exhaustive: false,
         harness: None,
         run: || inductive_sampled(profiles::reference(), inductive::STORE_DATA, 3000),
@@ -593,7 +674,7 @@ pub const PROPERTIES: &[Property] = &[
     Property {
         name: "inductive_settings",
         claim: "the invariant is inductive: from any state satisfying it, one frame of the family keeps it and the frame rules hold (000:2.3.4, 000:T9, 000:T27, 000:2.4.2)",
-        domain: "(no harness yet) every state of the Reference profile satisfying the invariant (at most 3 data fields), every frame of 4Fh, 55h, 57h, 67h at any time, with and without a UART fault",
+        domain: "(no harness: over the Kani budget) every state of the Reference profile satisfying the invariant (at most 3 data fields), every frame of 4Fh, 55h, 57h, 67h at any time, with and without a UART fault",
         exhaustive: false,
         harness: None,
         run: || inductive_sampled(profiles::reference(), inductive::SETTINGS, 3000),
@@ -601,7 +682,7 @@ pub const PROPERTIES: &[Property] = &[
     Property {
         name: "inductive_status",
         claim: "the invariant is inductive: from any state satisfying it, one frame of the family keeps it and the frame rules hold (000:2.3.4, 000:T9, 000:T27, 000:2.4.2)",
-        domain: "(no harness yet) every state of the Reference profile satisfying the invariant (at most 3 data fields), every frame of 50h, 52h, 53h, 56h at any time, with and without a UART fault",
+        domain: "(no harness: over the Kani budget) every state of the Reference profile satisfying the invariant (at most 3 data fields), every frame of 50h, 52h, 53h, 56h at any time, with and without a UART fault",
         exhaustive: false,
         harness: None,
         run: || inductive_sampled(profiles::reference(), inductive::STATUS, 3000),
@@ -609,7 +690,7 @@ pub const PROPERTIES: &[Property] = &[
     Property {
         name: "inductive_legacy",
         claim: "the invariant is inductive: from any state satisfying it, one frame of the family keeps it and the frame rules hold (000:2.3.4, 000:T9, 000:T27, 000:2.4.2)",
-        domain: "(no harness yet) every state of the Legacy-SRS profile satisfying the invariant (at most 3 data fields), every frame of 63h, 47h, 57h at any time, with and without a UART fault",
+        domain: "(no harness: over the Kani budget) every state of the Legacy-SRS profile satisfying the invariant (at most 3 data fields), every frame of 63h, 47h, 57h at any time, with and without a UART fault",
         exhaustive: false,
         harness: None,
         run: || inductive_sampled(profiles::legacy_srs(), inductive::LEGACY, 3000),
