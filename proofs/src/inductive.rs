@@ -96,12 +96,7 @@ impl Parts {
             counter: self.counter,
             fields,
         };
-        let mut stack = ErrorStack::new();
-        for (i, code) in self.stack.iter().enumerate() {
-            if i < self.stack_len as usize {
-                stack.push(FaultCode::decode(*code));
-            }
-        }
+        let stack = stack_of(self.stack, self.stack_len);
         let power = PowerUp { since_us: (!self.settled).then_some(self.since_us), kept_default: self.kept_default };
         let [position, nonvolatile, data_fields] = self.locks;
         let locks = Locks { position, nonvolatile, data_fields };
@@ -186,6 +181,19 @@ pub fn step_keeps_invariant(state: &Slave, frame: &[u8], now_us: u64, uart_fault
     slave_invariant(&after).is_ok() && rules_hold(state, frame, now_us, &outcome, &after)
 }
 
+/// The stack the slave has after pushing the first `len` of `codes`, in order (00h
+/// and a code already there are not stacked, `ErrorStack::push`). A loop of fixed
+/// length, for Kani.
+fn stack_of(codes: [u8; STACK_DEPTH], len: u8) -> ErrorStack {
+    let mut stack = ErrorStack::new();
+    for (i, code) in codes.iter().enumerate() {
+        if i < len as usize {
+            stack.push(FaultCode::decode(*code));
+        }
+    }
+    stack
+}
+
 /// The error stack's part of the invariant is inductive on its own: from any stack
 /// that satisfies it (`codes` pushed in order, the first `len`: every stack of at most
 /// four distinct codes other than 00h is one), one operation the slave performs on it
@@ -193,12 +201,7 @@ pub fn step_keeps_invariant(state: &Slave, frame: &[u8], now_us: u64, uart_fault
 /// warning bit the slave derives from it (`is_empty`) says whether a code is left.
 /// // 000:T27, 000:2.3.4
 pub fn stack_step_keeps_invariant(codes: [u8; STACK_DEPTH], len: u8, op: u8, code: u8) -> bool {
-    let mut stack = ErrorStack::new();
-    for (i, c) in codes.iter().enumerate() {
-        if i < len as usize {
-            stack.push(FaultCode::decode(*c));
-        }
-    }
+    let mut stack = stack_of(codes, len);
     if stack_invariant(&stack).is_err() {
         return true;
     }
