@@ -14,7 +14,7 @@
 use crate::invariant::{fields_invariant, slave_invariant, stack_invariant};
 use hiperface_model::address::{AddressByte, SlaveAddress};
 use hiperface_model::profile::StackOrder;
-use hiperface_model::slave::fields::{DataFields, FieldStatus};
+use hiperface_model::slave::fields::{DataFields, FieldStatus, FieldTable};
 use hiperface_model::slave::inputs::{PhysicalInputs, PositionFault};
 use hiperface_model::slave::powerup::PowerUp;
 use hiperface_model::slave::stack::{ErrorStack, STACK_DEPTH};
@@ -82,12 +82,10 @@ impl Parts {
             && settings.is_some()
             && boot_settings.is_some()
             && (!self.temporary || temp_settings.is_some());
-        let count = (self.field_count as usize).min(MAX_FIELDS);
         // As stored, fitting or not: the invariant decides (`from_statuses` would refuse
         // what does not fit, on paths a model checker then has to merge).
-        let statuses = self.statuses.get(..count).unwrap_or(&[]);
         let capacity = profile.user_memory_blocks;
-        let fields = DataFields::from_table(capacity, statuses);
+        let fields = DataFields::from_table(capacity, &self.statuses, self.field_count as usize);
         let nv = NonVolatile {
             address: address.unwrap_or(SlaveAddress::DEFAULT),
             settings: settings.unwrap_or(UartSettings::DEFAULT),
@@ -174,10 +172,7 @@ pub fn request_of(frame: &[u8; MAX_FAMILY_FRAME], command: u8, data: usize) -> [
 /// One step from `state`: no panic, the invariant afterwards, the frame rules.
 pub fn step_keeps_invariant(state: &Slave, frame: &[u8], now_us: u64, uart_fault: bool) -> bool {
     let mut after = state.clone();
-    let outcome = match uart_fault {
-        true => after.handle_faulty_frame(frame, now_us),
-        false => after.handle_frame(frame, now_us),
-    };
+    let outcome = after.handle(frame, uart_fault, now_us);
     slave_invariant(&after).is_ok() && rules_hold(state, frame, now_us, &outcome, &after)
 }
 
@@ -250,7 +245,7 @@ pub struct FieldsStep {
 pub fn fields_step_keeps_invariant(step: &FieldsStep) -> bool {
     let FieldsStep { statuses, count, capacity, op, number, status } = *step;
     let count = (count as usize).min(MAX_FIELDS);
-    let mut fields = DataFields::from_table(capacity, statuses.get(..count).unwrap_or(&[]));
+    let mut fields = FieldTable::from_table(capacity, &statuses, count);
     if fields_invariant(&fields, capacity).is_err() {
         return true;
     }

@@ -4,7 +4,7 @@
 //! no allocation, and every loop over a fixed count or over the fields in use.
 
 use hiperface_model::settings::UartSettings;
-use hiperface_model::slave::fields::DataFields;
+use hiperface_model::slave::fields::FieldTable;
 use hiperface_model::slave::powerup::CommState;
 use hiperface_model::slave::stack::{ErrorStack, STACK_DEPTH};
 use hiperface_model::{FaultCode, Profile, Slave};
@@ -136,13 +136,13 @@ pub fn stack_invariant(stack: &ErrorStack) -> Result<(), Violation> {
 /// Free + allocated = total, the total the device's, fields 0..count and no other.
 /// // 000:2.4.2, 000:T24
 fn memory(s: &Slave) -> Result<(), Violation> {
-    fields_invariant(&s.nonvolatile().fields, s.profile().user_memory_blocks)
+    fields_invariant(s.nonvolatile().fields.table(), s.profile().user_memory_blocks)
 }
 
 /// The data field table's part of the invariant, on its own, for a device with
 /// `device_blocks` blocks of user memory (for the table's inductive harness).
 /// // 000:2.4.2, 000:T24
-pub fn fields_invariant(fields: &DataFields, device_blocks: u8) -> Result<(), Violation> {
+pub fn fields_invariant(fields: &FieldTable, device_blocks: u8) -> Result<(), Violation> {
     let (used, free, capacity) = (fields.used_blocks(), fields.free_blocks() as u32, fields.capacity_blocks() as u32);
     if used > capacity {
         return Err(Violation::FieldsBeyondMemory { used, capacity });

@@ -49,151 +49,60 @@ impl FieldStatus {
     }
 }
 
-/// The data field table and user memory.
-///
-/// Besides the contents, the model records which bytes it *knows*: written by Store
-/// Data, or read from a real device and adopted. The rest is its assumption: a new
-/// field reads FFh (DESIGN:fields), a real device's existing field holds what it holds.
+/// The data field table: the fields' statuses in number order and the user memory's
+/// size, which together say where each field lies and how much memory is free
+/// (000:2.4.2, 000:T23-T25). The accounting on its own, without the contents: its
+/// part of the slave's invariant is proved on this type alone
+/// (proofs/src/inductive.rs, `inductive_data_fields`), and [`DataFields`] changes it
+/// only through [`FieldTable::create`], [`FieldTable::modify`] and
+/// [`FieldTable::delete_last`].
 #[derive(Clone, PartialEq, Eq, Hash)]
-pub struct DataFields {
+pub struct FieldTable {
     statuses: [u8; MAX_FIELDS],
     count: u8,
     capacity_blocks: u8,
-    memory: [u8; MAX_MEMORY],
-    /// One bit per byte of `memory`: its contents are known.
-    known: [u8; MAX_MEMORY / 8 + 1],
-    /// Fields `0..adopted` were found on a real device: their contents are its own.
-    adopted: u8,
 }
 
-/// What the model knows of a byte of a data field.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Contents {
-    /// Written in lockstep or read back from the device.
-    Known,
-    /// Never written since the field was created: erased EEPROM by the model's decision.
-    Erased,
-    /// In a field the device had before the run: whatever it holds.
-    Unknown,
-}
-
-impl core::fmt::Debug for DataFields {
+impl core::fmt::Debug for FieldTable {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.debug_struct("DataFields")
-            .field("statuses", &&self.statuses[..self.count as usize])
+        f.debug_struct("FieldTable")
+            .field("statuses", &self.statuses())
             .field("free_blocks", &self.free_blocks())
             .finish()
     }
 }
 
-impl DataFields {
-    pub fn new(capacity_blocks: u8) -> DataFields {
-        DataFields {
-            statuses: [0; MAX_FIELDS],
-            count: 0,
-            capacity_blocks,
-            memory: [ERASED; MAX_MEMORY],
-            known: [0; MAX_MEMORY / 8 + 1],
-            adopted: 0,
-        }
+impl FieldTable {
+    pub const fn new(capacity_blocks: u8) -> FieldTable {
+        FieldTable { statuses: [0; MAX_FIELDS], count: 0, capacity_blocks }
     }
 
-    /// A table as a device reports it: capacity and the statuses of its fields (the
-    /// contents are unknown). `None` if the statuses do not fit.
-    pub fn from_statuses(capacity_blocks: u8, statuses: &[u8]) -> Option<DataFields> {
-        let mut f = DataFields::new(capacity_blocks);
-        for s in statuses {
-            if !f.create(FieldStatus(*s)) {
-                return None;
+    /// A table as stored, for proofs that start from any table satisfying an invariant
+    /// the caller checks (proofs/src/inductive.rs): the first `count` of `statuses` as
+    /// the fields (each with its exists bit set; as many as there are and the table
+    /// holds), no check that they fit. It has no path that refuses: a bounded model
+    /// checker would merge the refusing path's table with the built one, and the count
+    /// (a constant on every path that builds) would be symbolic after the merge.
+    pub fn from_table(capacity_blocks: u8, statuses: &[u8], count: usize) -> FieldTable {
+        let mut t = FieldTable::new(capacity_blocks);
+        let count = count.min(statuses.len()).min(MAX_FIELDS);
+        // Slot by slot over all of `statuses`, not `0..count`: a bounded model checker
+        // that does not know `count` unrolls a loop to it as often as its bound allows,
+        // one over a slice of known length as often as the slice is long.
+        for i in 0..statuses.len().min(MAX_FIELDS) {
+            if let (Some(slot), Some(s)) = (t.statuses.get_mut(i), statuses.get(i)) {
+                if i < count {
+                    *slot = s | FieldStatus::EXISTS;
+                }
             }
         }
-        f.adopted = f.count;
-        Some(f)
-    }
-
-    /// A table as stored, for proofs that start from any state satisfying an invariant
-    /// the caller checks (proofs/src/inductive.rs): the fields `statuses` (each with its
-    /// exists bit set; the first 255, as many as the table holds) in free memory, no
-    /// check that they fit. Unlike [`DataFields::from_statuses`] it has no path that
-    /// refuses: a bounded model checker would merge the refusing path's table with the
-    /// built one, and the count (a constant on every path that builds) and the memory
-    /// would be symbolic after the merge.
-    pub fn from_table(capacity_blocks: u8, statuses: &[u8]) -> DataFields {
-        let mut f = DataFields::new(capacity_blocks);
-        // Slot by slot, not a copy of a slice of symbolic length (which CBMC encodes
-        // over the whole table).
-        let count = statuses.len().min(MAX_FIELDS);
-        for i in 0..count {
-            if let (Some(slot), Some(s)) = (f.statuses.get_mut(i), statuses.get(i)) {
-                *slot = s | FieldStatus::EXISTS;
-            }
-        }
-        f.count = count as u8;
-        f.adopted = f.count;
-        f
+        t.count = count as u8;
+        t
     }
 
     /// The statuses of the fields, in number order.
     pub fn statuses(&self) -> &[u8] {
         self.statuses.get(..self.count as usize).unwrap_or(&[])
-    }
-
-    /// Bytes written or read back: the model knows them now.
-    fn learn(&mut self, range: core::ops::Range<usize>) {
-        for i in range {
-            if let Some(byte) = self.known.get_mut(i / 8) {
-                *byte |= 1u8 << (i % 8);
-            }
-        }
-    }
-
-    /// Memory past the last field is free: it reads FFh and the model knows nothing of
-    /// it, so a new field and the grown blocks of the last one read FFh (DESIGN:fields)
-    /// with nothing more to do. Nothing writes past the fields' end, so after a change
-    /// of where they end only the blocks between the new end and `old_end` (a field
-    /// shrunk or deleted: at most one field's 8 blocks) need freeing. Block by block,
-    /// in a loop of fixed length (8 blocks) rather than a `fill` of the rest of the
-    /// memory: Kani unrolls it 8 times, not as often as the 4 080 bytes allow.
-    fn free_up_to(&mut self, old_end: usize) {
-        let end = self.start(self.count);
-        for block in 0..MAX_FIELD_BLOCKS {
-            let at = end + block * BLOCK;
-            if at >= old_end {
-                continue;
-            }
-            // Whole blocks copied (a `memcpy` for Kani, no loop); fields end on block
-            // boundaries, so a block is whole bytes of `known`.
-            if let Some(bytes) = self.memory.get_mut(at..at + BLOCK) {
-                bytes.copy_from_slice(&[ERASED; BLOCK]);
-            }
-            if let Some(known) = self.known.get_mut(at / 8..(at + BLOCK) / 8) {
-                known.copy_from_slice(&[0; BLOCK / 8]);
-            }
-        }
-    }
-
-    /// Whether the memory past the last field reads FFh and is unknown, as
-    /// [`DataFields::free_up_to`] relies on.
-    pub fn rest_is_free(&self) -> bool {
-        let end = self.start(self.count);
-        let erased = self.memory.get(end..).is_some_and(|m| m.iter().all(|b| *b == ERASED));
-        let unknown = (end..MAX_MEMORY).all(|i| self.known.get(i / 8).is_some_and(|k| k & (1 << (i % 8)) == 0));
-        erased && unknown
-    }
-
-    /// What the model knows of byte `offset` of field `number` (`None` outside it).
-    pub fn contents(&self, number: u8, offset: usize) -> Option<Contents> {
-        let size = self.status(number)?.size_bytes();
-        if offset >= size {
-            return None;
-        }
-        let i = self.start(number) + offset;
-        let known = self.known.get(i / 8).is_some_and(|b| b & (1 << (i % 8)) != 0);
-        Some(match (known, number < self.adopted) {
-            (true, _) => Contents::Known,
-            (false, true) => Contents::Unknown,
-            (false, false) => Contents::Erased,
-        })
     }
 
     pub const fn count(&self) -> u8 {
@@ -233,37 +142,10 @@ impl DataFields {
         (self.capacity_blocks as u32).saturating_sub(self.used_blocks()) as u8
     }
 
-    fn start(&self, number: u8) -> usize {
+    /// Where field `number` starts in memory, in bytes (the end of the fields for the
+    /// count).
+    pub fn start(&self, number: u8) -> usize {
         self.blocks_before(number) as usize * BLOCK
-    }
-
-    /// Bytes `offset..offset+count` of a field; `None` if out of bounds.
-    pub fn read(&self, number: u8, offset: u8, count: u8) -> Option<&[u8]> {
-        let size = self.status(number)?.size_bytes();
-        let (offset, count) = (offset as usize, count as usize);
-        if count == 0 || count > MAX_FIELD_BYTES || offset + count > size {
-            return None;
-        }
-        let start = self.start(number) + offset;
-        self.memory.get(start..start + count)
-    }
-
-    /// Store bytes; `false` (nothing written) if out of bounds.
-    pub fn write(&mut self, number: u8, offset: u8, data: &[u8]) -> bool {
-        let Some(status) = self.status(number) else {
-            return false;
-        };
-        let offset = offset as usize;
-        if data.is_empty() || offset + data.len() > status.size_bytes() {
-            return false;
-        }
-        let start = self.start(number) + offset;
-        match self.memory.get_mut(start..start + data.len()) {
-            Some(dst) => dst.copy_from_slice(data),
-            None => return false,
-        }
-        self.learn(start..start + data.len());
-        true
     }
 
     /// Whether `blocks` more blocks fit.
@@ -271,8 +153,7 @@ impl DataFields {
         self.used_blocks() + extra_blocks <= self.capacity_blocks as u32
     }
 
-    /// Append a field (the caller checked number == count and that it fits). Its
-    /// contents read FFh: they were free memory.
+    /// Append a field; `false` (nothing changed) if it does not fit.
     pub fn create(&mut self, status: FieldStatus) -> bool {
         if self.count as usize >= MAX_FIELDS || !self.fits(status.blocks() as u32) {
             return false;
@@ -282,8 +163,8 @@ impl DataFields {
         true
     }
 
-    /// Change a field's status. A size change is only possible for the last field;
-    /// grown blocks read FFh, blocks given up become free memory.
+    /// Change a field's status; `false` (nothing changed) for no such field, a size
+    /// change of a field other than the last, or growth that does not fit.
     pub fn modify(&mut self, number: u8, status: FieldStatus) -> bool {
         let Some(old) = self.status(number) else {
             return false;
@@ -297,21 +178,233 @@ impl DataFields {
                 return false;
             }
         }
-        let old_end = self.start(self.count);
         self.statuses[number as usize] = status.0 | FieldStatus::EXISTS;
+        true
+    }
+
+    /// Delete the last field; `false` if there is none.
+    pub fn delete_last(&mut self) -> bool {
+        let Some(last) = self.count.checked_sub(1) else {
+            return false;
+        };
+        self.statuses[last as usize] = 0;
+        self.count = last;
+        true
+    }
+}
+
+/// The data field table and user memory.
+///
+/// Besides the contents, the model records which bytes it *knows*: written by Store
+/// Data, or read from a real device and adopted. The rest is its assumption: a new
+/// field reads FFh (DESIGN:fields), a real device's existing field holds what it holds.
+#[derive(Clone, PartialEq, Eq, Hash)]
+pub struct DataFields {
+    table: FieldTable,
+    memory: [u8; MAX_MEMORY],
+    /// One bit per byte of `memory`: its contents are known.
+    known: [u8; MAX_MEMORY / 8 + 1],
+    /// Fields `0..adopted` were found on a real device: their contents are its own.
+    adopted: u8,
+}
+
+/// What the model knows of a byte of a data field.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Contents {
+    /// Written in lockstep or read back from the device.
+    Known,
+    /// Never written since the field was created: erased EEPROM by the model's decision.
+    Erased,
+    /// In a field the device had before the run: whatever it holds.
+    Unknown,
+}
+
+impl core::fmt::Debug for DataFields {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("DataFields")
+            .field("statuses", &self.statuses())
+            .field("free_blocks", &self.free_blocks())
+            .finish()
+    }
+}
+
+impl DataFields {
+    pub fn new(capacity_blocks: u8) -> DataFields {
+        DataFields::with_table(FieldTable::new(capacity_blocks))
+    }
+
+    /// A table with its fields in free memory: they read FFh, the model knows none of
+    /// their bytes, and all of them are the device's own (adopted).
+    fn with_table(table: FieldTable) -> DataFields {
+        let adopted = table.count();
+        DataFields { table, memory: [ERASED; MAX_MEMORY], known: [0; MAX_MEMORY / 8 + 1], adopted }
+    }
+
+    /// A table as a device reports it: capacity and the statuses of its fields (the
+    /// contents are unknown). `None` if the statuses do not fit.
+    pub fn from_statuses(capacity_blocks: u8, statuses: &[u8]) -> Option<DataFields> {
+        let mut table = FieldTable::new(capacity_blocks);
+        for s in statuses {
+            if !table.create(FieldStatus(*s)) {
+                return None;
+            }
+        }
+        Some(DataFields::with_table(table))
+    }
+
+    /// A table as stored ([`FieldTable::from_table`]: no check that the fields fit),
+    /// its fields in free memory, for proofs that start from any state satisfying an
+    /// invariant the caller checks.
+    pub fn from_table(capacity_blocks: u8, statuses: &[u8], count: usize) -> DataFields {
+        DataFields::with_table(FieldTable::from_table(capacity_blocks, statuses, count))
+    }
+
+    /// The table: statuses and memory accounting.
+    pub const fn table(&self) -> &FieldTable {
+        &self.table
+    }
+
+    /// The statuses of the fields, in number order.
+    pub fn statuses(&self) -> &[u8] {
+        self.table.statuses()
+    }
+
+    /// Bytes written or read back: the model knows them now.
+    fn learn(&mut self, range: core::ops::Range<usize>) {
+        for i in range {
+            if let Some(byte) = self.known.get_mut(i / 8) {
+                *byte |= 1u8 << (i % 8);
+            }
+        }
+    }
+
+    /// Memory past the last field is free: it reads FFh and the model knows nothing of
+    /// it, so a new field and the grown blocks of the last one read FFh (DESIGN:fields)
+    /// with nothing more to do. Nothing writes past the fields' end, so after a change
+    /// of where they end only the blocks between the new end and `old_end` (a field
+    /// shrunk or deleted: at most one field's 8 blocks) need freeing. Block by block,
+    /// in a loop of fixed length (8 blocks) rather than a `fill` of the rest of the
+    /// memory: Kani unrolls it 8 times, not as often as the 4 080 bytes allow.
+    fn free_up_to(&mut self, old_end: usize) {
+        let end = self.table.start(self.table.count());
+        for block in 0..MAX_FIELD_BLOCKS {
+            let at = end + block * BLOCK;
+            if at >= old_end {
+                continue;
+            }
+            // Whole blocks copied (a `memcpy` for Kani, no loop); fields end on block
+            // boundaries, so a block is whole bytes of `known`.
+            if let Some(bytes) = self.memory.get_mut(at..at + BLOCK) {
+                bytes.copy_from_slice(&[ERASED; BLOCK]);
+            }
+            if let Some(known) = self.known.get_mut(at / 8..(at + BLOCK) / 8) {
+                known.copy_from_slice(&[0; BLOCK / 8]);
+            }
+        }
+    }
+
+    /// Whether the memory past the last field reads FFh and is unknown, as
+    /// [`DataFields::free_up_to`] relies on.
+    pub fn rest_is_free(&self) -> bool {
+        let end = self.table.start(self.table.count());
+        let erased = self.memory.get(end..).is_some_and(|m| m.iter().all(|b| *b == ERASED));
+        let unknown = (end..MAX_MEMORY).all(|i| self.known.get(i / 8).is_some_and(|k| k & (1 << (i % 8)) == 0));
+        erased && unknown
+    }
+
+    /// What the model knows of byte `offset` of field `number` (`None` outside it).
+    pub fn contents(&self, number: u8, offset: usize) -> Option<Contents> {
+        let size = self.status(number)?.size_bytes();
+        if offset >= size {
+            return None;
+        }
+        let i = self.table.start(number) + offset;
+        let known = self.known.get(i / 8).is_some_and(|b| b & (1 << (i % 8)) != 0);
+        Some(match (known, number < self.adopted) {
+            (true, _) => Contents::Known,
+            (false, true) => Contents::Unknown,
+            (false, false) => Contents::Erased,
+        })
+    }
+
+    pub const fn count(&self) -> u8 {
+        self.table.count()
+    }
+
+    pub const fn capacity_blocks(&self) -> u8 {
+        self.table.capacity_blocks()
+    }
+
+    pub fn status(&self, number: u8) -> Option<FieldStatus> {
+        self.table.status(number)
+    }
+
+    pub fn used_blocks(&self) -> u32 {
+        self.table.used_blocks()
+    }
+
+    pub fn free_blocks(&self) -> u8 {
+        self.table.free_blocks()
+    }
+
+    /// Bytes `offset..offset+count` of a field; `None` if out of bounds.
+    pub fn read(&self, number: u8, offset: u8, count: u8) -> Option<&[u8]> {
+        let size = self.status(number)?.size_bytes();
+        let (offset, count) = (offset as usize, count as usize);
+        if count == 0 || count > MAX_FIELD_BYTES || offset + count > size {
+            return None;
+        }
+        let start = self.table.start(number) + offset;
+        self.memory.get(start..start + count)
+    }
+
+    /// Store bytes; `false` (nothing written) if out of bounds.
+    pub fn write(&mut self, number: u8, offset: u8, data: &[u8]) -> bool {
+        let Some(status) = self.status(number) else {
+            return false;
+        };
+        let offset = offset as usize;
+        if data.is_empty() || offset + data.len() > status.size_bytes() {
+            return false;
+        }
+        let start = self.table.start(number) + offset;
+        match self.memory.get_mut(start..start + data.len()) {
+            Some(dst) => dst.copy_from_slice(data),
+            None => return false,
+        }
+        self.learn(start..start + data.len());
+        true
+    }
+
+    /// Whether `blocks` more blocks fit.
+    pub fn fits(&self, extra_blocks: u32) -> bool {
+        self.table.fits(extra_blocks)
+    }
+
+    /// Append a field (the caller checked number == count and that it fits). Its
+    /// contents read FFh: they were free memory.
+    pub fn create(&mut self, status: FieldStatus) -> bool {
+        self.table.create(status)
+    }
+
+    /// Change a field's status. A size change is only possible for the last field;
+    /// grown blocks read FFh, blocks given up become free memory.
+    pub fn modify(&mut self, number: u8, status: FieldStatus) -> bool {
+        let old_end = self.table.start(self.table.count());
+        if !self.table.modify(number, status) {
+            return false;
+        }
         self.free_up_to(old_end);
         true
     }
 
     /// Delete the last field; its blocks become free and read FFh again.
     pub fn delete_last(&mut self) -> bool {
-        let Some(last) = self.count.checked_sub(1) else {
+        let old_end = self.table.start(self.table.count());
+        if !self.table.delete_last() {
             return false;
-        };
-        let old_end = self.start(self.count);
-        self.statuses[last as usize] = 0;
-        self.count = last;
-        self.adopted = self.adopted.min(last);
+        }
+        self.adopted = self.adopted.min(self.table.count());
         self.free_up_to(old_end);
         true
     }
@@ -371,12 +464,21 @@ mod tests {
     #[test]
     fn a_table_as_stored_is_the_table_created_field_by_field() {
         for statuses in [&[][..], &[0xC9], &[0x41, 0xE0, 0x80]] {
-            assert_eq!(Some(DataFields::from_table(8, statuses)), DataFields::from_statuses(8, statuses));
+            assert_eq!(
+                Some(DataFields::from_table(8, statuses, statuses.len())),
+                DataFields::from_statuses(8, statuses)
+            );
         }
+        // The first `count` only.
+        assert_eq!(
+            DataFields::from_table(8, &[0x41, 0xE0, 0x80], 2),
+            DataFields::from_statuses(8, &[0x41, 0xE0]).unwrap()
+        );
+        assert_eq!(FieldTable::from_table(8, &[0x41], 5).statuses(), &[0xC1]);
         // Fields that do not fit are taken as stored (the caller's invariant refuses them).
-        let f = DataFields::from_table(8, &[0xC7, 0xC0]);
+        let f = DataFields::from_table(8, &[0xC7, 0xC0], 2);
         assert_eq!((f.count(), f.used_blocks(), DataFields::from_statuses(8, &[0xC7, 0xC0])), (2, 9, None));
-        assert_eq!(DataFields::from_table(255, &[0x80; 256]).count(), 255, "as many as the table holds");
+        assert_eq!(DataFields::from_table(255, &[0x80; 256], 256).count(), 255, "as many as the table holds");
     }
 
     #[test]
