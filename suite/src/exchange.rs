@@ -232,7 +232,10 @@ impl<L: Line> BusMaster<L> {
         let now = self.line.now_us();
         let mut ready = (self.idle_since_us + timeout).min(now + MAX_FRAME as u64 * ct + timeout);
         let mut stray = Vec::new();
-        while let Some(c) = self.line.recv(ready)? {
+        // Up to now at least: what arrived while the master was not reading (a reply
+        // that came after its exchange had ended, during a wait between requests) is
+        // stray, not the start of the reply to the request about to go.
+        while let Some(c) = self.line.recv(ready.max(now))? {
             // Someone is talking: the line is free a timeout after its last character
             // (000:2.2.2). A line that never stops is waited out for two frames' worth.
             if stray.len() < 2 * MAX_FRAME {
@@ -460,6 +463,21 @@ mod tests {
         let x = m.exchange(&sealed(&[0x40, 0x42]), 10).unwrap();
         assert_eq!(x.stray.len(), 3);
         assert_eq!(m.line.sent_at, vec![3_000 + 2 * CT + timeout]);
+    }
+
+    #[test]
+    fn a_reply_that_came_between_exchanges_is_stray_not_the_next_reply() {
+        // The first request has no reply in its window; one comes 60 ms on, while the
+        // master waits before its next request, which the slave does not answer.
+        let late = [60_000, 60_000 + CT, 60_000 + 2 * CT];
+        let mut m = line(late);
+        let first = m.exchange(&sealed(&[0x40, 0x42]), 10).unwrap();
+        assert!(first.reply.is_empty() && first.trailing.is_empty(), "{first:?}");
+        m.line.wait_until(100_000).unwrap();
+        let next = m.exchange(&sealed(&[0x40, 0x42]), 10).unwrap();
+        assert_eq!(next.stray.iter().map(|c| c.at_us).collect::<Vec<_>>(), late);
+        assert!(next.reply.is_empty(), "{next:?}");
+        assert_eq!(m.line.sent_at[1], 100_000, "the line was quiet for the timeout already");
     }
 
     #[test]
