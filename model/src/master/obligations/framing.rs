@@ -95,7 +95,7 @@ impl super::Observer {
         let start = first_end.saturating_sub(self.char_time_us());
         let bytes = framer.bytes.as_bytes();
         let decoded = RequestFrame::decode(bytes).ok();
-        self.answered = decoded.map(|r| r.request.command());
+        self.memo.answered = decoded.map(|r| r.request.command());
         if let Some(rf) = decoded {
             // A valid request right after a held fragment that completes it is not
             // possible (the fragment would be part of it); the fragment stands alone.

@@ -55,6 +55,17 @@ pub struct Observer {
     reply_late: bool,
     /// Until when the last request's reply window is open (no reply seen yet).
     window_until_us: Option<u64>,
+    polling_period_us: u64,
+    /// What only the recommendations' rules read.
+    memo: Recommendations,
+}
+
+/// What the observer remembers for the rules of recommendations only (reactions to
+/// replies, the status and the Extended Type Label read, retries, the polling gap):
+/// one value, so that [`Observer::forget_recommendations`] forgets all of it and a
+/// field added here is forgotten with the rest.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+struct Recommendations {
     status_read: bool,
     status_reported: bool,
     warning_left: Option<u8>,
@@ -68,10 +79,27 @@ pub struct Observer {
     /// The type label said FFh and field FFh has not been read since.
     label_pending: bool,
     stack_read: StackRead,
-    polling_period_us: u64,
     /// When the master's last frame began, and whether the gap after it was reported.
     last_frame_us: Option<u64>,
     gap_reported: bool,
+}
+
+impl Recommendations {
+    const NONE: Recommendations = Recommendations {
+        status_read: false,
+        status_reported: false,
+        warning_left: None,
+        pending: Pending::Nothing,
+        last_request: None,
+        answered: None,
+        warning_reported: false,
+        sync_fault: false,
+        unknown_code: false,
+        label_pending: false,
+        stack_read: StackRead::EMPTY,
+        last_frame_us: None,
+        gap_reported: false,
+    };
 }
 
 impl Observer {
@@ -91,20 +119,8 @@ impl Observer {
             reply_start_us: None,
             reply_late: false,
             window_until_us: None,
-            status_read: false,
-            status_reported: false,
-            warning_left: None,
-            pending: Pending::Nothing,
-            last_request: None,
-            answered: None,
-            warning_reported: false,
-            sync_fault: false,
-            unknown_code: false,
-            label_pending: false,
-            stack_read: StackRead::EMPTY,
             polling_period_us: POLLING_PERIOD_MS as u64 * 1000,
-            last_frame_us: None,
-            gap_reported: false,
+            memo: Recommendations::NONE,
         }
     }
 
@@ -121,10 +137,10 @@ impl Observer {
 
     /// Report once a gap since the last frame longer than the polling period.
     fn polling_gap(&mut self, now_us: u64, out: &mut impl FnMut(Observation)) {
-        let Some(last) = self.last_frame_us else { return };
+        let Some(last) = self.memo.last_frame_us else { return };
         let gap = now_us.saturating_sub(last);
-        if gap > self.polling_period_us && !self.gap_reported {
-            self.gap_reported = true;
+        if gap > self.polling_period_us && !self.memo.gap_reported {
+            self.memo.gap_reported = true;
             out(Observation {
                 rule: Rule::NoCyclicRequest,
                 at_us: last,
@@ -156,20 +172,7 @@ impl Observer {
     /// nothing. For a model checker of the musts (proofs/src/master_fixpoint.rs), where
     /// that memory would make states differ that the musts cannot tell apart.
     pub fn forget_recommendations(&mut self) {
-        let fresh = Observer::new(self.profile);
-        self.status_read = fresh.status_read;
-        self.status_reported = fresh.status_reported;
-        self.warning_left = fresh.warning_left;
-        self.warning_reported = fresh.warning_reported;
-        self.pending = fresh.pending;
-        self.last_request = fresh.last_request;
-        self.answered = fresh.answered;
-        self.sync_fault = fresh.sync_fault;
-        self.unknown_code = fresh.unknown_code;
-        self.label_pending = fresh.label_pending;
-        self.stack_read = fresh.stack_read;
-        self.last_frame_us = fresh.last_frame_us;
-        self.gap_reported = fresh.gap_reported;
+        self.memo = Recommendations::NONE;
     }
 
     /// Move the observer's clock from `now_us` to `to_us`: every time it keeps moves by
@@ -201,7 +204,7 @@ impl Observer {
         self.reply_start_us = self.reply_start_us.map(|t| at_least(t, 0));
         self.reply_end_us = self.reply_end_us.map(|t| at_least(t, 0));
         self.window_until_us = self.window_until_us.map(|t| at_least(t, 1));
-        self.last_frame_us = self.last_frame_us.map(|t| at_least(t, self.polling_period_us + 1));
+        self.memo.last_frame_us = self.memo.last_frame_us.map(|t| at_least(t, self.polling_period_us + 1));
         let n = self.framer.bytes.len();
         for t in self.framer.ends_us.iter_mut().take(n) {
             *t = moved(*t);
@@ -222,24 +225,24 @@ impl Observer {
     /// The encoder was powered on at `at_us`.
     pub fn power_on(&mut self, at_us: u64) {
         self.started_us = Some(at_us);
-        self.last_frame_us = None;
+        self.memo.last_frame_us = None;
         self.after_reset = false;
         self.kept_default = false;
-        self.status_read = false;
-        self.status_reported = false;
-        self.label_pending = false;
+        self.memo.status_read = false;
+        self.memo.status_reported = false;
+        self.memo.label_pending = false;
         self.settings = UartSettings::DEFAULT;
         self.clear_reactions();
     }
 
     fn clear_reactions(&mut self) {
-        self.warning_left = None;
-        self.warning_reported = false;
-        self.pending = Pending::Nothing;
-        self.sync_fault = false;
-        self.unknown_code = false;
+        self.memo.warning_left = None;
+        self.memo.warning_reported = false;
+        self.memo.pending = Pending::Nothing;
+        self.memo.sync_fault = false;
+        self.memo.unknown_code = false;
         self.window_until_us = None;
-        self.stack_read = StackRead::EMPTY;
+        self.memo.stack_read = StackRead::EMPTY;
     }
 
     /// The encoder listens at `settings` from now on (its power-up windows, 57h and a
@@ -280,11 +283,11 @@ impl Observer {
         self.window_until_us = None;
         let Some(reply) = reply else { return };
         if let Response::TypeLabel { type_code: 0xFF, .. } = reply.response {
-            self.label_pending = true;
+            self.memo.label_pending = true;
         }
-        let asked = self.answered;
-        if reply.warning && self.warning_left.is_none() && !self.warning_reported {
-            self.warning_left = Some(REACTION_REQUESTS);
+        let asked = self.memo.answered;
+        if reply.warning && self.memo.warning_left.is_none() && !self.memo.warning_reported {
+            self.memo.warning_left = Some(REACTION_REQUESTS);
         }
         let code = match reply.response {
             Response::Error(code) => Some(code),
@@ -292,24 +295,24 @@ impl Observer {
             _ => None,
         };
         let Some(code) = code else {
-            if !matches!(self.pending, Pending::Reset { .. }) {
-                self.pending = Pending::Nothing;
+            if !matches!(self.memo.pending, Pending::Reset { .. }) {
+                self.memo.pending = Pending::Nothing;
             }
             return;
         };
         // Codes read from the stack are judged together: 06h read with a companion code
         // has the row of the pair (000:T74 "06h + 08h").
         if let Response::EncoderStatus(_) = reply.response {
-            self.stack_read.push(code);
-            let reactions = || fault_reaction::stack_reactions(self.stack_read.codes());
+            self.memo.stack_read.push(code);
+            let reactions = || fault_reaction::stack_reactions(self.memo.stack_read.codes());
             if reactions().any(|(_, r)| !r.known) {
-                self.unknown_code = true;
+                self.memo.unknown_code = true;
             }
             if code.byte() == 0x22 {
-                self.sync_fault = true;
+                self.memo.sync_fault = true;
             }
             let reset = reactions().any(|(_, r)| r.is_reset());
-            self.pending = match (self.pending, reset) {
+            self.memo.pending = match (self.memo.pending, reset) {
                 (Pending::Reset { left }, true) => Pending::Reset { left },
                 (_, true) => Pending::Reset { left: REACTION_REQUESTS },
                 (Pending::Reset { .. }, false) => Pending::Nothing,
@@ -318,13 +321,13 @@ impl Observer {
             return;
         }
         let reaction = fault_reaction::reaction(code, fault::runtime_group(code));
-        self.pending = match code.byte() {
+        self.memo.pending = match code.byte() {
             0x22 => {
-                self.sync_fault = true;
+                self.memo.sync_fault = true;
                 Pending::Nothing
             }
             _ if !reaction.known => {
-                self.unknown_code = true;
+                self.memo.unknown_code = true;
                 Pending::Nothing
             }
             // "Retry command." (protocol errors 09h-0Dh), "Retry command. If error
@@ -368,8 +371,8 @@ impl Observer {
     /// Timing rules, checked where a frame begins.
     fn frame_starts(&mut self, start: u64, out: &mut impl FnMut(Observation)) {
         self.polling_gap(start, out);
-        self.last_frame_us = Some(start);
-        self.gap_reported = false;
+        self.memo.last_frame_us = Some(start);
+        self.memo.gap_reported = false;
         let mut report =
             |rule, measured_us| out(Observation { rule, at_us: start, measured_us, command: None, data_rates: None });
         if let Some(t0) = self.started_us {
@@ -398,5 +401,35 @@ impl Observer {
 
     fn address(&self) -> SlaveAddress {
         self.address
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Forgetting the recommendations' memory leaves an observer that told a reply with
+    /// the warning bit and a type label of FFh equal to one told the same reply without
+    /// them: what the musts read is the same, the rest is forgotten.
+    #[test]
+    fn forgetting_the_recommendations_leaves_what_the_musts_read() {
+        let profile = crate::profiles::sek37();
+        let reply = |warning, type_code| ResponseFrame {
+            address: 0x40,
+            warning,
+            response: Response::TypeLabel { settings: 0xE4, type_code, memory_blocks: 0x70, option: 0 },
+        };
+        let told = |r: ResponseFrame| {
+            let mut o = Observer::new(profile);
+            o.power_on(0);
+            o.encoder_reply(200_000, 207_000, Some(&r));
+            o
+        };
+        let (mut remembers, mut plain) = (told(reply(true, 0xFF)), told(reply(false, 0x42)));
+        assert_ne!(remembers, plain, "the warning and the label are remembered");
+        remembers.forget_recommendations();
+        plain.forget_recommendations();
+        assert_eq!(remembers, plain);
+        assert_eq!(remembers.memo, Recommendations::NONE);
     }
 }

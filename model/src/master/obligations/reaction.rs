@@ -80,68 +80,68 @@ impl Observer {
                 self.clear_reactions();
             }
             CommandId::ReadEncoderStatus => {
-                self.status_read = true;
-                self.warning_left = None;
-                self.warning_reported = false;
+                self.memo.status_read = true;
+                self.memo.warning_left = None;
+                self.memo.warning_reported = false;
             }
             CommandId::ReadPosition => {
                 // Only where the power-on was seen: "after a power-on" (000:3.3.1).
-                if !self.status_read && !self.status_reported && self.started_us.is_some() {
-                    self.status_reported = true;
+                if !self.memo.status_read && !self.memo.status_reported && self.started_us.is_some() {
+                    self.memo.status_reported = true;
                     report(Rule::StatusNotRead);
                 }
-                if self.sync_fault {
+                if self.memo.sync_fault {
                     report(Rule::PositionAfterSyncFault);
                 }
-                if self.unknown_code {
+                if self.memo.unknown_code {
                     report(Rule::UnknownCodeIgnored);
-                    self.unknown_code = false;
+                    self.memo.unknown_code = false;
                 }
-                if self.label_pending {
+                if self.memo.label_pending {
                     report(Rule::ExtendedTypeLabelNotRead);
-                    self.label_pending = false;
+                    self.memo.label_pending = false;
                 }
             }
             CommandId::ReadData => {
                 if let crate::request::Request::ReadData { field: 0xFF, .. } = rf.request {
-                    self.label_pending = false;
+                    self.memo.label_pending = false;
                 }
             }
             _ => {}
         }
         // Reading the stack (50h) and resetting (53h) are the reactions themselves.
         if !matches!(command, CommandId::EncoderReset | CommandId::ReadEncoderStatus) {
-            self.stack_read = StackRead::EMPTY;
-            match self.warning_left {
+            self.memo.stack_read = StackRead::EMPTY;
+            match self.memo.warning_left {
                 Some(0 | 1) => {
                     report(Rule::WarningIgnored);
-                    self.warning_left = None;
-                    self.warning_reported = true;
+                    self.memo.warning_left = None;
+                    self.memo.warning_reported = true;
                 }
-                Some(n) => self.warning_left = Some(n - 1),
+                Some(n) => self.memo.warning_left = Some(n - 1),
                 None => {}
             }
-            match self.pending {
+            match self.memo.pending {
                 Pending::Retry(c) if c != command => {
                     report(Rule::NoRetry);
-                    self.pending = Pending::Nothing;
+                    self.memo.pending = Pending::Nothing;
                 }
                 Pending::Reset { left } if left <= 1 => {
                     report(Rule::NoResetAfterCriticalFault);
-                    self.pending = Pending::Nothing;
+                    self.memo.pending = Pending::Nothing;
                 }
-                Pending::Reset { left } => self.pending = Pending::Reset { left: left - 1 },
+                Pending::Reset { left } => self.memo.pending = Pending::Reset { left: left - 1 },
                 _ => {}
             }
         }
         // The same request failing again and again.
-        let repeats = match self.last_request {
-            Some((r, n)) if r == rf && matches!(self.pending, Pending::Retry(_)) => n.saturating_add(1),
+        let repeats = match self.memo.last_request {
+            Some((r, n)) if r == rf && matches!(self.memo.pending, Pending::Retry(_)) => n.saturating_add(1),
             _ => 1,
         };
         if repeats == RETRY_BOUND + 1 {
             report(Rule::UnboundedRetry);
         }
-        self.last_request = Some((rf, repeats));
+        self.memo.last_request = Some((rf, repeats));
     }
 }
