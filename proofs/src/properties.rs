@@ -284,20 +284,22 @@ fn sequences(n: u32, alphabet: u32) -> impl Iterator<Item = Vec<u8>> {
 pub fn parts_strategy() -> impl Strategy<Value = inductive::Parts> {
     let settings = || {
         prop_oneof![
-            9 => (0u8..7, prop::sample::select(vec![0x00u8, 0x20, 0x30]), any::<bool>(), any::<bool>())
+            // Data rates mostly from 1200 Bd up: a SEK37 has no 600 Bd.
+            19 => (prop_oneof![29 => 1u8..7, 1 => Just(0u8)], prop::sample::select(vec![0x00u8, 0x20, 0x30]), any::<bool>(), any::<bool>())
                 .prop_map(|(baud, parity, long, standard)| baud | parity | u8::from(long) << 6 | u8::from(standard) << 7),
             1 => any::<u8>(),
         ]
     };
     let codes: Vec<u8> = FaultCode::ALL.iter().map(|c| c.byte()).filter(|b| *b != 0).collect();
     let nv = (
-        prop_oneof![9 => 0x40u8..=0x5F, 1 => any::<u8>()],
+        prop_oneof![19 => 0x40u8..=0x5F, 1 => any::<u8>()],
         settings(),
         settings(),
         any::<bool>(),
         settings(),
         any::<[u8; 4]>(),
-        prop_oneof![9 => 0u64..32_768, 1 => any::<u64>()],
+        // Offsets below the range of a SEK37 (512 steps) and of larger devices.
+        prop_oneof![16 => 0u64..512, 1 => 0u64..32_768, 1 => any::<u64>()],
         prop_oneof![6 => 0u32..=0xFF_FFFF, 2 => Just(0xFF_FFFF), 1 => Just(0xFF_FFFE), 1 => any::<u32>()],
     );
     // Field sizes mostly small, so that three fields fit a legacy device's 8 blocks too.
@@ -638,6 +640,30 @@ pub const PROPERTIES: &[Property] = &[
         exhaustive: false,
         harness: Some("inductive_data_fields"),
         run: fields_steps,
+    },
+    Property {
+        name: "inductive_read_counter",
+        claim: "the invariant is inductive for one command: from any state satisfying it, one frame of it keeps it and the frame rules hold (000:2.3.4, 000:T9, 000:T16, 000:T27, 000:2.4.2)",
+        domain: "every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Read Counter (46h) at any time, with and without a UART fault",
+        exhaustive: false,
+        harness: Some("inductive_read_counter"),
+        run: || inductive_sampled(profiles::sek37(), &[(0x46, 0)], 3000),
+    },
+    Property {
+        name: "inductive_increment_counter",
+        claim: "the invariant is inductive for one command: from any state satisfying it, one frame of it keeps it and the frame rules hold (000:2.3.4, 000:T9, 000:T16, 000:T27, 000:2.4.2)",
+        domain: "every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Increment Counter (47h) at any time, with and without a UART fault",
+        exhaustive: false,
+        harness: Some("inductive_increment_counter"),
+        run: || inductive_sampled(profiles::sek37(), &[(0x47, 0)], 3000),
+    },
+    Property {
+        name: "inductive_reset_counter",
+        claim: "the invariant is inductive for one command: from any state satisfying it, one frame of it keeps it and the frame rules hold (000:2.3.4, 000:T9, 000:T16, 000:T27, 000:2.4.2)",
+        domain: "every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Reset Counter (49h) at any time, with and without a UART fault",
+        exhaustive: false,
+        harness: Some("inductive_reset_counter"),
+        run: || inductive_sampled(profiles::sek37(), &[(0x49, 1)], 3000),
     },
     Property {
         name: "inductive_position",
