@@ -148,4 +148,5 @@ fn debug_forms_show_what_matters() {
     let mut fields = DataFields::new(8);
     assert!(fields.create(FieldStatus(0xC1)));
     assert_eq!(format!("{fields:?}"), "DataFields { statuses: [193], free_blocks: 6 }");
+    assert_eq!(format!("{:?}", fields.table()), "FieldTable { statuses: [193], free_blocks: 6 }");
 }

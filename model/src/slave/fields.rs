@@ -65,10 +65,7 @@ pub struct FieldTable {
 
 impl core::fmt::Debug for FieldTable {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.debug_struct("FieldTable")
-            .field("statuses", &self.statuses())
-            .field("free_blocks", &self.free_blocks())
-            .finish()
+        self.debug_as("FieldTable", f)
     }
 }
 
@@ -103,6 +100,12 @@ impl FieldTable {
     /// The statuses of the fields, in number order.
     pub fn statuses(&self) -> &[u8] {
         self.statuses.get(..self.count as usize).unwrap_or(&[])
+    }
+
+    /// The debug form of the table and of [`DataFields`], which shows it: the statuses
+    /// and the free memory (the contents are not shown).
+    fn debug_as(&self, name: &str, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct(name).field("statuses", &self.statuses()).field("free_blocks", &self.free_blocks()).finish()
     }
 
     pub const fn count(&self) -> u8 {
@@ -142,10 +145,14 @@ impl FieldTable {
         (self.capacity_blocks as u32).saturating_sub(self.used_blocks()) as u8
     }
 
-    /// Where field `number` starts in memory, in bytes (the end of the fields for the
-    /// count).
+    /// Where field `number` starts in memory, in bytes.
     pub fn start(&self, number: u8) -> usize {
         self.blocks_before(number) as usize * BLOCK
+    }
+
+    /// Where the fields end in memory, in bytes: free memory from here on.
+    pub fn end(&self) -> usize {
+        self.start(self.count)
     }
 
     /// Whether `blocks` more blocks fit.
@@ -221,10 +228,7 @@ pub enum Contents {
 
 impl core::fmt::Debug for DataFields {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.debug_struct("DataFields")
-            .field("statuses", &self.statuses())
-            .field("free_blocks", &self.free_blocks())
-            .finish()
+        self.table.debug_as("DataFields", f)
     }
 }
 
@@ -286,7 +290,7 @@ impl DataFields {
     /// in a loop of fixed length (8 blocks) rather than a `fill` of the rest of the
     /// memory: Kani unrolls it 8 times, not as often as the 4 080 bytes allow.
     fn free_up_to(&mut self, old_end: usize) {
-        let end = self.table.start(self.table.count());
+        let end = self.table.end();
         for block in 0..MAX_FIELD_BLOCKS {
             let at = end + block * BLOCK;
             if at >= old_end {
@@ -306,7 +310,7 @@ impl DataFields {
     /// Whether the memory past the last field reads FFh and is unknown, as
     /// [`DataFields::free_up_to`] relies on.
     pub fn rest_is_free(&self) -> bool {
-        let end = self.table.start(self.table.count());
+        let end = self.table.end();
         let erased = self.memory.get(end..).is_some_and(|m| m.iter().all(|b| *b == ERASED));
         let unknown = (end..MAX_MEMORY).all(|i| self.known.get(i / 8).is_some_and(|k| k & (1 << (i % 8)) == 0));
         erased && unknown
@@ -390,7 +394,7 @@ impl DataFields {
     /// Change a field's status. A size change is only possible for the last field;
     /// grown blocks read FFh, blocks given up become free memory.
     pub fn modify(&mut self, number: u8, status: FieldStatus) -> bool {
-        let old_end = self.table.start(self.table.count());
+        let old_end = self.table.end();
         if !self.table.modify(number, status) {
             return false;
         }
@@ -400,7 +404,7 @@ impl DataFields {
 
     /// Delete the last field; its blocks become free and read FFh again.
     pub fn delete_last(&mut self) -> bool {
-        let old_end = self.table.start(self.table.count());
+        let old_end = self.table.end();
         if !self.table.delete_last() {
             return false;
         }
@@ -459,6 +463,24 @@ mod tests {
         // The largest field given up whole, after its bytes were written.
         assert!(f.create(FieldStatus(0xC7)) && f.write(0, 112, &[3; 16]));
         assert!(f.delete_last() && f.rest_is_free());
+    }
+
+    /// The check itself: a byte past the fields' end that is not FFh, or one the model
+    /// knows, is memory that is not free.
+    #[test]
+    fn memory_past_the_fields_that_is_written_or_known_is_not_free() {
+        let mut f = DataFields::from_table(8, &[0xC0], 1);
+        assert!(f.rest_is_free());
+        f.memory[BLOCK] = 0;
+        assert!(!f.rest_is_free(), "a byte past the end that is not FFh");
+        f.memory[BLOCK] = ERASED;
+        f.learn(MAX_MEMORY - 1..MAX_MEMORY);
+        assert!(!f.rest_is_free(), "a byte past the end that the model knows");
+        // Inside the field, neither counts.
+        let mut g = DataFields::from_table(8, &[0xC0], 1);
+        g.memory[0] = 0;
+        g.learn(0..1);
+        assert!(g.rest_is_free());
     }
 
     #[test]
