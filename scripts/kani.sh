@@ -54,13 +54,14 @@ EXTERNAL_CADICAL=()
 if grep -q "not available" <<<"$probe" && command -v cadical >/dev/null; then
     EXTERNAL_CADICAL=(--solver bin=cadical)
 fi
-# The harnesses that ask for CaDiCaL (`#[kani::solver(cadical)]` among their attributes).
-mapfile -t WANT_CADICAL < <(awk '/#\[kani::proof\]/ {p=1; c=0} p && /#\[kani::solver\(cadical\)\]/ {c=1} p && /fn [a-z_0-9]+\(/ {if (c) {sub(/.*fn /,""); sub(/\(.*/,""); print}; p=0}' proofs/src/*.rs)
+# Every `#[kani::proof]` function of the proofs crate, in source order, each followed
+# by " cadical" where it asks for CaDiCaL (`#[kani::solver(cadical)]`).
+mapfile -t PROOFS < <(awk '/#\[kani::proof\]/ {p=1; c=0} p && /#\[kani::solver\(cadical\)\]/ {c=1} p && /fn [a-z_0-9]+\(/ {sub(/.*fn /,""); sub(/\(.*/,""); print $0 (c ? " cadical" : ""); p=0}' proofs/src/*.rs)
+mapfile -t WANT_CADICAL < <(printf '%s\n' "${PROOFS[@]}" | awk '$2 == "cadical" {print $1}')
 if [ $# -gt 0 ]; then
     HARNESSES=("$@")
 else
-    # Every `#[kani::proof]` function of the proofs crate, in source order.
-    mapfile -t HARNESSES < <(awk '/#\[kani::proof\]/ {p=1} p && /fn [a-z_0-9]+\(/ {sub(/.*fn /,""); sub(/\(.*/,""); print; p=0}' proofs/src/*.rs)
+    mapfile -t HARNESSES < <(printf '%s\n' "${PROOFS[@]}" | awk '{print $1}')
 fi
 echo "Kani: $(cargo kani --version 2>&1 | tail -1); CBMC: $(cbmc --version 2>&1 | head -1); ${KANI_ARGS[*]}; CaDiCaL for ${WANT_CADICAL[*]:-none}${EXTERNAL_CADICAL:+ (external)}; limit ${LIMIT} s and ${MEM_GB} GB per harness; $(date -u +%F)"
 # Build once, so that each harness's time is its own verification.
