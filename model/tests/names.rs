@@ -150,3 +150,17 @@ fn debug_forms_show_what_matters() {
     assert_eq!(format!("{fields:?}"), "DataFields { statuses: [193], free_blocks: 6 }");
     assert_eq!(format!("{:?}", fields.table()), "FieldTable { statuses: [193], free_blocks: 6 }");
 }
+
+#[test]
+fn each_act_of_a_test_encoder_says_what_it_did() {
+    use hiperface_model::slave::act::Act;
+    use hiperface_model::slave::inputs::PositionFault;
+    let code = FaultCode::decode(0x0A);
+    assert_eq!(Act::Error(code).to_string(), format!("error reply {code}"));
+    assert_eq!(Act::Silence.to_string(), "no reply");
+    assert_eq!(Act::LateMs(30).to_string(), "reply 30 ms late");
+    assert_eq!(Act::CorruptChecksum.to_string(), "reply with a wrong checksum");
+    assert_eq!(Act::Gap { before: 2, us: 4_500 }.to_string(), "a gap of 4500 µs inside the reply");
+    assert_eq!(Act::PositionFault(PositionFault::Singleturn).to_string(), "Singleturn from now on");
+    assert_eq!(Act::Restart.to_string(), "the encoder restarts");
+}

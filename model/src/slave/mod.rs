@@ -6,6 +6,7 @@
 //! window and with which UART settings. [`Slave::handle_frame`] skips the data link
 //! for callers that already hold a whole frame.
 
+pub mod act;
 mod execute;
 pub mod fields;
 pub mod inputs;
