@@ -8,9 +8,10 @@
 use hiperface_conformance::exchange::BusMaster;
 use hiperface_conformance::line::virtual_line::{SlaveDevice, VirtualLine};
 use hiperface_conformance::line::{Line, LineError, LineKind, Sent, Window};
-use hiperface_conformance::master::{self, scenarios::Act};
+use hiperface_conformance::master;
 use hiperface_model::datalink::RxChar;
-use hiperface_model::{checksum, profiles, Edition, Frame, Profile, Slave, Transmission, UartSettings};
+use hiperface_model::slave::act::{Acted, ActedReply};
+use hiperface_model::{profiles, Edition, Profile, Slave, Transmission, UartSettings};
 use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::fmt::Write;
@@ -40,37 +41,24 @@ impl Scripted {
         let mut tx = step.transmission;
         self.gap = None;
         for inj in self.plan.iter().filter(|i| i.on == command && i.nth == n) {
-            match inj.act {
-                // On from the next request (this one was answered as the model had it).
-                Act::PositionFault(f) => self.slave.inject_position_fault(f, true),
-                Act::Error(code) => {
-                    if let Some(t) = tx.as_mut() {
-                        let address = step.received.bytes.as_bytes().first().copied().unwrap_or(0x40);
-                        let mut f = vec![address, 0x50, code.byte()];
-                        f.push(checksum::xor(&f));
-                        t.frame = Frame::from_bytes(&f).unwrap();
-                    }
+            // On from the next request (this one was answered as the model had it).
+            if let Some(f) = inj.act.position_fault() {
+                self.slave.inject_position_fault(f, true);
+                continue;
+            }
+            let Some(t) = tx.as_mut() else { continue };
+            let address = step.received.bytes.as_bytes().first().copied().unwrap_or(0x40);
+            let mut reply = ActedReply { frame: t.frame, start_us: t.earliest_start_us, gap: None };
+            match inj.act.apply(address, &mut reply) {
+                Acted::Sent => {
+                    (t.frame, t.earliest_start_us) = (reply.frame, reply.start_us);
+                    self.gap = reply.gap.or(self.gap);
                 }
-                Act::Silence => tx = None,
-                Act::Restart => {
+                Acted::Silent => tx = None,
+                Acted::Restart => {
                     self.slave.power_cycle(step.received.complete_us);
                     tx = None;
                 }
-                Act::LateMs(ms) => {
-                    if let Some(t) = tx.as_mut() {
-                        t.earliest_start_us += ms as u64 * 1000;
-                    }
-                }
-                Act::CorruptChecksum => {
-                    if let Some(t) = tx.as_mut() {
-                        let mut bytes = t.frame.as_bytes().to_vec();
-                        if let Some(last) = bytes.last_mut() {
-                            *last ^= 0x5A;
-                        }
-                        t.frame = Frame::from_bytes(&bytes).unwrap();
-                    }
-                }
-                Act::Gap { before, us } => self.gap = Some((before, us)),
             }
         }
         tx
@@ -187,12 +175,12 @@ fn the_reference_masters_transcript_when_faults_persist() {
 #[test]
 fn the_exploration_times_the_reference_master_as_the_harness_does() {
     use hiperface_model::master::reference::{Action, Done, ReferenceMaster};
-    use hiperface_proofs::master_fixpoint::{self as mf, Act};
+    use hiperface_proofs::master_fixpoint as mf;
     for profile in [profiles::sek37(), profiles::legacy_srs()] {
         let world = &mf::worlds(profile)[0];
         assert_eq!(world.name, "calm");
         let steps = 60;
-        let explored: Vec<(u64, Action)> = mf::play(world, mf::reference_step, std::iter::repeat_n(Act::Answer, steps))
+        let explored: Vec<(u64, Action)> = mf::play(world, mf::reference_step, std::iter::repeat_n(None, steps))
             .into_iter()
             .map(|s| (s.at_us, s.action))
             .collect();
@@ -231,21 +219,13 @@ fn the_exploration_times_the_reference_master_as_the_harness_does() {
 /// world and encoder the catalogue has.
 #[test]
 fn the_exploration_covers_the_catalogues_acts_and_worlds() {
-    use hiperface_proofs::master_fixpoint::{self as mf, Act as Explored};
+    use hiperface_proofs::master_fixpoint as mf;
     let profile = profiles::sek37();
     let acts = mf::acts();
     let worlds = mf::worlds(profile);
     for scenario in master::scenarios::catalogue() {
         for inj in scenario.plan {
-            let act = match inj.act {
-                Act::Error(code) => Explored::Error(code),
-                Act::Silence => Explored::Silence,
-                Act::LateMs(ms) => Explored::LateMs(ms),
-                Act::CorruptChecksum => Explored::CorruptChecksum,
-                Act::Gap { before, us } => Explored::Gap { before, us },
-                Act::PositionFault(f) => Explored::PositionFault(f),
-                Act::Restart => Explored::Restart,
-            };
+            let act = Some(inj.act);
             assert!(acts.contains(&act), "{}: {act:?} not explored", scenario.id);
         }
         let world = (scenario.world)(&profile);

@@ -42,6 +42,7 @@ use hiperface_model::fault::{FaultGroup, FAULT_TABLE};
 use hiperface_model::master::obligations::{Observation, Observer, Rule};
 use hiperface_model::master::reference::{Action, Done, Event, Options, ReferenceMaster, ResetCause, Stage};
 use hiperface_model::response::ResponseFrame;
+use hiperface_model::slave::act::{Act, Acted, ActedReply};
 use hiperface_model::slave::inputs::{InitFault, PhysicalInputs, PositionFault};
 use hiperface_model::{
     checksum, profiles, CommandId, FaultCode, Profile, RequestFrame, RxChar, Slave, Step, UartFault, UartSettings,
@@ -49,35 +50,14 @@ use hiperface_model::{
 use std::collections::{HashSet, VecDeque};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
-/// What the encoder does to the reply of one request (the scenarios' `Act`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Act {
-    /// The model's reply as it is.
-    Answer,
-    /// An error reply with this code instead.
-    Error(FaultCode),
-    /// No reply.
-    Silence,
-    /// The reply starts this much after its earliest start.
-    LateMs(u16),
-    /// The reply with a wrong checksum.
-    CorruptChecksum,
-    /// A pause of `us` inside the reply before character `before`.
-    Gap { before: usize, us: u64 },
-    /// From this request on the encoder has this position fault.
-    PositionFault(PositionFault),
-    /// The encoder restarts: no reply, initialization, default settings.
-    Restart,
-}
-
 /// The error codes the scenarios answer with (0Ah, 0Ch, 09h, 0Bh, 0Dh, 12h, 3Ah).
 pub const CATALOGUE_CODES: [u8; 7] = [0x0A, 0x0C, 0x09, 0x0B, 0x0D, 0x12, 0x3A];
 
 /// The acts of the search: the scenarios' (their codes, 30 ms late, a 20 ms and a
 /// 4.5 ms pause, the position faults 22h and 20h, a restart) and an error reply with
 /// the first code of each fault group of Table 74 that none of them represents
-/// (000:T37, 000:T74).
-pub fn acts() -> Vec<Act> {
+/// (000:T37, 000:T74). `None` first: the model's reply as it is.
+pub fn acts() -> Vec<Option<Act>> {
     let mut codes: Vec<FaultCode> = CATALOGUE_CODES.iter().map(|b| FaultCode::decode(*b)).collect();
     for group in
         [FaultGroup::Initialization, FaultGroup::Protocol, FaultGroup::Data, FaultGroup::Position, FaultGroup::Others]
@@ -89,8 +69,7 @@ pub fn acts() -> Vec<Act> {
             }
         }
     }
-    let mut acts = vec![Act::Answer];
-    acts.extend(codes.into_iter().map(Act::Error));
+    let mut acts: Vec<Act> = codes.into_iter().map(Act::Error).collect();
     acts.extend([
         Act::Silence,
         Act::CorruptChecksum,
@@ -101,16 +80,18 @@ pub fn acts() -> Vec<Act> {
         Act::PositionFault(PositionFault::Singleturn),
         Act::Restart,
     ]);
-    acts
+    core::iter::once(None).chain(acts.into_iter().map(Some)).collect()
 }
 
 /// Whether the encoder may do `act` to the reply to `action`'s request: any act to any
 /// request, but an error code instead of Read Encoder Status's reply, which reads as
 /// a code on the stack (000:T27): what the stack holds is the slave model's, from
 /// the worlds' start-up faults and temperature and the position faults injected.
-pub fn applies(act: Act, action: &Action) -> bool {
+pub fn applies(act: Option<Act>, action: &Action) -> bool {
     match (act, action) {
-        (Act::Error(_), Action::Exchange { request, .. }) => request.request.command() != CommandId::ReadEncoderStatus,
+        (Some(Act::Error(_)), Action::Exchange { request, .. }) => {
+            request.request.command() != CommandId::ReadEncoderStatus
+        }
         _ => true,
     }
 }
@@ -238,7 +219,7 @@ impl Joint {
 
     /// Let the encoder act on everything due up to `t_us` (its frames' timeouts and the
     /// power-up windows), and the observer see the time.
-    fn advance(&mut self, t_us: u64, act: Act, seen: &mut Seen) {
+    fn advance(&mut self, t_us: u64, act: Option<Act>, seen: &mut Seen) {
         while let Some(d) = self.slave.next_deadline(self.line.now_us).filter(|d| *d <= t_us) {
             if let Some(step) = self.slave.poll(d) {
                 self.encoder_step(step, d, act, seen);
@@ -257,7 +238,7 @@ impl Joint {
     /// moved on to it (or to `until_us` when none comes). A character that came while
     /// the master was not reading (a wait) is read at once, stamped when it is read, as
     /// a real line gives it (conformance/src/line/clock.rs, `read_until`).
-    fn recv(&mut self, until_us: u64, act: Act, seen: &mut Seen) -> Option<(u8, u64)> {
+    fn recv(&mut self, until_us: u64, act: Option<Act>, seen: &mut Seen) -> Option<(u8, u64)> {
         loop {
             let now = self.line.now_us;
             if let Some((byte, at)) = self.line.inbound.front().copied().filter(|c| c.1 <= until_us.max(now)) {
@@ -281,43 +262,31 @@ impl Joint {
     /// The encoder processed a frame at `now_us`: the act on its reply, the reply on
     /// the line, the observer told (suite/src/master/encoder.rs, `frame`, `reply`,
     /// `sent`).
-    fn encoder_step(&mut self, step: Step, now_us: u64, act: Act, seen: &mut Seen) {
+    fn encoder_step(&mut self, step: Step, now_us: u64, act: Option<Act>, seen: &mut Seen) {
         let bytes = step.received.bytes.as_bytes();
         let answered = RequestFrame::decode(bytes).ok().map(|r| r.request.command());
-        if let (Act::PositionFault(f), Some(_)) = (act, answered) {
+        if let (Some(f), Some(_)) = (act.and_then(Act::position_fault), answered) {
             if !seen.applied {
                 self.slave.inject_position_fault(f, true);
                 seen.applied = true;
             }
         }
         let Some(tx) = step.transmission else { return };
-        let mut frame = tx.frame.as_bytes().to_vec();
-        let mut start = tx.earliest_start_us + REPLY_DELAY_US;
-        let mut gap = None;
-        if !seen.applied {
-            seen.applied = !matches!(act, Act::Answer | Act::PositionFault(_));
-            match act {
-                Act::Answer | Act::PositionFault(_) => {}
-                Act::Error(code) => {
-                    let address = bytes.first().copied().unwrap_or(0x40);
-                    frame = vec![address, 0x50, code.byte()];
-                    frame.push(checksum::xor(&frame));
-                }
-                Act::Silence => return,
-                Act::Restart => {
+        let mut reply = ActedReply { frame: tx.frame, start_us: tx.earliest_start_us + REPLY_DELAY_US, gap: None };
+        if let Some(act) = act.filter(|a| !seen.applied && a.position_fault().is_none()) {
+            seen.applied = true;
+            let address = bytes.first().copied().unwrap_or(0x40);
+            match act.apply(address, &mut reply) {
+                Acted::Sent => {}
+                Acted::Silent => return,
+                Acted::Restart => {
                     // The master cannot know: the observer is not told of this power-on.
                     self.slave.power_cycle(step.received.complete_us);
                     return;
                 }
-                Act::LateMs(ms) => start += ms as u64 * 1000,
-                Act::CorruptChecksum => {
-                    if let Some(last) = frame.last_mut() {
-                        *last ^= 0x5A;
-                    }
-                }
-                Act::Gap { before, us } => gap = Some((before, us)),
             }
         }
+        let (frame, start, gap) = (reply.frame.as_bytes().to_vec(), reply.start_us, reply.gap);
         if tx.settings != MASTER {
             seen.unmodelled = Some(format!("a reply at {:?}, the master listens at {MASTER:?}", tx.settings));
         }
@@ -345,7 +314,7 @@ impl Joint {
 
     /// The master sends `bytes` from `start_us`: each character to the observer and to
     /// the encoder, at the end of its stop bit. The end of the last one.
-    fn send(&mut self, bytes: &[u8], start_us: u64, act: Act, seen: &mut Seen) -> u64 {
+    fn send(&mut self, bytes: &[u8], start_us: u64, act: Option<Act>, seen: &mut Seen) -> u64 {
         let ct = MASTER.char_time_us();
         let mut last = start_us;
         for (i, &byte) in bytes.iter().enumerate() {
@@ -376,7 +345,7 @@ impl Joint {
 
     /// One exchange as `BusMaster::exchange` does it (suite/src/exchange.rs), the
     /// encoder doing `act` to its reply: the reply's bytes and the request's end.
-    fn exchange(&mut self, request: &[u8], listen_ms: u16, act: Act, seen: &mut Seen) -> (Vec<u8>, u64) {
+    fn exchange(&mut self, request: &[u8], listen_ms: u16, act: Option<Act>, seen: &mut Seen) -> (Vec<u8>, u64) {
         const MAX_FRAME: u64 = hiperface_model::frame::MAX_FRAME as u64;
         let timeout = self.timeout_us();
         let ct = MASTER.char_time_us();
@@ -430,7 +399,7 @@ impl Joint {
 
     /// Do the master's action, the encoder doing `act` to the reply; the master's next
     /// action. `Err`: the master panicked.
-    fn step(&mut self, master_step: MasterStep, act: Act, seen: &mut Seen) -> Result<(), String> {
+    fn step(&mut self, master_step: MasterStep, act: Option<Act>, seen: &mut Seen) -> Result<(), String> {
         let done_action = self.action;
         let (reply, request_end) = match done_action {
             Action::Stop => return Ok(()),
@@ -545,7 +514,7 @@ pub struct Report {
     pub depth: usize,
     pub fixpoint: bool,
     /// Transitions in which each act of [`acts`] changed what the encoder did.
-    pub acts_applied: Vec<(Act, u64)>,
+    pub acts_applied: Vec<(Option<Act>, u64)>,
     /// Each kind of the master's events ([`EVENT_KINDS`]), how often.
     pub events: [u64; EVENT_KINDS.len()],
     /// Stages the master was in where it decided.
@@ -590,7 +559,8 @@ impl core::fmt::Display for TraceStep {
         let ms = self.at_us as f64 / 1000.0;
         match self.action {
             Action::Exchange { request, .. } => {
-                write!(f, "{ms:>9.3} ms  {:?} {:?}", request.request.command(), self.act.unwrap_or(Act::Answer))?
+                let act = self.act.map_or("Answer".into(), |a| format!("{a:?}"));
+                write!(f, "{ms:>9.3} ms  {:?} {act}", request.request.command())?
             }
             Action::WaitUntil(t) => write!(f, "{ms:>9.3} ms  wait until {:.3} ms", t as f64 / 1000.0)?,
             Action::Stop => write!(f, "{ms:>9.3} ms  stop")?,
@@ -672,7 +642,7 @@ pub fn search(profile: Profile, master_step: MasterStep, max_states: usize) -> R
         if !report.stages.contains(&stage) {
             report.stages.push(stage);
         }
-        let choices: &[Act] = match state.action {
+        let choices: &[Option<Act>] = match state.action {
             Action::Exchange { .. } => &acts,
             Action::WaitUntil(_) => &acts[..1],
             // With no duration the master never stops: a stop is a hang.
@@ -739,7 +709,7 @@ pub fn search(profile: Profile, master_step: MasterStep, max_states: usize) -> R
 /// concrete time (nothing canonical): the world's name and the steps.
 fn replay(
     worlds: &[World],
-    acts: &[Act],
+    acts: &[Option<Act>],
     master_step: MasterStep,
     parents: &[(u32, u16)],
     id: u32,
@@ -758,13 +728,13 @@ fn replay(
     }
     path.reverse();
     let Some(w) = worlds.get(world as usize) else { return ("?", Vec::new()) };
-    let path = path.into_iter().map(|a| acts.get(a as usize).copied().unwrap_or(Act::Answer));
+    let path = path.into_iter().map(|a| acts.get(a as usize).copied().flatten());
     (w.name, play(w, master_step, path))
 }
 
 /// The master's steps from power-on in `world`, the encoder doing the `acts` in turn
 /// (one per step; a wait takes one too), in concrete time.
-pub fn play(w: &World, master_step: MasterStep, acts: impl IntoIterator<Item = Act>) -> Vec<TraceStep> {
+pub fn play(w: &World, master_step: MasterStep, acts: impl IntoIterator<Item = Option<Act>>) -> Vec<TraceStep> {
     let mut state = Joint::power_on(w);
     let mut trace = Vec::new();
     for act in acts {
@@ -773,7 +743,7 @@ pub fn play(w: &World, master_step: MasterStep, acts: impl IntoIterator<Item = A
         let _ = state.step(master_step, act, &mut seen);
         let exchange = matches!(action, Action::Exchange { .. });
         let observations = seen.observations.iter().filter(|o| is_must(o, w.encoder.edition)).copied().collect();
-        trace.push(TraceStep { at_us, action, act: exchange.then_some(act), events: seen.events, observations });
+        trace.push(TraceStep { at_us, action, act: act.filter(|_| exchange), events: seen.events, observations });
     }
     trace
 }

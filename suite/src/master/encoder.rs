@@ -5,14 +5,15 @@
 //! Past 400 lines for a reason: the serving hooks and the observer they feed are one
 //! loop, read together; its tests are kept beside it.
 
-use super::scenarios::{Act, Injection, Scenario, Situation};
+use super::scenarios::{Injection, Scenario, Situation};
 use crate::line::reply_echo::ReplyEcho;
 use crate::serve::{Hooks, Planned};
 use crate::verdict::WireEntry;
 use hiperface_model::datalink::{RxChar, UartFault};
 use hiperface_model::master::obligations::{Observation, Observer, Rule};
 use hiperface_model::response::ResponseFrame;
-use hiperface_model::{checksum, CommandId, Hex, Profile, RequestFrame, Slave, Step, UartSettings};
+use hiperface_model::slave::act::{Acted, ActedReply};
+use hiperface_model::{CommandId, Frame, Hex, Profile, RequestFrame, Slave, Step, UartSettings};
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
@@ -465,9 +466,9 @@ impl Hooks for DriveEncoder {
         };
         // Position faults of the plan switch on at their request, before the reply.
         for inj in self.plan {
-            if let (Act::PositionFault(f), true) = (inj.act, inj.on == command && inj.nth == n) {
+            if let (Some(f), true) = (inj.act.position_fault(), inj.on == command && inj.nth == n) {
                 slave.inject_position_fault(f, true);
-                self.injected(step.received.last_us, format!("injected: {f:?} from now on"));
+                self.injected(step.received.last_us, format!("injected: {}", inj.act));
             }
         }
     }
@@ -481,43 +482,31 @@ impl Hooks for DriveEncoder {
         let command = self.answered;
         let n = command.and_then(|c| self.timeline.requests.get(&c.byte()).copied()).unwrap_or(0);
         for inj in self.plan {
-            if Some(inj.on) != command || inj.nth != n {
+            if Some(inj.on) != command || inj.nth != n || inj.act.position_fault().is_some() {
                 continue;
             }
-            let what = match inj.act {
-                Act::PositionFault(_) => continue,
-                Act::Error(code) => {
-                    let address = bytes.first().copied().unwrap_or(0x40);
-                    let mut f = vec![address, 0x50, code.byte()];
-                    f.push(checksum::xor(&f));
-                    planned.frame = f;
-                    format!("injected: error reply {code}")
+            let address = bytes.first().copied().unwrap_or(0x40);
+            let Ok(frame) = Frame::from_bytes(&planned.frame) else { continue };
+            let mut reply = ActedReply { frame, start_us: planned.start_us, gap: planned.gap };
+            let acted = inj.act.apply(address, &mut reply);
+            let what = format!("injected: {}", inj.act);
+            match acted {
+                Acted::Sent => {
+                    planned.frame = reply.frame.as_bytes().to_vec();
+                    planned.start_us = reply.start_us;
+                    planned.gap = reply.gap;
                 }
-                Act::Silence => {
-                    self.injected(planned.start_us, "injected: no reply".into());
+                Acted::Silent => {
+                    self.injected(planned.start_us, what);
                     return None;
                 }
-                Act::Restart => {
+                Acted::Restart => {
                     // The master cannot know: the observer is not told of this power-on.
                     slave.power_cycle(step.received.complete_us);
-                    self.injected(step.received.complete_us, "injected: the encoder restarts".into());
+                    self.injected(step.received.complete_us, what);
                     return None;
                 }
-                Act::LateMs(ms) => {
-                    planned.start_us += ms as u64 * 1000;
-                    format!("injected: reply {ms} ms late")
-                }
-                Act::CorruptChecksum => {
-                    if let Some(last) = planned.frame.last_mut() {
-                        *last ^= 0x5A;
-                    }
-                    "injected: reply with a wrong checksum".into()
-                }
-                Act::Gap { before, us } => {
-                    planned.gap = Some((before, us));
-                    format!("injected: a gap of {us} µs inside the reply")
-                }
-            };
+            }
             self.injected(planned.start_us, what);
         }
         // A request read late (the harness was not scheduled) is answered late by as

@@ -7,27 +7,11 @@ use hiperface_model::clause::{self, Clause};
 use hiperface_model::master::obligations::Rule;
 use hiperface_model::request::Request;
 use hiperface_model::request::RequestFrame;
-use hiperface_model::slave::inputs::PositionFault;
-use hiperface_model::{CommandId, FaultCode, Profile};
+use hiperface_model::{CommandId, Profile};
 
-/// What the encoder does to one request.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Act {
-    /// Answer with this error code instead.
-    Error(FaultCode),
-    /// No reply at all.
-    Silence,
-    /// Start the reply this much after its earliest start (past the limit of 000:T10).
-    LateMs(u16),
-    /// A reply whose checksum is wrong.
-    CorruptChecksum,
-    /// A pause inside the reply before character `before`.
-    Gap { before: usize, us: u64 },
-    /// From this request on the encoder has this position fault.
-    PositionFault(PositionFault),
-    /// The encoder restarts (a brown-out): no reply, initialization, default settings.
-    Restart,
-}
+/// What the encoder does to one request: the model's definition, shared with the
+/// search of the reference master to a fixpoint (proofs/src/master_fixpoint.rs).
+pub use hiperface_model::slave::act::Act;
 
 /// The `nth` request (1, 2, ...) of command `on` gets `act`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
