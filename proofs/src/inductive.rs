@@ -162,11 +162,20 @@ pub const MAX_FAMILY_FRAME: usize = 3 + 8;
 pub fn request_of(frame: &[u8; MAX_FAMILY_FRAME], command: u8, data: usize) -> [u8; MAX_FAMILY_FRAME] {
     let mut f = *frame;
     f[1] = command;
-    // Store Data's count byte says how many data bytes follow its 4 header bytes.
-    if command == 0x4B && data >= 4 {
-        f[4] = (data - 4) as u8;
+    if let Some(request) = f.get_mut(..3 + data) {
+        count_store_data(request);
     }
     f
+}
+
+/// A Store Data request of `frame.len()` bytes made to say so: its count byte (the
+/// fifth) is the number of data bytes after its 4 header bytes (000:T22); other
+/// requests are left as they are.
+pub fn count_store_data(frame: &mut [u8]) {
+    let data = frame.len().saturating_sub(7);
+    if let [_, 0x4B, _, _, count, _, _, ..] = frame {
+        *count = data as u8;
+    }
 }
 
 /// One step from `state`: no panic, the invariant afterwards, the frame rules.

@@ -354,6 +354,7 @@ mod harnesses {
         if let Some(c) = frame.get_mut(1) {
             *c = command;
         }
+        crate::inductive::count_store_data(&mut frame);
         assert!(crate::inductive::step_keeps_invariant(&state, &frame, kani::any(), kani::any()));
     }
 
@@ -379,6 +380,158 @@ mod harnesses {
     #[kani::solver(cadical)]
     fn inductive_reset_counter() {
         inductive_command::<4>(0x49);
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Read Position (42h) at any time, with and without a UART fault.
+    #[kani::proof]
+    #[kani::unwind(24)]
+    #[kani::solver(cadical)]
+    fn inductive_read_position() {
+        inductive_command::<3>(0x42);
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Set Position (43h) at any time, with and without a UART fault.
+    #[kani::proof]
+    #[kani::unwind(24)]
+    #[kani::solver(cadical)]
+    fn inductive_set_position() {
+        inductive_command::<8>(0x43);
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Read Analog Value (44h) at any time, with and without a UART fault.
+    #[kani::proof]
+    #[kani::unwind(24)]
+    #[kani::solver(cadical)]
+    fn inductive_read_analog_value() {
+        inductive_command::<4>(0x44);
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Read Data (4Ah) at any time, with and without a UART fault.
+    #[kani::proof]
+    #[kani::unwind(24)]
+    #[kani::solver(cadical)]
+    fn inductive_read_data() {
+        inductive_command::<7>(0x4A);
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Store Data (4Bh) with 1 data byte at any time, with and without a UART fault.
+    #[kani::proof]
+    #[kani::unwind(24)]
+    #[kani::solver(cadical)]
+    fn inductive_store_data_one_byte() {
+        inductive_command::<8>(0x4B);
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Data Field Status (4Ch) at any time, with and without a UART fault.
+    #[kani::proof]
+    #[kani::unwind(24)]
+    #[kani::solver(cadical)]
+    fn inductive_data_field_status() {
+        inductive_command::<4>(0x4C);
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Create Data Field (4Dh) at any time, with and without a UART fault.
+    #[kani::proof]
+    #[kani::unwind(24)]
+    #[kani::solver(cadical)]
+    fn inductive_create_data_field() {
+        inductive_command::<6>(0x4D);
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Memory Status (4Eh) at any time, with and without a UART fault.
+    #[kani::proof]
+    #[kani::unwind(24)]
+    #[kani::solver(cadical)]
+    fn inductive_memory_status() {
+        inductive_command::<3>(0x4E);
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Set Access Code (4Fh) at any time, with and without a UART fault.
+    #[kani::proof]
+    #[kani::unwind(24)]
+    #[kani::solver(cadical)]
+    fn inductive_set_access_code() {
+        inductive_command::<6>(0x4F);
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Read Encoder Status (50h) at any time, with and without a UART fault.
+    #[kani::proof]
+    #[kani::unwind(24)]
+    #[kani::solver(cadical)]
+    fn inductive_read_encoder_status() {
+        inductive_command::<3>(0x50);
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Read Type Label (52h) at any time, with and without a UART fault.
+    #[kani::proof]
+    #[kani::unwind(24)]
+    #[kani::solver(cadical)]
+    fn inductive_read_type_label() {
+        inductive_command::<3>(0x52);
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Encoder Reset (53h) at any time, with and without a UART fault.
+    #[kani::proof]
+    #[kani::unwind(24)]
+    #[kani::solver(cadical)]
+    fn inductive_encoder_reset() {
+        inductive_command::<3>(0x53);
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Set Encoder Address (55h) at any time, with and without a UART fault.
+    #[kani::proof]
+    #[kani::unwind(24)]
+    #[kani::solver(cadical)]
+    fn inductive_set_encoder_address() {
+        inductive_command::<5>(0x55);
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Read Version (56h) at any time, with and without a UART fault.
+    #[kani::proof]
+    #[kani::unwind(24)]
+    #[kani::solver(cadical)]
+    fn inductive_read_version() {
+        inductive_command::<3>(0x56);
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Set Serial Interface (57h) at any time, with and without a UART fault.
+    #[kani::proof]
+    #[kani::unwind(24)]
+    #[kani::solver(cadical)]
+    fn inductive_set_serial_interface() {
+        inductive_command::<5>(0x57);
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Temporarily Set Serial Interface (67h) at any time, with and without a UART fault.
+    #[kani::proof]
+    #[kani::unwind(24)]
+    #[kani::solver(cadical)]
+    fn inductive_temporarily_set_serial_interface() {
+        inductive_command::<4>(0x67);
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Set Position with Synchronization (6Ah) at any time, with and without a UART fault.
+    #[kani::proof]
+    #[kani::unwind(24)]
+    #[kani::solver(cadical)]
+    fn inductive_set_position_with_sync() {
+        inductive_command::<8>(0x6A);
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Sensor Adjustment (6Bh) at any time, with and without a UART fault.
+    #[kani::proof]
+    #[kani::unwind(24)]
+    #[kani::solver(cadical)]
+    fn inductive_sensor_adjustment() {
+        inductive_command::<5>(0x6B);
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Read Synchronization Offset (6Ch) at any time, with and without a UART fault.
+    #[kani::proof]
+    #[kani::unwind(24)]
+    #[kani::solver(cadical)]
+    fn inductive_read_sync_offset() {
+        inductive_command::<3>(0x6C);
     }
 
     /// Domain: the commands without data 42h, 46h, 47h to 40h with any checksum byte, on a factory-state SEK37.
@@ -407,6 +560,9 @@ mod harnesses {
 mod tests {
     use super::*;
 
+    /// The Kani harnesses in this file (`scripts/kani.sh` runs each).
+    const HARNESSES: usize = 41;
+
     /// Every Kani harness has its `cargo test` twin in the registry, and every twin
     /// names a harness that exists: the two lists are one.
     #[test]
@@ -419,7 +575,7 @@ mod tests {
         let mut twins: Vec<&str> = properties::PROPERTIES.iter().filter_map(|p| p.harness).collect();
         harnesses.sort_unstable();
         twins.sort_unstable();
-        assert_eq!(harnesses.len(), 22, "{harnesses:?}");
+        assert_eq!(harnesses.len(), HARNESSES, "{harnesses:?}");
         assert_eq!(harnesses, twins);
     }
 
@@ -453,7 +609,7 @@ mod tests {
             assert_eq!(domain, twin.domain, "{name}");
             checked += 1;
         }
-        assert_eq!(checked, 22);
+        assert_eq!(checked, HARNESSES);
     }
 
     #[test]
