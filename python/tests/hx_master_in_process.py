@@ -39,6 +39,7 @@ class VirtualLine:
         # A pseudo-terminal nobody set stays at 38400 Bd (HX-M's no-baud defect).
         self.bps = baud if baud is not None else 38400
         self.idle_since = 0.0
+        self.last_char = 0.0
         self.reply_end_s = hx.TIMEOUT_S + 0.002
 
     def set_baud(self, baud: int) -> None:
@@ -84,6 +85,8 @@ class VirtualLine:
             until = deadline if last is None else last + self.reply_end_s
             self.runner.block(math.floor(until * 1e6) + 1)
         self.idle_since = self.now()
+        # When the last character was read (the reply's end as the master knew it).
+        self.last_char = last if last is not None else self.idle_since
         return bytes(got)
 
 

@@ -60,7 +60,7 @@ DEFECTS = {
     "sparse-poll": "polls once every 1.5 s: faults go unseen for that long",
     "late-default": "waits out the default window, then talks at 9600 Bd whatever the encoder stores",
     "receive-idle": "ends a reply after two character times of silence (a UART receive-idle interrupt) "
-                    "and sends its next request 6 ms later",
+                    "and sends its next request 7.5 ms after the last character it read",
 }
 
 BAUD = {600: termios.B600, 1200: termios.B1200, 2400: termios.B2400, 4800: termios.B4800,
@@ -94,6 +94,7 @@ class Line:
         os.set_blocking(self.fd, False)
         self.t0 = T0
         self.idle_since = 0.0
+        self.last_char = 0.0
 
     def set_baud(self, baud):
         """8 data bits, even parity, one stop bit at `baud` (Table 4)."""
@@ -155,6 +156,8 @@ class Line:
                 break
             time.sleep(0.0005)
         self.idle_since = self.now()
+        # When the last character was read (the reply's end as the master knew it).
+        self.last_char = last if last is not None else self.idle_since
         return bytes(got)
 
 
@@ -174,10 +177,17 @@ class Master:
         # 2.2.2: a pause of at least the timeout after the last transmission. A reply
         # that came after it was given up is no answer to this request: discard it, and
         # pause after it too.
-        pause_s = 0.006 if self.defect == "receive-idle" else TIMEOUT_S + 0.001
+        # receive-idle: the pause counted from the last character read, the timeout
+        # and a character (a pseudo-terminal delivers a character when it is written,
+        # a character time before a UART would). Not from when it ended the reply: its
+        # request then meets the rest of a reply with a pause inside by 4 ms, not by
+        # 1.4 ms, which its own scheduling on a busy machine could take away.
         while True:
-            self.line.sleep_until(self.line.idle_since + pause_s)
-            if self.defect == "receive-idle" or not self.line.discard_input():
+            if self.defect == "receive-idle":
+                self.line.sleep_until(self.line.last_char + TIMEOUT_S + CHAR_S + 0.0006)
+                break
+            self.line.sleep_until(self.line.idle_since + TIMEOUT_S + 0.001)
+            if not self.line.discard_input():
                 break
             self.line.idle_since = self.line.now()
         if self.defect == "gap-in-request" and body[1] == 0x42:
@@ -185,7 +195,7 @@ class Master:
         else:
             self.line.write(frame)
         if body[1] == 0x53:
-            self.line.idle_since = self.line.now()
+            self.line.idle_since = self.line.last_char = self.line.now()
             return None
         reply = self.line.read_reply(max_response_s)
         if len(reply) < 3 or xor(reply) != 0 or reply[0] != ADDRESS:

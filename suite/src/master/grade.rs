@@ -176,6 +176,20 @@ fn grade(
             _ => finding,
         });
     }
+    // A request the harness read after a reply's end but may have come before it (read
+    // late): the talk-over the observer did not see may have been there. Not a PASS on
+    // 000:2.2/cycle: UNKNOWN, and a reason to run the scenario again.
+    let seen_talk_over = timeline.observations.iter().any(|o| o.rule == Rule::TalksOverReply);
+    if let (false, Some((at_us, late))) = (seen_talk_over, timeline.hidden_talk_over()) {
+        let why = format!(
+            "the harness did not read the line for up to {:.1} ms before it (a busy machine): whether it began after \
+             the reply's end is not proven",
+            late as f64 / 1000.0
+        );
+        let message = format!("a request read after a reply's end at {:.3} ms", at_us as f64 / 1000.0);
+        result.push(Finding::broken(Rule::TalksOverReply.clause(), message, edition).untold(&why).at(at_us));
+        any_unproven.get_or_insert(why);
+    }
     // Why this run may not be the master's own: a reply disturbed in a way that could
     // have changed what the master did, or a rule that only a late read broke. An
     // unplanned pause under the timeout after which the master broke no rule changed
