@@ -56,9 +56,8 @@ pub struct Timeline {
     pub master_waited: Vec<(u64, u64)>,
     /// Requests seen per command.
     pub requests: BTreeMap<u8, u32>,
-    /// The master's well-formed requests as the encoder framed them: the end of the
-    /// last character (µs), and the request.
-    pub requests_log: Vec<(u64, RequestFrame)>,
+    /// The master's well-formed requests as the encoder framed them.
+    pub requests_log: Vec<LoggedRequest>,
     /// When the scenario's situation arose (µs), if it did.
     pub situation_us: Option<u64>,
     /// When the scenario ended, µs.
@@ -83,6 +82,24 @@ pub struct Timeline {
     /// The replies as the observer was told of them: when each began and ended, µs
     /// (a reply in two transmissions: its first).
     pub replies: Vec<(u64, u64)>,
+    /// The longest character time the encoder listened at, µs (0: none yet; the
+    /// default data rate is taken then): how far a request's characters may stretch.
+    pub slowest_char_us: u64,
+}
+
+/// One of the master's well-formed requests as the encoder framed it, on the time axis
+/// of its settings when it was received (a user data rate, 000:T28, makes its
+/// characters shorter or longer than the default's).
+#[derive(Debug, Clone, Copy)]
+pub struct LoggedRequest {
+    /// When its first character began, µs: the end of its stop bit less a character
+    /// time at the settings it was received at (what the observer takes, too).
+    pub begin_us: u64,
+    /// The end of its last character, µs.
+    pub end_us: u64,
+    /// A character time at the settings it was received at, µs.
+    pub char_us: u64,
+    pub request: RequestFrame,
 }
 
 impl Timeline {
@@ -123,15 +140,17 @@ impl Timeline {
     /// of the first such request; `None` when every request was read soon enough to
     /// tell (000:2.2/cycle: the observer sees a talk-over only where the stamps show it).
     pub fn hidden_talk_over(&self) -> Option<(u64, u64)> {
-        let ct = UartSettings::DEFAULT.char_time_us();
-        self.requests_log.iter().find_map(|(end_us, request)| {
-            let len = request.encode().len() as u64;
-            let begin_us = end_us.saturating_sub(len * ct);
-            let (_, reply_end) = self.replies.iter().rev().find(|(start, _)| *start < begin_us)?;
-            let after = begin_us.checked_sub(*reply_end)?;
-            let late = self.late_in(begin_us + ct, *end_us);
-            (late > after).then_some((begin_us, late))
+        self.requests_log.iter().find_map(|r| {
+            let (_, reply_end) = self.replies.iter().rev().find(|(start, _)| *start < r.begin_us)?;
+            let after = r.begin_us.checked_sub(*reply_end)?;
+            let late = self.late_in(r.begin_us + r.char_us, r.end_us);
+            (late > after).then_some((r.begin_us, late))
         })
+    }
+
+    /// A character time long enough for any settings the encoder listened at, µs.
+    fn longest_char_us(&self) -> u64 {
+        self.slowest_char_us.max(UartSettings::DEFAULT.char_time_us())
     }
 
     /// The longest time unwatched before any character stamped in `from_us..=to_us`.
@@ -145,7 +164,9 @@ impl Timeline {
     /// the margin by which the rule was broken. `None` when the observation stands;
     /// otherwise how long the line had gone unwatched, µs.
     pub fn unproven(&self, o: &Observation, timeout_us: u64, profile: &Profile) -> Option<u64> {
-        let ct = UartSettings::DEFAULT.char_time_us();
+        // Where a user data rate is slower than the default, its characters stretch
+        // further: the windows are taken at the slowest.
+        let ct = self.longest_char_us();
         // The longest request: where its characters may be stamped after `at_us`.
         let frame = 24 * ct;
         let start = o.at_us;
@@ -419,7 +440,9 @@ impl Hooks for DriveEncoder {
             }
             self.listening = listening;
         }
-        let start_us = ch.at_us.saturating_sub(listening.unwrap_or_default().char_time_us());
+        let char_us = listening.unwrap_or_default().char_time_us();
+        self.timeline.slowest_char_us = self.timeline.slowest_char_us.max(char_us);
+        let start_us = ch.at_us.saturating_sub(char_us);
         self.flush_heard(start_us);
         if self.heard.is_empty() {
             self.frame_begins(start_us);
@@ -476,7 +499,10 @@ impl Hooks for DriveEncoder {
         let Some(request) = decoded else { return };
         let command = request.request.command();
         let at = step.received.last_us;
-        self.timeline.requests_log.push((at, request));
+        // The settings its characters were received at (`received` keeps them).
+        let char_us = self.listening.unwrap_or_default().char_time_us();
+        let begin_us = step.received.first_us.saturating_sub(char_us);
+        self.timeline.requests_log.push(LoggedRequest { begin_us, end_us: at, char_us, request });
         self.arises(Situation::Talked, at);
         if at >= self.profile.user_settings_ms as u64 * 1000 {
             self.arises(Situation::TalkedAfterWindows, at);
@@ -674,6 +700,17 @@ mod tests {
         assert_eq!(t.unproven(&gap, timeout, &p), Some(4_000));
         // Rules about order, not time, always stand.
         assert_eq!(t.unproven(&observation(Rule::StatusNotRead, 200_000, 0), timeout, &p), None);
+        // A talk-over by 1 ms, a character of the request read 30 default character
+        // times after it began, after 5 ms unwatched: past the longest request at the
+        // default rate, so it stands; where the encoder listened at 600 Bd (000:T28) a
+        // request stretches 16 times as far, and the late read may be its own.
+        let talk = observation(Rule::TalksOverReply, 300_000, 1_000);
+        let mut t = Timeline::default();
+        t.late_chars.push((300_000 + 30 * ct, 5_000));
+        assert_eq!(t.unproven(&talk, timeout, &p), None);
+        let baud = hiperface_model::settings::Baud::B600;
+        t.slowest_char_us = UartSettings { baud, ..UartSettings::DEFAULT }.char_time_us();
+        assert_eq!(t.unproven(&talk, timeout, &p), Some(5_000));
     }
 
     /// Seen under load (CI, 2026-11-26): a master that talked 1.4 ms before a reply's end
@@ -684,11 +721,18 @@ mod tests {
     fn a_request_read_late_after_a_reply_may_hide_a_talk_over() {
         let ct = UartSettings::DEFAULT.char_time_us();
         let position = RequestFrame::decode(&[0x40, 0x42, 0x02]).unwrap();
+        let logged = |begin_us: u64, char_us: u64| LoggedRequest {
+            begin_us,
+            end_us: begin_us + 3 * char_us,
+            char_us,
+            request: position,
+        };
         let mut t = Timeline::default();
         t.replies.push((100_000, 108_000));
         // Read 3 ms after the reply's end (its first character then began 3 ms after).
-        let end = 108_000 + 3_000 + 3 * ct;
-        t.requests_log.push((end, position));
+        let read = logged(108_000 + 3_000, ct);
+        let end = read.end_us;
+        t.requests_log.push(read);
         assert_eq!(t.hidden_talk_over(), None, "read attentively: it came after the reply");
         // Its characters read after 2 ms unwatched: at most 2 ms earlier, still after.
         t.late_chars.push((end - ct, 2_000));
@@ -699,20 +743,34 @@ mod tests {
         // Unwatched before an earlier character of another request: not this one's.
         let mut t = Timeline::default();
         t.replies.push((100_000, 108_000));
-        t.requests_log.push((end, position));
+        t.requests_log.push(read);
         t.late_chars.push((90_000, 50_000));
         assert_eq!(t.hidden_talk_over(), None);
         // A request seen beginning inside the reply is the observer's (TalksOverReply).
         let mut t = Timeline::default();
         t.replies.push((100_000, 108_000));
-        t.requests_log.push((107_000 + 3 * ct, position));
+        t.requests_log.push(logged(107_000, ct));
         t.late_chars.push((107_000 + 3 * ct, 50_000));
         assert_eq!(t.hidden_talk_over(), None);
         // Before any reply: nothing to talk over.
         let mut t = Timeline::default();
-        t.requests_log.push((end, position));
+        t.requests_log.push(read);
         t.late_chars.push((end, 50_000));
         assert_eq!(t.hidden_talk_over(), None);
+        // At a user data rate (38400 Bd, 000:T28) its characters are a quarter of the
+        // default's: a request begun 2 ms after the reply's end, read after 5 ms
+        // unwatched, is taken from where it began at that rate, not three default
+        // characters before its end (which would put it inside the reply, 1.4 ms too
+        // early, and skip it).
+        let baud = hiperface_model::settings::Baud::B38400;
+        let fast = UartSettings { baud, ..UartSettings::DEFAULT }.char_time_us();
+        assert!(fast * 4 <= ct + 4, "{fast} µs a character at 38400 Bd");
+        let quick = logged(108_000 + 2_000, fast);
+        let mut t = Timeline::default();
+        t.replies.push((100_000, 108_000));
+        t.requests_log.push(quick);
+        t.late_chars.push((quick.end_us, 5_000));
+        assert_eq!(t.hidden_talk_over(), Some((110_000, 5_000)));
     }
 
     /// Seen under load: a Read Position read 36 ms late was answered 36 ms late; the

@@ -50,7 +50,7 @@ fn exercised(result: &mut CaseResult, timeline: &Timeline, scenario: &Scenario, 
     };
     let reaction = scenario.reaction;
     let on = scenario.plan.first().map(|p| p.on);
-    let seen = timeline.requests_log.iter().any(|(t, r)| *t > at_us && reaction.seen_in(r, on));
+    let seen = timeline.requests_log.iter().any(|r| r.end_us > at_us && reaction.seen_in(&r.request, on));
     let judged = timeline.observations.iter().any(|o| reaction.judged_by().contains(&o.rule));
     if !seen && !judged {
         let message = format!(
