@@ -604,6 +604,15 @@ mod tests {
         assert!(r.to_string().contains("fixpoint reached"), "{r}");
         // The counter's five classes were all reached: its top takes 16 777 215 events.
         assert!(r.depth > 8 && r.states > 10_000, "{r}");
+        // The book's table says what this search finds (docs/src/verification.md).
+        let edition = if profile.edition == hiperface_model::Edition::Legacy { "legacy" } else { "current" };
+        let row = format!("{edition} ({})", profile.name);
+        let documented = crate::documented::figures("Model checking to a fixpoint", &row).unwrap();
+        let found = [r.states as u64, r.transitions, r.checked, r.depth as u64];
+        assert_eq!(
+            documented, found,
+            "the book's figures for {row} (states, transitions, checked, levels) against {r}"
+        );
     }
 
     /// Every counter class is reached in the abstract state space, and each class's

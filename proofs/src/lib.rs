@@ -4,6 +4,8 @@
 //! proptest). Also: explicit-state model checking of the slave (`model_check`) and
 //! the fuzz target bodies (`targets`), whose corpus a stable `cargo test` replays.
 
+#[cfg(test)]
+mod documented;
 pub mod fixpoint;
 pub mod inductive;
 pub mod invariant;

@@ -812,6 +812,7 @@ mod tests {
         let r = run(profiles::sek37(), reference_step).unwrap_or_else(|c| panic!("{c}"));
         assert!(r.fixpoint && r.to_string().contains("fixpoint reached"), "{r}");
         covers_every_act_and_reaction(&r);
+        documented(&r, "current (SEK37)");
     }
 
     /// The legacy edition (002).
@@ -820,6 +821,14 @@ mod tests {
         let r = run(profiles::legacy_srs(), reference_step).unwrap_or_else(|c| panic!("{c}"));
         assert!(r.fixpoint && r.to_string().contains("fixpoint reached"), "{r}");
         covers_every_act_and_reaction(&r);
+        documented(&r, "legacy (Legacy-SRS)");
+    }
+
+    /// The book's table says what this search finds (docs/src/verification.md).
+    fn documented(r: &Report, row: &str) {
+        let documented = crate::documented::figures("The reference master to a fixpoint", row).unwrap();
+        let found = [r.states as u64, r.transitions, r.depth as u64];
+        assert_eq!(documented, found, "the book's figures for {row} (states, transitions, levels) against {r}");
     }
 
     /// A master that talks at once after Encoder Reset is caught, with a short trace
