@@ -182,6 +182,15 @@ pub fn count_store_data(frame: &mut [u8]) {
 pub fn step_keeps_invariant(state: &Slave, frame: &[u8], now_us: u64, uart_fault: bool) -> bool {
     let mut after = state.clone();
     let outcome = after.handle(frame, uart_fault, now_us);
+    // `scripts/kani.sh --false-assertion`: a claim every command breaks (a frame with
+    // the own address and a wrong checksum is answered with an error, whose reply
+    // carries the warning bit, 000:2.3.4), so each whole-step harness must FAIL with
+    // it: the assertions after the step are reached and can fail.
+    #[cfg(false_assertion)]
+    assert!(
+        !matches!(outcome.reply, Reply::Frame(rf) if rf.warning),
+        "false assertion: no reply carries the warning bit"
+    );
     slave_invariant(&after).is_ok() && rules_hold(state, frame, now_us, &outcome, &after)
 }
 
