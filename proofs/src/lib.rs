@@ -277,37 +277,6 @@ mod harnesses {
         assert!(p::stack_invariants(&ops));
     }
 
-    /// Domain: Read Encoder Status to 40h with any checksum byte, on a factory-state SEK37.
-    /// Unwind 24: the longest loop is over the command table's 23 rows (+1), run when
-    /// the profile is built (`CommandSet::all_for`; 23 fails with an unwinding
-    /// assertion there). The data field table's loops run once per field in use (none
-    /// on a factory SEK37, and this command creates none), the stack's over its 4
-    /// slots, the checksum's over the frame's 2 bytes before the checksum.
-    #[kani::proof]
-    #[kani::unwind(24)]
-    fn slave_step() {
-        let s = hiperface_model::Slave::operational(hiperface_model::profiles::sek37());
-        let checksum: u8 = kani::any();
-        assert!(p::slave_step_is_total(&s, &[0x40, 0x50, checksum]));
-    }
-
-    /// Every command of `commands` (each a constant in its turn) to 40h with any
-    /// checksum byte, on a factory-state SEK37. Unwind 24: the loops over the command
-    /// table's 23 rows (+1), as the profile's own; a symbolic command byte would run
-    /// every command's code under conditions only the solver rules out (no verdict in
-    /// 600 s). The data field table's loops run once per field in use (none: no
-    /// command without data creates one). The commands without data are three
-    /// harnesses (`properties::NO_DATA_GROUPS`), not one: the nine in one harness took
-    /// 154 s on 2026-11-25 and had no verdict in 540 s on 2026-11-26 once the step
-    /// checked the whole invariant (`invariant::slave_invariant`).
-    fn no_data_steps(commands: &[u8]) {
-        let s = hiperface_model::Slave::operational(hiperface_model::profiles::sek37());
-        for &command in commands {
-            let checksum: u8 = kani::any();
-            assert!(p::slave_step_is_total(&s, &[0x40, command, checksum]));
-        }
-    }
-
     /// Domain: every error stack satisfying the invariant (any 4 codes, the first 0 to 4 pushed), then one push of any code, pop (either order) or clear.
     /// Unwind 5: the stack's loops run over its 4 slots (+1).
     #[kani::proof]
@@ -448,25 +417,70 @@ mod harnesses {
         inductive_command::<3>(0x6C);
     }
 
-    /// Domain: the commands without data 42h, 46h, 47h to 40h with any checksum byte, on a factory-state SEK37.
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Read Position (42h) at any time, with and without a UART fault.
     #[kani::proof]
     #[kani::unwind(24)]
-    fn slave_step_no_data() {
-        no_data_steps(p::NO_DATA_GROUPS[0]);
+    #[kani::solver(cadical)]
+    fn inductive_read_position() {
+        inductive_command::<3>(0x42);
     }
 
-    /// Domain: the commands without data 4Eh, 50h, 52h to 40h with any checksum byte, on a factory-state SEK37.
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Read Version (56h) at any time, with and without a UART fault.
+    // Unwind 41: its reply is 40 bytes (serial 9, firmware 20, date 8, 000:T31), and
+    // the checksum's fold visits each.
     #[kani::proof]
-    #[kani::unwind(24)]
-    fn slave_step_no_data_2() {
-        no_data_steps(p::NO_DATA_GROUPS[1]);
+    #[kani::unwind(41)]
+    #[kani::solver(cadical)]
+    fn inductive_read_version() {
+        inductive_command::<3>(0x56);
     }
 
-    /// Domain: the commands without data 53h, 56h, 6Ch to 40h with any checksum byte, on a factory-state SEK37.
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Set Serial Interface (57h) at any time, with and without a UART fault.
     #[kani::proof]
     #[kani::unwind(24)]
-    fn slave_step_no_data_3() {
-        no_data_steps(p::NO_DATA_GROUPS[2]);
+    #[kani::solver(cadical)]
+    fn inductive_set_serial_interface() {
+        inductive_command::<5>(0x57);
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Set Access Code (4Fh) at any time, with and without a UART fault.
+    #[kani::proof]
+    #[kani::unwind(24)]
+    #[kani::solver(cadical)]
+    fn inductive_set_access_code() {
+        inductive_command::<6>(0x4F);
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Set Position (43h) at any time, with and without a UART fault.
+    #[kani::proof]
+    #[kani::unwind(24)]
+    #[kani::solver(cadical)]
+    fn inductive_set_position() {
+        inductive_command::<8>(0x43);
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Read Analog Value (44h) at any time, with and without a UART fault.
+    #[kani::proof]
+    #[kani::unwind(24)]
+    #[kani::solver(cadical)]
+    fn inductive_read_analog_value() {
+        inductive_command::<4>(0x44);
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Set Encoder Address (55h) at any time, with and without a UART fault.
+    #[kani::proof]
+    #[kani::unwind(24)]
+    #[kani::solver(cadical)]
+    fn inductive_set_encoder_address() {
+        inductive_command::<5>(0x55);
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Data Field Status (4Ch) at any time, with and without a UART fault.
+    #[kani::proof]
+    #[kani::unwind(24)]
+    #[kani::solver(cadical)]
+    fn inductive_data_field_status() {
+        inductive_command::<4>(0x4C);
     }
 }
 
@@ -475,7 +489,7 @@ mod tests {
     use super::*;
 
     /// The Kani harnesses in this file (`scripts/kani.sh` runs each).
-    const HARNESSES: usize = 30;
+    const HARNESSES: usize = 34;
 
     /// Every Kani harness has its `cargo test` twin in the registry, and every twin
     /// names a harness that exists: the two lists are one.
