@@ -34,7 +34,7 @@ if [ "${1:-}" = --false-assertion ]; then
     shift
     [ $# -gt 0 ] || { echo "kani.sh --false-assertion: name the whole-step harnesses"; exit 2; }
     # Its own build directory: the codegen of the harnesses as they are stays.
-    export RUSTFLAGS="${RUSTFLAGS:-} --cfg false_assertion" CARGO_TARGET_DIR=target/kani-false
+    export RUSTFLAGS="${RUSTFLAGS:+$RUSTFLAGS }--cfg false_assertion" CARGO_TARGET_DIR=target/kani-false
 fi
 LIMIT=${LIMIT:-300}
 MEM_GB=${MEM_GB:-8}
