@@ -370,6 +370,9 @@ pub struct ResponseLimit {
     pub strict_ms: Option<u16>,
 }
 
+const DEFINED_CURRENT: CommandSet = CommandSet::defined_in(false);
+const DEFINED_LEGACY: CommandSet = CommandSet::defined_in(true);
+
 /// A set of command identifiers (40h...7Fh), e.g. the commands a profile supports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub struct CommandSet(u64);
@@ -377,20 +380,35 @@ pub struct CommandSet(u64);
 impl CommandSet {
     pub const EMPTY: CommandSet = CommandSet(0);
 
-    /// Every command the table defines for an edition.
-    pub fn all_for(legacy: bool) -> CommandSet {
-        let mut set = CommandSet::EMPTY;
-        for s in COMMAND_TABLE {
+    /// Every command the table defines for an edition: a constant, computed from the
+    /// table when compiling (a proof that builds a profile then has no loop over the
+    /// table to unroll; proofs/src/lib.rs).
+    pub const fn all_for(legacy: bool) -> CommandSet {
+        if legacy {
+            DEFINED_LEGACY
+        } else {
+            DEFINED_CURRENT
+        }
+    }
+
+    /// The commands of `COMMAND_TABLE` defined in an edition, at compile time.
+    const fn defined_in(legacy: bool) -> CommandSet {
+        let mut bits = 0u64;
+        let mut i = 0;
+        while i < COMMAND_TABLE.len() {
+            let s = &COMMAND_TABLE[i];
             let defined = match s.editions {
                 Editions::Both => true,
                 Editions::CurrentOnly => !legacy,
                 Editions::LegacyOnly => legacy,
             };
-            if defined {
-                set.insert(s.id);
+            let b = s.id.byte();
+            if defined && b >= 0x40 && b <= 0x7F {
+                bits |= 1u64 << (b - 0x40);
             }
+            i += 1;
         }
-        set
+        CommandSet(bits)
     }
 
     fn bit(id: CommandId) -> Option<u64> {
@@ -506,6 +524,19 @@ mod tests {
     fn command_sets_per_edition() {
         let current = CommandSet::all_for(false);
         let legacy = CommandSet::all_for(true);
+        // The constants are the table's rows of each edition, each row once.
+        for (set, legacy_edition) in [(current, false), (legacy, true)] {
+            let mut rows = CommandSet::EMPTY;
+            for s in COMMAND_TABLE.iter().filter(|s| match s.editions {
+                Editions::Both => true,
+                Editions::CurrentOnly => !legacy_edition,
+                Editions::LegacyOnly => legacy_edition,
+            }) {
+                rows.insert(s.id);
+            }
+            assert_eq!(set, rows);
+        }
+        assert_eq!((current.0.count_ones(), legacy.0.count_ones()), (22, 19));
         assert!(current.contains(CommandId::ReadSyncOffset) && !current.contains(CommandId::SetPositionInternalSync));
         assert!(
             legacy.contains(CommandId::SetPositionInternalSync)

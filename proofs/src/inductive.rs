@@ -13,8 +13,11 @@
 
 use crate::invariant::{fields_invariant, slave_invariant, stack_invariant};
 use hiperface_model::address::{AddressByte, SlaveAddress};
+use hiperface_model::frame::MAX_FIELD_BYTES;
 use hiperface_model::profile::StackOrder;
-use hiperface_model::slave::fields::{DataFields, FieldStatus, FieldTable};
+use hiperface_model::slave::fields::{
+    DataFields, FieldMemory, FieldStatus, FieldTable, BLOCK, ERASED, MAX_FIELD_BLOCKS, MAX_MEMORY,
+};
 use hiperface_model::slave::inputs::{PhysicalInputs, PositionFault};
 use hiperface_model::slave::powerup::PowerUp;
 use hiperface_model::slave::stack::{ErrorStack, STACK_DEPTH};
@@ -157,6 +160,31 @@ pub const LEGACY: &[(u8, usize)] = &[(0x63, 5), (0x47, 0), (0x57, 2)];
 /// The longest frame a family above sends: Store Data with 4 data bytes.
 pub const MAX_FAMILY_FRAME: usize = 3 + 8;
 
+/// Where a Read Data request holds its count byte (000:T21).
+pub const READ_DATA_COUNT: usize = 4;
+
+/// Whether a Read Data request is one the harness `inductive_read_data` takes: asking
+/// for 0 to 16 bytes or more than 128 (refused: no field is larger), so that the reply
+/// is at most 22 bytes. Longer replies need an unwind bound past 130, to which every
+/// loop over a count CBMC does not know is then unrolled (proofs/src/lib.rs).
+pub fn read_data_counted_short(frame: &[u8]) -> bool {
+    frame.get(READ_DATA_COUNT).is_some_and(|c| !(17..=128).contains(c))
+}
+
+/// A Read Data request made one of the harness's (count byte 17 to 128 taken to 0 to 16).
+pub fn read_data_short(frame: &mut [u8]) {
+    if let Some(c) = frame.get_mut(READ_DATA_COUNT).filter(|c| (17..=128).contains(*c)) {
+        *c %= 17;
+    }
+}
+
+/// A Read Data request made one the harness leaves out (count byte 17 to 128).
+pub fn read_data_long(frame: &mut [u8]) {
+    if let Some(c) = frame.get_mut(READ_DATA_COUNT) {
+        *c = 17 + *c % 112;
+    }
+}
+
 /// `frame` made a request of `command` with `data` data bytes: the command byte set,
 /// the rest as given (any address byte, data and checksum byte).
 pub fn request_of(frame: &[u8; MAX_FAMILY_FRAME], command: u8, data: usize) -> [u8; MAX_FAMILY_FRAME] {
@@ -192,6 +220,67 @@ pub fn step_keeps_invariant(state: &Slave, frame: &[u8], now_us: u64, uart_fault
         "false assertion: no reply carries the warning bit"
     );
     slave_invariant(&after).is_ok() && rules_hold(state, frame, now_us, &outcome, &after)
+}
+
+/// Whether `len` bytes from `start` all lie in the field memory: what
+/// [`FieldMemory::write`] answers. The whole-step harnesses of the data field commands
+/// take the field memory's operations as stubs (proofs/src/lib.rs;
+/// docs/src/verification.md, "The contents of the field memory"), which answer from
+/// this; [`field_memory_answers_as_stubbed`] proves the real ones answer the same.
+pub fn memory_holds(start: usize, len: usize) -> bool {
+    start.checked_add(len).is_some_and(|end| end <= MAX_MEMORY)
+}
+
+/// What [`FieldMemory::read`] answers on erased memory (as [`Parts`] build it) for up
+/// to [`MAX_FIELD_BYTES`] bytes, the most `DataFields::read` asks for: FFh for each
+/// byte that lies in the memory.
+pub fn erased_read_answer(start: usize, count: usize) -> Option<&'static [u8]> {
+    static ERASED_FIELD: [u8; MAX_FIELD_BYTES] = [ERASED; MAX_FIELD_BYTES];
+    if memory_holds(start, count) {
+        ERASED_FIELD.get(..count)
+    } else {
+        None
+    }
+}
+
+/// The field memory's operations on their own, what the stubs of the whole-step
+/// harnesses rely on. On erased memory, `read` of `count` bytes (at most
+/// [`MAX_FIELD_BYTES`]) at `start` answers [`erased_read_answer`], byte `probe` of it
+/// included. Then `write` of `data` at `start` answers [`memory_holds`] and does not
+/// panic; what it wrote reads back and is known, and byte `probe` outside it (all of
+/// them, if nothing was written) is still erased and unknown. Then `free` from `from`
+/// to `to` does not panic, and `probe`, if within the blocks it frees (from a block
+/// boundary, as the fields end on one), reads FFh and is unknown again. Nothing else of
+/// the slave can change: the operations take only `&mut FieldMemory`.
+pub fn field_memory_answers_as_stubbed(
+    start: usize,
+    count: usize,
+    data: &[u8],
+    from: usize,
+    to: usize,
+    probe: usize,
+) -> bool {
+    let mut memory = FieldMemory::erased();
+    // The read, compared in length and at one byte: for a symbolic `probe`, at every byte.
+    let (real, stub) = (memory.read(start, count), erased_read_answer(start, count));
+    let read_as_stub = count > MAX_FIELD_BYTES
+        || (real.map(<[u8]>::len) == stub.map(<[u8]>::len)
+            && real.and_then(|r| r.get(probe)) == stub.and_then(|s| s.get(probe)));
+    let written = memory.write(start, data);
+    let inside = |at: usize, len: usize| at <= probe && probe - at < len;
+    let free_byte = |m: &FieldMemory| m.read(probe, 1) == Some(&[ERASED][..]) && !m.is_known(probe);
+    let probe_in_memory = probe < MAX_MEMORY;
+    let untouched = (written && inside(start, data.len())) || !probe_in_memory || free_byte(&memory);
+    let read_back =
+        !written || (memory.read(start, data.len()) == Some(data) && (data.is_empty() || memory.is_known(start)));
+    memory.free(from, to);
+    // Fields end on block boundaries: `free` is called from one.
+    let freed = from % BLOCK == 0 && inside(from, MAX_FIELD_BLOCKS * BLOCK) && probe < to && probe_in_memory;
+    read_as_stub
+        && written == memory_holds(start, data.len())
+        && untouched
+        && read_back
+        && (!freed || free_byte(&memory))
 }
 
 /// The stack the slave has after pushing the first `len` of `codes`, in order (00h
@@ -334,6 +423,20 @@ mod tests {
         let legacy = profiles::legacy_srs();
         assert!(Parts { field_count: 1, statuses: [0xC7, 0, 0], ..factory() }.build(legacy).is_some());
         assert!(Parts { field_count: 2, statuses: [0xC7, 0xC0, 0], ..factory() }.build(legacy).is_none());
+    }
+
+    /// The twins of Read Data's harness and of the requests it leaves out sample the
+    /// two parts of its frames, which together are all of them.
+    #[test]
+    fn read_data_frames_are_shaped_into_their_part() {
+        for c in 0..=255u8 {
+            let mut short = [0x40, 0x4A, 0, 0, c, 0, 0];
+            let mut long = short;
+            read_data_short(&mut short);
+            read_data_long(&mut long);
+            assert!(read_data_counted_short(&short) && !read_data_counted_short(&long), "{c:02X}");
+            assert_eq!(short[READ_DATA_COUNT] == c, read_data_counted_short(&[0x40, 0x4A, 0, 0, c]));
+        }
     }
 
     #[test]

@@ -148,6 +148,7 @@ pub fn octant_transformation_is_sound(sin: i32, cos: i32) -> bool {
 mod harnesses {
     use super::*;
     use crate::properties as p;
+    use hiperface_model::slave::fields::FieldMemory;
 
     /// Domain: every 3-byte body, every bit of the 4-byte frame.
     /// No loop depends on the inputs (the XOR runs over 3 or 4 bytes).
@@ -303,14 +304,58 @@ mod harnesses {
         assert!(crate::inductive::fields_step_keeps_invariant(&step));
     }
 
+    /// Domain: erased memory, any position, a read of any count, 0 to 8 bytes written, then any range freed, any byte probed.
+    /// Unwind 9: the write's loop over the bytes it marks known and the comparison of
+    /// what it reads back run over the bytes written (at most 8, +1); `free`'s over its
+    /// 8 blocks (+1); the read is compared at one symbolic byte, no loop. The 4 080
+    /// bytes are one array (scripts/kani.sh): no loop over them.
+    #[kani::proof]
+    #[kani::unwind(9)]
+    fn field_memory() {
+        let data: [u8; 8] = kani::any();
+        let len: usize = kani::any();
+        kani::assume(len <= 8);
+        let (start, count, from, to, probe) = (kani::any(), kani::any(), kani::any(), kani::any(), kani::any());
+        kani::cover!(
+            len == 8 && start == hiperface_model::slave::fields::MAX_MEMORY - 8,
+            "a write that ends at the memory's end"
+        );
+        assert!(crate::inductive::field_memory_answers_as_stubbed(start, count, &data[..len], from, to, probe));
+    }
+
+    /// The field memory's operations as the whole-step harnesses of the data field
+    /// commands take them (`#[kani::stub]`): they answer as the real ones do on the
+    /// memory the parts build (erased) and change nothing. Sound for what those
+    /// harnesses assert: the real ones change nothing but the `FieldMemory` they are
+    /// given (`&mut FieldMemory`, no other state), whose contents neither the invariant
+    /// (the table) nor the frame rules (the reply) read, save Read Data's reply, which
+    /// copies what `read` answers; no command both writes and reads them; `field_memory`
+    /// proves they answer as these do and never panic.
+    #[allow(dead_code)] // used through `kani::stub`
+    fn write_answers_only(_memory: &mut FieldMemory, start: usize, data: &[u8]) -> bool {
+        crate::inductive::memory_holds(start, data.len())
+    }
+
+    #[allow(dead_code)] // used through `kani::stub`
+    fn free_changes_nothing(_memory: &mut FieldMemory, _from: usize, _to: usize) {}
+
+    /// On erased memory, for the at most 128 bytes `DataFields::read` asks for.
+    #[allow(dead_code)] // used through `kani::stub`
+    fn read_erased(_memory: &FieldMemory, start: usize, count: usize) -> Option<&[u8]> {
+        crate::inductive::erased_read_answer(start, count)
+    }
+
     /// One frame of `command` with `data` data bytes from every state of a SEK37 that
     /// satisfies the invariant (`inductive::Parts`, everything symbolic; at most 3 data
     /// fields), with any address byte, data bytes and checksum byte, at any time, with
     /// or without a UART fault: no panic, the invariant afterwards, the frame rules.
-    /// Unwind 24: the command table's 23 rows (+1) when the profile is built; the field
-    /// table's loops over a count CBMC does not know and the checksum's over a reply of
-    /// a length it does not know are unrolled to it, and the unwinding assertions (on)
-    /// show that 24 is enough. Not vacuous: the twin builds states satisfying the
+    /// Unwind 10: the longest loop of a known length is `Slave::initialize`'s over the 9
+    /// initialization faults (+1) when the state is built (the profile's commands are a
+    /// constant, `CommandSet::all_for`: no loop over the command table's 23 rows, which
+    /// took 24 until 2026-11-27); the field table's loops over a count CBMC does not
+    /// know (at most 4 fields) and the checksum's over a reply of a length it does not
+    /// know are unrolled to the bound, and the unwinding assertions (on) show that 10 is
+    /// enough (a reply of more than 9 bytes needs more: Read Version, Read Data). Not vacuous: the twin builds states satisfying the
     /// invariant from the same parts (it fails if fewer than half its samples do), so
     /// the assumption holds for some of them; a `kani::cover!` here would cost a second
     /// solver run as long as the proof.
@@ -318,6 +363,12 @@ mod harnesses {
     /// that length, as a slice of a longer one would have its loops unrolled as often
     /// as the longer one allows.
     fn inductive_command<const N: usize>(command: u8) {
+        inductive_command_where::<N>(command, |_| true);
+    }
+
+    /// [`inductive_command`] for the frames `admit` takes (a harness whose domain is
+    /// part of the command's frames says which).
+    fn inductive_command_where<const N: usize>(command: u8, admit: fn(&[u8; N]) -> bool) {
         let parts: crate::inductive::Parts = kani::any();
         let (state, holds) = parts.state(hiperface_model::profiles::sek37());
         kani::assume(holds);
@@ -326,12 +377,50 @@ mod harnesses {
             *c = command;
         }
         crate::inductive::count_store_data(&mut frame);
+        kani::assume(admit(&frame));
         assert!(crate::inductive::step_keeps_invariant(&state, &frame, kani::any(), kani::any()));
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Store Data (4Bh) with 1 data byte at any time, with and without a UART fault.
+    /// The field memory's `write` as a stub ([`write_answers_only`]: the same answer,
+    /// no change; sound for what the step asserts, see there).
+    #[kani::proof]
+    #[kani::unwind(10)]
+    #[kani::solver(cadical)]
+    #[kani::stub(hiperface_model::slave::fields::FieldMemory::write, write_answers_only)]
+    fn inductive_store_data_one_byte() {
+        inductive_command::<8>(0x4B);
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Read Data (4Ah) asking for 0 to 16 or more than 128 bytes at any time, with and without a UART fault.
+    /// Unwind 23: a reply of up to 16 data bytes is 22 bytes (field, offset and count
+    /// before the data, 000:T21), and the checksum's fold visits each; the requests for
+    /// 17 to 128 bytes, with replies up to 134 bytes, need a bound past 130, and at 136
+    /// the step was 2.5 M steps of symbolic execution (2026-11-27): their property is
+    /// sampled (`inductive_read_data_long`). The field memory's `read` as a stub
+    /// ([`read_erased`]; sound for what the step asserts, see there).
+    #[kani::proof]
+    #[kani::unwind(23)]
+    #[kani::solver(cadical)]
+    #[kani::stub(hiperface_model::slave::fields::FieldMemory::read, read_erased)]
+    fn inductive_read_data() {
+        inductive_command_where::<7>(0x4A, |f| crate::inductive::read_data_counted_short(f));
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Create Data Field (4Dh) at any time, with and without a UART fault.
+    /// The field memory's `free` as a stub ([`free_changes_nothing`]: no change; sound
+    /// for what the step asserts, see there).
+    #[kani::proof]
+    #[kani::unwind(10)]
+    #[kani::solver(cadical)]
+    #[kani::stub(hiperface_model::slave::fields::FieldMemory::free, free_changes_nothing)]
+    fn inductive_create_data_field() {
+        inductive_command::<6>(0x4D);
     }
 
     /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Read Counter (46h) at any time, with and without a UART fault.
     #[kani::proof]
-    #[kani::unwind(24)]
+    #[kani::unwind(10)]
     #[kani::solver(cadical)]
     fn inductive_read_counter() {
         inductive_command::<3>(0x46);
@@ -339,7 +428,7 @@ mod harnesses {
 
     /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Increment Counter (47h) at any time, with and without a UART fault.
     #[kani::proof]
-    #[kani::unwind(24)]
+    #[kani::unwind(10)]
     #[kani::solver(cadical)]
     fn inductive_increment_counter() {
         inductive_command::<3>(0x47);
@@ -347,7 +436,7 @@ mod harnesses {
 
     /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Reset Counter (49h) at any time, with and without a UART fault.
     #[kani::proof]
-    #[kani::unwind(24)]
+    #[kani::unwind(10)]
     #[kani::solver(cadical)]
     fn inductive_reset_counter() {
         inductive_command::<4>(0x49);
@@ -355,7 +444,7 @@ mod harnesses {
 
     /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Memory Status (4Eh) at any time, with and without a UART fault.
     #[kani::proof]
-    #[kani::unwind(24)]
+    #[kani::unwind(10)]
     #[kani::solver(cadical)]
     fn inductive_memory_status() {
         inductive_command::<3>(0x4E);
@@ -363,7 +452,7 @@ mod harnesses {
 
     /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Read Encoder Status (50h) at any time, with and without a UART fault.
     #[kani::proof]
-    #[kani::unwind(24)]
+    #[kani::unwind(10)]
     #[kani::solver(cadical)]
     fn inductive_read_encoder_status() {
         inductive_command::<3>(0x50);
@@ -371,7 +460,7 @@ mod harnesses {
 
     /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Read Type Label (52h) at any time, with and without a UART fault.
     #[kani::proof]
-    #[kani::unwind(24)]
+    #[kani::unwind(10)]
     #[kani::solver(cadical)]
     fn inductive_read_type_label() {
         inductive_command::<3>(0x52);
@@ -379,7 +468,7 @@ mod harnesses {
 
     /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Encoder Reset (53h) at any time, with and without a UART fault.
     #[kani::proof]
-    #[kani::unwind(24)]
+    #[kani::unwind(10)]
     #[kani::solver(cadical)]
     fn inductive_encoder_reset() {
         inductive_command::<3>(0x53);
@@ -387,7 +476,7 @@ mod harnesses {
 
     /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Temporarily Set Serial Interface (67h) at any time, with and without a UART fault.
     #[kani::proof]
-    #[kani::unwind(24)]
+    #[kani::unwind(10)]
     #[kani::solver(cadical)]
     fn inductive_temporarily_set_serial_interface() {
         inductive_command::<4>(0x67);
@@ -395,7 +484,7 @@ mod harnesses {
 
     /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Set Position with Synchronization (6Ah) at any time, with and without a UART fault.
     #[kani::proof]
-    #[kani::unwind(24)]
+    #[kani::unwind(10)]
     #[kani::solver(cadical)]
     fn inductive_set_position_with_sync() {
         inductive_command::<8>(0x6A);
@@ -403,7 +492,7 @@ mod harnesses {
 
     /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Sensor Adjustment (6Bh) at any time, with and without a UART fault.
     #[kani::proof]
-    #[kani::unwind(24)]
+    #[kani::unwind(10)]
     #[kani::solver(cadical)]
     fn inductive_sensor_adjustment() {
         inductive_command::<5>(0x6B);
@@ -411,7 +500,7 @@ mod harnesses {
 
     /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Read Synchronization Offset (6Ch) at any time, with and without a UART fault.
     #[kani::proof]
-    #[kani::unwind(24)]
+    #[kani::unwind(10)]
     #[kani::solver(cadical)]
     fn inductive_read_sync_offset() {
         inductive_command::<3>(0x6C);
@@ -419,7 +508,7 @@ mod harnesses {
 
     /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Read Position (42h) at any time, with and without a UART fault.
     #[kani::proof]
-    #[kani::unwind(24)]
+    #[kani::unwind(10)]
     #[kani::solver(cadical)]
     fn inductive_read_position() {
         inductive_command::<3>(0x42);
@@ -437,7 +526,7 @@ mod harnesses {
 
     /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Set Serial Interface (57h) at any time, with and without a UART fault.
     #[kani::proof]
-    #[kani::unwind(24)]
+    #[kani::unwind(10)]
     #[kani::solver(cadical)]
     fn inductive_set_serial_interface() {
         inductive_command::<5>(0x57);
@@ -445,7 +534,7 @@ mod harnesses {
 
     /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Set Access Code (4Fh) at any time, with and without a UART fault.
     #[kani::proof]
-    #[kani::unwind(24)]
+    #[kani::unwind(10)]
     #[kani::solver(cadical)]
     fn inductive_set_access_code() {
         inductive_command::<6>(0x4F);
@@ -453,7 +542,7 @@ mod harnesses {
 
     /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Set Position (43h) at any time, with and without a UART fault.
     #[kani::proof]
-    #[kani::unwind(24)]
+    #[kani::unwind(10)]
     #[kani::solver(cadical)]
     fn inductive_set_position() {
         inductive_command::<8>(0x43);
@@ -461,7 +550,7 @@ mod harnesses {
 
     /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Read Analog Value (44h) at any time, with and without a UART fault.
     #[kani::proof]
-    #[kani::unwind(24)]
+    #[kani::unwind(10)]
     #[kani::solver(cadical)]
     fn inductive_read_analog_value() {
         inductive_command::<4>(0x44);
@@ -469,7 +558,7 @@ mod harnesses {
 
     /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Set Encoder Address (55h) at any time, with and without a UART fault.
     #[kani::proof]
-    #[kani::unwind(24)]
+    #[kani::unwind(10)]
     #[kani::solver(cadical)]
     fn inductive_set_encoder_address() {
         inductive_command::<5>(0x55);
@@ -477,7 +566,7 @@ mod harnesses {
 
     /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Data Field Status (4Ch) at any time, with and without a UART fault.
     #[kani::proof]
-    #[kani::unwind(24)]
+    #[kani::unwind(10)]
     #[kani::solver(cadical)]
     fn inductive_data_field_status() {
         inductive_command::<4>(0x4C);
@@ -489,7 +578,7 @@ mod tests {
     use super::*;
 
     /// The Kani harnesses in this file (`scripts/kani.sh` runs each).
-    const HARNESSES: usize = 34;
+    const HARNESSES: usize = 38;
 
     /// Every Kani harness has its `cargo test` twin in the registry, and every twin
     /// names a harness that exists: the two lists are one.
@@ -509,18 +598,6 @@ mod tests {
 
     /// Each harness's domain is its twin's, word for word: the `Domain:` line that
     /// opens the harness's doc comment is the twin's `Property::domain`.
-    /// The three no-data harnesses together take every command of the table without
-    /// data, each once.
-    #[test]
-    fn the_no_data_groups_are_every_command_without_data() {
-        let mut grouped: Vec<u8> = properties::NO_DATA_GROUPS.iter().flat_map(|g| g.iter().copied()).collect();
-        grouped.sort_unstable();
-        let mut table: Vec<u8> =
-            hiperface_model::COMMAND_TABLE.iter().filter(|c| c.master_data.accepts(0)).map(|c| c.id.byte()).collect();
-        table.sort_unstable();
-        assert_eq!(grouped, table);
-    }
-
     #[test]
     fn every_twin_checks_its_harness_domain() {
         let source = include_str!("lib.rs");

@@ -252,7 +252,9 @@ fn reachable_states() -> Vec<Slave> {
     out
 }
 
-/// Every 3-byte frame to 40h, in each of 8 reachable states.
+/// Every 3-byte frame to 40h, in each of 8 reachable states, the first the factory
+/// state (every command without data with every checksum byte among them: what the
+/// properties `slave_step` and `slave_step_no_data`, removed, checked on that state).
 fn slave_step_reachable() -> Result<u64, String> {
     let states = reachable_states();
     let mut n = 0;
@@ -356,6 +358,17 @@ pub fn parts_strategy() -> impl Strategy<Value = inductive::Parts> {
 /// satisfying the invariant), each command of the family with sampled bytes, time and
 /// UART fault. Fails when fewer than half the samples build a state (a vacuous run).
 pub fn inductive_sampled(profile: hiperface_model::Profile, family: &[(u8, usize)], cases: u32) -> Result<u64, String> {
+    inductive_sampled_shaped(profile, family, cases, |_| {})
+}
+
+/// [`inductive_sampled`] with each frame first made one of a part of the command's
+/// frames by `shape` (a harness whose domain is that part has this twin).
+pub fn inductive_sampled_shaped(
+    profile: hiperface_model::Profile,
+    family: &[(u8, usize)],
+    cases: u32,
+    shape: fn(&mut [u8]),
+) -> Result<u64, String> {
     use std::sync::atomic::{AtomicU64, Ordering};
     let built = AtomicU64::new(0);
     let frame = any::<[u8; inductive::MAX_FAMILY_FRAME]>();
@@ -376,6 +389,7 @@ pub fn inductive_sampled(profile: hiperface_model::Profile, family: &[(u8, usize
                 _ => {}
             }
             let frame = &mut frame[..3 + data];
+            shape(frame);
             if *sealed {
                 let (sum, body) = frame.split_last_mut().expect("3 bytes or more");
                 *sum = hiperface_model::checksum::xor(body);
@@ -443,15 +457,33 @@ fn fields_steps() -> Result<u64, String> {
     sample(step, 50_000, inductive::fields_step_keeps_invariant)
 }
 
-/// The commands of the table without data, in three groups of three (a Kani harness
-/// each, so that each verifies within the budget); `tests` checks they are all of them.
-pub const NO_DATA_GROUPS: [&[u8]; 3] = [&[0x42, 0x46, 0x47], &[0x4E, 0x50, 0x52], &[0x53, 0x56, 0x6C]];
-
-/// Every command of `commands` to 40h with every checksum byte, on a factory SEK37.
-fn no_data_steps(commands: &[u8]) -> Result<u64, String> {
-    let s = Slave::operational(profiles::sek37());
-    let frames = commands.iter().flat_map(|c| (0..=255u8).map(move |cs| [0x40, *c, cs]));
-    exhaust(frames, |f| slave_step_is_total(&s, f))
+/// Positions near the memory's start, near its end, anywhere and near `usize::MAX`;
+/// reads mostly of up to 128 bytes; frees mostly from a block boundary; probes near the
+/// write (and read) and the free.
+fn field_memory_operations() -> Result<u64, String> {
+    use hiperface_model::slave::fields::{BLOCK, MAX_MEMORY};
+    let position = || {
+        prop_oneof![
+            2 => 0usize..64,
+            3 => MAX_MEMORY - 160..MAX_MEMORY + 16,
+            1 => any::<usize>(),
+            1 => usize::MAX - 16..=usize::MAX,
+        ]
+    };
+    let data = prop::collection::vec(any::<u8>(), 0..=8);
+    let from = prop_oneof![3 => position().prop_map(|p| p / BLOCK * BLOCK), 1 => position()];
+    // The probe: a byte near the write, near the free, or anywhere.
+    let probe = (0u8..3, 0usize..160, position());
+    let count = prop_oneof![3 => 0usize..=128, 1 => any::<usize>()];
+    let strategy = (position(), count, data, from, position(), probe);
+    sample(strategy, 50_000, |(start, count, data, from, to, (near, delta, anywhere))| {
+        let probe = match near {
+            0 => start.saturating_add(*delta).saturating_sub(4),
+            1 => from.saturating_add(*delta),
+            _ => *anywhere,
+        };
+        inductive::field_memory_answers_as_stubbed(*start, *count, data, *from, *to, probe)
+    })
 }
 
 /// The claim of each whole-step harness, one command each (its domain names it).
@@ -577,42 +609,6 @@ pub const PROPERTIES: &[Property] = &[
         run: || exhaust((0..=5u32).flat_map(|len| sequences(len, 6)), |ops| memory_is_conserved(ops)),
     },
     Property {
-        name: "slave_step",
-        claim: "the slave's step never panics on Read Encoder Status with any checksum byte; invariants hold (000:T26, 000:2.3.3)",
-        domain: "(no harness: the whole-step harnesses prove it from every state) Read Encoder Status to 40h with any checksum byte, on a factory-state SEK37",
-        exhaustive: true,
-        harness: None,
-        run: || {
-            let s = Slave::operational(profiles::sek37());
-            exhaust(0..=255u8, |cs| slave_step_is_total(&s, &[0x40, 0x50, *cs]))
-        },
-    },
-    Property {
-        name: "slave_step_no_data",
-        claim: "the slave's step never panics on a command without data, with any checksum byte; invariants hold",
-        domain: "(no harness: the whole-step harnesses prove it from every state) the commands without data 42h, 46h, 47h to 40h with any checksum byte, on a factory-state SEK37",
-        exhaustive: true,
-        harness: None,
-        run: || no_data_steps(NO_DATA_GROUPS[0]),
-    },
-    Property {
-        name: "slave_step_no_data_2",
-        claim: "the slave's step never panics on a command without data, with any checksum byte; invariants hold",
-        domain: "(no harness: the whole-step harnesses prove it from every state) the commands without data 4Eh, 50h, 52h to 40h with any checksum byte, on a factory-state SEK37",
-        exhaustive: true,
-        harness: None,
-        run: || no_data_steps(NO_DATA_GROUPS[1]),
-    },
-    Property {
-        name: "slave_step_no_data_3",
-        claim: "the slave's step never panics on a command without data, with any checksum byte; invariants hold",
-        domain: "(no harness: the whole-step harnesses prove it from every state) the commands without data 53h, 56h, 6Ch to 40h with any checksum byte, on a factory-state SEK37",
-        exhaustive: true,
-        harness: None,
-        run: || no_data_steps(NO_DATA_GROUPS[2]),
-    },
-
-    Property {
         name: "slave_step_reachable",
         claim: "the slave's step never panics for any frame of up to 3 bytes in reachable states; invariants hold",
         domain: "every 3-byte frame to 40h x 8 reachable states, with and without a UART fault",
@@ -643,6 +639,14 @@ pub const PROPERTIES: &[Property] = &[
         exhaustive: false,
         harness: Some("inductive_data_fields"),
         run: fields_steps,
+    },
+    Property {
+        name: "field_memory",
+        claim: "the field memory's contents stay within it: erased, a read of up to 128 bytes gives FFh where they lie in the memory; a write answers whether its bytes do, reads back and changes no other byte; freeing erases the blocks freed; no panic (the stubs of the data field harnesses rely on it; DESIGN:fields)",
+        domain: "erased memory, any position, a read of any count, 0 to 8 bytes written, then any range freed, any byte probed",
+        exhaustive: false,
+        harness: Some("field_memory"),
+        run: field_memory_operations,
     },
     Property {
         name: "inductive_read_counter",
@@ -695,17 +699,25 @@ pub const PROPERTIES: &[Property] = &[
     Property {
         name: "inductive_read_data",
         claim: ONE_COMMAND_CLAIM,
-        domain: "(no harness yet) every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Read Data (4Ah) at any time, with and without a UART fault",
+        domain: "every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Read Data (4Ah) asking for 0 to 16 or more than 128 bytes at any time, with and without a UART fault",
+        exhaustive: false,
+        harness: Some("inductive_read_data"),
+        run: || inductive_sampled_shaped(profiles::sek37(), &[(0x4A, 4)], 3000, inductive::read_data_short),
+    },
+    Property {
+        name: "inductive_read_data_long",
+        claim: ONE_COMMAND_CLAIM,
+        domain: "(no harness: over the Kani budget) every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Read Data (4Ah) asking for 17 to 128 bytes at any time, with and without a UART fault",
         exhaustive: false,
         harness: None,
-        run: || inductive_sampled(profiles::sek37(), &[(0x4A, 4)], 3000),
+        run: || inductive_sampled_shaped(profiles::sek37(), &[(0x4A, 4)], 3000, inductive::read_data_long),
     },
     Property {
         name: "inductive_store_data_one_byte",
         claim: ONE_COMMAND_CLAIM,
-        domain: "(no harness: over the Kani budget) every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Store Data (4Bh) with 1 data byte at any time, with and without a UART fault",
+        domain: "every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Store Data (4Bh) with 1 data byte at any time, with and without a UART fault",
         exhaustive: false,
-        harness: None,
+        harness: Some("inductive_store_data_one_byte"),
         run: || inductive_sampled(profiles::sek37(), &[(0x4B, 5)], 3000),
     },
     Property {
@@ -719,9 +731,9 @@ pub const PROPERTIES: &[Property] = &[
     Property {
         name: "inductive_create_data_field",
         claim: ONE_COMMAND_CLAIM,
-        domain: "(no harness: over the Kani budget) every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Create Data Field (4Dh) at any time, with and without a UART fault",
+        domain: "every state of SEK37 satisfying the invariant (at most 3 data fields), every frame of Create Data Field (4Dh) at any time, with and without a UART fault",
         exhaustive: false,
-        harness: None,
+        harness: Some("inductive_create_data_field"),
         run: || inductive_sampled(profiles::sek37(), &[(0x4D, 3)], 3000),
     },
     Property {

@@ -200,17 +200,94 @@ impl FieldTable {
     }
 }
 
-/// The data field table and user memory.
+/// The user memory's contents: its bytes, and which of them the model *knows*
+/// (written by Store Data, or read from a real device and adopted). Positions are
+/// absolute, in bytes; [`DataFields`] says where the fields lie. A type of its own so
+/// that what the contents do is proved apart from the rest of the slave
+/// (proofs/src/lib.rs, `field_memory`): the whole-step proofs of the data field
+/// commands replace its two writing operations by stubs that answer as they do and
+/// change nothing (docs/src/verification.md, "The contents of the field memory").
+#[derive(Clone, PartialEq, Eq, Hash)]
+pub struct FieldMemory {
+    bytes: [u8; MAX_MEMORY],
+    /// One bit per byte of `bytes`: its contents are known.
+    known: [u8; MAX_MEMORY / 8 + 1],
+}
+
+impl FieldMemory {
+    /// Memory as a new device has it: every byte FFh, none known.
+    pub const fn erased() -> FieldMemory {
+        FieldMemory { bytes: [ERASED; MAX_MEMORY], known: [0; MAX_MEMORY / 8 + 1] }
+    }
+
+    /// Bytes `start..start + count`; `None` past the memory's end.
+    pub fn read(&self, start: usize, count: usize) -> Option<&[u8]> {
+        self.bytes.get(start..start.checked_add(count)?)
+    }
+
+    /// Store `data` at `start`: the model knows those bytes from now on. `false`
+    /// (nothing written) if they do not all lie in the memory; the proofs' stub of this
+    /// function answers the same.
+    pub fn write(&mut self, start: usize, data: &[u8]) -> bool {
+        let Some(end) = start.checked_add(data.len()) else {
+            return false;
+        };
+        let Some(dst) = self.bytes.get_mut(start..end) else {
+            return false;
+        };
+        dst.copy_from_slice(data);
+        for i in start..end {
+            if let Some(byte) = self.known.get_mut(i / 8) {
+                *byte |= 1u8 << (i % 8);
+            }
+        }
+        true
+    }
+
+    /// Free the whole blocks from `from` (a block boundary: fields end on one) up to
+    /// `to` (a field shrunk or deleted: at most one field's 8 blocks): they read FFh and
+    /// the model knows nothing of them. Block by block, in a loop of fixed length (8
+    /// blocks) rather than a `fill`: Kani unrolls it 8 times, not as often as the 4 080
+    /// bytes allow. Blocks past the memory's end are not there to free.
+    pub fn free(&mut self, from: usize, to: usize) {
+        for block in 0..MAX_FIELD_BLOCKS {
+            let at = from.saturating_add(block * BLOCK);
+            if at >= to {
+                continue;
+            }
+            // Whole blocks copied (a `memcpy` for Kani, no loop); fields end on block
+            // boundaries, so a block is whole bytes of `known`.
+            if let Some(bytes) = self.bytes.get_mut(at..at.saturating_add(BLOCK)) {
+                bytes.copy_from_slice(&[ERASED; BLOCK]);
+            }
+            if let Some(known) = self.known.get_mut(at / 8..at.saturating_add(BLOCK) / 8) {
+                known.copy_from_slice(&[0; BLOCK / 8]);
+            }
+        }
+    }
+
+    /// Whether the model knows byte `i` (`false` past the memory's end).
+    pub fn is_known(&self, i: usize) -> bool {
+        self.known.get(i / 8).is_some_and(|b| b & (1 << (i % 8)) != 0)
+    }
+
+    /// Whether every byte from `start` on reads FFh and is unknown.
+    pub fn is_free_from(&self, start: usize) -> bool {
+        let erased = self.bytes.get(start..).is_some_and(|m| m.iter().all(|b| *b == ERASED));
+        erased && (start..MAX_MEMORY).all(|i| !self.is_known(i))
+    }
+}
+
+/// The data field table and user memory: the table says where each field lies, the
+/// memory holds the contents.
 ///
-/// Besides the contents, the model records which bytes it *knows*: written by Store
-/// Data, or read from a real device and adopted. The rest is its assumption: a new
-/// field reads FFh (DESIGN:fields), a real device's existing field holds what it holds.
+/// Which bytes the model knows it records in [`FieldMemory`]. The rest is its
+/// assumption: a new field reads FFh (DESIGN:fields), a real device's existing field
+/// holds what it holds.
 #[derive(Clone, PartialEq, Eq, Hash)]
 pub struct DataFields {
     table: FieldTable,
-    memory: [u8; MAX_MEMORY],
-    /// One bit per byte of `memory`: its contents are known.
-    known: [u8; MAX_MEMORY / 8 + 1],
+    memory: FieldMemory,
     /// Fields `0..adopted` were found on a real device: their contents are its own.
     adopted: u8,
 }
@@ -241,7 +318,7 @@ impl DataFields {
     /// their bytes, and all of them are the device's own (adopted).
     fn with_table(table: FieldTable) -> DataFields {
         let adopted = table.count();
-        DataFields { table, memory: [ERASED; MAX_MEMORY], known: [0; MAX_MEMORY / 8 + 1], adopted }
+        DataFields { table, memory: FieldMemory::erased(), adopted }
     }
 
     /// A table as a device reports it: capacity and the statuses of its fields (the
@@ -273,47 +350,19 @@ impl DataFields {
         self.table.statuses()
     }
 
-    /// Bytes written or read back: the model knows them now.
-    fn learn(&mut self, range: core::ops::Range<usize>) {
-        for i in range {
-            if let Some(byte) = self.known.get_mut(i / 8) {
-                *byte |= 1u8 << (i % 8);
-            }
-        }
-    }
-
     /// Memory past the last field is free: it reads FFh and the model knows nothing of
     /// it, so a new field and the grown blocks of the last one read FFh (DESIGN:fields)
     /// with nothing more to do. Nothing writes past the fields' end, so after a change
     /// of where they end only the blocks between the new end and `old_end` (a field
-    /// shrunk or deleted: at most one field's 8 blocks) need freeing. Block by block,
-    /// in a loop of fixed length (8 blocks) rather than a `fill` of the rest of the
-    /// memory: Kani unrolls it 8 times, not as often as the 4 080 bytes allow.
+    /// shrunk or deleted: at most one field's 8 blocks) need freeing.
     fn free_up_to(&mut self, old_end: usize) {
-        let end = self.table.end();
-        for block in 0..MAX_FIELD_BLOCKS {
-            let at = end + block * BLOCK;
-            if at >= old_end {
-                continue;
-            }
-            // Whole blocks copied (a `memcpy` for Kani, no loop); fields end on block
-            // boundaries, so a block is whole bytes of `known`.
-            if let Some(bytes) = self.memory.get_mut(at..at + BLOCK) {
-                bytes.copy_from_slice(&[ERASED; BLOCK]);
-            }
-            if let Some(known) = self.known.get_mut(at / 8..(at + BLOCK) / 8) {
-                known.copy_from_slice(&[0; BLOCK / 8]);
-            }
-        }
+        self.memory.free(self.table.end(), old_end);
     }
 
     /// Whether the memory past the last field reads FFh and is unknown, as
     /// [`DataFields::free_up_to`] relies on.
     pub fn rest_is_free(&self) -> bool {
-        let end = self.table.end();
-        let erased = self.memory.get(end..).is_some_and(|m| m.iter().all(|b| *b == ERASED));
-        let unknown = (end..MAX_MEMORY).all(|i| self.known.get(i / 8).is_some_and(|k| k & (1 << (i % 8)) == 0));
-        erased && unknown
+        self.memory.is_free_from(self.table.end())
     }
 
     /// What the model knows of byte `offset` of field `number` (`None` outside it).
@@ -322,8 +371,7 @@ impl DataFields {
         if offset >= size {
             return None;
         }
-        let i = self.table.start(number) + offset;
-        let known = self.known.get(i / 8).is_some_and(|b| b & (1 << (i % 8)) != 0);
+        let known = self.memory.is_known(self.table.start(number) + offset);
         Some(match (known, number < self.adopted) {
             (true, _) => Contents::Known,
             (false, true) => Contents::Unknown,
@@ -358,8 +406,7 @@ impl DataFields {
         if count == 0 || count > MAX_FIELD_BYTES || offset + count > size {
             return None;
         }
-        let start = self.table.start(number) + offset;
-        self.memory.get(start..start + count)
+        self.memory.read(self.table.start(number) + offset, count)
     }
 
     /// Store bytes; `false` (nothing written) if out of bounds.
@@ -371,13 +418,7 @@ impl DataFields {
         if data.is_empty() || offset + data.len() > status.size_bytes() {
             return false;
         }
-        let start = self.table.start(number) + offset;
-        match self.memory.get_mut(start..start + data.len()) {
-            Some(dst) => dst.copy_from_slice(data),
-            None => return false,
-        }
-        self.learn(start..start + data.len());
-        true
+        self.memory.write(self.table.start(number) + offset, data)
     }
 
     /// Whether `blocks` more blocks fit.
@@ -471,16 +512,37 @@ mod tests {
     fn memory_past_the_fields_that_is_written_or_known_is_not_free() {
         let mut f = DataFields::from_table(8, &[0xC0], 1);
         assert!(f.rest_is_free());
-        f.memory[BLOCK] = 0;
+        f.memory.bytes[BLOCK] = 0;
         assert!(!f.rest_is_free(), "a byte past the end that is not FFh");
-        f.memory[BLOCK] = ERASED;
-        f.learn(MAX_MEMORY - 1..MAX_MEMORY);
+        f.memory.bytes[BLOCK] = ERASED;
+        // FFh written: the byte reads as free memory does, but the model knows it.
+        assert!(f.memory.write(MAX_MEMORY - 1, &[ERASED]));
         assert!(!f.rest_is_free(), "a byte past the end that the model knows");
         // Inside the field, neither counts.
         let mut g = DataFields::from_table(8, &[0xC0], 1);
-        g.memory[0] = 0;
-        g.learn(0..1);
+        assert!(g.memory.write(0, &[0]));
         assert!(g.rest_is_free());
+    }
+
+    /// The contents' operations at the memory's edges: nothing past the end is read,
+    /// written or freed, and no position makes them panic (an end past `usize::MAX`
+    /// included).
+    #[test]
+    fn the_field_memory_stays_within_its_bytes() {
+        let mut m = FieldMemory::erased();
+        assert!(m.write(MAX_MEMORY - 2, &[1, 2]));
+        assert_eq!(m.read(MAX_MEMORY - 2, 2), Some(&[1, 2][..]));
+        assert!(m.is_known(MAX_MEMORY - 1) && !m.is_known(MAX_MEMORY - 3) && !m.is_known(MAX_MEMORY));
+        assert!(!m.write(MAX_MEMORY - 1, &[1, 2]), "one byte past the end");
+        assert!(!m.write(usize::MAX, &[1]) && m.read(usize::MAX, 2).is_none());
+        assert_eq!(m.read(MAX_MEMORY - 1, 2), None);
+        let before = m.clone();
+        m.free(MAX_MEMORY, usize::MAX);
+        m.free(usize::MAX - 3, usize::MAX);
+        assert!(m == before, "nothing past the end to free");
+        m.free(MAX_MEMORY - BLOCK, MAX_MEMORY);
+        assert!(m.is_free_from(0), "the written block freed: all of it free again");
+        assert!(m == FieldMemory::erased());
     }
 
     #[test]
