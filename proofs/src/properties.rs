@@ -457,32 +457,54 @@ fn fields_steps() -> Result<u64, String> {
     sample(step, 50_000, inductive::fields_step_keeps_invariant)
 }
 
-/// Positions near the memory's start, near its end, anywhere and near `usize::MAX`;
-/// reads mostly of up to 128 bytes; frees mostly from a block boundary; probes near the
-/// write (and read) and the free.
-fn field_memory_operations() -> Result<u64, String> {
-    use hiperface_model::slave::fields::{BLOCK, MAX_MEMORY};
-    let position = || {
-        prop_oneof![
-            2 => 0usize..64,
-            3 => MAX_MEMORY - 160..MAX_MEMORY + 16,
-            1 => any::<usize>(),
-            1 => usize::MAX - 16..=usize::MAX,
-        ]
-    };
-    let data = prop::collection::vec(any::<u8>(), 0..=8);
-    let from = prop_oneof![3 => position().prop_map(|p| p / BLOCK * BLOCK), 1 => position()];
-    // The probe: a byte near the write, near the free, or anywhere.
-    let probe = (0u8..3, 0usize..160, position());
+/// Positions near the memory's start, near its end, anywhere and near `usize::MAX`.
+fn memory_position() -> impl Strategy<Value = usize> {
+    use hiperface_model::slave::fields::MAX_MEMORY;
+    prop_oneof![
+        2 => 0usize..64,
+        3 => MAX_MEMORY - 160..MAX_MEMORY + 16,
+        1 => any::<usize>(),
+        1 => usize::MAX - 16..=usize::MAX,
+    ]
+}
+
+/// Reads mostly of up to 128 bytes, probed mostly within them.
+fn field_memory_reads() -> Result<u64, String> {
     let count = prop_oneof![3 => 0usize..=128, 1 => any::<usize>()];
-    let strategy = (position(), count, data, from, position(), probe);
-    sample(strategy, 50_000, |(start, count, data, from, to, (near, delta, anywhere))| {
+    let strategy = (memory_position(), count, 0usize..130, any::<usize>());
+    sample(strategy, 50_000, |(start, count, at, anywhere)| {
+        let probe = if at % 8 == 0 { *anywhere } else { *at };
+        inductive::field_memory_reads_as_stubbed(*start, *count, probe)
+    })
+}
+
+/// Writes of 0 to 8 bytes.
+fn field_memory_writes() -> Result<u64, String> {
+    let data = prop::collection::vec(any::<u8>(), 0..=8);
+    sample((memory_position(), data), 50_000, |(start, data)| inductive::field_memory_writes_as_stubbed(*start, data))
+}
+
+/// Frees from anywhere (mostly a block boundary) to anywhere.
+fn field_memory_frees() -> Result<u64, String> {
+    use hiperface_model::slave::fields::BLOCK;
+    let from = prop_oneof![3 => memory_position().prop_map(|p| p / BLOCK * BLOCK), 1 => memory_position()];
+    sample((from, memory_position()), 50_000, |(from, to)| inductive::field_memory_frees_without_panic(*from, *to))
+}
+
+/// Writes of 0 to 8 bytes, frees mostly from a block boundary, the byte probed mostly
+/// near the write or the free.
+fn field_memory_contents() -> Result<u64, String> {
+    use hiperface_model::slave::fields::BLOCK;
+    let data = prop::collection::vec(any::<u8>(), 0..=8);
+    let from = prop_oneof![3 => memory_position().prop_map(|p| p / BLOCK * BLOCK), 1 => memory_position()];
+    let strategy = (memory_position(), data, from, memory_position(), (0u8..3, 0usize..160, memory_position()));
+    sample(strategy, 50_000, |(start, data, from, to, (near, delta, anywhere))| {
         let probe = match near {
             0 => start.saturating_add(*delta).saturating_sub(4),
             1 => from.saturating_add(*delta),
             _ => *anywhere,
         };
-        inductive::field_memory_answers_as_stubbed(*start, *count, data, *from, *to, probe)
+        inductive::field_memory_contents(*start, data, *from, *to, probe)
     })
 }
 
@@ -641,12 +663,36 @@ pub const PROPERTIES: &[Property] = &[
         run: fields_steps,
     },
     Property {
-        name: "field_memory",
-        claim: "the field memory's contents stay within it: erased, a read of up to 128 bytes gives FFh where they lie in the memory; a write answers whether its bytes do, reads back and changes no other byte; freeing erases the blocks freed; no panic (the stubs of the data field harnesses rely on it; DESIGN:fields)",
-        domain: "erased memory, any position, a read of any count, 0 to 8 bytes written, then any range freed, any byte probed",
+        name: "field_memory_read",
+        claim: "on erased field memory a read of up to 128 bytes gives FFh for each byte where they all lie in the memory, else nothing; no panic (the stub of Read Data's harness; DESIGN:fields)",
+        domain: "erased memory, any position, any count, any byte probed",
         exhaustive: false,
-        harness: Some("field_memory"),
-        run: field_memory_operations,
+        harness: Some("field_memory_read"),
+        run: field_memory_reads,
+    },
+    Property {
+        name: "field_memory_write",
+        claim: "a write to the field memory answers whether its bytes lie in the memory; no panic (the stub of Store Data's harness; DESIGN:fields)",
+        domain: "erased memory, 0 to 8 bytes written at any position",
+        exhaustive: false,
+        harness: Some("field_memory_write"),
+        run: field_memory_writes,
+    },
+    Property {
+        name: "field_memory_free",
+        claim: "freeing field memory never panics, from anywhere to anywhere (the stub of Create Data Field's harness; DESIGN:fields)",
+        domain: "erased memory, any range freed",
+        exhaustive: false,
+        harness: Some("field_memory_free"),
+        run: field_memory_frees,
+    },
+    Property {
+        name: "field_memory_contents",
+        claim: "a write reads back and is known, no other byte changes; freeing from a block boundary erases the blocks freed and forgets them (DESIGN:fields)",
+        domain: "(no harness: over the Kani budget) erased memory, 0 to 8 bytes written at any position, then any range freed, any byte probed",
+        exhaustive: false,
+        harness: None,
+        run: field_memory_contents,
     },
     Property {
         name: "inductive_read_counter",
@@ -881,12 +927,28 @@ pub const PROPERTIES: &[Property] = &[
         run: || inductive_sampled(profiles::reference(), inductive::STATUS, 3000),
     },
     Property {
-        name: "inductive_legacy",
-        claim: "the invariant is inductive: from any state satisfying it, one frame of the family keeps it and the frame rules hold (000:2.3.4, 000:T9, 000:T27, 000:2.4.2)",
-        domain: "(no harness: over the Kani budget) every state of the Legacy-SRS profile satisfying the invariant (at most 3 data fields), every frame of 63h, 47h, 57h at any time, with and without a UART fault",
+        name: "inductive_legacy_set_position_internal_sync",
+        claim: ONE_COMMAND_CLAIM,
+        domain: "every state of Legacy-SRS satisfying the invariant (at most 3 data fields), every frame of Set Position with Internal Track Synchronisation (63h) at any time, with and without a UART fault",
         exhaustive: false,
-        harness: None,
-        run: || inductive_sampled(profiles::legacy_srs(), inductive::LEGACY, 3000),
+        harness: Some("inductive_legacy_set_position_internal_sync"),
+        run: || inductive_sampled(profiles::legacy_srs(), &[(0x63, 5)], 3000),
+    },
+    Property {
+        name: "inductive_legacy_increment_counter",
+        claim: ONE_COMMAND_CLAIM,
+        domain: "every state of Legacy-SRS satisfying the invariant (at most 3 data fields), every frame of Increment Counter (47h) at any time, with and without a UART fault",
+        exhaustive: false,
+        harness: Some("inductive_legacy_increment_counter"),
+        run: || inductive_sampled(profiles::legacy_srs(), &[(0x47, 0)], 3000),
+    },
+    Property {
+        name: "inductive_legacy_set_serial_interface",
+        claim: ONE_COMMAND_CLAIM,
+        domain: "every state of Legacy-SRS satisfying the invariant (at most 3 data fields), every frame of Set Serial Interface (57h) at any time, with and without a UART fault",
+        exhaustive: false,
+        harness: Some("inductive_legacy_set_serial_interface"),
+        run: || inductive_sampled(profiles::legacy_srs(), &[(0x57, 2)], 3000),
     },
     Property {
         name: "slave_invariant",

@@ -204,9 +204,9 @@ impl FieldTable {
 /// (written by Store Data, or read from a real device and adopted). Positions are
 /// absolute, in bytes; [`DataFields`] says where the fields lie. A type of its own so
 /// that what the contents do is proved apart from the rest of the slave
-/// (proofs/src/lib.rs, `field_memory`): the whole-step proofs of the data field
-/// commands replace its two writing operations by stubs that answer as they do and
-/// change nothing (docs/src/verification.md, "The contents of the field memory").
+/// (proofs/src/lib.rs, `field_memory_*`): the whole-step proofs of the data field
+/// commands replace its operations by stubs that answer as they do (on erased memory)
+/// and change nothing (docs/src/verification.md, "The contents of the field memory").
 #[derive(Clone, PartialEq, Eq, Hash)]
 pub struct FieldMemory {
     bytes: [u8; MAX_MEMORY],
@@ -229,16 +229,17 @@ impl FieldMemory {
     /// (nothing written) if they do not all lie in the memory; the proofs' stub of this
     /// function answers the same.
     pub fn write(&mut self, start: usize, data: &[u8]) -> bool {
-        let Some(end) = start.checked_add(data.len()) else {
+        let Some(end) = start.checked_add(data.len()).filter(|end| *end <= MAX_MEMORY) else {
             return false;
         };
-        let Some(dst) = self.bytes.get_mut(start..end) else {
-            return false;
-        };
-        dst.copy_from_slice(data);
-        for i in start..end {
-            if let Some(byte) = self.known.get_mut(i / 8) {
-                *byte |= 1u8 << (i % 8);
+        // Byte by byte: for Kani one store at a position it does not know per byte,
+        // where a copy of a length it does not know ran out of 8 GB on its own.
+        for (at, byte) in (start..end).zip(data) {
+            if let Some(dst) = self.bytes.get_mut(at) {
+                *dst = *byte;
+            }
+            if let Some(known) = self.known.get_mut(at / 8) {
+                *known |= 1u8 << (at % 8);
             }
         }
         true
@@ -246,22 +247,22 @@ impl FieldMemory {
 
     /// Free the whole blocks from `from` (a block boundary: fields end on one) up to
     /// `to` (a field shrunk or deleted: at most one field's 8 blocks): they read FFh and
-    /// the model knows nothing of them. Block by block, in a loop of fixed length (8
-    /// blocks) rather than a `fill`: Kani unrolls it 8 times, not as often as the 4 080
-    /// bytes allow. Blocks past the memory's end are not there to free.
+    /// the model knows nothing of them. Byte by byte over at most 8 blocks, rather than
+    /// a `fill` of the rest of the memory (Kani would unroll it as often as the 4 080
+    /// bytes allow) or a copy of whole blocks (for Kani a copy at a position it does
+    /// not know ran out of 8 GB on its own; one store per byte does not). Bytes past
+    /// the memory's end are not there to free.
     pub fn free(&mut self, from: usize, to: usize) {
-        for block in 0..MAX_FIELD_BLOCKS {
-            let at = from.saturating_add(block * BLOCK);
+        for i in 0..MAX_FIELD_BLOCKS * BLOCK {
+            let at = from.saturating_add(i);
             if at >= to {
-                continue;
+                break;
             }
-            // Whole blocks copied (a `memcpy` for Kani, no loop); fields end on block
-            // boundaries, so a block is whole bytes of `known`.
-            if let Some(bytes) = self.bytes.get_mut(at..at.saturating_add(BLOCK)) {
-                bytes.copy_from_slice(&[ERASED; BLOCK]);
+            if let Some(byte) = self.bytes.get_mut(at) {
+                *byte = ERASED;
             }
-            if let Some(known) = self.known.get_mut(at / 8..at.saturating_add(BLOCK) / 8) {
-                known.copy_from_slice(&[0; BLOCK / 8]);
+            if let Some(known) = self.known.get_mut(at / 8) {
+                *known &= !(1u8 << (at % 8));
             }
         }
     }
