@@ -544,6 +544,11 @@ mod tests {
         m.free(MAX_MEMORY - BLOCK, MAX_MEMORY);
         assert!(m.is_free_from(0), "the written block freed: all of it free again");
         assert!(m == FieldMemory::erased());
+        // Freeing part of the eight bytes one `known` byte covers leaves the rest known.
+        assert!(m.write(0, &[1; 16]));
+        m.free(0, 4);
+        assert_eq!(m.read(3, 2), Some(&[ERASED, 1][..]));
+        assert!(!m.is_known(3) && m.is_known(4) && m.is_known(7));
     }
 
     #[test]
