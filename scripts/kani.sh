@@ -10,9 +10,10 @@
 #   scripts/kani.sh --false-assertion inductive_read_counter
 #                                         with a claim every command breaks added to the
 #                                         whole step (`cfg(false_assertion)`, see
-#                                         proofs/src/inductive.rs; `field_memory_write` has
-#                                         one of its own): each harness named must FAIL
-#                                         on it; the exit status says whether all did
+#                                         proofs/src/inductive.rs; the three
+#                                         `field_memory_*` have claims of their own): each
+#                                         harness named must FAIL on its claim; the exit
+#                                         status says whether all did
 #
 # Kani is installed the ordinary way (`cargo install --locked kani-verifier && cargo
 # kani setup`); without it this script says so and exits 0 (the `cargo test` twins of
@@ -62,7 +63,7 @@ CBMC_ARGS=(--max-field-sensitivity-array-size 136)
 #
 # `-Z stubbing`: the whole-step harnesses of the data field commands replace the field
 # memory's operations by stubs (`#[kani::stub]`; proofs/src/lib.rs, `field_memory_*`
-# proves what the stubs assume). Harnesses without a stub are compiled as before.
+# prove what the stubs assume). Harnesses without a stub are compiled as before.
 KANI_ARGS=(--no-assertion-reach-checks)
 OUT=target/kani${FALSE_ASSERTION:+-false}
 mkdir -p "$OUT"

@@ -181,6 +181,17 @@ pub enum Editions {
     LegacyOnly,
 }
 
+impl Editions {
+    /// Whether the legacy edition (`legacy`) or the current one defines the command.
+    pub const fn includes(self, legacy: bool) -> bool {
+        match self {
+            Editions::Both => true,
+            Editions::CurrentOnly => !legacy,
+            Editions::LegacyOnly => legacy,
+        }
+    }
+}
+
 /// Whether a command writes non-volatile memory.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Memory {
@@ -397,23 +408,19 @@ impl CommandSet {
         let mut i = 0;
         while i < COMMAND_TABLE.len() {
             let s = &COMMAND_TABLE[i];
-            let defined = match s.editions {
-                Editions::Both => true,
-                Editions::CurrentOnly => !legacy,
-                Editions::LegacyOnly => legacy,
-            };
-            let b = s.id.byte();
-            if defined && b >= 0x40 && b <= 0x7F {
-                bits |= 1u64 << (b - 0x40);
+            if let (true, Some(bit)) = (s.editions.includes(legacy), Self::bit(s.id)) {
+                bits |= bit;
             }
             i += 1;
         }
         CommandSet(bits)
     }
 
-    fn bit(id: CommandId) -> Option<u64> {
-        let b = id.byte();
-        (0x40..=0x7F).contains(&b).then(|| 1u64 << (b - 0x40))
+    const fn bit(id: CommandId) -> Option<u64> {
+        match id.byte() {
+            b @ 0x40..=0x7F => Some(1u64 << (b - 0x40)),
+            _ => None,
+        }
     }
 
     pub fn insert(&mut self, id: CommandId) {
@@ -527,11 +534,7 @@ mod tests {
         // The constants are the table's rows of each edition, each row once.
         for (set, legacy_edition) in [(current, false), (legacy, true)] {
             let mut rows = CommandSet::EMPTY;
-            for s in COMMAND_TABLE.iter().filter(|s| match s.editions {
-                Editions::Both => true,
-                Editions::CurrentOnly => !legacy_edition,
-                Editions::LegacyOnly => legacy_edition,
-            }) {
+            for s in COMMAND_TABLE.iter().filter(|s| s.editions.includes(legacy_edition)) {
                 rows.insert(s.id);
             }
             assert_eq!(set, rows);

@@ -161,25 +161,30 @@ pub const MAX_FAMILY_FRAME: usize = 3 + 8;
 /// Where a Read Data request holds its count byte (000:T21).
 pub const READ_DATA_COUNT: usize = 4;
 
-/// Whether a Read Data request is one the harness `inductive_read_data` takes: asking
-/// for 0 to 16 bytes or more than 128 (refused: no field is larger), so that the reply
-/// is at most 22 bytes. Longer replies need an unwind bound past 130, to which every
-/// loop over a count CBMC does not know is then unrolled (proofs/src/lib.rs).
+/// The counts the harness `inductive_read_data` leaves out: 17 up to the largest field
+/// (128 bytes). It takes 0 to 16, and more than 128 (refused: no field is larger), so
+/// that the reply is at most 22 bytes; longer replies need an unwind bound past 130,
+/// to which every loop over a count CBMC does not know is then unrolled
+/// (proofs/src/lib.rs).
+pub const READ_DATA_LONG: core::ops::RangeInclusive<u8> = 17..=MAX_FIELD_BYTES as u8;
+
+/// Whether a Read Data request is one the harness `inductive_read_data` takes.
 pub fn read_data_counted_short(frame: &[u8]) -> bool {
-    frame.get(READ_DATA_COUNT).is_some_and(|c| !(17..=128).contains(c))
+    frame.get(READ_DATA_COUNT).is_some_and(|c| !READ_DATA_LONG.contains(c))
 }
 
-/// A Read Data request made one of the harness's (count byte 17 to 128 taken to 0 to 16).
+/// A Read Data request made one of the harness's (a long count taken to 0 to 16).
 pub fn read_data_short(frame: &mut [u8]) {
-    if let Some(c) = frame.get_mut(READ_DATA_COUNT).filter(|c| (17..=128).contains(*c)) {
-        *c %= 17;
+    if let Some(c) = frame.get_mut(READ_DATA_COUNT).filter(|c| READ_DATA_LONG.contains(*c)) {
+        *c %= READ_DATA_LONG.start();
     }
 }
 
-/// A Read Data request made one the harness leaves out (count byte 17 to 128).
+/// A Read Data request made one the harness leaves out (a long count).
 pub fn read_data_long(frame: &mut [u8]) {
+    let (first, last) = (*READ_DATA_LONG.start(), *READ_DATA_LONG.end());
     if let Some(c) = frame.get_mut(READ_DATA_COUNT) {
-        *c = 17 + *c % 112;
+        *c = first + *c % (last - first + 1);
     }
 }
 
@@ -297,15 +302,16 @@ pub fn field_memory_contents(start: usize, data: &[u8], from: usize, to: usize, 
     let mut memory = FieldMemory::erased();
     let written = memory.write(start, data);
     let byte = |m: &FieldMemory| m.read(probe, 1).and_then(|b| b.first().copied());
+    // Past the memory's end there is no byte to be erased.
+    let erased = |m: &FieldMemory| probe >= MAX_MEMORY || (byte(m) == Some(ERASED) && !m.is_known(probe));
     let at = probe.checked_sub(start).filter(|i| written && *i < data.len());
     let probed = match at {
         Some(i) => byte(&memory) == data.get(i).copied() && memory.is_known(probe),
-        None => probe >= MAX_MEMORY || (byte(&memory) == Some(ERASED) && !memory.is_known(probe)),
+        None => erased(&memory),
     };
     memory.free(from, to);
     let freed = from % BLOCK == 0 && from <= probe && probe - from < MAX_FIELD_BLOCKS * BLOCK && probe < to;
-    let erased = probe >= MAX_MEMORY || (byte(&memory) == Some(ERASED) && !memory.is_known(probe));
-    written == memory_holds(start, data.len()) && probed && (!freed || erased)
+    written == memory_holds(start, data.len()) && probed && (!freed || erased(&memory))
 }
 
 /// The stack the slave has after pushing the first `len` of `codes`, in order (00h

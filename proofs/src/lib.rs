@@ -366,10 +366,10 @@ mod harnesses {
     /// took 24 until 2026-11-27); the field table's loops over a count CBMC does not
     /// know (at most 4 fields) and the checksum's over a reply of a length it does not
     /// know are unrolled to the bound, and the unwinding assertions (on) show that 10 is
-    /// enough (a reply of more than 9 bytes needs more: Read Version, Read Data). Not vacuous: the twin builds states satisfying the
-    /// invariant from the same parts (it fails if fewer than half its samples do), so
-    /// the assumption holds for some of them; a `kani::cover!` here would cost a second
-    /// solver run as long as the proof.
+    /// enough (a reply of more than 9 bytes needs more: Read Version, Read Data). Not
+    /// vacuous: the twin builds states satisfying the invariant from the same parts (it
+    /// fails if fewer than half its samples do), so the assumption holds for some of
+    /// them; a `kani::cover!` here would cost a second solver run as long as the proof.
     /// `N`: the frame's length (address, command, data, checksum); an array of exactly
     /// that length, as a slice of a longer one would have its loops unrolled as often
     /// as the longer one allows.

@@ -468,6 +468,12 @@ fn memory_position() -> impl Strategy<Value = usize> {
     ]
 }
 
+/// Where a free starts: mostly a block boundary (the fields end on one), else anywhere.
+fn free_start() -> impl Strategy<Value = usize> {
+    use hiperface_model::slave::fields::BLOCK;
+    prop_oneof![3 => memory_position().prop_map(|p| p / BLOCK * BLOCK), 1 => memory_position()]
+}
+
 /// Reads mostly of up to 128 bytes, probed mostly within them.
 fn field_memory_reads() -> Result<u64, String> {
     let count = prop_oneof![3 => 0usize..=128, 1 => any::<usize>()];
@@ -486,18 +492,16 @@ fn field_memory_writes() -> Result<u64, String> {
 
 /// Frees from anywhere (mostly a block boundary) to anywhere.
 fn field_memory_frees() -> Result<u64, String> {
-    use hiperface_model::slave::fields::BLOCK;
-    let from = prop_oneof![3 => memory_position().prop_map(|p| p / BLOCK * BLOCK), 1 => memory_position()];
-    sample((from, memory_position()), 50_000, |(from, to)| inductive::field_memory_frees_without_panic(*from, *to))
+    sample((free_start(), memory_position()), 50_000, |(from, to)| {
+        inductive::field_memory_frees_without_panic(*from, *to)
+    })
 }
 
 /// Writes of 0 to 8 bytes, frees mostly from a block boundary, the byte probed mostly
 /// near the write or the free.
 fn field_memory_contents() -> Result<u64, String> {
-    use hiperface_model::slave::fields::BLOCK;
     let data = prop::collection::vec(any::<u8>(), 0..=8);
-    let from = prop_oneof![3 => memory_position().prop_map(|p| p / BLOCK * BLOCK), 1 => memory_position()];
-    let strategy = (memory_position(), data, from, memory_position(), (0u8..3, 0usize..160, memory_position()));
+    let strategy = (memory_position(), data, free_start(), memory_position(), (0u8..3, 0usize..160, memory_position()));
     sample(strategy, 50_000, |(start, data, from, to, (near, delta, anywhere))| {
         let probe = match near {
             0 => start.saturating_add(*delta).saturating_sub(4),

@@ -245,9 +245,9 @@ impl FieldMemory {
         true
     }
 
-    /// Free the whole blocks from `from` (a block boundary: fields end on one) up to
-    /// `to` (a field shrunk or deleted: at most one field's 8 blocks): they read FFh and
-    /// the model knows nothing of them. Byte by byte over at most 8 blocks, rather than
+    /// Free the bytes from `from` up to `to`, at most one field's 8 blocks (a field
+    /// shrunk or deleted: the blocks between the fields' new end and their old one):
+    /// they read FFh and the model knows nothing of them. Byte by byte over at most 8 blocks, rather than
     /// a `fill` of the rest of the memory (Kani would unroll it as often as the 4 080
     /// bytes allow) or a copy of whole blocks (for Kani a copy at a position it does
     /// not know ran out of 8 GB on its own; one store per byte does not). Bytes past
