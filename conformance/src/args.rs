@@ -49,7 +49,7 @@ impl WorldArgs {
         if let Some(p) = self.position {
             inputs.position = p;
         }
-        World { inputs: custom.then_some(inputs), init_faults: self.init_faults.clone() }
+        World { inputs: custom.then_some(inputs), init_faults: self.init_faults.clone(), ..World::default() }
     }
 }
 

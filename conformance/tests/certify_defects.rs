@@ -281,7 +281,7 @@ fn stack_not_deduplicated() {
     use hiperface_model::slave::inputs::InitFault;
     // The device found two start-up faults, each stored "along with the internal
     // checksum error" (000:T40, T41): a conforming stack holds 06h once (000:T27).
-    let world = World { inputs: None, init_faults: vec![InitFault::AngularOffset, InitFault::PartitionTable] };
+    let world = World { init_faults: vec![InitFault::AngularOffset, InitFault::PartitionTable], ..World::default() };
     let conforming = {
         let mut d = Defective::new(keep);
         world.apply(&mut d.model);

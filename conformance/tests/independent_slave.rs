@@ -148,19 +148,20 @@ const DEFECTS: &[Defect] = &[
         name: "late-reply",
         case: "counter.read",
         clause: "000:T10",
-        // reads the counter too
-        collateral: &["counter.increment"],
+        // reads the counter too; the length case sends every command, 46h among them
+        collateral: &["counter.increment", "protocol.length"],
     },
     // Beyond the window the harness awaits a reply in (three times the limit, at least
     // 100 ms past it): still this request's reply, late (000:T10), and not the next
     // request's ("no reply" here and a wrong answer in the next case, before).
-    Defect { name: "very-late-reply", case: "identity.version", clause: "000:T10", collateral: &[] },
+    // The length case sends every command, 56h among them.
+    Defect { name: "very-late-reply", case: "identity.version", clause: "000:T10", collateral: &["protocol.length"] },
     Defect {
         name: "gap-in-reply",
         case: "identity.type-label",
         clause: "000:2.2.2/reply-end",
-        // the other cases that read the type label
-        collateral: &["address.broadcast"],
+        // the other cases that read the type label (the length case sends every command)
+        collateral: &["address.broadcast", "protocol.length"],
     },
     Defect {
         name: "answers-other-address",
@@ -188,8 +189,14 @@ const DEFECTS: &[Defect] = &[
         collateral: &["powerup.reset"],
     },
     Defect { name: "store-read-only", case: "fields.access-code", clause: "000:T52", collateral: &[] },
-    // both power-up cases start with an Encoder Reset
-    Defect { name: "reset-answers", case: "powerup.reset", clause: "000:T29", collateral: &["powerup.window"] },
+    // both power-up cases start with an Encoder Reset, and the stored settings are
+    // taken up after one
+    Defect {
+        name: "reset-answers",
+        case: "powerup.reset",
+        clause: "000:T29",
+        collateral: &["powerup.window", "settings.stored"],
+    },
     Defect { name: "no-init-silence", case: "powerup.reset", clause: "000:T9", collateral: &[] },
     Defect { name: "no-code-check", case: "position.set", clause: "000:T53", collateral: &[] },
     Defect { name: "old-address-reply", case: "address.change-restore", clause: "000:T30", collateral: &[] },

@@ -22,6 +22,8 @@ use std::rc::Rc;
 struct Scripted {
     slave: Slave,
     plan: &'static [master::scenarios::Injection],
+    /// The plan's injections that have taken place (each once).
+    fired: std::collections::BTreeSet<usize>,
     seen: BTreeMap<u8, u32>,
     /// A gap inside the reply on its way: before which character, how long.
     gap: Option<(usize, u64)>,
@@ -40,7 +42,11 @@ impl Scripted {
         };
         let mut tx = step.transmission;
         self.gap = None;
-        for inj in self.plan.iter().filter(|i| i.on == command && i.nth == n) {
+        let due: Vec<usize> = (0..self.plan.len())
+            .filter(|i| self.plan[*i].due(command, n, step.received.last_us, self.fired.contains(i)))
+            .collect();
+        self.fired.extend(due.iter().copied());
+        for inj in due.iter().map(|i| &self.plan[*i]) {
             // On from the next request (this one was answered as the model had it).
             if let Some(f) = inj.act.position_fault() {
                 self.slave.inject_position_fault(f, true);
@@ -136,7 +142,8 @@ fn transcript(profile: Profile, polling_period_ms: u64, duration_ms: u64) -> Str
         let encoder = scenario.encoder.map_or(profile, |make| make(profile));
         let mut slave = Slave::new(encoder);
         (scenario.world)(&encoder).apply_at_power_on(&mut slave);
-        let device = Scripted { slave, plan: scenario.plan, seen: BTreeMap::new(), gap: None };
+        let device =
+            Scripted { slave, plan: scenario.plan, fired: Default::default(), seen: BTreeMap::new(), gap: None };
         let out = Rc::new(RefCell::new(String::new()));
         let line = Recording { line: VirtualLine::new(device), out: out.clone() };
         let mut bus = BusMaster::new(line, encoder.edition);

@@ -254,7 +254,7 @@ clauses! {
     [normative Legacy] LEGACY_VERSION = "002:56h": "The 9-digit serial number, the firmware version of up to 20 characters and the 8-digit firmware date in the DD.MM.YY format.";
     [Informative] DATAFIELD_EXAMPLE = "002:example": "Example data field definition: address 40h, codes 55h, 128 bytes free.";
     [Decision] CHECK_ORDER = "DESIGN:order": "1) not own address nor FFh: silent; 2) UART fault 09h; 3) < 3 bytes 0Ch; 4) checksum 0Ah; 5) unknown command 0Bh; 6) length 0Ch; 7) argument 0Dh; 8) access code 0Fh; 9) state and data checks.";
-    [Decision] STACK_POLICY = "DESIGN:stack": "4 entries, a code present once while unread, overflow drops the oldest, 50h returns the oldest first, 00h when empty, 53h clears it.";
+    [Decision] STACK_POLICY = "DESIGN:stack": "4 entries, a code present once while unread, overflow drops the oldest, 50h returns the oldest first, 00h when empty, 53h clears it; an Others condition that holds is stacked before 50h reads the stack.";
     [Decision] FIELD_POLICY = "DESIGN:fields": "Sizes and free memory in 16 byte blocks; new field contents read FFh; delete and resize only the last field; FFh is the Extended Type Label.";
     [Decision] POWER_UP_POLICY = "DESIGN:power-up": "A request addressed to the slave in the default window keeps the default settings until the next reset.";
     [Decision] POSITION_POLICY = "DESIGN:position": "offset = preset - raw (mod range); 6Ah keeps the raw 5 LSBs, nearest value, ties downward; 6Ch returns (-offset) mod 32.";

@@ -71,6 +71,25 @@ fn warning_bit_and_error_stack() {
     assert_eq!(ask_sealed(&mut s, &[0x40, 0x4E]), Some(sealed(&[0x40, 0x4E, 0x70, 0x00])));
 }
 
+/// An Others condition that holds when 50h comes is active then (000:T58, T59: "checked
+/// prior to every Slave response message"): 50h reports it, never 00h with the warning
+/// bit, which says nothing is active and that something is (000:T27).
+#[test]
+fn read_encoder_status_reports_a_condition_that_holds_even_on_an_empty_stack() {
+    // Hot, and 50h the very first request: nothing stacked yet.
+    let mut s = with_inputs(operational(profiles::srs50()), |i| i.temperature_c = 130);
+    assert_eq!(ask_sealed(&mut s, &[0x40, 0x50]), Some(sealed(&[0x40, 0xD0, 0x1E])));
+    // The LED current over its limit: a position request answers 1Dh, not stacked; 50h
+    // then finds it active.
+    let mut s = with_inputs(operational(profiles::srs50()), |i| i.led_current_ma = 500);
+    assert_eq!(ask_sealed(&mut s, &[0x40, 0x42]), Some(error(0x40, 0x1D)));
+    assert_eq!(ask_sealed(&mut s, &[0x40, 0x50]), Some(sealed(&[0x40, 0xD0, 0x1D])));
+    // The current back within its limit: the code read once more, then nothing.
+    s = with_inputs(s, |i| i.led_current_ma = 10);
+    assert_eq!(ask_sealed(&mut s, &[0x40, 0x50]), Some(sealed(&[0x40, 0x50, 0x1D])));
+    assert_eq!(ask_sealed(&mut s, &[0x40, 0x50]), Some(sealed(&[0x40, 0x50, 0x00])));
+}
+
 #[test]
 fn stack_overflow_drops_the_oldest_and_reset_clears() {
     let mut s = operational(profiles::srm50());

@@ -1,15 +1,21 @@
-//! The world a simulated encoder lives in: its physical inputs and the faults it
-//! finds at start-up. The simulator serves a model in it, and the model the harness
-//! grades against is put in the same one (`certify slave --port sim`, the encoder of
-//! `certify master`).
+//! The world a simulated encoder lives in: its physical inputs, the faults it finds
+//! at start-up and the faults of its position measurement. The simulator serves a
+//! model in it, and the model the harness grades against is put in the same one
+//! (`certify slave --port sim`, the encoder of `certify master`, an encoder certified
+//! in-process with its world given).
 
 use hiperface_model::Slave;
 
-/// The device's physical inputs and the faults it found at start-up.
-#[derive(Debug, Clone, Default)]
+/// The device's physical inputs, the faults it found at start-up and the faults of its
+/// position measurement.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct World {
     pub inputs: Option<hiperface_model::slave::inputs::PhysicalInputs>,
     pub init_faults: Vec<hiperface_model::slave::inputs::InitFault>,
+    /// Reported on position commands while present (000:T39, T57, T61-T68).
+    pub position_faults: Vec<hiperface_model::slave::inputs::PositionFault>,
+    /// The internal I2C bus is down: the commands that need it answer 05h (000:T43).
+    pub i2c_fault: bool,
 }
 
 impl World {
@@ -21,6 +27,21 @@ impl World {
             model.set_inputs(inputs);
         }
         model.power_up_with(self.init_faults.iter().copied(), false);
+        self.inject_position_faults(model);
+    }
+
+    /// Whether this is the default world (nothing given).
+    pub fn is_default(&self) -> bool {
+        *self == World::default()
+    }
+
+    fn inject_position_faults(&self, model: &mut Slave) {
+        for f in &self.position_faults {
+            model.inject_position_fault(*f, true);
+        }
+        if self.i2c_fault {
+            model.inject_i2c_fault(true);
+        }
     }
 
     /// Bring a model into this world: inputs set, start-up faults found.
@@ -31,5 +52,6 @@ impl World {
         if !self.init_faults.is_empty() {
             model.power_up_with(self.init_faults.iter().copied(), true);
         }
+        self.inject_position_faults(model);
     }
 }

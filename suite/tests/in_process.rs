@@ -5,10 +5,14 @@
 //! encoders (written from the specification alone) are certified this way from C
 //! (`examples/c/tiny_encoder.c`) and Python (`python/tests`).
 
+mod common;
+use common::failing;
+
 use hiperface_model::datalink::{ReceivedFrame, RxChar};
+use hiperface_model::slave::{Reply, Silence};
 use hiperface_model::{checksum, profiles, Frame, Profile, Slave};
 use hiperface_suite::line::frame_encoder::Answer;
-use hiperface_suite::slave::{self, CaseVerdict, Options, Outcome, Report};
+use hiperface_suite::slave::{self, Options, Outcome, Report};
 
 /// The reference model as an encoder given frame by frame: the frame's characters are
 /// fed to it a character time apart, ending when the frame's last one was received.
@@ -35,7 +39,11 @@ impl ModelByFrames {
         }
         let Some(step) = self.slave.poll(f.complete_us) else { return Answer::SILENT };
         let Some(t) = step.transmission else {
-            return Answer { then_settings: step.outcome.then_settings, ..Answer::SILENT };
+            // After an Encoder Reset the stored settings again (000:T29), as the frame
+            // interface says: the settings an encoder listens with from now on.
+            let reset = matches!(step.outcome.reply, Reply::Silent(Silence::Reset));
+            let then_settings = step.outcome.then_settings.or(reset.then(|| self.slave.nonvolatile().settings));
+            return Answer { then_settings, ..Answer::SILENT };
         };
         let mut reply = t.frame.as_bytes().to_vec();
         let mut start_us = t.earliest_start_us + 300;
@@ -54,15 +62,6 @@ fn certify(profile: Profile, defect: fn(&mut Vec<u8>, &mut u64, &ReceivedFrame))
     let verdicts = |r: &Report| r.cases.iter().map(|c| (c.id, c.verdict)).collect::<Vec<_>>();
     assert_eq!(verdicts(&report), verdicts(&again));
     report
-}
-
-fn failing(r: &Report) -> Vec<String> {
-    r.cases
-        .iter()
-        .filter(|c| c.verdict == CaseVerdict::Fail)
-        .flat_map(|c| c.findings.iter().filter(|f| f.verdict() == CaseVerdict::Fail).map(move |f| (c.id, f)))
-        .map(|(id, f)| format!("{id} {}", f.clause_id()))
-        .collect()
 }
 
 fn conformant(_: &mut Vec<u8>, _: &mut u64, _: &ReceivedFrame) {}

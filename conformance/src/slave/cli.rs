@@ -35,6 +35,10 @@ pub struct CertifySlaveArgs {
     /// `--port virtual` (the reference model).
     #[arg(long)]
     pub allow_counter_change: bool,
+    /// Allow Sensor Adjustment (6Bh) with the profile's options: it may recalibrate the
+    /// sensor, and no request undoes it. Implied by `--port sim` and `--port virtual`.
+    #[arg(long)]
+    pub allow_adjustment: bool,
     /// Cap on EEPROM writes in the run.
     #[arg(long, default_value_t = 200)]
     pub write_budget: u32,
@@ -99,6 +103,7 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
         profile,
         allow_writes,
         allow_counter_change,
+        allow_adjustment,
         write_budget,
         cases,
         report: dir,
@@ -167,6 +172,7 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
     let options = Options {
         allow_writes: allow_writes || sim,
         allow_counter_change: allow_counter_change || sim,
+        allow_adjustment: allow_adjustment || sim,
         write_budget,
         cases,
         grading,

@@ -424,7 +424,11 @@ impl Slave {
         }
     }
 
-    fn process(&mut self, frame: ReceivedFrame) -> Step {
+    /// A frame the caller's own data link delimited, processed when its timeout
+    /// elapsed (`frame.complete_us`), as [`Slave::receive`] and [`Slave::poll`]
+    /// process the frames of the slave's own: for a device built around the model that
+    /// frames requests itself (a test encoder with another timeout).
+    pub fn process(&mut self, frame: ReceivedFrame) -> Step {
         let at = frame.complete_us;
         let settings = self.listening_settings(at);
         let outcome = match settings {

@@ -157,11 +157,25 @@ impl<'a> Reader<'a> {
     /// whose characters back to back would run into the next frame (a log of a line
     /// that does not pace characters, such as `--port sim`) ends the timeout before
     /// that frame instead: its start is as logged, its length is not in the log.
+    ///
+    /// Likewise a request written at once on such a line, whose characters back to back
+    /// would begin before the frame before it ended (a long Store Data, or one at a
+    /// data rate the log does not say): its end is as logged, its characters share the
+    /// time since that frame.
     fn expand(&mut self, t_us: u64, role: Role, bytes: &[u8], next_start: Option<u64>) -> Result<(), ParseError> {
         let ct = self.options.char_time_us();
         let n = bytes.len() as u64;
+        let mut step = ct;
         let first_end = match role {
-            Role::Master => t_us.checked_sub((n - 1) * ct),
+            Role::Master => match t_us.checked_sub((n - 1) * ct) {
+                Some(t) if t >= self.last_us => Some(t),
+                _ if n > 1 && t_us > self.last_us => {
+                    step = (t_us - self.last_us) / n;
+                    self.compressed += 1;
+                    Some(t_us - (n - 1) * step)
+                }
+                _ => None,
+            },
             Role::Slave => t_us.checked_add(ct),
         };
         let first_end = first_end.filter(|t| *t >= self.last_us).ok_or_else(|| {
@@ -170,7 +184,6 @@ impl<'a> Reader<'a> {
                 "a frame that starts before the one before it ended: expected times in order",
             )
         })?;
-        let mut step = ct;
         if let (Role::Slave, Some(next)) = (role, next_start) {
             let room = next.saturating_sub(self.options.timeout_us()).saturating_sub(first_end);
             if n > 1 && (n - 1) * ct > room {

@@ -75,14 +75,20 @@ impl<D: SlaveDevice> VirtualLine<D> {
 
     /// Let the device act on everything due up to `t_us`.
     fn advance(&mut self, t_us: u64) {
+        // A deadline already past is due now; one the device names again after it was
+        // polled at that time has nothing more to do then (a device under test that
+        // keeps naming a past time must not hold the line for ever).
+        let mut polled_at = None;
         while let Some(deadline) = self.device.next_deadline(self.now).filter(|d| *d <= t_us) {
-            if let Some(t) = self.device.poll(deadline) {
-                self.transmit(t);
-            }
-            if self.device.next_deadline(deadline) == Some(deadline) {
+            let at = deadline.max(self.now);
+            if polled_at == Some(at) {
                 break;
             }
-            self.now = self.now.max(deadline);
+            if let Some(t) = self.device.poll(at) {
+                self.transmit(t);
+            }
+            polled_at = Some(at);
+            self.now = at;
         }
         self.now = self.now.max(t_us);
     }

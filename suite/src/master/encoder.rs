@@ -210,6 +210,10 @@ pub struct DriveEncoder {
     /// The application's polling period the observer was given, µs (000:3.2.2).
     polling_period_us: u64,
     plan: &'static [Injection],
+    /// Which of the plan's injections have taken place (each takes place once).
+    fired: Vec<bool>,
+    /// The plan's injections due on the request now being answered.
+    due: Vec<usize>,
     pub timeline: Timeline,
     profile: Profile,
     /// The command of the last frame, if it was a request: what a reply answers.
@@ -276,6 +280,8 @@ impl DriveEncoder {
             observer,
             polling_period_us: hiperface_model::master::obligations::POLLING_PERIOD_MS as u64 * 1000,
             plan: scenario.plan,
+            fired: vec![false; scenario.plan.len()],
+            due: Vec::new(),
             timeline: Timeline::default(),
             profile,
             answered: None,
@@ -493,6 +499,7 @@ impl Hooks for DriveEncoder {
 
     fn frame(&mut self, slave: &mut Slave, step: &Step) {
         self.log.push(super::inputs::Input::Frame);
+        self.due.clear();
         let bytes = step.received.bytes.as_bytes();
         let decoded = RequestFrame::decode(bytes).ok();
         self.answered = decoded.map(|r| r.request.command());
@@ -512,9 +519,18 @@ impl Hooks for DriveEncoder {
             *count += 1;
             *count
         };
-        // Position faults of the plan switch on at their request, before the reply.
-        for inj in self.plan {
-            if let (Some(f), true) = (inj.act.position_fault(), inj.on == command && inj.nth == n) {
+        // The plan's injections due on this request (by its count, or by time); position
+        // faults switch on at their request, before the reply.
+        for (i, inj) in self.plan.iter().enumerate() {
+            let done = self.fired.get(i).copied().unwrap_or(true);
+            if !inj.due(command, n, at, done) {
+                continue;
+            }
+            if let Some(f) = self.fired.get_mut(i) {
+                *f = true;
+            }
+            self.due.push(i);
+            if let Some(f) = inj.act.position_fault() {
                 slave.inject_position_fault(f, true);
                 self.injected(step.received.last_us, format!("injected: {}", inj.act));
             }
@@ -525,12 +541,11 @@ impl Hooks for DriveEncoder {
         self.log.push(super::inputs::Input::Reply);
         // A master reads the reply as a UART would deliver it.
         planned.paced = true;
-        // `frame` saw this frame first: its command, and how many of it so far.
+        // `frame` saw this frame first, and found which injections are due on it.
         let bytes = step.received.bytes.as_bytes();
-        let command = self.answered;
-        let n = command.and_then(|c| self.timeline.requests.get(&c.byte()).copied()).unwrap_or(0);
-        for inj in self.plan {
-            if Some(inj.on) != command || inj.nth != n || inj.act.position_fault().is_some() {
+        let due: Vec<Injection> = self.due.iter().filter_map(|i| self.plan.get(*i).copied()).collect();
+        for inj in due {
+            if inj.act.position_fault().is_some() {
                 continue;
             }
             let address = bytes.first().copied().unwrap_or(0x40);

@@ -13,12 +13,30 @@ use hiperface_model::{CommandId, Profile};
 /// search of the reference master to a fixpoint (proofs/src/master_fixpoint.rs).
 pub use hiperface_model::slave::act::Act;
 
-/// The `nth` request (1, 2, ...) of command `on` gets `act`.
+/// The `nth` request (1, 2, ...) of command `on` gets `act`, or, where `or_after_ms`
+/// is given and comes first, the first request of `on` from that time (ms since
+/// power-on): a master polling slowly, as 000 allows up to the application's period,
+/// meets the situation all the same.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Injection {
     pub on: CommandId,
     pub nth: u32,
     pub act: Act,
+    pub or_after_ms: Option<u32>,
+}
+
+impl Injection {
+    /// The `nth` request of `on` gets `act`.
+    pub const fn nth(on: CommandId, nth: u32, act: Act) -> Injection {
+        Injection { on, nth, act, or_after_ms: None }
+    }
+
+    /// Whether the `n`th request of `command`, received at `at_us`, gets the act;
+    /// `done`: it was given already in this run.
+    pub fn due(&self, command: CommandId, n: u32, at_us: u64, done: bool) -> bool {
+        let by_time = self.or_after_ms.is_some_and(|t| at_us >= u64::from(t) * 1000);
+        command == self.on && !done && (n == self.nth || by_time)
+    }
 }
 
 /// What a scenario is about: the situation its plan or world creates. Until it has
@@ -46,9 +64,15 @@ impl Situation {
             Situation::WarningSent => "no reply with the warning bit went out: the master sent no request".into(),
             Situation::TypeFfSent => "the master never read the type label (52h), so never saw type FFh".into(),
             Situation::Injected => match s.plan.first() {
-                Some(i) => {
-                    format!("the master never sent request {} of {}, which the fault is injected on", i.nth, i.on)
-                }
+                Some(i) => match i.or_after_ms {
+                    Some(t) => format!(
+                        "the master sent neither request {} of {} nor one from {t} ms on, which the fault is injected on",
+                        i.nth, i.on
+                    ),
+                    None => {
+                        format!("the master never sent request {} of {}, which the fault is injected on", i.nth, i.on)
+                    }
+                },
                 None => "nothing was injected".into(),
             },
         }
@@ -146,8 +170,21 @@ impl Scenario {
     /// When the scenario ends, ms since power-on: its duration, or later when its
     /// situation arose at `situation_ms`, so that the reaction and a polling period
     /// after it are seen.
+    ///
+    /// Until then, a plan that injects by time waits for a master polling at the
+    /// period: its time, a period and the margin.
     pub fn end_ms(&self, situation_ms: Option<u64>, polling_period_ms: u32) -> u64 {
-        let after = situation_ms.map_or(0, |t| t + polling_period_ms as u64 + REACTION_MARGIN_MS);
+        let period = polling_period_ms as u64;
+        let after = match situation_ms {
+            Some(t) => t + period + REACTION_MARGIN_MS,
+            None => self
+                .plan
+                .iter()
+                .filter_map(|i| i.or_after_ms)
+                .map(|t| u64::from(t) + period + REACTION_MARGIN_MS)
+                .max()
+                .unwrap_or(0),
+        };
         self.duration_ms.max(after)
     }
 

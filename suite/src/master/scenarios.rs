@@ -61,7 +61,7 @@ macro_rules! scenario {
             clauses: const { &[$(clause::$clause.clause()),*] },
             duration_ms: $ms,
             world: $world,
-            plan: $plan,
+            plan: const { $plan },
             encoder: None,
             situation: Situation::$situation,
             reaction: Reaction::$reaction,
@@ -135,7 +135,7 @@ pub fn catalogue() -> Vec<Scenario> {
             [MASTER_FAULT_REACTION],
             1500,
             calm,
-            &[Injection { on: POSITION, nth: 2, act: Act::Error(FaultCode::Checksum) }],
+            &[Injection::nth(POSITION, 2, Act::Error(FaultCode::Checksum))],
             Injected => Retries
         ),
         scenario!(
@@ -144,7 +144,7 @@ pub fn catalogue() -> Vec<Scenario> {
             [MASTER_FAULT_REACTION],
             1500,
             calm,
-            &[Injection { on: POSITION, nth: 2, act: Act::Error(FaultCode::WrongLength) }],
+            &[Injection::nth(POSITION, 2, Act::Error(FaultCode::WrongLength))],
             Injected => Retries
         ),
         scenario!(
@@ -153,7 +153,7 @@ pub fn catalogue() -> Vec<Scenario> {
             [MASTER_FAULT_REACTION],
             1500,
             calm,
-            &[Injection { on: POSITION, nth: 2, act: Act::Error(FaultCode::Parity) }],
+            &[Injection::nth(POSITION, 2, Act::Error(FaultCode::Parity))],
             Injected => Retries
         ),
         scenario!(
@@ -162,7 +162,7 @@ pub fn catalogue() -> Vec<Scenario> {
             [MASTER_FAULT_REACTION],
             1500,
             calm,
-            &[Injection { on: POSITION, nth: 2, act: Act::Error(FaultCode::UnknownCommand) }],
+            &[Injection::nth(POSITION, 2, Act::Error(FaultCode::UnknownCommand))],
             Injected => Retries
         ),
         scenario!(
@@ -171,7 +171,7 @@ pub fn catalogue() -> Vec<Scenario> {
             [MASTER_FAULT_REACTION],
             1500,
             calm,
-            &[Injection { on: POSITION, nth: 2, act: Act::Error(FaultCode::WrongArgument) }],
+            &[Injection::nth(POSITION, 2, Act::Error(FaultCode::WrongArgument))],
             Injected => Retries
         ),
         scenario!(
@@ -180,7 +180,7 @@ pub fn catalogue() -> Vec<Scenario> {
             [MASTER_FAULT_REACTION],
             1500,
             calm,
-            &[Injection { on: POSITION, nth: 2, act: Act::PositionFault(PositionFault::MultiturnSync) }],
+            &[Injection::nth(POSITION, 2, Act::PositionFault(PositionFault::MultiturnSync))],
             Injected => GoesOn
         ),
         scenario!(
@@ -189,7 +189,7 @@ pub fn catalogue() -> Vec<Scenario> {
             [MASTER_UNKNOWN_CODE],
             1500,
             calm,
-            &[Injection { on: POSITION, nth: 2, act: Act::Error(FaultCode::Unknown(0x3A)) }],
+            &[Injection::nth(POSITION, 2, Act::Error(FaultCode::Unknown(0x3A)))],
             Injected => GoesOn
         ),
         scenario!(
@@ -198,7 +198,7 @@ pub fn catalogue() -> Vec<Scenario> {
             [MASTER_FAULT_REACTION],
             2500,
             calm,
-            &[Injection { on: POSITION, nth: 2, act: Act::PositionFault(PositionFault::Singleturn) }],
+            &[Injection::nth(POSITION, 2, Act::PositionFault(PositionFault::Singleturn))],
             Injected => Resets
         ),
         scenario!(
@@ -218,7 +218,7 @@ pub fn catalogue() -> Vec<Scenario> {
                 [MASTER_FAULT_REACTION, MASTER_EXTENDED_TYPE_LABEL],
                 1500,
                 calm,
-                &[Injection { on: CommandId::ReadData, nth: 1, act: Act::Error(FaultCode::WrongFieldNumber) }],
+                &[Injection::nth(CommandId::ReadData, 1, Act::Error(FaultCode::WrongFieldNumber))],
                 Injected => GoesOn
             )
         },
@@ -228,7 +228,7 @@ pub fn catalogue() -> Vec<Scenario> {
             [MASTER_PAUSE, MASTER_REPLY_WINDOW],
             1500,
             calm,
-            &[Injection { on: POSITION, nth: 2, act: Act::Silence }],
+            &[Injection::nth(POSITION, 2, Act::Silence)],
             Injected => GoesOn
         ),
         scenario!(
@@ -237,7 +237,7 @@ pub fn catalogue() -> Vec<Scenario> {
             [MASTER_CYCLE, MASTER_REPLY_WINDOW],
             1500,
             calm,
-            &[Injection { on: POSITION, nth: 2, act: Act::LateMs(30) }],
+            &[Injection::nth(POSITION, 2, Act::LateMs(30))],
             Injected => GoesOn
         ),
         scenario!(
@@ -246,7 +246,7 @@ pub fn catalogue() -> Vec<Scenario> {
             [MASTER_FRAME],
             1500,
             calm,
-            &[Injection { on: POSITION, nth: 2, act: Act::CorruptChecksum }],
+            &[Injection::nth(POSITION, 2, Act::CorruptChecksum)],
             Injected => GoesOn
         ),
         scenario!(
@@ -259,7 +259,7 @@ pub fn catalogue() -> Vec<Scenario> {
             // one after the timeout, 5.7 ms; one that ends a reply on a short silence
             // sooner), so that whether its next request meets the rest of the reply
             // depends on the master, not on a fraction of a millisecond of scheduling.
-            &[Injection { on: POSITION, nth: 2, act: Act::Gap { before: 3, us: 20_000 } }],
+            &[Injection::nth(POSITION, 2, Act::Gap { before: 3, us: 20_000 })],
             Injected => GoesOn
         ),
         scenario!(
@@ -268,7 +268,7 @@ pub fn catalogue() -> Vec<Scenario> {
             [MASTER_CYCLE, MASTER_PAUSE],
             1500,
             calm,
-            &[Injection { on: POSITION, nth: 2, act: Act::Gap { before: 2, us: 4_500 } }],
+            &[Injection::nth(POSITION, 2, Act::Gap { before: 2, us: 4_500 })],
             Injected => GoesOn
         ),
         scenario!(
@@ -277,7 +277,7 @@ pub fn catalogue() -> Vec<Scenario> {
             [MASTER_FAULT_REACTION],
             2000,
             calm,
-            &[Injection { on: POSITION, nth: 10, act: Act::Restart }],
+            &[Injection { on: POSITION, nth: 10, act: Act::Restart, or_after_ms: Some(1000) }],
             Injected => GoesOn
         ),
         scenario!(

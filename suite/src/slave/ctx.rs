@@ -480,6 +480,11 @@ impl Ctx<'_> {
     pub fn allow_counter_change(&self) -> bool {
         self.options.allow_counter_change
     }
+
+    /// Whether the run may write the device's EEPROM (`--allow-writes`).
+    pub fn allow_writes(&self) -> bool {
+        self.options.allow_writes
+    }
 }
 
 #[cfg(test)]

@@ -41,6 +41,9 @@ pub enum Needs {
     Writes,
     /// Changes the counter, which cannot be restored (000:T17, T18).
     CounterChange,
+    /// Runs a Sensor Adjustment, which may recalibrate the sensor (000:T35: what it
+    /// does is the device's own).
+    Adjustment,
 }
 
 /// Options of a run.
@@ -48,6 +51,9 @@ pub enum Needs {
 pub struct Options {
     pub allow_writes: bool,
     pub allow_counter_change: bool,
+    /// Allow Sensor Adjustment (6Bh) with the profile's options: it may recalibrate the
+    /// sensor, and no request undoes it.
+    pub allow_adjustment: bool,
     /// At most this many EEPROM writes (counted by the model in lockstep).
     pub write_budget: u32,
     /// Only cases whose id matches this glob (`*` and `?`).
@@ -63,10 +69,10 @@ pub struct Options {
 }
 
 impl Options {
-    /// Every case: EEPROM writes (restored) and counter changes (not restorable)
-    /// allowed, as for a device on the bench, a simulator or a test.
+    /// Every case: EEPROM writes (restored), counter changes and sensor adjustments
+    /// (not restorable) allowed, as for a simulator or a test.
     pub fn all_allowed() -> Options {
-        Options { allow_writes: true, allow_counter_change: true, ..Options::default() }
+        Options { allow_writes: true, allow_counter_change: true, allow_adjustment: true, ..Options::default() }
     }
 }
 
@@ -75,6 +81,7 @@ impl Default for Options {
         Options {
             allow_writes: false,
             allow_counter_change: false,
+            allow_adjustment: false,
             write_budget: 200,
             cases: None,
             grading: Grading::Exact,

@@ -182,6 +182,8 @@ pub enum Event {
 pub struct RecordedOptions {
     pub allow_writes: bool,
     pub allow_counter_change: bool,
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub allow_adjustment: bool,
     pub write_budget: u32,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cases: Option<String>,
@@ -192,6 +194,10 @@ pub struct RecordedOptions {
     pub world_inputs: Option<RecordedInputs>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub world_init_faults: Vec<String>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub world_position_faults: Vec<String>,
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub world_i2c_fault: bool,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -207,6 +213,7 @@ impl RecordedOptions {
         RecordedOptions {
             allow_writes: o.allow_writes,
             allow_counter_change: o.allow_counter_change,
+            allow_adjustment: o.allow_adjustment,
             write_budget: o.write_budget,
             cases: o.cases.clone(),
             grading: format!("{:?}", o.grading).to_lowercase(),
@@ -218,17 +225,24 @@ impl RecordedOptions {
                 led_current_ma: i.led_current_ma,
             }),
             world_init_faults: o.world.init_faults.iter().map(|f| f.name().to_string()).collect(),
+            world_position_faults: o.world.position_faults.iter().map(|f| f.name().to_string()).collect(),
+            world_i2c_fault: o.world.i2c_fault,
         }
     }
 
     pub fn options(&self) -> Result<super::Options, RecordError> {
-        use hiperface_model::slave::inputs::{InitFault, PhysicalInputs};
+        use hiperface_model::slave::inputs::{InitFault, PhysicalInputs, PositionFault};
         let grading =
             self.grading.parse().map_err(|_| RecordError::Malformed(format!("grading `{}`", self.grading)))?;
         let init_faults = self
             .world_init_faults
             .iter()
             .map(|n| InitFault::from_name(n).ok_or_else(|| RecordError::Malformed(format!("start-up fault `{n}`"))))
+            .collect::<Result<Vec<_>, _>>()?;
+        let position_faults = self
+            .world_position_faults
+            .iter()
+            .map(|n| PositionFault::from_name(n).ok_or_else(|| RecordError::Malformed(format!("position fault `{n}`"))))
             .collect::<Result<Vec<_>, _>>()?;
         let inputs = self.world_inputs.map(|i| PhysicalInputs {
             position: i.position,
@@ -239,11 +253,12 @@ impl RecordedOptions {
         Ok(super::Options {
             allow_writes: self.allow_writes,
             allow_counter_change: self.allow_counter_change,
+            allow_adjustment: self.allow_adjustment,
             write_budget: self.write_budget,
             cases: self.cases.clone(),
             grading,
             interrupt: None,
-            world: crate::world::World { inputs, init_faults },
+            world: crate::world::World { inputs, init_faults, position_faults, i2c_fault: self.world_i2c_fault },
             timing: self.timing,
         })
     }

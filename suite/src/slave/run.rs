@@ -129,11 +129,17 @@ impl Report {
 /// Certify an encoder under test in-process: the catalogue in virtual time against
 /// `encoder`, given frame by frame (see [`FrameEncoder`]), as [`run`] certifies a
 /// device on a line; the report is the same, with the record `decode` plays back.
-/// Physical values are graded by range, as on a real device: the encoder's world
-/// (its shaft, its temperature) is its own, and the run does not know it.
+///
+/// The encoder's world (its shaft, its temperature, what it found at start-up) is its
+/// own unless `options.world` gives it: then the caller has put the encoder in that
+/// world (what it leaves out at its default: 25 °C, the shaft at 0 and at rest, no
+/// fault), the lockstep model is put in the same one, and every value is graded
+/// exactly, the warning bit and the error stack's codes included. Without it, values
+/// of the physical world are graded by range, as on a real device.
 pub fn in_process<E: FrameEncoder>(encoder: E, profile: Profile, options: &Options) -> Report {
     let line = VirtualLine::new(FramedEncoder::new(encoder, &profile));
-    let options = Options { grading: hiperface_model::Grading::Range, ..options.clone() };
+    let grading = if options.world.is_default() { Grading::Range } else { Grading::Exact };
+    let options = Options { grading, ..options.clone() };
     run(Box::new(line), profile, &options, |_, _, _| {})
 }
 
@@ -207,6 +213,9 @@ fn run_on(
             Needs::Writes if !options.allow_writes => Some("writes EEPROM; run with --allow-writes".into()),
             Needs::CounterChange if !options.allow_counter_change => {
                 Some("changes the counter, which cannot be restored; run with --allow-counter-change".into())
+            }
+            Needs::Adjustment if !options.allow_adjustment => {
+                Some("runs a Sensor Adjustment, which may recalibrate the sensor; run with --allow-adjustment".into())
             }
             _ => None,
         });

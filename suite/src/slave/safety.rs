@@ -67,6 +67,8 @@ impl Snapshot {
             let x = master.exchange_listening(&frame, Listen { reply_ms: 30, ..Listen::default() }).ok()?;
             tally.line_time_us += physical_time_us(&x, 30);
             let reply = x.reply_bytes()?;
+            // A device that answered here is there, whatever the first case then hears.
+            tally.answered_any = true;
             ResponseFrame::decode(&reply, command).ok().map(|r| r.response)
         };
         let settings = match ask(&[address, 0x52]) {

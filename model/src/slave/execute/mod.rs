@@ -244,7 +244,11 @@ impl Slave {
                 }
             }
             Request::ReadEncoderStatus => {
-                // The stack is read before the Others monitoring of this reply. // 000:T27
+                // An Others condition is "checked prior to every Slave response message"
+                // (000:T58, T59): one that holds now is active, and 00h says that none is
+                // (000:T27), so it is on the stack before the stack is read. The
+                // monitoring of the reply then stacks it again while it holds.
+                self.monitor(&Response::EncoderStatus(NoFault));
                 Ok(Response::EncoderStatus(self.stack.pop(self.profile.stack_order)))
             }
             Request::ReadTypeLabel => {

@@ -51,14 +51,17 @@ pub const STATUS: Case = case!(
         for field in 0..n {
             c.request(Request::DataFieldStatus { field })?;
         }
-        c.request(Request::DataFieldStatus { field: n }).map(drop)
+        c.request(Request::DataFieldStatus { field: n })?;
+        // Field FFh: the Extended Type Label's status where the profile has one, an
+        // error where it has none.
+        c.request(Request::DataFieldStatus { field: 0xFF }).map(drop)
     }
 );
 
 pub const LIFECYCLE: Case = case!(
     "fields.lifecycle",
-    "Create, store, read back, bounds, delete a data field",
-    [CREATE_FIELD, STORE_DATA, READ_DATA, WRONG_OFFSET, FIELD_POLICY, DATA_FIELDS],
+    "Create, store, read back, part of a field at an offset, bounds on both sides, a second field, delete",
+    [CREATE_FIELD, STORE_DATA, READ_DATA, WRONG_OFFSET, WRONG_LENGTH, FIELD_POLICY, DATA_FIELDS],
     Writes,
     always,
     |c| {
@@ -77,11 +80,30 @@ pub const LIFECYCLE: Case = case!(
         c.request(store(n, 0, 0x00, &data)?)?;
         // The oracle compares the data read back with the data stored.
         c.request(read(n, 0, 16, 0x00))?;
-        // Off by one at the end of the field: 11h.
+        // Part of the field, at an offset: the bytes land where the offset says (7 and 3:
+        // offset + count within the field, offset x count past it).
+        c.request(store(n, 7, 0x00, &[0x11, 0x22, 0x33])?)?;
+        c.request(read(n, 0, 16, 0x00))?;
+        c.request(read(n, 6, 4, 0x00))?;
+        // A count byte that is not the number of data bytes sent: 0Ch.
+        c.ask(&[c.address(), 0x4B, n, 0x00, 0x04, 0x00, 0x01, 0x02, 0x03])?;
+        // Off by one at the end of the field, storing and reading: 11h.
         c.request(store(n, 15, 0x00, &[1, 2])?)?;
         c.request(read(n, 16, 1, 0x00))?;
+        c.request(read(n, 15, 2, 0x00))?;
         c.request(read(n, 15, 1, 0x00))?;
         c.request(read(n + 1, 0, 1, 0x00))?;
+        // A second field right after the first: each keeps its own bytes.
+        if free_blocks(c) >= 1 {
+            c.request(create(n + 1, 0xC0, code0))?;
+            let g1 = guard_field(c, n + 1);
+            let other: Vec<u8> = (0..16u8).map(|i| i.wrapping_mul(11) ^ 0x3C).collect();
+            c.request(store(n + 1, 0, 0x00, &other)?)?;
+            c.request(read(n, 0, 16, 0x00))?;
+            c.request(read(n + 1, 0, 16, 0x00))?;
+            c.request(create(n + 1, 0x40, code0))?;
+            release(c, g1);
+        }
         // Restore: delete it (all status bits but bit 7 as stored).
         c.request(create(n, 0x40, code0))?;
         release(c, g);
@@ -110,10 +132,48 @@ pub const ACCESS_CODE: Case = case!(
         c.request(create(n, 0x88, code0))?; // read-only
         release(c, g);
         let g = guard_field(c, n);
+        c.request(Request::DataFieldStatus { field: n })?;
         c.request(store(n, 0, code0, &[0x11])?)?;
         c.request(create(n, 0x08, !code0))?; // delete with the wrong code: 0Fh
         c.request(create(n, 0x08, code0))?;
         release(c, g);
+        Ok(())
+    }
+);
+
+pub const CODE_NUMBERS: Case = case!(
+    "fields.code-numbers",
+    "A field guarded by Code1, Code2 or Code3 takes that code and no other; codes restored",
+    [SET_ACCESS_CODE, READ_DATA, CREATE_FIELD, WRONG_ACCESS_CODE, DATA_FIELDS],
+    Writes,
+    always,
+    |c| {
+        let (a, code0) = (c.address(), code0(c));
+        let n = field_count(c);
+        if free_blocks(c) == 0 {
+            return Err(CaseError::Abort("no free memory for a test field".into()));
+        }
+        for k in 1..=3u8 {
+            // Code k made unlike the others for a while, so that only it opens the field.
+            let old = c.model.nonvolatile().codes[k as usize];
+            let new = old ^ (0x11 * k) ^ 0x80;
+            let set = |old, new| Request::SetAccessCode { number: k, old, new };
+            c.request(set(old, new))?;
+            if c.model.nonvolatile().codes[k as usize] != new {
+                continue; // refused: the oracle graded it
+            }
+            let gk = c.guard(a, set(new, old));
+            // Exists, writable, Code k, code enabled, 16 bytes.
+            let status = 0xC8 | (k << 4);
+            c.request(create(n, status, new))?;
+            let gf = guard_field(c, n);
+            c.request(read(n, 0, 4, code0))?; // Code0 is not Code k: 0Fh
+            c.request(read(n, 0, 4, new))?;
+            c.request(create(n, status & 0x7F, new))?;
+            release(c, gf);
+            c.request(set(new, old))?;
+            c.release(gk);
+        }
         Ok(())
     }
 );
@@ -137,6 +197,10 @@ pub const RESIZE: Case = case!(
         c.request(create(n, 0xC1, code0))?; // resize a field that is not the last: 12h
         c.request(create(n, 0x40, code0))?; // delete a field that is not the last: 12h
         c.request(create(n + 3, 0xC0, code0))?; // a number past the next: 12h
+                                                // Another attribute of a field that is not the last, its size kept: allowed.
+        c.request(create(n, 0xC8, code0))?;
+        c.request(Request::DataFieldStatus { field: n })?;
+        c.request(create(n, 0xC0, code0))?;
         c.request(create(n + 1, 0xC1, code0))?; // grow the last to 32 bytes
         release(c, g1);
         let g1 = guard_field(c, n + 1);
@@ -152,8 +216,8 @@ pub const RESIZE: Case = case!(
 
 pub const MEMORY_EXHAUSTION: Case = case!(
     "fields.memory-exhaustion",
-    "Memory is accounted in 16-byte blocks: a field that does not fit draws 10h",
-    [OUT_OF_MEMORY, MEMORY_STATUS, FIELD_POLICY],
+    "Memory is accounted in 16-byte blocks: 128-byte fields, one written whole, until one does not fit (10h)",
+    [OUT_OF_MEMORY, MEMORY_STATUS, FIELD_POLICY, STORE_DATA, READ_DATA],
     Writes,
     always,
     |c| {
@@ -168,10 +232,32 @@ pub const MEMORY_EXHAUSTION: Case = case!(
                 Some(g) => guards.push(g),
                 None => break,
             }
+            if guards.len() == 1 {
+                // The longest request there is: 128 data bytes, a whole frame (000:T22).
+                let data: Vec<u8> = (0..128u8).map(|i| i.wrapping_mul(29) ^ 0x5A).collect();
+                c.request(store(n, 0, code0, &data)?)?;
+                c.request(read(n, 0, 128, code0))?;
+            }
         }
         let n = field_count(c);
         c.request(create(n, 0xC7, code0))?;
         c.request(Request::MemoryStatus)?;
+        // The rest of the memory exactly: a field of the free blocks, written at its last
+        // byte (the memory's end), which then cannot grow (10h).
+        let free = free_blocks(c);
+        if (1..8).contains(&free) {
+            let n = field_count(c);
+            let status = 0xC0 | (free - 1);
+            c.request(create(n, status, code0))?;
+            if let Some(g) = guard_field(c, n) {
+                let last = (u16::from(free) * 16 - 1) as u8;
+                c.request(store(n, last, code0, &[0x5A])?)?;
+                c.request(read(n, last, 1, code0))?;
+                c.request(create(n, 0xC7, code0))?;
+                c.request(create(n, status & 0x7F, code0))?;
+                c.release(g);
+            }
+        }
         while let Some(g) = guards.pop() {
             let n = start + guards.len() as u8;
             c.request(create(n, 0x47, code0))?;

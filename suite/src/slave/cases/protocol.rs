@@ -62,7 +62,7 @@ pub const UNKNOWN_COMMAND: Case = case!(
 
 pub const LENGTH: Case = case!(
     "protocol.length",
-    "Frames of the wrong length draw 0Ch",
+    "Frames of the wrong length draw 0Ch: too short, and every command one byte too long",
     [WRONG_LENGTH, CHECK_ORDER, COMMON_ERRORS],
     Nothing,
     always,
@@ -71,7 +71,22 @@ pub const LENGTH: Case = case!(
         c.send_frame(&[a, 0x42])?;
         c.ask(&[a, 0x42, 0x00])?;
         c.ask(&[a, 0x4E, 0x00, 0x00])?;
-        c.ask(&[a, 0x4C]).map(drop)
+        c.ask(&[a, 0x4C])?;
+        // Each command of the profile with one data byte too many: its own error path.
+        // One that writes only where writes are allowed (a conformant device refuses
+        // the frame before any effect; one that does not might write).
+        let profile = c.profile();
+        let writes = c.allow_writes();
+        for spec in hiperface_model::COMMAND_TABLE {
+            let hiperface_model::command::DataLength::Fixed(n) = spec.master_data else { continue };
+            if !profile.commands.contains(spec.id) || (spec.writes_eeprom() && !writes) {
+                continue;
+            }
+            let mut body = vec![a, spec.id.byte()];
+            body.extend(std::iter::repeat_n(0u8, n as usize + 1));
+            c.ask(&body)?;
+        }
+        Ok(())
     }
 );
 

@@ -1,8 +1,9 @@
 //! Serial interface settings: Set Serial Interface, Temporarily Set Serial Interface.
 //! // 000:T32, 000:T33
 
-use super::{always, case, code0, lacks, other_baud};
+use super::{always, case, code0, lacks, other_baud, wait_until};
 use crate::slave::{Case, Finding};
+use hiperface_model::slave::powerup::CommState;
 use hiperface_model::{CommandId, Profile, Request, UartSettings};
 
 fn with_67(p: &Profile) -> Option<&'static str> {
@@ -22,9 +23,67 @@ pub const INVALID: Case = case!(
         let set = |settings, code0| Request::SetSerialInterface { settings, code0 };
         c.request(set((stored & 0xF8) | 0x07, code0))?; // data rate 111: 0Dh
         c.request(set((stored & 0xCF) | 0x10, code0))?; // parity 01: 0Dh
+                                                        // A data rate the profile does not offer: 0Dh (000:T32, "the actually available
+                                                        // data rates are specified in the product data sheet").
+        let profile = c.profile();
+        if let Some(missing) = hiperface_model::settings::Baud::ALL.into_iter().find(|b| !profile.supports_baud(*b)) {
+            let byte = UartSettings { baud: missing, ..c.model.nonvolatile().settings }.byte();
+            c.request(set(byte, code0))?;
+        }
         c.request(set(stored, !code0))?;
         // Rewriting the stored byte: a real write that changes nothing.
         c.request(set(stored, code0)).map(drop)
+    }
+);
+
+fn with_other_rate(p: &Profile) -> Option<&'static str> {
+    lacks(p, CommandId::SetSerialInterface, "the profile lacks 57h")
+        .or_else(|| other_baud(p).is_none().then_some("the profile supports a single data rate"))
+}
+
+pub const STORED: Case = case!(
+    "settings.stored",
+    "Set Serial Interface: the old settings until Encoder Reset, the new ones after it; restored",
+    [SET_SERIAL, ENCODER_RESET, STATE_MACHINE, UART_SETTINGS],
+    Writes,
+    with_other_rate,
+    |c| {
+        let (a, code0) = (c.address(), code0(c));
+        let stored = c.model.nonvolatile().settings;
+        let Some(other) = other_baud(&c.profile()).map(|o| UartSettings { baud: o.baud, ..stored }) else {
+            return Ok(());
+        };
+        if !c.line_can_change_settings() {
+            let why =
+                "the line keeps fixed UART settings (a raw TCP serial server): another data rate cannot be followed";
+            c.push(Finding::not_applicable(why));
+            return Ok(());
+        }
+        let set = |s: UartSettings| Request::SetSerialInterface { settings: s.byte(), code0 };
+        c.request(set(other))?;
+        // The guard talks as the model says the device listens: in the old settings
+        // until a reset, in the new ones after it (or at power-on, in the default
+        // window, whatever was stored: 000:T9).
+        let g = c.guard(a, set(stored));
+        // Still the old settings until a reset (000:T32).
+        c.request(Request::ReadPosition)?;
+        // At the other data rate, a pause of the default rate's timeout and frame before
+        // each request: a listener that does not follow the rate (a wire log is read at
+        // one) still tells the frames apart.
+        let apart = |c: &mut crate::slave::Ctx<'_>| c.wait_ms(20);
+        for target in [other, stored] {
+            if target == stored {
+                apart(c)?;
+                c.request(set(stored))?;
+                c.release(g);
+                apart(c)?;
+            }
+            let reset_at = c.request(Request::EncoderReset)?.exchange.complete_us();
+            let p = c.profile();
+            wait_until(c, reset_at + p.user_settings_ms as u64 * 1000 + 50_000)?;
+            c.request_in_state(Request::ReadPosition, CommState::OperationalUser)?;
+        }
+        Ok(())
     }
 );
 

@@ -1,0 +1,197 @@
+//! Many mutants on the machine's cores: worker processes (this program's `worker`
+//! command), each a list of mutants, each mutant's result a line of JSON; a worker that
+//! gives no result for a while is stopped and its mutant recorded as hung, and a new
+//! worker takes the rest of its list.
+
+use crate::certify::{Caught, Verdicts};
+use serde::{Deserialize, Serialize};
+use std::collections::{BTreeMap, VecDeque};
+use std::io::{BufRead, BufReader};
+use std::process::{Child, Command, Stdio};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+/// A family of defective devices.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Family {
+    /// Source mutants of the encoder (the slave model).
+    Encoder,
+    /// Behavioural mutants at the wire: the conformant encoder's replies changed.
+    Wire,
+    /// Source mutants of the reference master.
+    Master,
+}
+
+impl Family {
+    pub const ALL: [Family; 3] = [Family::Encoder, Family::Wire, Family::Master];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Family::Encoder => "encoder",
+            Family::Wire => "wire",
+            Family::Master => "master",
+        }
+    }
+
+    pub fn parse(s: &str) -> Option<Family> {
+        Family::ALL.into_iter().find(|f| f.name() == s)
+    }
+}
+
+/// A mutant as a list names it.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct MutantName {
+    pub family: Family,
+    pub id: u32,
+    /// Stable across edits elsewhere: `model/src/slave/stack.rs: replace == with != in ErrorStack::push`.
+    pub key: String,
+    /// The function (source mutants) or the command (wire mutants) it is in.
+    pub function: String,
+}
+
+/// What certifying one mutant gave.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Outcome {
+    #[serde(flatten)]
+    pub name: MutantName,
+    #[serde(flatten)]
+    pub verdicts: Verdicts,
+    /// Whether the conformant device ran the mutant's place (source mutants).
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub reached: Option<bool>,
+    /// A difference at the wire found on random streams (encoder mutants let through).
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub witness: Option<String>,
+    /// How long its certification took, ms.
+    pub ms: f64,
+}
+
+/// What a worker prints: one line per mutant.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct WorkerLine {
+    pub id: u32,
+    #[serde(flatten)]
+    pub verdicts: Verdicts,
+    /// For an encoder mutant the catalogue let through: a difference at the wire from
+    /// the conformant device on a random stream, if one was found (`diff`).
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub witness: Option<String>,
+    pub ms: f64,
+}
+
+struct Worker {
+    child: Child,
+    /// The ids it has not answered for, the one it works on first.
+    left: VecDeque<u32>,
+    last: Instant,
+}
+
+fn spawn(
+    family: Family,
+    ids: &VecDeque<u32>,
+    index: usize,
+    tx: &mpsc::Sender<(usize, String)>,
+) -> std::io::Result<Child> {
+    let list: Vec<String> = ids.iter().map(u32::to_string).collect();
+    let mut child = Command::new(std::env::current_exe()?)
+        .args(["worker", "--family", family.name(), "--ids", &list.join(",")])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::inherit())
+        .spawn()?;
+    if let Some(out) = child.stdout.take() {
+        let tx = tx.clone();
+        std::thread::spawn(move || {
+            for line in BufReader::new(out).lines().map_while(Result::ok) {
+                if tx.send((index, line)).is_err() {
+                    break;
+                }
+            }
+        });
+    }
+    Ok(child)
+}
+
+/// Certify `ids` of `family` on `jobs` workers; a mutant with no result after
+/// `timeout` is hung. `progress` sees each result as it comes.
+pub fn certify_all(
+    family: Family,
+    ids: &[u32],
+    jobs: usize,
+    timeout: Duration,
+    mut progress: impl FnMut(usize, usize, u32, &WorkerLine),
+) -> std::io::Result<BTreeMap<u32, WorkerLine>> {
+    let jobs = jobs.max(1).min(ids.len().max(1));
+    let (tx, rx) = mpsc::channel();
+    let mut workers: Vec<Worker> = Vec::new();
+    // Round robin, so that slow parts of the model (a file's mutants) are shared.
+    let mut lists: Vec<VecDeque<u32>> = vec![VecDeque::new(); jobs];
+    for (i, id) in ids.iter().enumerate() {
+        lists[i % jobs].push_back(*id);
+    }
+    for (index, left) in lists.into_iter().enumerate() {
+        let child = spawn(family, &left, index, &tx)?;
+        workers.push(Worker { child, left, last: Instant::now() });
+    }
+    let mut results = BTreeMap::new();
+    let total = ids.len();
+    while workers.iter().any(|w| !w.left.is_empty()) {
+        match rx.recv_timeout(Duration::from_millis(200)) {
+            Ok((index, line)) => {
+                let Ok(found) = serde_json::from_str::<WorkerLine>(&line) else { continue };
+                let w = &mut workers[index];
+                if w.left.front() == Some(&found.id) {
+                    w.left.pop_front();
+                }
+                w.last = Instant::now();
+                progress(results.len() + 1, total, found.id, &found);
+                results.insert(found.id, found);
+            }
+            Err(mpsc::RecvTimeoutError::Timeout) => {}
+            Err(mpsc::RecvTimeoutError::Disconnected) => break,
+        }
+        for (index, w) in workers.iter_mut().enumerate() {
+            let exited = matches!(w.child.try_wait(), Ok(Some(_)));
+            let stuck = w.last.elapsed() > timeout;
+            if w.left.is_empty() || !(exited || stuck) {
+                continue;
+            }
+            // An exit with work left: let its last lines arrive first.
+            if exited && !stuck && w.last.elapsed() < Duration::from_secs(1) {
+                continue;
+            }
+            let _ = w.child.kill();
+            let _ = w.child.wait();
+            if let Some(id) = w.left.pop_front() {
+                let why = if stuck {
+                    format!("no result within {} s: the device never gave the run control back", timeout.as_secs())
+                } else {
+                    "the worker process died on it (a stack overflow or an abort in the device)".to_string()
+                };
+                let hung = WorkerLine {
+                    id,
+                    verdicts: Verdicts {
+                        caught: Caught::Hung,
+                        config: "-".into(),
+                        case: None,
+                        clause: None,
+                        finding: Some(why.clone()),
+                        crashed: Some(why),
+                    },
+                    witness: None,
+                    ms: w.last.elapsed().as_secs_f64() * 1000.0,
+                };
+                progress(results.len() + 1, total, id, &hung);
+                results.insert(id, hung);
+            }
+            w.last = Instant::now();
+            if !w.left.is_empty() {
+                w.child = spawn(family, &w.left, index, &tx)?;
+            }
+        }
+    }
+    for mut w in workers {
+        let _ = w.child.wait();
+    }
+    Ok(results)
+}

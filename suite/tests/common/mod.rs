@@ -1,0 +1,13 @@
+//! What the suite's integration tests share.
+
+use hiperface_suite::slave::{CaseVerdict, Report};
+
+/// The FAILs of a run as "case clause".
+pub fn failing(r: &Report) -> Vec<String> {
+    r.cases
+        .iter()
+        .filter(|c| c.verdict == CaseVerdict::Fail)
+        .flat_map(|c| c.findings.iter().filter(|f| f.verdict() == CaseVerdict::Fail).map(move |f| (c.id, f)))
+        .map(|(id, f)| format!("{id} {}", f.clause_id()))
+        .collect()
+}
