@@ -17,7 +17,7 @@ mod settings;
 mod timing;
 
 use super::{Case, CaseError, Ctx, Guard};
-use hiperface_model::{CommandId, Edition, Profile, Request, UartSettings};
+use hiperface_model::{CommandId, Edition, Profile, Request, Response, ResponseFrame, UartSettings};
 
 type Res = Result<(), CaseError>;
 
@@ -106,15 +106,19 @@ fn code0(c: &Ctx<'_>) -> u8 {
     c.model.nonvolatile().codes[0]
 }
 
-/// Read Position; the position, or `None` when the reply is no position.
+/// Read Position; the position, or `None` when the reply is no position (an error, or a
+/// reply that does not decode: a wrong checksum says nothing of the value).
 fn read_position(c: &mut Ctx<'_>) -> Result<Option<u32>, CaseError> {
     let reply = c.request(Request::ReadPosition)?.reply;
-    Ok(reply
-        .as_ref()
-        .filter(|r| r.len() == 7 && r[1] & 0x7F == 0x42)
-        .and_then(|r| r.get(2..6))
-        .and_then(|b| b.try_into().ok())
-        .map(u32::from_be_bytes))
+    Ok(match decoded(reply.as_deref(), CommandId::ReadPosition) {
+        Some(Response::Position(p)) => Some(p),
+        _ => None,
+    })
+}
+
+/// A reply to `command` as it decodes, if it does.
+fn decoded(reply: Option<&[u8]>, command: CommandId) -> Option<Response> {
+    ResponseFrame::decode(reply?, command).ok().map(|f| f.response)
 }
 
 fn release(c: &mut Ctx<'_>, g: Option<Guard>) {

@@ -1,9 +1,9 @@
 //! Position: read, set, set with synchronization, sensor adjustment, synchronization
 //! offset, legacy 63h. // 000:T12, 000:T13, 000:T34-T36, 002:63h
 
-use super::{always, case, code0, lacks, read_position};
+use super::{always, case, code0, decoded, lacks, read_position};
 use crate::slave::{Case, CaseError, Ctx};
-use hiperface_model::{CommandId, Profile, Request};
+use hiperface_model::{CommandId, Profile, Request, Response};
 
 fn with_6a(p: &Profile) -> Option<&'static str> {
     lacks(p, CommandId::SetPositionWithSync, "6Ah is optional and the profile lacks it")
@@ -85,8 +85,7 @@ pub const SYNC: Case = case!(
         let mut phases = Vec::new();
         for step in [7u64, 25] {
             let preset = ((p0 as u64 + step) % range) as u32;
-            let used =
-                c.request(Request::SetPositionWithSync { preset, code0 })?.reply.as_deref().and_then(used_preset);
+            let used = used_preset(c.request(Request::SetPositionWithSync { preset, code0 })?.reply.as_deref());
             let Some(used) = used else { continue };
             phases.push(used % 32);
             let what = format!("Set Position with Synchronization (used {used:08X}h)");
@@ -113,9 +112,11 @@ pub const SYNC: Case = case!(
 );
 
 /// The preset a Set Position with Synchronization reply says it used.
-fn used_preset(reply: &[u8]) -> Option<u32> {
-    (reply.len() == 7 && reply.get(1)? & 0x7F == 0x6A)
-        .then(|| reply.get(2..6)?.try_into().ok().map(u32::from_be_bytes))?
+fn used_preset(reply: Option<&[u8]>) -> Option<u32> {
+    match decoded(reply, CommandId::SetPositionWithSync) {
+        Some(Response::PositionWithSyncSet(used)) => Some(used),
+        _ => None,
+    }
 }
 
 /// Read Position after a request that sets it: the position the model holds after that
@@ -145,7 +146,10 @@ fn read_sync_offset(c: &mut Ctx<'_>) -> Result<Option<u8>, CaseError> {
         return Ok(None);
     }
     let reply = c.request(Request::ReadSyncOffset)?.reply;
-    Ok(reply.filter(|r| r.len() == 4 && r[1] & 0x7F == 0x6C).and_then(|r| r.get(2).copied()))
+    Ok(match decoded(reply.as_deref(), CommandId::ReadSyncOffset) {
+        Some(Response::SyncOffset(s)) => Some(s),
+        _ => None,
+    })
 }
 
 pub const ADJUSTMENT_ERRORS: Case = case!(
