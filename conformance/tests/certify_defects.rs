@@ -412,3 +412,24 @@ fn a_case_the_harness_was_too_late_to_judge_is_run_again() {
     assert_eq!((always.verdict, always.attempts), (CaseVerdict::Unknown, 3), "{always:#?}");
     assert!(always.findings.iter().any(|f| f.message().contains("cannot tell")), "{always:#?}");
 }
+
+/// A slave that answers every request 60 ms late (the limits are 5 to 70 ms after the
+/// request's timeout): every FAIL is on 000:T10 (the response time), none on another
+/// clause. Each late reply is charged to the request it answers, the probes before the
+/// first case included, never to the next one.
+#[test]
+fn a_slave_late_on_every_command_fails_on_the_response_time_alone() {
+    let mut device = Defective::new(keep);
+    device.delay_us = 60_000;
+    let r = certify(device);
+    assert!(!r.outcome().passed());
+    let other: Vec<String> = r
+        .cases
+        .iter()
+        .flat_map(|c| c.findings.iter().map(move |f| (c.id, f)))
+        .filter(|(_, f)| f.verdict() == CaseVerdict::Fail && f.clause_id() != "000:T10")
+        .map(|(id, f)| format!("{id}: {} ({})", f.message(), f.clause_id()))
+        .collect();
+    assert_eq!(other, Vec::<String>::new());
+    assert!(r.cases.iter().any(|c| c.findings.iter().any(|f| f.clause_id() == "000:T10")));
+}

@@ -127,9 +127,35 @@ pub fn apply_settings(port: &mut dyn SerialPort, settings: UartSettings) -> Resu
     port.set_parity(parity(settings))
 }
 
-/// Whether a path names a pseudo-terminal (Linux `/dev/pts/N`, BSD-style `ptyXY`/`ttypN`).
+/// Whether a path names a pseudo-terminal, by what it is rather than what it is called:
+/// the device behind a symbolic link (socat's `link=`, a `/dev/serial/by-id` name) is
+/// the one judged. On Linux a pseudo-terminal's slave is a character device of the
+/// Unix98 majors 136 to 143 (`/dev/pts/N`); elsewhere, or where the device cannot be
+/// examined, the name as resolved (`/dev/pts/N`, BSD-style `ptyXY`/`ttypN`).
 pub fn is_pseudo_terminal(path: &str) -> bool {
-    path.starts_with("/dev/pts/") || path.contains("pty")
+    let resolved = resolved(path);
+    let named = |p: &str| p.starts_with("/dev/pts/") || p.contains("pty");
+    named(path) || resolved.as_deref().is_some_and(named) || unix98_pty_major(resolved.as_deref().unwrap_or(path))
+}
+
+/// The path a port's path resolves to, where that differs (a symbolic link).
+pub fn resolved(path: &str) -> Option<String> {
+    let real = std::fs::canonicalize(path).ok()?;
+    let real = real.to_string_lossy().into_owned();
+    (real != path).then_some(real)
+}
+
+/// Whether `path` is a character device of a Unix98 pseudo-terminal slave's major.
+fn unix98_pty_major(path: &str) -> bool {
+    use std::os::unix::fs::{FileTypeExt, MetadataExt};
+    let Ok(m) = std::fs::metadata(path) else { return false };
+    if !m.file_type().is_char_device() {
+        return false;
+    }
+    let rdev = m.rdev();
+    // glibc's gnu_dev_major.
+    let major = ((rdev >> 8) & 0xfff) | ((rdev >> 32) & !0xfff);
+    (136..=143).contains(&major)
 }
 
 impl SerialLine {
@@ -138,7 +164,12 @@ impl SerialLine {
     pub fn open(path: &str, settings: UartSettings) -> Result<SerialLine, LineError> {
         let port = open_port(path, settings)?;
         let pseudo_terminal = is_pseudo_terminal(path);
-        let mut line = SerialLine::from_port(port, path.to_string(), settings, pseudo_terminal);
+        // The report names the path given and, behind a link, the device it opened.
+        let name = match resolved(path) {
+            Some(real) => format!("{path} (a link to {real})"),
+            None => path.to_string(),
+        };
+        let mut line = SerialLine::from_port(port, name, settings, pseudo_terminal);
         if !pseudo_terminal {
             line.adapter = Adapter::detect(path, std::path::Path::new("/sys"));
             if let Some(a) = line.adapter.as_mut() {
@@ -341,6 +372,31 @@ mod tests {
     use super::*;
     use hiperface_model::settings::{Baud, Parity as HfParity};
     use std::io::Write;
+
+    /// A pseudo-terminal is one whatever its name: through a symbolic link (socat's
+    /// `link=`, a by-id name) it is classified as one, and the line says which path was
+    /// opened and what it resolved to; a regular file is none.
+    #[test]
+    fn a_pseudo_terminal_behind_a_link_is_one_and_says_so() {
+        let (_far, near) = serialport::TTYPort::pair().expect("a pseudo-terminal pair");
+        let path = near.name().expect("a path");
+        let dir = std::env::temp_dir().join(format!("hf-link-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("a directory");
+        let link = dir.join("ttyENCODER");
+        let _ = std::fs::remove_file(&link);
+        std::os::unix::fs::symlink(&path, &link).expect("a link");
+        let link = link.to_string_lossy().into_owned();
+        assert!(is_pseudo_terminal(&path));
+        assert!(is_pseudo_terminal(&link), "{link} -> {path}");
+        assert_eq!(resolved(&link).as_deref(), Some(path.as_str()));
+        let line = SerialLine::open(&link, UartSettings::DEFAULT).expect("opened");
+        assert!(line.pseudo_terminal);
+        assert_eq!(line.name, format!("{link} (a link to {path})"));
+        let plain = dir.join("plain");
+        std::fs::write(&plain, b"").expect("a file");
+        assert!(!is_pseudo_terminal(&plain.to_string_lossy()));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 
     /// Read what `port` delivers until `n` bytes or half a second.
     fn read_n(port: &mut dyn SerialPort, n: usize) -> Vec<u8> {

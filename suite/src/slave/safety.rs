@@ -12,7 +12,7 @@
 //! operator's safety information, printed apart from the verdicts.
 
 use super::ctx::{physical_time_us, Tally};
-use crate::exchange::{sealed, Bus, Listen};
+use crate::exchange::{sealed, Bus, Listen, LATE_REPLY_GRACE_MS};
 use hiperface_model::response::{Response, ResponseFrame};
 use hiperface_model::slave::powerup::CommState;
 use hiperface_model::slave::NonVolatile;
@@ -61,11 +61,24 @@ impl Snapshot {
                 return Snapshot::default();
             }
         }
+        // A probe waits for its reply as a case does (the limit three times over, and a
+        // late reply's grace), so that a late reply is this probe's and not the next
+        // request's. Once a probe has had no reply at all, the device may not be there:
+        // the rest listen to their window only, so that a run without a device ends soon.
+        let mut first = true;
         let mut ask = |body: &[u8]| -> Option<Response> {
             let frame = sealed(body);
             let command = CommandId::of_frame(body);
-            let x = master.exchange_listening(&frame, Listen { reply_ms: 30, ..Listen::default() }).ok()?;
-            tally.line_time_us += physical_time_us(&x, 30);
+            let limits = model.profile().response_limit(command);
+            let grace = first || tally.answered_any;
+            first = false;
+            let listen = Listen {
+                reply_ms: super::timing::reply_awaited_ms(limits),
+                late_grace_ms: if grace { LATE_REPLY_GRACE_MS } else { 0 },
+                ..Listen::default()
+            };
+            let x = master.exchange_listening(&frame, listen).ok()?;
+            tally.line_time_us += physical_time_us(&x, limits.max_ms);
             let reply = x.reply_bytes()?;
             // A device that answered here is there, whatever the first case then hears.
             tally.answered_any = true;
