@@ -572,6 +572,7 @@ const PEERS: &[(&str, &str)] = &[
     ("HX-1", "conformance/tests/independent/hx1_slave.py"),
     ("HX-L", "conformance/tests/independent/hxl_slave.py"),
     ("HX-M", "conformance/tests/independent/hx_master.py"),
+    ("HX-E", "python/tests/independent_encoder.py"),
 ];
 
 /// The model checker's depth in CI (`cargo test -p hiperface-proofs`): a second in a
@@ -654,7 +655,8 @@ fn wrong_figures(docs: &[Doc], program: &Program) -> (Vec<String>, HashMap<Figur
                     .max()
                     .map(|(_, name)| name);
                 let Some(peer) = peer else {
-                    wrong.push(format!("{at}: whose defect switches? Name the peer (HX-1, HX-L, HX-M) before it"));
+                    wrong
+                        .push(format!("{at}: whose defect switches? Name the peer (HX-1, HX-L, HX-M, HX-E) before it"));
                     continue;
                 };
                 program.defect_switches.get(peer).copied()

@@ -141,15 +141,24 @@ const DEFECTS: &[Defect] = &[
         name: "no-timeout-wait",
         case: "identity.status",
         clause: "000:2.2.2",
-        // the power-up case reads the status too
-        collateral: &["powerup.reset"],
+        // the power-up case reads the status too, and so do the cases that answer
+        // errors (nothing of them is stacked, 000:T37)
+        collateral: &[
+            "powerup.reset",
+            "protocol.checksum",
+            "protocol.unknown-command",
+            "protocol.length",
+            "protocol.argument",
+            "fields.lifecycle",
+        ],
     },
     Defect {
         name: "late-reply",
         case: "counter.read",
         clause: "000:T10",
-        // reads the counter too; the length case sends every command, 46h among them
-        collateral: &["counter.increment", "protocol.length"],
+        // reads the counter too; the length case sends every command, 46h among them;
+        // what a reset keeps is read back, the counter among it
+        collateral: &["counter.increment", "protocol.length", "powerup.retains"],
     },
     // Beyond the window the harness awaits a reply in (three times the limit, at least
     // 100 ms past it): still this request's reply, late (000:T10), and not the next
@@ -160,8 +169,9 @@ const DEFECTS: &[Defect] = &[
         name: "gap-in-reply",
         case: "identity.type-label",
         clause: "000:2.2.2/reply-end",
-        // the other cases that read the type label (the length case sends every command)
-        collateral: &["address.broadcast", "protocol.length"],
+        // the other cases that read the type label (the length case sends every command;
+        // the stored settings are read after 57h; the first request after a reset)
+        collateral: &["address.broadcast", "protocol.length", "settings.stored", "powerup.retains"],
     },
     Defect {
         name: "answers-other-address",
@@ -185,21 +195,34 @@ const DEFECTS: &[Defect] = &[
         clause: "000:2.3.4",
         // a warning bit the model did not expect may be a real fault (NON-STRICT on a
         // black box) until Read Encoder Status says nothing is stored; the power-up
-        // case reads the status again
-        collateral: &["powerup.reset"],
+        // case reads the status again, and so do the cases that answer errors
+        collateral: &[
+            "powerup.reset",
+            "protocol.checksum",
+            "protocol.unknown-command",
+            "protocol.length",
+            "protocol.argument",
+            "fields.lifecycle",
+        ],
     },
     Defect { name: "store-read-only", case: "fields.access-code", clause: "000:T52", collateral: &[] },
-    // both power-up cases start with an Encoder Reset, and the stored settings are
+    // every power-up case starts with an Encoder Reset, and the stored settings are
     // taken up after one
     Defect {
         name: "reset-answers",
         case: "powerup.reset",
         clause: "000:T29",
-        collateral: &["powerup.window", "settings.stored"],
+        collateral: &["powerup.window", "powerup.default-window", "powerup.retains", "settings.stored"],
     },
     Defect { name: "no-init-silence", case: "powerup.reset", clause: "000:T9", collateral: &[] },
     Defect { name: "no-code-check", case: "position.set", clause: "000:T53", collateral: &[] },
-    Defect { name: "old-address-reply", case: "address.change-restore", clause: "000:T30", collateral: &[] },
+    // what a reset keeps: the address among it, changed with 55h
+    Defect {
+        name: "old-address-reply",
+        case: "address.change-restore",
+        clause: "000:T30",
+        collateral: &["powerup.retains"],
+    },
 ];
 
 #[test]

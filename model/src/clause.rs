@@ -201,6 +201,7 @@ clauses! {
     [normative Both] READ_TYPE_LABEL = "000:T28": "Read Type Label 52h: UART settings, encoder type, memory size in 16 byte blocks, option code.";
     [normative Both] SETTINGS_BYTE = "000:T28/settings": "Bits 0-2 data rate 000=600 ... 110=38400; bit 3 not implemented; bits 4-5 00 none, 10 even, 11 odd; bit 6 timeout 0 = 2*11, 1 = 5*11 bit times; bit 7 1 = standard slave. Default E4h.";
     [normative Both] ENCODER_RESET = "000:T29": "Encoder Reset 53h: no response; executed after the timeout of the request; respond again after 100 ms initialization plus that timeout.";
+    [normative Both] RESET_KEEPS = "000:T29/keeps": "Configuration data like Slave address and interface settings are not changed by an Encoder Reset.";
     [normative Current] SET_ADDRESS = "000:T30": "Set Encoder Address 55h: new address 40h...5Fh + Code0; the response already uses the new address.";
     [normative Current] READ_VERSION = "000:T31": "Read Version 56h: 37 bytes: serial number (9), firmware version (20, trailing 00h), firmware date (8).";
     [normative Both] SET_SERIAL = "000:T32": "Set Serial Interface 57h: settings byte + Code0; new settings used only after an encoder reset or power cycle.";

@@ -117,6 +117,20 @@ impl AnalogEncoding {
             AnalogEncoding::Milliamps => reading as u16,
         }
     }
+
+    /// The reading (°C or mA) a value stands for; Celsius2048 to the nearest degree.
+    pub const fn decode(self, value: u16) -> i32 {
+        match self {
+            AnalogEncoding::Celsius => value as i16 as i32,
+            AnalogEncoding::Celsius2048 => {
+                // T = value * 2.048 - 40 = value * 2048 / 1000 - 40, rounded.
+                let num = value as i16 as i32 * 2048;
+                let q = if num >= 0 { (num + 500) / 1000 } else { (num - 500) / 1000 };
+                q - 40
+            }
+            AnalogEncoding::Milliamps => value as i32,
+        }
+    }
 }
 
 /// One channel of Read Analog Value.
@@ -399,6 +413,19 @@ impl ExtendedTypeLabel<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn analog_values_decode_to_what_they_encode() {
+        for t in -40..=150 {
+            assert_eq!(AnalogEncoding::Celsius.decode(AnalogEncoding::Celsius.encode(t)), t);
+            // 2.048 °C steps: back within half a step.
+            let back = AnalogEncoding::Celsius2048.decode(AnalogEncoding::Celsius2048.encode(t));
+            assert!((back - t).abs() <= 1, "{t} -> {back}");
+        }
+        assert_eq!(AnalogEncoding::Celsius.decode(0xFFD8), -40);
+        assert_eq!(AnalogEncoding::Celsius.decode(25u16.swap_bytes()), 6400);
+        assert_eq!(AnalogEncoding::Milliamps.decode(0xFFFF), 65535);
+    }
 
     #[test]
     fn legacy_temperature_encoding() {

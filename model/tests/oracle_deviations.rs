@@ -136,9 +136,28 @@ fn physical_values_fail_only_where_no_world_allows_them() {
     let impossible = |g: &Grade| matches!(g.deviation(), Some(Deviation::ImpossibleValue { .. }));
     // Read Analog Value answers the channel asked for; the value is the world's.
     let analog = |channel, value| reply(Response::AnalogValue { channel, value });
-    assert_eq!(grade(&s, &[0x40, 0x44, 0x48], &analog(0x48, 0x0123), Grading::Range).verdict(), Verdict::Pass);
-    let g = grade(&s, &[0x40, 0x44, 0x48], &analog(0x49, 0x0123), Grading::Range);
-    assert!(impossible(&g), "{g}");
+    assert_eq!(grade(&s, &[0x40, 0x44, 0x48], &analog(0x48, 0x0019), Grading::Range).verdict(), Verdict::Pass);
+    let g = grade(&s, &[0x40, 0x44, 0x48], &analog(0x49, 0x0019), Grading::Range);
+    let asked = Deviation::WrongChannel { asked: 0x48, named: 0x49 };
+    assert_eq!(verdict_and_deviation(&g), (Verdict::Fail, Some(asked)), "{g}");
+    // A temperature outside the data sheet's limits is doubtful without a warning (the
+    // harness does not know the temperature), plausible with one (000:T14). 25 degC
+    // sent little-endian reads 6400 degC.
+    let (min, max) = (p.temperature_min_c, p.temperature_max_c);
+    let g = grade(&s, &[0x40, 0x44, 0x48], &analog(0x48, 0x1900), Grading::Range);
+    let hot = Deviation::ImplausibleTemperature { celsius: 6400, min, max };
+    assert_eq!(verdict_and_deviation(&g), (Verdict::NonStrict, Some(hot)), "{g}");
+    let at = |v: i16| analog(0x48, v as u16);
+    assert_eq!(grade(&s, &[0x40, 0x44, 0x48], &at(max), Grading::Range).verdict(), Verdict::Pass);
+    assert_eq!(grade(&s, &[0x40, 0x44, 0x48], &at(min), Grading::Range).verdict(), Verdict::Pass);
+    assert_eq!(grade(&s, &[0x40, 0x44, 0x48], &at(min - 1), Grading::Range).verdict(), Verdict::NonStrict);
+    let warned = ResponseFrame {
+        address: 0x40,
+        warning: true,
+        response: Response::AnalogValue { channel: 0x48, value: 0x1900 },
+    };
+    let g = grade(&s, &[0x40, 0x44, 0x48], warned.encode().as_bytes(), Grading::Range);
+    assert_ne!(g.deviation(), Some(hot), "{g}");
     // Read Sync Offset: 0...31. // 000:T36
     let offset = |v| reply(Response::SyncOffset(v));
     assert_eq!(grade(&s, &[0x40, 0x6C], &offset(31), Grading::Range).verdict(), Verdict::Pass);

@@ -51,6 +51,17 @@ pub enum Deviation {
     ImpossibleValue {
         response: Response,
     },
+    /// Read Analog Value answered with another channel than the one asked for.
+    WrongChannel {
+        asked: u8,
+        named: u8,
+    },
+    /// A temperature outside the device's limits, and no warning with it.
+    ImplausibleTemperature {
+        celsius: i32,
+        min: i16,
+        max: i16,
+    },
     /// The device reports an operational fault the model cannot see.
     UnseenFault {
         code: FaultCode,
@@ -105,9 +116,26 @@ impl fmt::Display for Deviation {
             Deviation::ShortVersion { data_len } => {
                 write!(f, "Read Version with {data_len} data bytes (legacy: up to 20 firmware characters)")
             }
+            Deviation::ImpossibleValue { response: Response::Position(v) } => {
+                write!(f, "position {v:08X}h is outside the measuring range")
+            }
+            Deviation::ImpossibleValue { response: Response::SyncOffset(v) } => {
+                write!(f, "synchronization offset {v} is outside 0...31")
+            }
+            Deviation::ImpossibleValue { response: Response::PositionWithSyncSet(v) } => {
+                write!(f, "the preset used, {v:08X}h, is not within 16 steps of the preset sent")
+            }
             Deviation::ImpossibleValue { response } => {
                 write!(f, "value out of range: {response:?}")
             }
+            Deviation::WrongChannel { asked, named } => {
+                write!(f, "the reply names channel {named:02X}h; the request asked for {asked:02X}h")
+            }
+            Deviation::ImplausibleTemperature { celsius, min, max } => write!(
+                f,
+                "a temperature of {celsius} degC, outside the device's limits ({min}...{max} degC), \
+                 without the warning bit its out-of-range fault (1Eh) would set"
+            ),
             Deviation::UnseenFault { code } => {
                 write!(f, "the device reports {code}, a fault of its world the model cannot see")
             }

@@ -5,6 +5,7 @@
 use crate::clause::{self, Clause, Normative};
 use crate::command::CommandId;
 use crate::fault::{FaultCode, FaultGroup};
+use crate::profile::AnalogSource;
 use crate::response::{Response, ResponseError, ResponseFrame, Version};
 use crate::settings::Edition;
 use crate::slave::fields::Contents;
@@ -141,7 +142,20 @@ impl Oracle {
             }
             (Reply::Frame(_), None) => {
                 // A silent broadcast breaks 2.3.1 whatever the command. // 000:2.3.1
-                let c = if request.first() == Some(&0xFF) { clause::BROADCAST } else { expected.clause };
+                // Silent within the power-up windows where the slave answers: the state
+                // machine's rule (000:T9; 000:T29's "respond to new requests after
+                // initialization time" in the legacy edition) rather than the command's.
+                let c = if request.first() == Some(&0xFF) {
+                    clause::BROADCAST
+                } else if within_power_up(before, at_us) {
+                    if edition == Edition::Current {
+                        clause::STATE_MACHINE
+                    } else {
+                        clause::ENCODER_RESET
+                    }
+                } else {
+                    expected.clause
+                };
                 return Grade::against(Deviation::NoReply, c, edition);
             }
             (Reply::Frame(e), Some(_)) => e,
@@ -253,7 +267,23 @@ impl Oracle {
         let range = before.profile().range();
         let ok = match (a, b) {
             (Response::Position(_), Response::Position(v)) => (v as u64) < range,
-            (Response::AnalogValue { channel: x, .. }, Response::AnalogValue { channel: y, .. }) => x == y,
+            (Response::AnalogValue { channel: asked, .. }, Response::AnalogValue { channel: named, value }) => {
+                if asked != named {
+                    return Grade::against(Deviation::WrongChannel { asked, named }, c, edition);
+                }
+                // The harness does not know the temperature: one outside the device's
+                // limits without a warning is doubtful, never a FAIL. // 000:T14
+                let profile = before.profile();
+                let temperature = profile.analog_channel(named).filter(|ch| ch.source == AnalogSource::Temperature);
+                if let Some(celsius) = temperature.map(|ch| ch.encoding.decode(value)) {
+                    let (min, max) = (profile.temperature_min_c, profile.temperature_max_c);
+                    if !found.warning && !(i32::from(min)..=i32::from(max)).contains(&celsius) {
+                        let d = Deviation::ImplausibleTemperature { celsius, min, max };
+                        return Grade::non_strict(d, clause::ANALOG_SOURCES);
+                    }
+                }
+                true
+            }
             (Response::SyncOffset(_), Response::SyncOffset(v)) => v < 32,
             // A stacked code the model cannot see: an operational fault of the real
             // world is plausible; protocol and data errors are never stacked. // 000:T37
@@ -348,13 +378,25 @@ fn version(before: &Slave, want: &Version, got: &Version) -> Grade {
 pub const REPLY_FORM: [Normative; 5] =
     [clause::CHECKSUM, clause::COMMAND_BYTE, clause::ENCODER_RESET, clause::ERROR_RESPONSE, clause::COMMAND_DEFINITION];
 
+/// Whether `at_us` falls within the power-up windows of the slave's last power-on or
+/// reset (000:T9: until the switch to the stored settings, and a little past it,
+/// where a slave's clock and a master's may differ).
+fn within_power_up(slave: &Slave, at_us: u64) -> bool {
+    const PAST_THE_SWITCH_US: u64 = 100_000;
+    let windows_us = u64::from(slave.profile().user_settings_ms) * 1000 + PAST_THE_SWITCH_US;
+    slave.power_up().since_us.is_some_and(|since| at_us < since.saturating_add(windows_us))
+}
+
 fn malformed_clause(e: ResponseError) -> Normative {
     match e {
         ResponseError::BadChecksum { .. } => clause::CHECKSUM,
         ResponseError::BadCommandByte { .. } => clause::COMMAND_BYTE,
         ResponseError::NoResponseExpected { .. } => clause::ENCODER_RESET,
         ResponseError::TooShort { .. } | ResponseError::WrongCommand { .. } => clause::ERROR_RESPONSE,
-        ResponseError::WrongLength { .. } | ResponseError::CountMismatch { .. } => clause::COMMAND_DEFINITION,
+        // A reply of the wrong length breaks the command's own definition (000:T31's
+        // 37 bytes of Read Version, say).
+        ResponseError::WrongLength { to, .. } => to.spec().map_or(clause::COMMAND_DEFINITION, |s| s.clause),
+        ResponseError::CountMismatch { .. } => clause::COMMAND_DEFINITION,
     }
 }
 
@@ -376,8 +418,14 @@ mod tests {
             ResponseError::CountMismatch { count: 1, data_len: 0 },
         ];
         for e in every {
-            assert!(REPLY_FORM.contains(&malformed_clause(e)), "{e:?}");
+            let own = match e {
+                ResponseError::WrongLength { to, .. } => to.spec().map(|s| s.clause),
+                _ => None,
+            };
+            assert!(REPLY_FORM.contains(&malformed_clause(e)) || own == Some(malformed_clause(e)), "{e:?}");
         }
+        let short = ResponseError::WrongLength { to: CommandId::ReadVersion, data_len: 30 };
+        assert_eq!(malformed_clause(short), clause::READ_VERSION);
         for c in REPLY_FORM {
             assert!(every.iter().any(|e| malformed_clause(*e) == c), "{c} is cited by no error");
         }

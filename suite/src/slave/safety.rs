@@ -20,9 +20,12 @@ use hiperface_model::{CommandId, Slave};
 use serde::Serialize;
 
 /// How long past a power-up state change the model predicts the harness waits before
-/// reading the device back: the device's clock started when it saw the reset, a
-/// little off the harness's.
-const SETTLE_MARGIN_US: u64 = 20_000;
+/// it counts on the device being in the new state (reading it back here, probing a
+/// window's edge in the cases): the device's clock started when it saw the reset, a
+/// little off the harness's. A decision (docs/src/design.md, "Power-up margins"):
+/// 20 ms tells a 100 ms initialization from a 140 ms one and the 1100 ms switch from
+/// a 1050 ms one.
+pub(crate) const SETTLE_MARGIN_US: u64 = 20_000;
 
 /// What the device reports of its stored state; `None` where it did not answer.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]

@@ -1,7 +1,7 @@
 //! Data fields: status, create, store, read, access codes, sizes, memory, the Extended
 //! Type Label. // 000:T19-T25, 000:2.3.5
 
-use super::{always, case, code0, release};
+use super::{always, case, code0, errors_not_stacked, release};
 use crate::slave::{Case, CaseError, Ctx, Guard};
 use hiperface_model::frame::FieldBytes;
 use hiperface_model::{Profile, Request};
@@ -26,7 +26,7 @@ fn create(field: u8, status: u8, code: u8) -> Request {
     Request::CreateDataField { field, status, code }
 }
 
-fn store(field: u8, offset: u8, code: u8, data: &[u8]) -> Result<Request, CaseError> {
+pub(super) fn store(field: u8, offset: u8, code: u8, data: &[u8]) -> Result<Request, CaseError> {
     let data = FieldBytes::from_bytes(data).map_err(|_| CaseError::Abort("more than 128 data bytes".into()))?;
     Ok(Request::StoreData { field, offset, code, data })
 }
@@ -61,7 +61,7 @@ pub const STATUS: Case = case!(
 pub const LIFECYCLE: Case = case!(
     "fields.lifecycle",
     "Create, store, read back, part of a field at an offset, bounds on both sides, a second field, delete",
-    [CREATE_FIELD, STORE_DATA, READ_DATA, WRONG_OFFSET, WRONG_LENGTH, FIELD_POLICY, DATA_FIELDS],
+    [CREATE_FIELD, STORE_DATA, READ_DATA, WRONG_OFFSET, WRONG_LENGTH, FIELD_POLICY, DATA_FIELDS, FAULT_GROUPS],
     Writes,
     always,
     |c| {
@@ -93,6 +93,7 @@ pub const LIFECYCLE: Case = case!(
         c.request(read(n, 15, 2, 0x00))?;
         c.request(read(n, 15, 1, 0x00))?;
         c.request(read(n + 1, 0, 1, 0x00))?;
+        errors_not_stacked(c)?;
         // A second field right after the first: each keeps its own bytes.
         if free_blocks(c) >= 1 {
             c.request(create(n + 1, 0xC0, code0))?;
@@ -216,7 +217,7 @@ pub const RESIZE: Case = case!(
 
 pub const MEMORY_EXHAUSTION: Case = case!(
     "fields.memory-exhaustion",
-    "Memory is accounted in 16-byte blocks: 128-byte fields, one written whole, until one does not fit (10h)",
+    "Memory is accounted in 16-byte blocks: 128-byte fields, one written whole, until one does not fit (10h); one block more than is free does not fit, created or grown",
     [OUT_OF_MEMORY, MEMORY_STATUS, FIELD_POLICY, STORE_DATA, READ_DATA],
     Writes,
     always,
@@ -242,21 +243,40 @@ pub const MEMORY_EXHAUSTION: Case = case!(
         let n = field_count(c);
         c.request(create(n, 0xC7, code0))?;
         c.request(Request::MemoryStatus)?;
-        // The rest of the memory exactly: a field of the free blocks, written at its last
-        // byte (the memory's end), which then cannot grow (10h).
+        // Memory full in whole 128-byte fields: the last one makes room for a 112-byte
+        // one, so that one block is left for the edges below.
+        let mut filler = None;
+        if free_blocks(c) == 0 {
+            if let Some(g) = guards.pop() {
+                let n = start + guards.len() as u8;
+                c.request(create(n, 0x47, code0))?;
+                c.release(g);
+                c.request(create(n, 0xC6, code0))?;
+                filler = guard_field(c, n).map(|g| (g, n));
+            }
+        }
+        // The rest of the memory exactly: one block more does not fit (10h); a field of
+        // the free blocks does, written at its last byte (the memory's end); it cannot
+        // grow by a block (10h) nor to 128 bytes (000:T54).
         let free = free_blocks(c);
         if (1..8).contains(&free) {
             let n = field_count(c);
+            c.request(create(n, 0xC0 | free, code0))?;
             let status = 0xC0 | (free - 1);
             c.request(create(n, status, code0))?;
             if let Some(g) = guard_field(c, n) {
                 let last = (u16::from(free) * 16 - 1) as u8;
                 c.request(store(n, last, code0, &[0x5A])?)?;
                 c.request(read(n, last, 1, code0))?;
+                c.request(create(n, 0xC0 | free, code0))?;
                 c.request(create(n, 0xC7, code0))?;
                 c.request(create(n, status & 0x7F, code0))?;
                 c.release(g);
             }
+        }
+        if let Some((g, n)) = filler {
+            c.request(create(n, 0x46, code0))?;
+            c.release(g);
         }
         while let Some(g) = guards.pop() {
             let n = start + guards.len() as u8;

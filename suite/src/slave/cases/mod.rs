@@ -59,7 +59,9 @@ pub fn catalogue() -> Vec<Case> {
         settings::TEMPORARY,
         settings::STORED,
         powerup::RESET,
+        powerup::DEFAULT_WINDOW,
         powerup::WINDOW,
+        powerup::RETAINS,
         timing::READ_POSITION,
     ]
 }
@@ -119,6 +121,14 @@ fn read_position(c: &mut Ctx<'_>) -> Result<Option<u32>, CaseError> {
 /// A reply to `command` as it decodes, if it does.
 fn decoded(reply: Option<&[u8]>, command: CommandId) -> Option<Response> {
     ResponseFrame::decode(reply?, command).ok().map(|f| f.response)
+}
+
+/// After errors were answered: Read Encoder Status. Protocol and data errors are
+/// answered, never stacked (000:T37); the oracle FAILs such a code read back (a
+/// stack that takes every error reply is otherwise seen only as a warning bit, which
+/// a real condition the harness cannot see may also set).
+fn errors_not_stacked(c: &mut Ctx<'_>) -> Res {
+    c.request(Request::ReadEncoderStatus).map(drop)
 }
 
 fn release(c: &mut Ctx<'_>, g: Option<Guard>) {

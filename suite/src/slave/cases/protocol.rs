@@ -1,26 +1,30 @@
 //! Protocol errors: checksum, unknown command, length, argument. // 000:2.4.2, 000:T47-T50
 
-use super::{always, case};
+use super::{always, case, errors_not_stacked};
 use crate::slave::{Case, Finding};
 use hiperface_model::{CommandId, Request};
 
 pub const CHECKSUM: Case = case!(
     "protocol.checksum",
-    "A bad checksum draws 0Ah",
-    [CHECKSUM_ERROR, CHECKSUM, COMMON_ERRORS],
+    "A bad checksum draws 0Ah, also under an unknown command",
+    [CHECKSUM_ERROR, CHECKSUM, COMMON_ERRORS, FAULT_GROUPS],
     Nothing,
     always,
     |c| {
         let a = c.address();
         c.send_frame(&[a, 0x42, 0x00])?;
-        c.send_frame(&[a, 0x4E, 0x0F]).map(drop)
+        c.send_frame(&[a, 0x4E, 0x0F])?;
+        // An unknown command with a bad checksum: "the message will not be parsed
+        // further" (000:T48), so 0Ah, not 0Bh.
+        c.send_frame(&[a, 0x45, 0x00])?;
+        errors_not_stacked(c)
     }
 );
 
 pub const PARITY: Case = case!(
     "protocol.parity",
     "A request with a parity error draws 09h",
-    [PARITY_ERROR, COMMON_ERRORS],
+    [PARITY_ERROR, COMMON_ERRORS, FAULT_GROUPS],
     Nothing,
     always,
     |c| {
@@ -35,14 +39,15 @@ pub const PARITY: Case = case!(
             return Ok(());
         }
         // Read Position: a request every device answers, so that only the fault decides.
-        c.send_with_wrong_parity(&crate::exchange::sealed(&[a, 0x42])).map(drop)
+        c.send_with_wrong_parity(&crate::exchange::sealed(&[a, 0x42]))?;
+        errors_not_stacked(c)
     }
 );
 
 pub const UNKNOWN_COMMAND: Case = case!(
     "protocol.unknown-command",
     "Unknown commands draw 0Bh",
-    [UNKNOWN_COMMAND, COMMON_ERRORS, LEGACY_ERROR_CODES],
+    [UNKNOWN_COMMAND, COMMON_ERRORS, LEGACY_ERROR_CODES, FAULT_GROUPS],
     Nothing,
     always,
     |c| {
@@ -56,14 +61,14 @@ pub const UNKNOWN_COMMAND: Case = case!(
                 c.ask(&[a, id.byte()])?;
             }
         }
-        Ok(())
+        errors_not_stacked(c)
     }
 );
 
 pub const LENGTH: Case = case!(
     "protocol.length",
     "Frames of the wrong length draw 0Ch: too short, and every command one byte too long",
-    [WRONG_LENGTH, CHECK_ORDER, COMMON_ERRORS],
+    [WRONG_LENGTH, CHECK_ORDER, COMMON_ERRORS, FAULT_GROUPS],
     Nothing,
     always,
     |c| {
@@ -86,19 +91,20 @@ pub const LENGTH: Case = case!(
             body.extend(std::iter::repeat_n(0u8, n as usize + 1));
             c.ask(&body)?;
         }
-        Ok(())
+        errors_not_stacked(c)
     }
 );
 
 pub const ARGUMENT: Case = case!(
     "protocol.argument",
     "A channel the device lacks draws 0Dh",
-    [READ_ANALOG, WRONG_ARGUMENT],
+    [READ_ANALOG, WRONG_ARGUMENT, FAULT_GROUPS],
     Nothing,
     always,
     |c| {
         let profile = c.profile();
         let missing = (0u8..=0xFF).find(|s| profile.analog_channel(*s).is_none()).unwrap_or(0);
-        c.request(Request::ReadAnalogValue { channel: missing }).map(drop)
+        c.request(Request::ReadAnalogValue { channel: missing })?;
+        errors_not_stacked(c)
     }
 );

@@ -1,10 +1,10 @@
 //! Serial interface settings: Set Serial Interface, Temporarily Set Serial Interface.
 //! // 000:T32, 000:T33
 
-use super::{always, case, code0, lacks, other_baud, wait_until};
+use super::{always, case, code0, decoded, lacks, other_baud, wait_until};
 use crate::slave::{Case, Finding};
 use hiperface_model::slave::powerup::CommState;
-use hiperface_model::{CommandId, Profile, Request, UartSettings};
+use hiperface_model::{CommandId, FaultCode, Profile, Request, Response, UartSettings};
 
 fn with_67(p: &Profile) -> Option<&'static str> {
     lacks(p, CommandId::TemporarilySetSerialInterface, "67h is optional and the profile lacks it")
@@ -65,8 +65,21 @@ pub const STORED: Case = case!(
         // until a reset, in the new ones after it (or at power-on, in the default
         // window, whatever was stored: 000:T9).
         let g = c.guard(a, set(stored));
-        // Still the old settings until a reset (000:T32).
-        c.request(Request::ReadPosition)?;
+        // Still the old settings until a reset (000:T32): a device that took the new
+        // ones at once hears this request garbled (or not at all).
+        // (A reply that does not decode is the oracle's to FAIL, not this rule's.)
+        let reply = c.request(Request::ReadPosition)?.reply;
+        let decodes = decoded(reply.as_deref(), CommandId::ReadPosition);
+        let heard = match reply {
+            None => false,
+            Some(_) => !matches!(decodes, Some(Response::Error(FaultCode::Parity))),
+        };
+        let msg = "after Set Serial Interface, a request in the old settings is not heard: the new settings are in \
+                   use before an Encoder Reset";
+        c.check(heard, msg, hiperface_model::clause::SET_SERIAL);
+        // Read Type Label reports the stored settings, the new ones already (000:T28;
+        // the active ones are NON-STRICT).
+        c.request(Request::ReadTypeLabel)?;
         // At the other data rate, a pause of the default rate's timeout and frame before
         // each request: a listener that does not follow the rate (a wire log is read at
         // one) still tells the frames apart.
