@@ -19,7 +19,8 @@
 # The busy half runs three busy loops; with BUILD=1 also a cargo build of the workspace
 # in a loop at normal priority (a copy of HEAD in $OUT/build-tree, its own target
 # directory). SLAVES may name HX-1 with a defect switch as `hx-1:NAME` (its own case
-# must FAIL in every run). Each line ends with what the harness measured of the line
+# must FAIL in every run), and `sim-link` for `hiperface simulate` reached through a symbolic link
+# to its pseudo-terminal. Each line gives the run's exit code, and ends with what the harness measured of the line
 # itself: the pseudo-terminal's delivery (the probe beside the line, line::delivery).
 #
 # The device under test is protected from the load as a real device is (it runs with
@@ -103,7 +104,11 @@ probe = "  | line: %.1f ms (probe: %s writes, %s > 1 ms, latest %.1f ms)" % (
 ratio = ""
 if r.get("needed_ms"):
     ratio = "  | wall %.2fx" % (r["wall_time_ms"] / r["needed_ms"])
-print(v + ("  | runs: " + ",".join(again) if again else "") + probe + ratio)
+try:
+    rc = open(sys.argv[1].rsplit("/", 1)[0] + ".rc").read().strip()
+except OSError:
+    rc = "?"
+print(v + " exit " + rc + ("  | runs: " + ",".join(again) if again else "") + probe + ratio)
 PY
 }
 
@@ -118,14 +123,30 @@ master_exec() {
 certify_master() {  # name, report dir
     local extra=()
     [ "$1" = talks-during-init ] && extra=(--profile "$(cd "$OUT" && pwd)/long-init.toml")
-    "$H" certify master --exec "$(master_exec "$1")" --report "$2" "${extra[@]}" > "$2.log" 2>&1 || true
+    local rc=0
+    "$H" certify master --exec "$(master_exec "$1")" --report "$2" "${extra[@]}" > "$2.log" 2>&1 || rc=$?
+    echo "$rc" > "$2.rc"
 }
 
 certify_slave() {  # name, report dir
     local defect=()
     case "$1" in hx-1:*) defect=(--defect "${1#hx-1:}") ;; esac
     case "$1" in
-        sim) chrt -f 50 "$H" certify slave --port sim --report "$2" >/dev/null 2>&1 || true ;;
+        sim) local rc=0
+            chrt -f 50 "$H" certify slave --port sim --report "$2" >"$2.log" 2>&1 || rc=$?
+            echo "$rc" > "$2.rc" ;;
+        sim-link)  # the simulator of `hiperface simulate` reached through a symbolic link
+            local rc=0 sim
+            rm -f "$OUT/sim.path" "$OUT/sim-link"
+            (chrt -f 50 "$H" simulate --port pty > "$OUT/sim.path" 2>/dev/null) &
+            sim=$!
+            for _ in $(seq 50); do [ -s "$OUT/sim.path" ] && break; sleep 0.1; done
+            ln -s "$(head -1 "$OUT/sim.path")" "$OUT/sim-link"
+            "$H" certify slave --port "$OUT/sim-link" --allow-writes --allow-counter-change --allow-adjustment \
+                --report "$2" >"$2.log" 2>&1 || rc=$?
+            echo "$rc" > "$2.rc"
+            kill "$sim" 2>/dev/null || true; wait "$sim" 2>/dev/null || true
+            ;;
         hx-1*)
             rm -f "$OUT/hx1.path"
             (sleep 600 | chrt -f 50 python3 conformance/tests/independent/hx1_slave.py --pty "${defect[@]}" \
@@ -133,8 +154,10 @@ certify_slave() {  # name, report dir
             local hx=$!
             for _ in $(seq 50); do [ -s "$OUT/hx1.path" ] && break; sleep 0.1; done
             sleep 0.3
+            local rc=0
             "$H" certify slave --port "$(head -1 "$OUT/hx1.path")" --profile conformance/tests/independent/hx1.toml \
-                --allow-writes --allow-counter-change --report "$2" >/dev/null 2>&1 || true
+                --allow-writes --allow-counter-change --report "$2" >"$2.log" 2>&1 || rc=$?
+            echo "$rc" > "$2.rc"
             pkill -f hx1_slave.py 2>/dev/null || true; kill "$hx" 2>/dev/null || true
             ;;
     esac

@@ -17,6 +17,11 @@ pub fn parse_ms(s: &str) -> Result<f64, String> {
     if !ms.is_finite() || ms < 0.0 {
         return Err(format!("`{s}`: milliseconds must be a finite number, zero or more"));
     }
+    // A minute is more than any delay or uncertainty of a HIPERFACE line; far larger
+    // figures would overflow as microseconds.
+    if ms > 60_000.0 {
+        return Err(format!("`{s}`: at most 60000 milliseconds"));
+    }
     Ok(ms)
 }
 

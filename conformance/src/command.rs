@@ -20,15 +20,24 @@ pub enum Ended {
     /// A check of the project's own data found something wrong: vectors that do not
     /// verify, a normative clause neither covered nor listed.
     CheckFailed,
+    /// `decode` of a report: its record, graded again, does not give what the report
+    /// states (verdicts, counts, outcome, the grading options): the report is no
+    /// evidence, whatever the replayed outcome.
+    Disagrees,
 }
 
+/// The exit code of a report that does not state what its record gives.
+pub const EXIT_DISAGREES: u8 = 4;
+
 impl Ended {
-    /// 0 done or PASSED, 1 FAILED or a check that failed, 3 INCOMPLETE.
+    /// 0 done or PASSED, 1 FAILED or a check that failed, 3 INCOMPLETE, 4 a report
+    /// that does not state what its record gives.
     pub fn exit_code(self) -> u8 {
         match self {
             Ended::Done => 0,
             Ended::Graded(outcome) => outcome.exit_code(),
             Ended::CheckFailed => 1,
+            Ended::Disagrees => EXIT_DISAGREES,
         }
     }
 }
@@ -101,6 +110,7 @@ mod tests {
         assert_eq!(Ended::Graded(Outcome::Failed).exit_code(), 1);
         assert_eq!(Ended::Graded(Outcome::Incomplete).exit_code(), 3);
         assert_eq!(Ended::CheckFailed.exit_code(), 1);
+        assert_eq!(Ended::Disagrees.exit_code(), 4);
         assert_eq!(CommandError::Usage("x".into()).exit_code(), 2);
         let e = CommandError::file("/nowhere")(std::io::Error::from(std::io::ErrorKind::NotFound));
         assert!(e.to_string().starts_with("/nowhere: "), "{e}");

@@ -43,6 +43,9 @@ struct Punctuality {
 }
 
 impl Hooks for Punctuality {
+    fn stamps_as_early_as_unwatched(&self) -> bool {
+        true
+    }
     fn read(&mut self, unwatched_us: u64) {
         self.late_us.fetch_max(unwatched_us, Ordering::SeqCst);
     }
@@ -57,6 +60,9 @@ impl Hooks for Punctuality {
 struct FollowLine;
 
 impl Hooks for FollowLine {
+    fn stamps_as_early_as_unwatched(&self) -> bool {
+        true
+    }
     fn sets_port(&self) -> bool {
         false
     }
@@ -71,6 +77,9 @@ struct Logger<'a> {
 }
 
 impl Hooks for Logger<'_> {
+    fn stamps_as_early_as_unwatched(&self) -> bool {
+        true
+    }
     fn frame(&mut self, _slave: &mut Slave, step: &Step) {
         if let Some(l) = self.log.as_deref_mut() {
             let t = step.received.last_us as f64 / 1000.0;
@@ -109,6 +118,8 @@ pub fn serve_with(
     let (marking, mut marks) = (hooks.marks_errors(), crate::capture::parmrk::Marks::default());
     // The master's characters, off the line and its echo, in the order they came.
     let mut master_chars: Vec<RxChar> = Vec::new();
+    // The end of the last character of the last frame the model took, µs.
+    let mut framed_through_us = 0;
     while !stop.load(Ordering::Relaxed) {
         // Follow the slave's listening settings (67h, reset, power-up windows) on the
         // port; a pseudo-terminal accepts and ignores them.
@@ -138,8 +149,15 @@ pub fn serve_with(
         for Chunk { bytes, at_us: t, unwatched_us } in chunks {
             hooks.read(unwatched_us);
             let listening = slave.listening_settings(t);
+            let arrived = if hooks.stamps_as_early_as_unwatched() {
+                let timeout = listening.unwrap_or_default().timeout_us(slave.profile().edition);
+                let in_progress = (rx_clock.last_us() > framed_through_us).then_some(rx_clock.last_us());
+                continued_arrival_us(t, unwatched_us, in_progress, timeout)
+            } else {
+                t
+            };
             for (byte, fault) in unmarked(&bytes, marking.then_some(&mut marks)) {
-                let mut ch = rx_clock.stamp(byte, t, Some(listening.unwrap_or_default().char_time_us()));
+                let mut ch = rx_clock.stamp(byte, arrived, Some(listening.unwrap_or_default().char_time_us()));
                 ch.fault = ch.fault.or(fault);
                 if let (Some(bps), Some(l)) = (line_bps, listening) {
                     if bps != l.baud.bits_per_second() {
@@ -163,6 +181,7 @@ pub fn serve_with(
         steps.extend(slave.poll(t));
         hooks.idle(t);
         for step in steps {
+            framed_through_us = framed_through_us.max(step.received.last_us);
             hooks.frame(slave, &step);
             let Some(tx) = step.transmission else { continue };
             let planned = planned_reply(&tx);
@@ -233,6 +252,20 @@ pub fn serve_with(
         }
     }
     Ok(())
+}
+
+/// When characters read at `read_us`, the line unwatched for `unwatched_us` before,
+/// arrived for a simulator that plays the UART: those that may have continued the frame
+/// in progress (its last character ended at `in_progress`; they may have arrived within
+/// `timeout_us` of it) as early as the lateness allows, so that its own lateness never
+/// splits a request; the first of a frame when read (a reply is then planned late,
+/// never before the request ended).
+fn continued_arrival_us(read_us: u64, unwatched_us: u64, in_progress: Option<u64>, timeout_us: u64) -> u64 {
+    let earliest = read_us.saturating_sub(unwatched_us);
+    match in_progress {
+        Some(last_us) if earliest < last_us + timeout_us => earliest,
+        _ => read_us,
+    }
 }
 
 /// The characters of `bytes` as the UART received them: taken back from the kernel's
@@ -421,5 +454,23 @@ impl Drop for PtySimulator {
         if let Some(t) = self.thread.take() {
             let _ = t.join();
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::continued_arrival_us;
+
+    /// A simulator woken 8 ms late (the timeout at 9600 Bd is 5.73 ms): the rest of a
+    /// request it had begun to receive came as early as 1 ms after the last character,
+    /// and is stamped so (not split); the first character of a frame is stamped when
+    /// read; what came only after the timeout whatever the lateness stays apart.
+    #[test]
+    fn a_simulator_s_own_lateness_does_not_split_a_request() {
+        const TIMEOUT: u64 = 5_730;
+        assert_eq!(continued_arrival_us(20_000, 8_000, Some(11_000), TIMEOUT), 12_000);
+        assert_eq!(continued_arrival_us(20_000, 8_000, None, TIMEOUT), 20_000);
+        assert_eq!(continued_arrival_us(20_000, 2_000, Some(11_000), TIMEOUT), 20_000);
+        assert_eq!(continued_arrival_us(20_000, 0, Some(19_000), TIMEOUT), 20_000);
     }
 }

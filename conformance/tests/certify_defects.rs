@@ -411,6 +411,37 @@ fn a_case_the_harness_was_too_late_to_judge_is_run_again() {
     let always = case(run(usize::MAX));
     assert_eq!((always.verdict, always.attempts), (CaseVerdict::Unknown, 3), "{always:#?}");
     assert!(always.findings.iter().any(|f| f.message().contains("cannot tell")), "{always:#?}");
+    // Alone in the run, there is no time left for a run again at its end.
+    let alone = run(usize::MAX);
+    assert!(alone.notes.iter().any(|n| n.contains("position.read: not run again at the end")), "{:?}", alone.notes);
+}
+
+/// A case still undecided after three runs in a row (a busy spell) is run again at the
+/// end of the run, when the spell has passed: its verdict is then the device's, as on
+/// an idle machine, not UNKNOWN (issue 54: INCOMPLETE from the harness's own timing).
+#[test]
+fn a_case_undecided_after_its_runs_is_run_again_at_the_end() {
+    let run = |disturbed: usize| {
+        let mut d = Defective::new(keep);
+        d.delay_us = 12_000;
+        let line = LateHarness { line: VirtualLine::new(d), late_us: 5_000, disturbed, read_positions: 0 };
+        // Other cases after it give the run the time for a run again at its end.
+        let options =
+            Options { cases: Some("position.read,fields.*".into()), allow_writes: true, ..Options::default() };
+        slave::run(Box::new(line), profiles::srs50(), &options, |_, _, _| {})
+    };
+    let find = |r: &Report| r.cases.iter().find(|c| c.id == "position.read").cloned().unwrap();
+    let idle = find(&run(0));
+    assert_eq!((idle.verdict, idle.attempts), (CaseVerdict::Fail, 1), "{idle:#?}");
+    // Every Read Position of its first three runs disturbed, none after.
+    let r = run(3 * idle.exchanges);
+    let spell = find(&r);
+    assert_eq!((spell.verdict, spell.attempts), (CaseVerdict::Fail, 4), "{spell:#?} {:?}", r.notes);
+    assert_eq!(r.outcome(), hiperface_conformance::verdict::Outcome::Failed);
+    // The other cases keep their verdicts and their place in the report.
+    let ids =
+        |r: &Report| -> Vec<String> { r.cases.iter().map(|c| format!("{} {}", c.id, c.verdict.label())).collect() };
+    assert_eq!(ids(&r), ids(&run(0)));
 }
 
 /// A slave that answers every request 60 ms late (the limits are 5 to 70 ms after the

@@ -206,6 +206,114 @@ fn decoding_a_certify_report_reproduces_its_slave_verdicts() {
     assert!(text.contains("master: FAIL a frame that is no request"), "{text}");
 }
 
+/// A certify report is evidence only where its record gives what it states: each
+/// edit below (issue 55) once decoded "PASSED" with exit 0, or was graded as a capture;
+/// now each is exit 4 with the difference on the first line, or an error that says
+/// what is wrong (exit 2), and the input is never replaced by the output.
+#[test]
+fn a_report_that_does_not_state_what_its_record_gives_is_no_evidence() {
+    let _one = common::one_at_a_time();
+    let dir = tempfile::tempdir().unwrap();
+    let run = dir.path().join("run");
+    let out = Command::new(BIN)
+        .args(["certify", "slave", "--port", "virtual", "--cases", "position.*", "--report"])
+        .arg(&run)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let original = std::fs::read(run.join("report.json")).unwrap();
+    let json: serde_json::Value = serde_json::from_slice(&original).unwrap();
+    let edited = |name: &str, edit: &dyn Fn(&mut serde_json::Value)| {
+        let mut j = json.clone();
+        edit(&mut j);
+        let path = dir.path().join(format!("{name}.json"));
+        std::fs::write(&path, serde_json::to_vec(&j).unwrap()).unwrap();
+        path
+    };
+    let first_line =
+        |text: &str| text.lines().find(|l| !l.contains("played back to this catalogue")).unwrap_or("").to_string();
+    // Untouched: it states what its record gives.
+    let (code, text) = decode(&run.join("report.json"), &["--quiet"]);
+    assert_eq!(code, 0, "{text}");
+    assert!(first_line(&text).starts_with("the report states what its record gives"), "{text}");
+    // A NOT-APPLICABLE case turned PASS (and its count with it).
+    let na = json["cases"].as_array().unwrap().iter().position(|c| c["verdict"] == "NOT-APPLICABLE");
+    let na = na.expect("position.sync does not apply to SRS50");
+    let turned = edited("turned", &|j| {
+        j["cases"][na]["verdict"] = "PASS".into();
+    });
+    let (code, text) = decode(&turned, &["--quiet"]);
+    assert_eq!(code, 4, "{text}");
+    assert!(first_line(&text).starts_with("THE REPORT DOES NOT STATE WHAT ITS RECORD GIVES"), "{text}");
+    assert!(text.contains("PASS in the report, NOT-APPLICABLE from the record"), "{text}");
+    // The counts inflated, the case list left alone.
+    let counted = edited("counted", &|j| {
+        j["summary"]["PASS"] = 800.into();
+    });
+    let (code, text) = decode(&counted, &["--quiet"]);
+    assert_eq!(code, 4, "{text}");
+    assert!(text.contains("the counts: "), "{text}");
+    // The record's grading options edited: the report still says strict.
+    let lenient = edited("lenient", &|j| {
+        j["record"]["options"]["timing"] = "off".into();
+    });
+    let (code, text) = decode(&lenient, &["--quiet"]);
+    assert_eq!(code, 4, "{text}");
+    assert!(text.contains("`timing`: \"strict\" in the report, \"off\" in the record's options"), "{text}");
+    // One byte that is no UTF-8: an unreadable report, not a capture.
+    let mut broken = original.clone();
+    let at = broken.windows(7).position(|w| w == b"\"cases\"").unwrap();
+    broken[at + 1] = 0xFF;
+    let broken_path = dir.path().join("broken.json");
+    std::fs::write(&broken_path, &broken).unwrap();
+    let (code, text) = decode(&broken_path, &["--quiet"]);
+    assert_eq!(code, 2, "{text}");
+    assert!(text.contains("cannot be read as a report (JSON)"), "{text}");
+    // A byte-order mark in front: still the report.
+    let bom = dir.path().join("bom.json");
+    std::fs::write(&bom, [b"\xEF\xBB\xBF".as_slice(), &original].concat()).unwrap();
+    let (code, text) = decode(&bom, &["--quiet"]);
+    assert_eq!(code, 0, "{text}");
+    // The input is never the output.
+    let (code, text) = decode(&run.join("report.json"), &["--quiet", "--report", run.to_str().unwrap()]);
+    assert_eq!(code, 2, "{text}");
+    assert!(text.contains("would be replaced"), "{text}");
+    assert_eq!(std::fs::read(run.join("report.json")).unwrap(), original);
+    // An uncertainty that would call a late reply on time, or overflow.
+    for ms in ["60", "1e17"] {
+        let (code, text) = decode(&run.join("report.json"), &["--quiet", "--tolerance-ms", ms]);
+        assert_eq!(code, 2, "{ms}: {text}");
+    }
+}
+
+/// A master report whose scenarios are listed again (its counts with them) is no
+/// evidence: exit 4, though every listed verdict is PASS.
+#[test]
+fn a_master_report_listing_its_scenarios_twice_is_no_evidence() {
+    let _one = common::one_at_a_time();
+    let dir = tempfile::tempdir().unwrap();
+    let run = dir.path().join("run");
+    let master = format!("{BIN} master --port {{port}}");
+    let out = Command::new(BIN)
+        .args(["certify", "master", "--scenarios", "startup.*", "--exec", &master, "--report"])
+        .arg(&run)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let mut json: serde_json::Value = serde_json::from_slice(&std::fs::read(run.join("report.json")).unwrap()).unwrap();
+    let (code, text) = decode(&run.join("report.json"), &["--quiet"]);
+    assert_eq!(code, 0, "{text}");
+    let scenarios = json["scenarios"].as_array().unwrap().clone();
+    let n = scenarios.len() as u64;
+    json["scenarios"].as_array_mut().unwrap().extend(scenarios);
+    json["summary"]["PASS"] = (2 * n).into();
+    let twice = dir.path().join("twice.json");
+    std::fs::write(&twice, serde_json::to_vec(&json).unwrap()).unwrap();
+    let (code, text) = decode(&twice, &["--quiet"]);
+    assert_eq!(code, 4, "{text}");
+    assert!(text.contains(&format!("{} in the report, {n} from the record", 2 * n)), "{text}");
+}
+
 /// An encoder whose Code0 is not the factory 55h takes a new address (55h, 000:T30:
 /// the reply already comes from the new address) and answers there. The listener
 /// does not know the code; the encoder's acceptance tells it. A reply from the old

@@ -41,6 +41,16 @@ pub trait Hooks {
     /// writing a reply, or not scheduled). They may have come any time in that
     /// stretch; they are stamped when read.
     fn read(&mut self, _unwatched_us: u64) {}
+    /// Whether the characters of a read that came `unwatched_us` late are stamped as
+    /// early as that allows (never before the one before them ended), not when read. A
+    /// device's UART stamps a character when it arrives: a simulator that was not
+    /// scheduled must not see a pause that was its own and split a request the master
+    /// sent whole (seen: `certify slave` through a line emulator to the simulator on a
+    /// busy machine, 0Ch to a valid request). Not for the encoder that grades a master:
+    /// it grades pauses, and marks what a late read could hide as unproven instead.
+    fn stamps_as_early_as_unwatched(&self) -> bool {
+        false
+    }
     /// Time passes with nothing received; the model was polled at `now_us` just before.
     fn idle(&mut self, _now_us: u64) {}
     /// The model processed a frame (whether it replies or not).

@@ -24,6 +24,11 @@ pub struct RxClock {
 }
 
 impl RxClock {
+    /// When the last character stamped ended, µs (0 before the first).
+    pub fn last_us(&self) -> u64 {
+        self.last_us
+    }
+
     /// Stamp a byte. `clocked_char_time_us`: `Some` on lines without a baud rate.
     pub fn stamp(&mut self, byte: u8, arrival_us: u64, clocked_char_time_us: Option<u64>) -> RxChar {
         let (at_us, overrun) = match clocked_char_time_us {

@@ -21,6 +21,10 @@ pub enum FormatArg {
     Sigrok,
 }
 
+/// The largest timing uncertainty `decode` grades with, ms (the largest a certify run
+/// is documented with: a loaded CI machine's `--tolerance-ms 20`).
+pub const MAX_TOLERANCE_MS: f64 = 20.0;
+
 /// `hiperface decode`.
 #[derive(clap::Args, Debug, Clone)]
 pub struct DecodeArgs {
@@ -31,8 +35,8 @@ pub struct DecodeArgs {
     /// The capture's sample rate, Hz (sigrok-cli's sample numbers).
     #[arg(long)]
     pub samplerate: Option<u64>,
-    /// The capture's timing uncertainty, ms (default: a certify report's own
-    /// tolerance, else one bit time).
+    /// The capture's timing uncertainty, ms, at most 20 (default: a certify report's
+    /// own tolerance, else one bit time).
     #[arg(long, value_parser = parse_ms)]
     pub tolerance_ms: Option<f64>,
     /// The channel the master talks on (`uart-1`, a CSV channel name), where the
@@ -76,12 +80,21 @@ pub struct ListeningArgs {
 /// instead (`slave::record`): the run's verdicts, graded again, and its exit code.
 pub fn decode(args: &DecodeArgs) -> Result<Ended, CommandError> {
     use crate::report::recorded::{self, AnyRecorded};
+    if let Some(dir) = &args.listening.report {
+        crate::report::refuse_overwriting(&args.file, dir)?;
+    }
+    if let Some(ms) = args.tolerance_ms.filter(|ms| *ms > MAX_TOLERANCE_MS) {
+        return Err(CommandError::Usage(format!(
+            "--tolerance-ms {ms}: at most {MAX_TOLERANCE_MS} ms; a larger uncertainty would take replies late by \
+             more than their limits (5 to 70 ms) for on time"
+        )));
+    }
     let recorded = if args.listen || args.vcd.is_some() { None } else { recorded::read_any(&args.file)? };
     match recorded {
         Some(AnyRecorded::Slave(r)) => {
             return recorded::decode(*r, args.listening.report.as_deref(), args.listening.quiet)
         }
-        Some(AnyRecorded::Master(r)) => return recorded::decode_master(r, args.listening.quiet),
+        Some(AnyRecorded::Master(r)) => return recorded::decode_master(*r, args.listening.quiet),
         None => {}
     }
     let (profile, _) = bus(&args.listening.profile, args.listening.baud)?;

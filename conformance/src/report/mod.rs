@@ -44,6 +44,25 @@ fn write_files<R: Reports>(r: &R, dir: &Path) -> std::io::Result<()> {
     std::fs::write(dir.join(format!("{}.html", R::CERTIFICATE)), r.html())
 }
 
+/// The files a report directory receives (a certify run's certificate, or a listening
+/// report's).
+const WRITTEN: [&str; 6] =
+    ["report.json", "junit.xml", "certificate.md", "certificate.html", "listening.md", "listening.html"];
+
+/// An input is never the output: refused where writing the reports into `dir` would
+/// replace the file `input` (`decode DIR/report.json --report DIR` would put a report
+/// without its record in the place of the one with it).
+pub fn refuse_overwriting(input: &Path, dir: &Path) -> Result<(), CommandError> {
+    let (Ok(input), Ok(dir_real)) = (input.canonicalize(), dir.canonicalize()) else { return Ok(()) };
+    match WRITTEN.iter().find(|name| dir_real.join(name) == input) {
+        Some(name) => Err(CommandError::ReportDir {
+            dir: dir.to_path_buf(),
+            why: format!("the input {} would be replaced by the new {name}: choose another directory", input.display()),
+        }),
+        None => Ok(()),
+    }
+}
+
 /// Create the report directory `dir` and check that files can be written in it, before
 /// a run: a run's results are never found unwritable only after it.
 pub fn prepare_dir(dir: &Path) -> Result<(), CommandError> {
@@ -55,7 +74,33 @@ pub fn prepare_dir(dir: &Path) -> Result<(), CommandError> {
     let probe = dir.join(".hiperface-write-check");
     std::fs::write(&probe, b"").map_err(|e| refused(format!("cannot write in the directory: {e}")))?;
     let _ = std::fs::remove_file(probe);
+    if let Some(aside) =
+        move_earlier_run_aside(dir).map_err(|e| refused(format!("cannot move an earlier run aside: {e}")))?
+    {
+        eprintln!("an earlier run's reports in {} were moved to {}", dir.display(), aside.display());
+    }
     Ok(())
+}
+
+/// Never mixed, nothing lost: the report files of an earlier run in `dir` (any of
+/// [`WRITTEN`]; a link is moved as the link) go together into the first free
+/// `dir/earlier-run-N`, so that a new run's report.json never stands beside an old
+/// run's certificate. Returns where they went, `None` when there were none.
+fn move_earlier_run_aside(dir: &Path) -> std::io::Result<Option<std::path::PathBuf>> {
+    let earlier: Vec<&str> = WRITTEN.iter().copied().filter(|name| dir.join(name).symlink_metadata().is_ok()).collect();
+    if earlier.is_empty() {
+        return Ok(None);
+    }
+    let Some(aside) =
+        (1..=10_000).map(|n| dir.join(format!("earlier-run-{n}"))).find(|d| d.symlink_metadata().is_err())
+    else {
+        return Err(std::io::Error::other("10 000 earlier runs are there already"));
+    };
+    std::fs::create_dir(&aside)?;
+    for name in earlier {
+        std::fs::rename(dir.join(name), aside.join(name))?;
+    }
+    Ok(Some(aside))
 }
 
 /// The revision the command was built from (`build.rs`: `git rev-parse`), or "unknown".
@@ -109,5 +154,35 @@ mod tests {
         assert_eq!(super::utc(951_782_400), "2000-02-29T00:00:00Z");
         assert_eq!(super::utc(1_795_678_212), "2026-11-26T07:30:12Z");
         assert_eq!(super::utc(4_107_542_399), "2100-02-28T23:59:59Z");
+    }
+
+    /// A report directory that holds an earlier run: its files go aside together, a
+    /// link as the link (its target untouched), other files stay; a new run's files
+    /// never stand beside the old ones (issue 55: a FAILED report.json beside a PASSED
+    /// certificate.md).
+    #[test]
+    fn an_earlier_run_is_moved_aside_never_mixed() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path().join("run");
+        std::fs::create_dir(&d).unwrap();
+        std::fs::write(d.join("certificate.md"), "PASSED").unwrap();
+        let elsewhere = dir.path().join("elsewhere.json");
+        std::fs::write(&elsewhere, "kept").unwrap();
+        std::os::unix::fs::symlink(&elsewhere, d.join("report.json")).unwrap();
+        std::fs::write(d.join("notes.txt"), "mine").unwrap();
+        super::prepare_dir(&d).unwrap();
+        let aside = d.join("earlier-run-1");
+        assert_eq!(std::fs::read_to_string(aside.join("certificate.md")).unwrap(), "PASSED");
+        assert!(aside.join("report.json").symlink_metadata().unwrap().file_type().is_symlink());
+        assert!(!d.join("certificate.md").exists() && d.join("report.json").symlink_metadata().is_err());
+        assert_eq!(std::fs::read_to_string(d.join("notes.txt")).unwrap(), "mine");
+        assert_eq!(std::fs::read_to_string(&elsewhere).unwrap(), "kept");
+        // Again: the next free place.
+        std::fs::write(d.join("junit.xml"), "x").unwrap();
+        super::prepare_dir(&d).unwrap();
+        assert!(d.join("earlier-run-2").join("junit.xml").exists());
+        // Nothing to move: nothing moved.
+        super::prepare_dir(&d).unwrap();
+        assert!(!d.join("earlier-run-3").exists());
     }
 }

@@ -7,83 +7,202 @@ use hiperface_suite::slave::record::Record;
 use hiperface_suite::slave::{self, CaseVerdict};
 use std::path::Path;
 
-/// A certify report with its record, and the verdicts it states.
+/// The largest report `decode` reads, bytes: 35 times the largest this tool writes in
+/// its whole catalogue (a master run, 1.8 MB). A larger one is refused with this figure,
+/// never read into memory.
+pub const MAX_REPORT_BYTES: u64 = 64 << 20;
+
+/// How much of a file is read to tell a report (JSON) from a capture.
+const SNIFF_BYTES: u64 = 4096;
+
+/// What a report states, to be held against what its record gives.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Stated {
+    /// Each case's or scenario's id and verdict label, in the report's order.
+    pub units: Vec<(String, String)>,
+    /// The count of each verdict.
+    pub summary: std::collections::BTreeMap<String, u64>,
+    /// The outcome's label ("PASSED").
+    pub outcome: String,
+    /// What the report states of how the run was graded (a slave run's timing mode,
+    /// tolerance, grading, profile, edition), as written: each must be what the
+    /// record's options give.
+    pub run: Vec<(&'static str, serde_json::Value)>,
+}
+
+/// The fields of a slave report that say how its run was graded.
+const SLAVE_RUN_FIELDS: [&str; 5] = ["profile", "edition", "timing", "tolerance_us", "grading"];
+
+impl Stated {
+    /// What `report` states: `units` is its "cases" or "scenarios".
+    fn of(report: &serde_json::Value, units: &str, run_fields: &[&'static str]) -> Result<Stated, String> {
+        let list = report.get(units).and_then(|u| u.as_array()).ok_or(format!("the report has no list of {units}"))?;
+        let mut stated = Stated::default();
+        for unit in list {
+            let field = |k: &str| unit.get(k).and_then(|v| v.as_str()).map(str::to_string);
+            match (field("id"), field("verdict")) {
+                (Some(id), Some(verdict)) => stated.units.push((id, verdict)),
+                _ => return Err(format!("one of the report's {units} has no id or verdict")),
+            }
+        }
+        if let Some(summary) = report.get("summary").and_then(|s| s.as_object()) {
+            for (label, count) in summary {
+                stated.summary.insert(label.clone(), count.as_u64().unwrap_or(u64::MAX));
+            }
+        }
+        stated.outcome = report.get("outcome").and_then(|o| o.as_str()).unwrap_or("(none)").to_string();
+        stated.run = run_fields.iter().map(|k| (*k, report.get(*k).cloned().unwrap_or_default())).collect();
+        Ok(stated)
+    }
+
+    /// Where `again` (the record graded again, stated the same way) differs from this:
+    /// one line each, empty when the report states what its record gives.
+    pub fn differences(&self, again: &Stated) -> Vec<String> {
+        let mut d = Vec::new();
+        for ((id, was), (id_again, now)) in self.units.iter().zip(&again.units) {
+            if id != id_again {
+                d.push(format!("{id} in the report where the record gives {id_again}"));
+            } else if was != now {
+                d.push(format!("{id}: {was} in the report, {now} from the record"));
+            }
+        }
+        if self.units.len() != again.units.len() {
+            d.push(format!("{} in the report, {} from the record", self.units.len(), again.units.len()));
+        }
+        if self.summary != again.summary {
+            let show = |m: &std::collections::BTreeMap<String, u64>| {
+                m.iter().map(|(k, v)| format!("{v} {k}")).collect::<Vec<_>>().join(", ")
+            };
+            d.push(format!(
+                "the counts: {} in the report, {} from the record",
+                show(&self.summary),
+                show(&again.summary)
+            ));
+        }
+        if self.outcome != again.outcome {
+            d.push(format!("the outcome: {} in the report, {} from the record", self.outcome, again.outcome));
+        }
+        for ((key, was), (_, now)) in self.run.iter().zip(&again.run) {
+            if was != now {
+                d.push(format!("`{key}`: {was} in the report, {now} in the record's options"));
+            }
+        }
+        d
+    }
+}
+
+/// A certify report with its record, and what it states.
 pub struct Recorded {
     pub name: String,
     pub record: Record,
-    /// Each case's id and verdict label, as the report states them.
-    pub stated: Vec<(String, String)>,
+    pub stated: Stated,
 }
 
-#[derive(serde::Deserialize)]
-struct StatedCase {
-    id: String,
-    verdict: String,
-}
-
-#[derive(serde::Deserialize)]
-struct Stated {
-    cases: Vec<StatedCase>,
-    record: Record,
-}
-
-/// A certify master report with its record, and the verdicts it states.
+/// A certify master report with its record, and what it states.
 pub struct MasterRecorded {
     pub name: String,
     pub record: MasterRecord,
-    pub stated: Vec<(String, String)>,
-}
-
-#[derive(serde::Deserialize)]
-struct StatedMaster {
-    scenarios: Vec<StatedCase>,
-    record: MasterRecord,
+    pub stated: Stated,
 }
 
 /// What a report with a record holds: a slave run's or a master run's.
 pub enum AnyRecorded {
     Slave(Box<Recorded>),
-    Master(MasterRecorded),
+    Master(Box<MasterRecorded>),
+}
+
+/// The file at `path` as a report: `None` for a file that is none (a capture: not
+/// `.json` and not beginning with `{`), else its JSON, read to at most
+/// [`MAX_REPORT_BYTES`]. A report that cannot be read is an error that says so, never
+/// taken for a capture.
+fn read_report_json(path: &Path) -> Result<Option<serde_json::Value>, CommandError> {
+    use std::io::Read;
+    if path.as_os_str() == "-" {
+        return Ok(None);
+    }
+    let name = path.display().to_string();
+    let input = |why: String| CommandError::Input { name: name.clone(), why };
+    let Ok(file) = std::fs::File::open(path) else { return Ok(None) };
+    let mut head = Vec::new();
+    (&file).take(SNIFF_BYTES).read_to_end(&mut head).map_err(CommandError::file(path))?;
+    let body = head.strip_prefix(b"\xEF\xBB\xBF".as_slice()).unwrap_or(&head);
+    let opens_json = body.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{');
+    if !opens_json && path.extension().is_none_or(|e| e != "json") {
+        return Ok(None);
+    }
+    let mut text = head;
+    (&file).take(MAX_REPORT_BYTES + 1 - text.len() as u64).read_to_end(&mut text).map_err(CommandError::file(path))?;
+    if text.len() as u64 > MAX_REPORT_BYTES {
+        return Err(input(format!(
+            "larger than {} MiB, more than any report this tool writes: not read",
+            MAX_REPORT_BYTES >> 20
+        )));
+    }
+    let body = text.strip_prefix(b"\xEF\xBB\xBF".as_slice()).unwrap_or(&text);
+    serde_json::from_slice(body).map(Some).map_err(|e| {
+        input(format!(
+            "cannot be read as a report (JSON): {e}; a capture is decoded from a CSV, wire log or sigrok file"
+        ))
+    })
 }
 
 /// The report at `path`, if it is a certify report with a record (`None` for any
 /// other file: a capture, an older report without one).
 pub fn read_any(path: &Path) -> Result<Option<AnyRecorded>, CommandError> {
-    if path.as_os_str() == "-" || path.extension().is_none_or(|e| e != "json") {
-        return Ok(None);
-    }
-    let Ok(text) = std::fs::read_to_string(path) else { return Ok(None) };
-    let Ok(value) = serde_json::from_str::<serde_json::Value>(&text) else { return Ok(None) };
+    let Some(mut value) = read_report_json(path)? else { return Ok(None) };
     let format = value.get("record").and_then(|r| r.get("format")).and_then(|f| f.as_str()).map(str::to_string);
     let name = path.display().to_string();
+    let unreadable = |why: String| CommandError::Input { name: name.clone(), why };
+    let record = value.get_mut("record").map(serde_json::Value::take).unwrap_or_default();
     match format.as_deref() {
         Some(master_record::FORMAT) => {
-            let stated: StatedMaster = serde_json::from_value(value).map_err(|e| CommandError::Input {
-                name: name.clone(),
-                why: format!("the report's record cannot be read: {e}"),
-            })?;
-            let stated_cases = stated.scenarios.into_iter().map(|c| (c.id, c.verdict)).collect();
-            Ok(Some(AnyRecorded::Master(MasterRecorded { name, record: stated.record, stated: stated_cases })))
+            let stated = Stated::of(&value, "scenarios", &[]).map_err(unreadable)?;
+            let record: MasterRecord = serde_json::from_value(record)
+                .map_err(|e| unreadable(format!("the report's record cannot be read: {e}")))?;
+            Ok(Some(AnyRecorded::Master(Box::new(MasterRecorded { name, record, stated }))))
         }
-        Some(_) => Ok(read(path)?.map(|r| AnyRecorded::Slave(Box::new(r)))),
-        None if value.get("capture").is_some() && value.get("summary").is_some() => Err(CommandError::Input {
-            name,
-            why: "a listening report (decode, monitor): what it heard is in its capture; decode the capture \
-                  (monitor --capture FILE) to grade it again"
+        Some(_) => {
+            let stated = Stated::of(&value, "cases", &SLAVE_RUN_FIELDS).map_err(unreadable)?;
+            let record: Record = serde_json::from_value(record)
+                .map_err(|e| unreadable(format!("the report's record cannot be read: {e}")))?;
+            Ok(Some(AnyRecorded::Slave(Box::new(Recorded { name, record, stated }))))
+        }
+        None if value.get("capture").is_some() && value.get("summary").is_some() => Err(unreadable(
+            "a listening report (decode, monitor): what it heard is in its capture; decode the capture \
+             (monitor --capture FILE) to grade it again"
                 .into(),
-        }),
-        None if value.get("scenarios").is_some() => Err(CommandError::Input {
-            name,
-            why: "a certify master report without the record of its wire (written by an older version): \
-                  there is nothing to grade again; certify the master again to get one"
+        )),
+        None if value.get("scenarios").is_some() => Err(unreadable(
+            "a certify master report without the record of its wire (written by an older version): \
+             there is nothing to grade again; certify the master again to get one"
                 .into(),
-        }),
-        None => Ok(None),
+        )),
+        None if value.get("cases").is_some() => Err(unreadable(
+            "a certify report without the record of its wire (written by an older version, or with its record \
+             taken out): there is nothing to grade again; certify the device again to get one"
+                .into(),
+        )),
+        None => Err(unreadable("a JSON file that is no report of this tool: nothing to decode".into())),
     }
 }
 
-/// Take a master run's record in again, print each scenario and whether the verdicts
-/// are the report's; exit as the run did.
+/// Say whether the report states what its record gives, first, with each difference.
+fn say_verdict_on_report(differences: &[String], agreed: String) {
+    if differences.is_empty() {
+        say!("{agreed}");
+    } else {
+        say!(
+            "THE REPORT DOES NOT STATE WHAT ITS RECORD GIVES ({} differences): it is no evidence of the run",
+            differences.len()
+        );
+        for d in differences {
+            say!("  {d}");
+        }
+    }
+}
+
+/// Take a master run's record in again, say first whether it gives what the report
+/// states, then each scenario; exit as the run did, or 4 where they differ.
 pub fn decode_master(recorded: MasterRecorded, quiet: bool) -> Result<Ended, CommandError> {
     let MasterRecorded { name, record, stated } = recorded;
     eprintln!(
@@ -94,6 +213,20 @@ pub fn decode_master(recorded: MasterRecorded, quiet: bool) -> Result<Ended, Com
     let (profile, again, notes) =
         master_record::replay(&record).map_err(|source| CommandError::Replay { name: name.clone(), source })?;
     let n = again.len();
+    let outcome = crate::verdict::Outcome::of(again.iter().map(|r| r.verdict), !record.interrupted);
+    let mut given = Stated { outcome: outcome.label().to_string(), ..Stated::default() };
+    for r in &again {
+        given.units.push((r.id.to_string(), r.verdict.label().to_string()));
+        *given.summary.entry(r.verdict.label().to_string()).or_insert(0) += 1;
+    }
+    let differences = stated.differences(&given);
+    say_verdict_on_report(
+        &differences,
+        format!(
+            "the report states what its record gives: {n} scenarios graded again, every verdict as the report \
+             states it, and its counts and outcome"
+        ),
+    );
     for (i, r) in again.iter().enumerate() {
         if quiet {
             break;
@@ -104,51 +237,18 @@ pub fn decode_master(recorded: MasterRecorded, quiet: bool) -> Result<Ended, Com
         }
         say!("{text}");
     }
-    let differing = master_record::compare(&stated, &again);
-    if differing.is_empty() && stated.len() == again.len() {
-        say!("the run's verdicts: {n} scenarios graded again from the record, every verdict as the report states it");
-    } else {
-        say!("taken in again, the record gives other verdicts than the report states:");
-        for (id, was, now) in &differing {
-            say!("  {id}: {was} in the report, {now} taken in again");
-        }
-    }
     for note in &notes {
         say!("note: {note}");
     }
-    let outcome = crate::verdict::Outcome::of(again.iter().map(|r| r.verdict), !record.interrupted);
-    let mut summary = std::collections::BTreeMap::new();
-    for r in &again {
-        *summary.entry(r.verdict.label()).or_insert(0) += 1;
-    }
-    let summary: Vec<String> = summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
+    let summary: Vec<String> = given.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
     say!("master (encoder {}): {}", profile.name, summary.join(", "));
     say!("{}", outcome.label());
-    Ok(Ended::Graded(outcome))
+    Ok(if differences.is_empty() { Ended::Graded(outcome) } else { Ended::Disagrees })
 }
 
-/// The report at `path`, if it is a certify slave report with a record.
-pub fn read(path: &Path) -> Result<Option<Recorded>, CommandError> {
-    if path.as_os_str() == "-" || path.extension().is_none_or(|e| e != "json") {
-        return Ok(None);
-    }
-    let Ok(text) = std::fs::read_to_string(path) else { return Ok(None) };
-    let Ok(value) = serde_json::from_str::<serde_json::Value>(&text) else { return Ok(None) };
-    let has_record = value.get("record").and_then(|r| r.get("format")).is_some_and(|f| f.is_string());
-    if !has_record {
-        return Ok(None);
-    }
-    let name = path.display().to_string();
-    let stated: Stated = serde_json::from_value(value).map_err(|e| CommandError::Input {
-        name: name.clone(),
-        why: format!("the report's record cannot be read: {e}"),
-    })?;
-    let stated_cases = stated.cases.into_iter().map(|c| (c.id, c.verdict)).collect();
-    Ok(Some(Recorded { name, record: stated.record, stated: stated_cases }))
-}
-
-/// Play the record back, print each case and whether the verdicts are the report's,
-/// write the reports; exit as the run did (the played-back outcome).
+/// Play the record back, say first whether it gives what the report states, then each
+/// case; write the reports; exit as the run did (the played-back outcome), or 4 where
+/// the report states otherwise.
 pub fn decode(recorded: Recorded, report_dir: Option<&Path>, quiet: bool) -> Result<Ended, CommandError> {
     let Recorded { name, record, stated } = recorded;
     if let Some(dir) = report_dir {
@@ -159,6 +259,7 @@ pub fn decode(recorded: Recorded, report_dir: Option<&Path>, quiet: bool) -> Res
         record.tool,
         record.events.len()
     );
+    let mut lines = Vec::new();
     let report = slave::replay(&record, |i, n, r| {
         if quiet {
             return;
@@ -167,31 +268,26 @@ pub fn decode(recorded: Recorded, report_dir: Option<&Path>, quiet: bool) -> Res
         for f in r.findings.iter().filter(|f| matches!(f.verdict(), CaseVerdict::Fail | CaseVerdict::Error)) {
             text.push_str(&format!("\n          {f}"));
         }
-        say!("{text}");
+        lines.push(text);
     })
     .map_err(|e| CommandError::Input { name: name.clone(), why: e.to_string() })?;
-    let again: Vec<(String, String)> =
-        report.cases.iter().map(|c| (c.id.to_string(), c.verdict.label().to_string())).collect();
-    let differing: Vec<String> = stated
-        .iter()
-        .zip(&again)
-        .filter(|(a, b)| a != b)
-        .map(|((id, was), (_, now))| format!("{id}: {was} in the report, {now} played back"))
-        .collect();
+    let replayed =
+        serde_json::to_value(&report).map_err(|e| CommandError::Input { name: name.clone(), why: e.to_string() })?;
+    let mut given = Stated::of(&replayed, "cases", &SLAVE_RUN_FIELDS)
+        .map_err(|why| CommandError::Input { name: name.clone(), why })?;
+    given.outcome = report.outcome().label().to_string();
+    let differences = stated.differences(&given);
     let exchanges: usize = report.cases.iter().map(|c| c.exchanges).sum();
-    if differing.is_empty() && stated.len() == again.len() {
-        say!(
-            "the run's verdicts: {} cases and {exchanges} exchanges graded again from the record, every verdict as the report states it",
-            again.len()
-        );
-    } else {
-        say!("played back, the record gives other verdicts than the report states:");
-        for d in &differing {
-            say!("  {d}");
-        }
-        if stated.len() != again.len() {
-            say!("  {} cases in the report, {} played back", stated.len(), again.len());
-        }
+    say_verdict_on_report(
+        &differences,
+        format!(
+            "the report states what its record gives: {} cases and {exchanges} exchanges graded again, every \
+             verdict as the report states it, and its counts, outcome and grading options",
+            report.cases.len()
+        ),
+    );
+    for line in lines {
+        say!("{line}");
     }
     if let Some(why) = &report.aborted {
         say!("the playback stopped: {why}");
@@ -203,5 +299,5 @@ pub fn decode(recorded: Recorded, report_dir: Option<&Path>, quiet: bool) -> Res
         crate::report::write_all(&report, dir)?;
         eprintln!("reports written to {}", dir.display());
     }
-    Ok(Ended::Graded(report.outcome()))
+    Ok(if differences.is_empty() { Ended::Graded(report.outcome()) } else { Ended::Disagrees })
 }

@@ -336,25 +336,25 @@ pub fn replay(record: &MasterRecord) -> Result<(Profile, Vec<CaseResult>, Vec<St
     let not_used: Vec<CommandId> = record.not_used.iter().map(|b| CommandId::decode(*b)).collect();
     let mut results: Vec<CaseResult> = Vec::new();
     let mut notes = Vec::new();
-    let mut runs = record.runs.iter().peekable();
-    while let Some(first) = runs.next() {
-        let scenario =
-            catalogue.iter().find(|s| s.id == first.id).ok_or_else(|| ReplayError::Unknown(first.id.clone()))?;
-        let encoder = scenario.encoder.map_or(profile, |make| make(profile));
-        let mut attempts = vec![first];
-        while let Some(next) = runs.next_if(|r| r.id == first.id) {
-            attempts.push(next);
+    // The runs of each scenario, in the order the scenarios first ran: a scenario still
+    // undecided after its runs is run again at the end of the run (its later runs come
+    // after the other scenarios').
+    let mut grouped: Vec<(&str, Vec<&ScenarioRecord>)> = Vec::new();
+    for run in &record.runs {
+        match grouped.iter_mut().find(|(id, _)| *id == run.id) {
+            Some((_, attempts)) => attempts.push(run),
+            None => grouped.push((&run.id, vec![run])),
         }
+    }
+    for (id, attempts) in grouped {
+        let scenario = catalogue.iter().find(|s| s.id == id).ok_or_else(|| ReplayError::Unknown(id.to_string()))?;
+        let encoder = scenario.encoder.map_or(profile, |make| make(profile));
         let mut last = None;
         for (i, run) in attempts.iter().enumerate() {
             let (mut result, disturbed) = replay_scenario(encoder, scenario, record.polling_period_ms, &not_used, run)?;
             let repeated = i + 1 < attempts.len();
             if repeated && disturbed.is_none() {
-                notes.push(format!(
-                    "{}: run {} was repeated, but graded again it asks for no repetition",
-                    first.id,
-                    i + 1
-                ));
+                notes.push(format!("{}: run {} was repeated, but graded again it asks for no repetition", id, i + 1));
             }
             result.attempts = attempts.len() as u32;
             last = Some(result);
@@ -368,6 +368,32 @@ pub fn replay(record: &MasterRecord) -> Result<(Profile, Vec<CaseResult>, Vec<St
 mod tests {
     use super::*;
     use crate::exchange::Char;
+
+    /// A scenario run again at the end of the run (still undecided after its runs in a
+    /// row) has runs on both sides of the others': they are one scenario's runs, its
+    /// result the last run's, in the place it first ran.
+    #[test]
+    fn runs_again_at_the_end_are_the_scenario_s_own() {
+        let catalogue = super::super::scenarios::catalogue();
+        let (a, b) = (&catalogue[0], &catalogue[1]);
+        let early = |s: &super::super::scenarios::Scenario, attempt, why: &str| {
+            let mut result = CaseResult::named(s.id, s.title, s.clauses);
+            result.push(crate::verdict::Finding::error(why.to_string()));
+            ScenarioRecord { attempt, ..ScenarioRecord::early_of(&result) }
+        };
+        let record = MasterRecord {
+            format: FORMAT.into(),
+            tool: "test".into(),
+            profile: crate::profile_file::to_toml(&hiperface_model::profiles::srs50()),
+            polling_period_ms: 100,
+            not_used: Vec::new(),
+            runs: vec![early(a, 1, "first"), early(b, 1, "other"), early(a, 2, "again at the end")],
+            interrupted: false,
+        };
+        let (_, results, _) = replay(&record).unwrap();
+        let seen: Vec<_> = results.iter().map(|r| (r.id, r.attempts, r.findings[0].message().to_string())).collect();
+        assert_eq!(seen, vec![(a.id, 2, "again at the end".to_string()), (b.id, 1, "other".to_string())]);
+    }
 
     #[test]
     fn quiet_turns_are_kept_short_and_written_out_alike() {

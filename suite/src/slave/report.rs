@@ -123,7 +123,7 @@ fn header(r: &Report) -> Vec<(&'static str, String)> {
     ));
     let rerun = r.rerun_cases();
     if !rerun.is_empty() {
-        let why = "the harness's own lateness left a verdict untold; each case's result is its last run's";
+        let why = "the harness's own lateness left a verdict untold; each case's result is its last run's (one still undecided after 3 runs in a row is run again at the end of the run)";
         rows.push(("cases run again", format!("{} ({why})", rerun.join(", "))));
     }
     rows

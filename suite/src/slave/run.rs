@@ -177,6 +177,87 @@ pub fn replay(record: &Record, progress: impl FnMut(usize, usize, &CaseResult)) 
     Ok(report)
 }
 
+/// The time a run may spend at its end on running its undecided cases again: this
+/// share of the time the run took until then. Beyond it a case keeps its undecided
+/// (UNKNOWN) result.
+pub const END_BUDGET: f64 = 0.25;
+
+/// What the runs of the cases leave for the run's end.
+#[derive(Default)]
+struct Runs {
+    /// Requests run to restore what cases changed.
+    restores_run: usize,
+    /// Why the device's state cannot be read back after the run, if it cannot.
+    not_read_back: Option<String>,
+    /// An interrupt is the operator's, not the device's: what it cut short is
+    /// NOT-EXERCISED, not an ERROR.
+    interrupted: bool,
+    /// The line time the last run of a case took, µs.
+    last_run_us: u64,
+}
+
+impl Runs {
+    /// Run `case` into `result` (fresh, or the undecided result of its `runs_before`
+    /// runs so far) up to [`MAX_ATTEMPTS`] times more, again while the harness's own lateness left a
+    /// verdict untold; a run that ends the whole run sets `aborted`. Returns whether its
+    /// last run was still undecided so.
+    #[allow(clippy::too_many_arguments)]
+    fn attempt(
+        &mut self,
+        case: &Case,
+        master: &mut dyn Bus,
+        model: &mut Slave,
+        tally: &mut Tally,
+        options: &Options,
+        result: &mut CaseResult,
+        runs_before: u32,
+        aborted: &mut Option<String>,
+    ) -> bool {
+        let first = runs_before + 1;
+        for attempt in first..first + MAX_ATTEMPTS {
+            if attempt > 1 {
+                *result = case.result();
+            }
+            let run_start_us = master.now_us();
+            let mut ctx = Ctx::new(master, model, result, tally, options);
+            let outcome = (case.run)(&mut ctx);
+            let gone = matches!(outcome, Err(CaseError::Line(LineError::Gone(_))) | Err(CaseError::Silent));
+            if let Err(e) = &outcome {
+                self.interrupted |= matches!(e, CaseError::Interrupted);
+                ctx.push(if self.interrupted {
+                    Finding::not_exercised(format!("cut short: {e}"))
+                } else {
+                    Finding::error(e.to_string())
+                });
+                if !matches!(e, CaseError::Abort(_)) {
+                    *aborted = Some(e.to_string());
+                }
+            }
+            // Restore what the case changed, also after a failure or Ctrl-C.
+            if !gone && ctx.has_guards() {
+                match ctx.restore() {
+                    Ok(n) => self.restores_run += n,
+                    Err(e) => ctx.note(format!("restoring failed: {e}")),
+                }
+            }
+            let disturbed = ctx.disturbed();
+            if gone {
+                self.not_read_back = outcome.as_ref().err().map(|e| e.to_string());
+            }
+            result.close_unobserved("the case");
+            result.attempts = attempt;
+            self.last_run_us = master.now_us().saturating_sub(run_start_us);
+            // The harness's own lateness left a verdict untold: run the case again,
+            // as a master scenario is, so that the same device gets the same
+            // verdicts on a busy machine as on an idle one.
+            if !disturbed || outcome.is_err() {
+                return false;
+            }
+        }
+        true
+    }
+}
+
 /// Run the catalogue on a bus, live or played back.
 fn run_on(
     master: &mut dyn Bus,
@@ -200,12 +281,15 @@ fn run_on(
     }
     let initial = model.nonvolatile().clone();
     let selected = select(options.cases.as_deref());
-    let mut restores_run = 0usize;
-    // Why the device's state cannot be read back after the run, if it cannot.
-    let mut not_read_back: Option<String> = None;
-    // An interrupt is the operator's, not the device's: what it cut short is
-    // NOT-EXERCISED, not an ERROR.
-    let mut interrupted = false;
+    let mut runs = Runs::default();
+    // Each case's result, and the line time its last run took (µs).
+    let mut results: Vec<Option<CaseResult>> = vec![None; selected.len()];
+    let mut last_run_us = vec![0u64; selected.len()];
+    let run_start_us = master.now_us();
+    // The cases still undecided after their runs (the harness's own lateness left a
+    // verdict untold each time): run again once the others are done, when a busy spell
+    // may have passed, within a budget of time.
+    let mut undecided: Vec<(usize, CaseResult)> = Vec::new();
     for (i, case) in selected.iter().enumerate() {
         let mut result = case.result();
         let case_start = Instant::now();
@@ -223,51 +307,49 @@ fn run_on(
             result.push(Finding::not_applicable(reason));
         } else if let Some(why) = &report.aborted {
             let why = format!("not run: {why}");
-            result.push(if interrupted { Finding::not_exercised(why) } else { Finding::error(why) });
+            result.push(if runs.interrupted { Finding::not_exercised(why) } else { Finding::error(why) });
         } else {
-            for attempt in 1..=MAX_ATTEMPTS {
-                if attempt > 1 {
-                    result = case.result();
-                }
-                let mut ctx = Ctx::new(master, &mut model, &mut result, &mut tally, options);
-                let outcome = (case.run)(&mut ctx);
-                let gone = matches!(outcome, Err(CaseError::Line(LineError::Gone(_))) | Err(CaseError::Silent));
-                if let Err(e) = &outcome {
-                    interrupted |= matches!(e, CaseError::Interrupted);
-                    ctx.push(if interrupted {
-                        Finding::not_exercised(format!("cut short: {e}"))
-                    } else {
-                        Finding::error(e.to_string())
-                    });
-                    if !matches!(e, CaseError::Abort(_)) {
-                        report.aborted = Some(e.to_string());
-                    }
-                }
-                // Restore what the case changed, also after a failure or Ctrl-C.
-                if !gone && ctx.has_guards() {
-                    match ctx.restore() {
-                        Ok(n) => restores_run += n,
-                        Err(e) => ctx.note(format!("restoring failed: {e}")),
-                    }
-                }
-                let disturbed = ctx.disturbed();
-                if gone {
-                    not_read_back = outcome.as_ref().err().map(|e| e.to_string());
-                }
-                result.close_unobserved("the case");
-                result.attempts = attempt;
-                // The harness's own lateness left a verdict untold: run the case again,
-                // as a master scenario is, so that the same device gets the same
-                // verdicts on a busy machine as on an idle one.
-                if !disturbed || outcome.is_err() || attempt == MAX_ATTEMPTS {
-                    break;
-                }
+            let still_undecided =
+                runs.attempt(case, master, &mut model, &mut tally, options, &mut result, 0, &mut report.aborted);
+            if let Some(t) = last_run_us.get_mut(i) {
+                *t = runs.last_run_us;
+            }
+            if still_undecided {
+                undecided.push((i, result.clone()));
             }
         }
         result.duration_ms = case_start.elapsed().as_secs_f64() * 1000.0;
         progress(i + 1, selected.len(), &result);
-        report.cases.push(result);
+        if let Some(slot) = results.get_mut(i) {
+            *slot = Some(result);
+        }
     }
+    // The undecided cases again, while the time for it stays within the budget. Line
+    // time, not the machine's: a record played back decides as the run did.
+    let end_start_us = master.now_us();
+    let budget_us = (END_BUDGET * end_start_us.saturating_sub(run_start_us) as f64) as u64;
+    for (i, undecided_result) in undecided {
+        let (Some(case), Some(slot)) = (selected.get(i), results.get_mut(i)) else { continue };
+        let spent_us = master.now_us().saturating_sub(end_start_us);
+        let last_us = last_run_us.get(i).copied().unwrap_or(0);
+        if report.aborted.is_some() || spent_us + last_us > budget_us {
+            report.notes.push(format!(
+                "{}: not run again at the end: {}",
+                case.id,
+                if report.aborted.is_some() { "the run ended" } else { "the time for runs again was spent" }
+            ));
+            continue;
+        }
+        let mut result = undecided_result;
+        let case_start = Instant::now();
+        let runs_before = result.attempts;
+        runs.attempt(case, master, &mut model, &mut tally, options, &mut result, runs_before, &mut report.aborted);
+        result.duration_ms = case_start.elapsed().as_secs_f64() * 1000.0;
+        progress(i + 1, selected.len(), &result);
+        *slot = Some(result);
+    }
+    report.cases.extend(results.into_iter().flatten());
+    let Runs { restores_run, not_read_back, .. } = runs;
     // Read at the end: what the run found out about the line (its echo) is known now.
     let found = master.findings();
     report.line_notes = found.notes;
