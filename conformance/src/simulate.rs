@@ -120,7 +120,7 @@ pub fn serve_with(
     let mut master_chars: Vec<RxChar> = Vec::new();
     // The end of the last character of the last frame the model took, µs.
     let mut framed_through_us = 0;
-    while !stop.load(Ordering::Relaxed) {
+    while !stop.load(Ordering::Relaxed) && !hooks.wants_stop() {
         // Follow the slave's listening settings (67h, reset, power-up windows) on the
         // port; a pseudo-terminal accepts and ignores them.
         let listening = slave.listening_settings(now(epoch));

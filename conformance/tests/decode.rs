@@ -48,6 +48,20 @@ fn malformed_input_is_rejected_with_its_line_number() {
     assert!(text.contains("line 2"), "{text}");
 }
 
+/// An empty capture (no byte, or blanks only) is INCOMPLETE, exit 3, as the guide says:
+/// nothing was heard, which is no input error (issue 55: it was exit 2).
+#[test]
+fn an_empty_capture_is_incomplete() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, text) in [("empty.csv", ""), ("blank.log", "\n  \n")] {
+        let f = dir.path().join(name);
+        std::fs::write(&f, text).unwrap();
+        let (code, said) = decode(&f, &[]);
+        assert_eq!(code, 3, "{name}: {said}");
+        assert!(said.contains("INCOMPLETE: nothing could be graded"), "{name}: {said}");
+    }
+}
+
 /// One channel, no direction: requests and replies told apart by timing and structure.
 #[test]
 fn a_single_channel_csv_is_graded_like_the_wire_log() {
@@ -269,6 +283,16 @@ fn a_report_that_does_not_state_what_its_record_gives_is_no_evidence() {
     let (code, text) = decode(&broken_path, &["--quiet"]);
     assert_eq!(code, 2, "{text}");
     assert!(text.contains("cannot be read as a report (JSON)"), "{text}");
+    // A record of a format this version does not read: named, not "missing field".
+    let older = edited("older", &|j| {
+        j["record"]["format"] = "hiperface-master-record/0".into();
+    });
+    let (code, text) = decode(&older, &["--quiet"]);
+    assert_eq!(code, 2, "{text}");
+    assert!(
+        text.contains("a record of format `hiperface-master-record/0`, which this version does not read"),
+        "{text}"
+    );
     // A byte-order mark in front: still the report.
     let bom = dir.path().join("bom.json");
     std::fs::write(&bom, [b"\xEF\xBB\xBF".as_slice(), &original].concat()).unwrap();

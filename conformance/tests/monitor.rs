@@ -102,10 +102,16 @@ type Stderr = BufReader<std::process::ChildStderr>;
 /// standard error stays open.
 fn wait_listening(child: &mut Child) -> Stderr {
     let mut stderr = BufReader::new(child.stderr.take().unwrap());
-    let mut line = String::new();
-    stderr.read_line(&mut line).unwrap();
-    assert!(line.starts_with("listening on"), "{line}");
-    stderr
+    // Notes may come first (an earlier run's reports moved aside).
+    let mut said = String::new();
+    loop {
+        let mut line = String::new();
+        assert!(stderr.read_line(&mut line).unwrap() > 0, "the monitor ended before it listened: {said}");
+        if line.starts_with("listening on") {
+            return stderr;
+        }
+        said.push_str(&line);
+    }
 }
 
 fn fails(v: &[String]) -> Vec<usize> {
@@ -144,6 +150,8 @@ fn a_replayed_session_is_graded_live_and_the_monitor_never_writes() {
     let report = dir.path().join("r");
     let capture = dir.path().join("heard.csv");
     let (code, text, sent) = faithfully(|| {
+        // A run again (the line was not faithful) writes a new capture: never over one.
+        let _ = std::fs::remove_file(&capture);
         let (mut bus, path, tap_end) = pty();
         let mut child =
             spawn_monitor(&path, &["--report", report.to_str().unwrap(), "--capture", capture.to_str().unwrap()]);
@@ -177,15 +185,40 @@ fn a_replayed_session_is_graded_live_and_the_monitor_never_writes() {
     let out = Command::new(BIN).args(["decode"]).arg(&capture).output().unwrap();
     let decoded = String::from_utf8_lossy(&out.stdout).to_string();
     assert_eq!(verdicts(&decoded), v, "{decoded}");
+
+    // A capture is never written over (issue 55): a second monitor with the same
+    // --capture stops with the reason, and the first capture is as it was.
+    let (_bus, path, _tap_end) = pty();
+    let again = Command::new(BIN)
+        .args(["monitor", "--port", &path, "--duration-ms", "100", "--capture"])
+        .arg(&capture)
+        .output()
+        .unwrap();
+    let said = String::from_utf8_lossy(&again.stderr);
+    assert_eq!(again.status.code(), Some(2), "{said}");
+    assert!(said.contains("a capture is never written over"), "{said}");
+    assert_eq!(std::fs::read_to_string(&capture).unwrap(), head);
 }
 
 #[test]
 fn the_tap_is_opened_read_only() {
     let _one = common::one_at_a_time();
     let (_bus, path, _tap_end) = pty();
+    let settings = |p: &str| {
+        let f = std::fs::File::open(p).unwrap();
+        format!("{:?}", nix::sys::termios::tcgetattr(&f).unwrap())
+    };
+    let before = settings(&path);
     let tap = Tap::open(&PortSpec::Path(path.clone()), UartSettings::DEFAULT).unwrap();
     assert!(!tap.file_is_writable(), "{path} was opened for writing");
     assert!(tap.marks_errors());
+    assert_ne!(settings(&path), before, "the tap sets the port up to listen");
+    // Done: the port's settings as the monitor found them (issue 55: a second monitor
+    // on it failed).
+    drop(tap);
+    assert_eq!(settings(&path), before);
+    let tap = Tap::open(&PortSpec::Path(path.clone()), UartSettings::DEFAULT).unwrap();
+    drop(tap);
     // Not a port the monitor can listen on.
     for spec in ["sim", "virtual", "pty"] {
         let e = Tap::open(&spec.parse().unwrap(), UartSettings::DEFAULT).err().unwrap();

@@ -75,6 +75,11 @@ pub trait Hooks {
     fn reply_echo(&mut self) -> Option<&mut crate::line::reply_echo::ReplyEcho> {
         None
     }
+    /// Whether the hooks have taken in all they will (a master that floods the line):
+    /// the serving loop then ends, so that nothing grows without bound.
+    fn wants_stop(&self) -> bool {
+        false
+    }
     /// Whether the serving thread got the real-time priority it asked for.
     fn real_time(&mut self, _granted: bool) {}
     /// How long one read may wait while the model has nothing due (no frame in

@@ -34,7 +34,8 @@ pub struct MonitorArgs {
     #[arg(long, hide = true, value_parser = parse_ms, conflicts_with = "duration_ms")]
     pub duration_s: Option<f64>,
     /// Also write every character heard, with its time, as a CSV capture that
-    /// `hiperface decode` reads (nothing heard is lost).
+    /// `hiperface decode` reads (nothing heard is lost); a new file, never one that
+    /// exists.
     #[arg(long)]
     pub capture: Option<PathBuf>,
     #[command(flatten)]
@@ -234,7 +235,17 @@ impl CaptureFile {
     /// The capture opens with the tolerance the monitor grades with, which `decode`
     /// then grades with too (the same verdicts later, no flag needed).
     fn create(path: &std::path::Path, char_us: u64, tolerance_us: u64) -> Result<CaptureFile, CommandError> {
-        let f = std::fs::File::create(path).map_err(CommandError::file(path))?;
+        // Never over an earlier capture, nor through a link to a file elsewhere.
+        let f = std::fs::OpenOptions::new().write(true).create_new(true).open(path).map_err(|e| {
+            if e.kind() == std::io::ErrorKind::AlreadyExists {
+                CommandError::Input {
+                    name: path.display().to_string(),
+                    why: "exists already: a capture is never written over; choose another name".into(),
+                }
+            } else {
+                CommandError::file(path)(e)
+            }
+        })?;
         let mut out = std::io::BufWriter::new(f);
         writeln!(out, "{} tolerance_us={tolerance_us}", crate::capture::csv::MONITOR_CAPTURE)
             .and_then(|()| writeln!(out, "Time [s],Value,Parity Error,Framing Error,Read Late [s]"))

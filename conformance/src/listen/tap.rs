@@ -47,8 +47,18 @@ pub struct Tap {
 }
 
 enum Source {
-    Tty(std::fs::File),
+    /// The port, and its settings as the monitor found them (put back when it is done:
+    /// the port may be someone else's).
+    Tty(std::fs::File, nix::sys::termios::Termios),
     Tcp(TcpStream),
+}
+
+impl Drop for Tap {
+    fn drop(&mut self) {
+        if let Source::Tty(file, found) = &self.source {
+            let _ = nix::sys::termios::tcsetattr(file, nix::sys::termios::SetArg::TCSANOW, found);
+        }
+    }
 }
 
 impl Tap {
@@ -65,14 +75,14 @@ impl Tap {
 
     /// Whether the kernel marks parity errors and breaks in what it delivers.
     pub fn marks_errors(&self) -> bool {
-        matches!(self.source, Source::Tty(_))
+        matches!(self.source, Source::Tty(..))
     }
 
     /// Read what came, waiting at most a read slice.
     pub fn read(&mut self, buf: &mut [u8]) -> std::io::Result<Got> {
         let got = match &mut self.source {
             // VMIN 0, VTIME 1: returns as soon as a byte is there, else after 0.1 s.
-            Source::Tty(f) => f.read(buf),
+            Source::Tty(f, _) => f.read(buf),
             Source::Tcp(s) => s.read(buf),
         };
         match got {
@@ -92,7 +102,7 @@ impl Tap {
     /// pseudo-terminal: it is opened `O_RDONLY`). A TCP tap has no write in its type.
     pub fn file_is_writable(&self) -> bool {
         match &self.source {
-            Source::Tty(f) => nix::fcntl::fcntl(f, nix::fcntl::FcntlArg::F_GETFL)
+            Source::Tty(f, _) => nix::fcntl::fcntl(f, nix::fcntl::FcntlArg::F_GETFL)
                 .map(|fl| nix::fcntl::OFlag::from_bits_truncate(fl) & nix::fcntl::OFlag::O_ACCMODE)
                 .is_ok_and(|mode| mode != nix::fcntl::OFlag::O_RDONLY),
             Source::Tcp(_) => false,
@@ -126,7 +136,8 @@ fn open_tty(path: &str, settings: UartSettings) -> Result<Tap, String> {
         .custom_flags(nix::libc::O_NOCTTY)
         .open(path)
         .map_err(|e| fail("cannot open it read-only", &e))?;
-    let mut t = termios::tcgetattr(&file).map_err(|e| fail("not a terminal", &e))?;
+    let found = termios::tcgetattr(&file).map_err(|e| fail("not a terminal", &e))?;
+    let mut t = found.clone();
     // Raw: no echo (a terminal that echoes talks), no line editing, no flow control.
     termios::cfmakeraw(&mut t);
     t.input_flags.remove(I::IGNPAR | I::IGNBRK | I::BRKINT | I::ISTRIP | I::IXON | I::IXOFF);
@@ -157,7 +168,7 @@ fn open_tty(path: &str, settings: UartSettings) -> Result<Tap, String> {
             a.input_latency_us() as f64 / 1000.0
         ));
     }
-    Ok(Tap { source: Source::Tty(file), name: path.to_string(), notes, jitter_us })
+    Ok(Tap { source: Source::Tty(file, found), name: path.to_string(), notes, jitter_us })
 }
 
 fn open_tcp(address: &str) -> Result<Tap, String> {

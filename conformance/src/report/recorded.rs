@@ -3,7 +3,7 @@
 
 use crate::command::{CommandError, Ended};
 use hiperface_suite::master::record::{self as master_record, MasterRecord};
-use hiperface_suite::slave::record::Record;
+use hiperface_suite::slave::record::{self as slave_record, Record};
 use hiperface_suite::slave::{self, CaseVerdict};
 use std::path::Path;
 
@@ -30,29 +30,96 @@ pub struct Stated {
     pub run: Vec<(&'static str, serde_json::Value)>,
 }
 
-/// The fields of a slave report that say how its run was graded.
-const SLAVE_RUN_FIELDS: [&str; 5] = ["profile", "edition", "timing", "tolerance_us", "grading"];
+/// One case or scenario as a report states it (its other fields are skipped unread).
+#[derive(serde::Deserialize)]
+struct StatedUnit {
+    id: String,
+    verdict: String,
+}
+
+/// A certify slave report as `decode` reads it: what it states, and its record. Only
+/// these fields are taken in; the rest (wire logs, notes) is skipped as it is parsed.
+#[derive(serde::Deserialize)]
+struct SlaveFile {
+    cases: Vec<StatedUnit>,
+    #[serde(default)]
+    summary: std::collections::BTreeMap<String, u64>,
+    #[serde(default)]
+    outcome: Option<String>,
+    #[serde(default)]
+    profile: serde_json::Value,
+    #[serde(default)]
+    edition: serde_json::Value,
+    #[serde(default)]
+    timing: serde_json::Value,
+    #[serde(default)]
+    tolerance_us: serde_json::Value,
+    #[serde(default)]
+    grading: serde_json::Value,
+    record: Record,
+}
+
+/// A certify master report as `decode` reads it.
+#[derive(serde::Deserialize)]
+struct MasterFile {
+    scenarios: Vec<StatedUnit>,
+    #[serde(default)]
+    summary: std::collections::BTreeMap<String, u64>,
+    #[serde(default)]
+    outcome: Option<String>,
+    record: MasterRecord,
+}
+
+/// Which report a JSON file is, read without keeping anything but the record's format.
+#[derive(serde::Deserialize)]
+struct Probe {
+    #[serde(default)]
+    record: Option<ProbeRecord>,
+    #[serde(default)]
+    capture: Option<serde::de::IgnoredAny>,
+    #[serde(default)]
+    summary: Option<serde::de::IgnoredAny>,
+    #[serde(default)]
+    scenarios: Option<serde::de::IgnoredAny>,
+    #[serde(default)]
+    cases: Option<serde::de::IgnoredAny>,
+}
+
+#[derive(serde::Deserialize)]
+struct ProbeRecord {
+    #[serde(default)]
+    format: Option<String>,
+}
 
 impl Stated {
-    /// What `report` states: `units` is its "cases" or "scenarios".
-    fn of(report: &serde_json::Value, units: &str, run_fields: &[&'static str]) -> Result<Stated, String> {
-        let list = report.get(units).and_then(|u| u.as_array()).ok_or(format!("the report has no list of {units}"))?;
-        let mut stated = Stated::default();
-        for unit in list {
-            let field = |k: &str| unit.get(k).and_then(|v| v.as_str()).map(str::to_string);
-            match (field("id"), field("verdict")) {
-                (Some(id), Some(verdict)) => stated.units.push((id, verdict)),
-                _ => return Err(format!("one of the report's {units} has no id or verdict")),
-            }
+    fn of_units(
+        units: Vec<StatedUnit>,
+        summary: std::collections::BTreeMap<String, u64>,
+        outcome: Option<String>,
+    ) -> Stated {
+        Stated {
+            units: units.into_iter().map(|u| (u.id, u.verdict)).collect(),
+            summary,
+            outcome: outcome.unwrap_or_else(|| "(none)".into()),
+            run: Vec::new(),
         }
-        if let Some(summary) = report.get("summary").and_then(|s| s.as_object()) {
-            for (label, count) in summary {
-                stated.summary.insert(label.clone(), count.as_u64().unwrap_or(u64::MAX));
-            }
+    }
+
+    /// What a replayed slave run's report states, in the same terms as a report file's.
+    fn of_slave_report(report: &slave::Report) -> Stated {
+        let value = |v: Result<serde_json::Value, serde_json::Error>| v.unwrap_or_default();
+        Stated {
+            units: report.cases.iter().map(|c| (c.id.to_string(), c.verdict.label().to_string())).collect(),
+            summary: report.summary.iter().map(|(k, v)| (k.to_string(), *v as u64)).collect(),
+            outcome: report.outcome().label().to_string(),
+            run: vec![
+                ("profile", value(serde_json::to_value(&report.profile))),
+                ("edition", value(serde_json::to_value(&report.edition))),
+                ("timing", value(serde_json::to_value(report.timing))),
+                ("tolerance_us", value(serde_json::to_value(report.tolerance_us))),
+                ("grading", value(serde_json::to_value(&report.grading))),
+            ],
         }
-        stated.outcome = report.get("outcome").and_then(|o| o.as_str()).unwrap_or("(none)").to_string();
-        stated.run = run_fields.iter().map(|k| (*k, report.get(*k).cloned().unwrap_or_default())).collect();
-        Ok(stated)
     }
 
     /// Where `again` (the record graded again, stated the same way) differs from this:
@@ -112,72 +179,86 @@ pub enum AnyRecorded {
 }
 
 /// The file at `path` as a report: `None` for a file that is none (a capture: not
-/// `.json` and not beginning with `{`), else its JSON, read to at most
-/// [`MAX_REPORT_BYTES`]. A report that cannot be read is an error that says so, never
-/// taken for a capture.
-fn read_report_json(path: &Path) -> Result<Option<serde_json::Value>, CommandError> {
+/// `.json` and not beginning with `{`), else its bytes (a byte-order mark taken off),
+/// read to at most [`MAX_REPORT_BYTES`].
+fn read_report_bytes(path: &Path) -> Result<Option<Vec<u8>>, CommandError> {
     use std::io::Read;
+    const BOM: &[u8] = b"\xEF\xBB\xBF";
     if path.as_os_str() == "-" {
         return Ok(None);
     }
-    let name = path.display().to_string();
-    let input = |why: String| CommandError::Input { name: name.clone(), why };
     let Ok(file) = std::fs::File::open(path) else { return Ok(None) };
-    let mut head = Vec::new();
-    (&file).take(SNIFF_BYTES).read_to_end(&mut head).map_err(CommandError::file(path))?;
-    let body = head.strip_prefix(b"\xEF\xBB\xBF".as_slice()).unwrap_or(&head);
+    let mut text = Vec::new();
+    (&file).take(SNIFF_BYTES).read_to_end(&mut text).map_err(CommandError::file(path))?;
+    let body = text.strip_prefix(BOM).unwrap_or(&text);
     let opens_json = body.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{');
     if !opens_json && path.extension().is_none_or(|e| e != "json") {
         return Ok(None);
     }
-    let mut text = head;
-    (&file).take(MAX_REPORT_BYTES + 1 - text.len() as u64).read_to_end(&mut text).map_err(CommandError::file(path))?;
+    let room = (MAX_REPORT_BYTES + 1).saturating_sub(text.len() as u64);
+    (&file).take(room).read_to_end(&mut text).map_err(CommandError::file(path))?;
     if text.len() as u64 > MAX_REPORT_BYTES {
-        return Err(input(format!(
-            "larger than {} MiB, more than any report this tool writes: not read",
-            MAX_REPORT_BYTES >> 20
-        )));
+        return Err(CommandError::Input {
+            name: path.display().to_string(),
+            why: format!("larger than {} MiB, more than any report this tool writes: not read", MAX_REPORT_BYTES >> 20),
+        });
     }
-    let body = text.strip_prefix(b"\xEF\xBB\xBF".as_slice()).unwrap_or(&text);
-    serde_json::from_slice(body).map(Some).map_err(|e| {
-        input(format!(
-            "cannot be read as a report (JSON): {e}; a capture is decoded from a CSV, wire log or sigrok file"
-        ))
-    })
+    if text.starts_with(BOM) {
+        text.drain(..BOM.len());
+    }
+    Ok(Some(text))
 }
 
-/// The report at `path`, if it is a certify report with a record (`None` for any
-/// other file: a capture, an older report without one).
+/// The report at `path`, if it is a certify report with a record (`None` for a
+/// capture). A report that cannot be read is an error that says so, never taken for a
+/// capture. Only what `decode` needs is taken in (no tree of the whole file).
 pub fn read_any(path: &Path) -> Result<Option<AnyRecorded>, CommandError> {
-    let Some(mut value) = read_report_json(path)? else { return Ok(None) };
-    let format = value.get("record").and_then(|r| r.get("format")).and_then(|f| f.as_str()).map(str::to_string);
+    let Some(bytes) = read_report_bytes(path)? else { return Ok(None) };
     let name = path.display().to_string();
     let unreadable = |why: String| CommandError::Input { name: name.clone(), why };
-    let record = value.get_mut("record").map(serde_json::Value::take).unwrap_or_default();
-    match format.as_deref() {
-        Some(master_record::FORMAT) => {
-            let stated = Stated::of(&value, "scenarios", &[]).map_err(unreadable)?;
-            let record: MasterRecord = serde_json::from_value(record)
-                .map_err(|e| unreadable(format!("the report's record cannot be read: {e}")))?;
-            Ok(Some(AnyRecorded::Master(Box::new(MasterRecorded { name, record, stated }))))
+    let probe: Probe = serde_json::from_slice(&bytes).map_err(|e| {
+        unreadable(format!(
+            "cannot be read as a report (JSON): {e}; a capture is decoded from a CSV, wire log or sigrok file"
+        ))
+    })?;
+    match probe.record.map(|r| r.format) {
+        Some(Some(format)) if format == master_record::FORMAT => {
+            let file: MasterFile = serde_json::from_slice(&bytes)
+                .map_err(|e| unreadable(format!("the report or its record cannot be read: {e}")))?;
+            let stated = Stated::of_units(file.scenarios, file.summary, file.outcome);
+            Ok(Some(AnyRecorded::Master(Box::new(MasterRecorded { name, record: file.record, stated }))))
         }
-        Some(_) => {
-            let stated = Stated::of(&value, "cases", &SLAVE_RUN_FIELDS).map_err(unreadable)?;
-            let record: Record = serde_json::from_value(record)
-                .map_err(|e| unreadable(format!("the report's record cannot be read: {e}")))?;
-            Ok(Some(AnyRecorded::Slave(Box::new(Recorded { name, record, stated }))))
+        Some(Some(format)) if format == slave_record::FORMAT => {
+            let file: SlaveFile = serde_json::from_slice(&bytes)
+                .map_err(|e| unreadable(format!("the report or its record cannot be read: {e}")))?;
+            let mut stated = Stated::of_units(file.cases, file.summary, file.outcome);
+            stated.run = vec![
+                ("profile", file.profile),
+                ("edition", file.edition),
+                ("timing", file.timing),
+                ("tolerance_us", file.tolerance_us),
+                ("grading", file.grading),
+            ];
+            Ok(Some(AnyRecorded::Slave(Box::new(Recorded { name, record: file.record, stated }))))
         }
-        None if value.get("capture").is_some() && value.get("summary").is_some() => Err(unreadable(
+        Some(Some(other)) => Err(unreadable(format!(
+            "a record of format `{other}`, which this version does not read (it reads `{}` and `{}`): decode it \
+             with the version that wrote it (the report's `tool`)",
+            slave_record::FORMAT,
+            master_record::FORMAT
+        ))),
+        Some(None) => Err(unreadable("a record without its format: nothing this tool wrote".into())),
+        None if probe.capture.is_some() && probe.summary.is_some() => Err(unreadable(
             "a listening report (decode, monitor): what it heard is in its capture; decode the capture \
              (monitor --capture FILE) to grade it again"
                 .into(),
         )),
-        None if value.get("scenarios").is_some() => Err(unreadable(
+        None if probe.scenarios.is_some() => Err(unreadable(
             "a certify master report without the record of its wire (written by an older version): \
              there is nothing to grade again; certify the master again to get one"
                 .into(),
         )),
-        None if value.get("cases").is_some() => Err(unreadable(
+        None if probe.cases.is_some() => Err(unreadable(
             "a certify report without the record of its wire (written by an older version, or with its record \
              taken out): there is nothing to grade again; certify the device again to get one"
                 .into(),
@@ -191,9 +272,10 @@ fn say_verdict_on_report(differences: &[String], agreed: String) {
     if differences.is_empty() {
         say!("{agreed}");
     } else {
+        let n = differences.len();
         say!(
-            "THE REPORT DOES NOT STATE WHAT ITS RECORD GIVES ({} differences): it is no evidence of the run",
-            differences.len()
+            "THE REPORT DOES NOT STATE WHAT ITS RECORD GIVES ({n} difference{}): it is no evidence of the run",
+            if n == 1 { "" } else { "s" }
         );
         for d in differences {
             say!("  {d}");
@@ -271,11 +353,7 @@ pub fn decode(recorded: Recorded, report_dir: Option<&Path>, quiet: bool) -> Res
         lines.push(text);
     })
     .map_err(|e| CommandError::Input { name: name.clone(), why: e.to_string() })?;
-    let replayed =
-        serde_json::to_value(&report).map_err(|e| CommandError::Input { name: name.clone(), why: e.to_string() })?;
-    let mut given = Stated::of(&replayed, "cases", &SLAVE_RUN_FIELDS)
-        .map_err(|why| CommandError::Input { name: name.clone(), why })?;
-    given.outcome = report.outcome().label().to_string();
+    let given = Stated::of_slave_report(&report);
     let differences = stated.differences(&given);
     let exchanges: usize = report.cases.iter().map(|c| c.exchanges).sum();
     say_verdict_on_report(

@@ -221,6 +221,19 @@ mod tests {
         assert!(err.message.contains("read late `-1`"), "{err}");
     }
 
+    /// Times that go back on a channel are an error at their line, not sorted into place
+    /// (issue 55: a reply's bytes permuted, and a "malformed reply" FAIL charged).
+    #[test]
+    fn times_that_go_back_are_rejected_with_their_line() {
+        let err = read("time,value\n0.003,0x40\n0.001,0x42\n").into_iter().find_map(Result::err).unwrap();
+        assert_eq!(err.line, 3);
+        assert!(err.message.contains("before the one before it on its channel"), "{err}");
+        // Two channels each in order, interleaved out of order between them: merged.
+        let two = "time,value,channel\n0.003,0x40,a\n0.001,0x42,b\n0.004,0x43,a\n";
+        let ev: Vec<u64> = read(two).into_iter().map(|e| e.unwrap().at_us).collect();
+        assert_eq!(ev, vec![1000 + 1146, 3000 + 1146, 4000 + 1146]);
+    }
+
     #[test]
     fn a_bad_value_is_rejected_with_its_line() {
         let err = read("time,value\n0.001,0x40\n0.002,zz\n").into_iter().find_map(Result::err).unwrap();

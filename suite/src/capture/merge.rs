@@ -15,6 +15,10 @@ pub struct Merge {
     heap: BinaryHeap<Reverse<Held>>,
     seq: u64,
     passed_us: u64,
+    /// The latest time seen on each channel (by index): a channel's own events come in
+    /// order, and one that goes back in time is an error, never sorted into place (a
+    /// reply's bytes would be permuted and charged to the device).
+    latest_us: Vec<u64>,
 }
 
 /// An event in the window, ordered by its time, then by arrival (which keeps a
@@ -45,6 +49,24 @@ impl Ord for Held {
 impl Merge {
     /// Hold `e`; pass on the oldest once the window is full.
     pub fn push(&mut self, e: Event, line: u64) -> Result<Option<Event>, ParseError> {
+        let channel = usize::from(e.channel);
+        if self.latest_us.len() <= channel {
+            self.latest_us.resize(channel + 1, 0);
+        }
+        if let Some(latest) = self.latest_us.get_mut(channel) {
+            if e.at_us < *latest {
+                return Err(ParseError::at(
+                    line,
+                    format!(
+                        "a time {:.6} s before the one before it on its channel ({:.6} s): expected each channel's \
+                         events in time order",
+                        (*latest - e.at_us) as f64 / 1e6,
+                        *latest as f64 / 1e6
+                    ),
+                ));
+            }
+            *latest = e.at_us;
+        }
         if e.at_us < self.passed_us {
             return Err(ParseError::at(
                 line,

@@ -195,7 +195,10 @@ pub fn open<'a>(
         Some(f) => f,
         None => {
             let first = peek_first_line(&mut input).map_err(|e| ParseError::at(0, e.to_string()))?;
-            Format::detect(&first).ok_or_else(|| {
+            // Nothing but blanks: an empty capture (nothing heard, INCOMPLETE as the
+            // guide says), whatever format it was meant to be in.
+            let empty = first.is_empty().then_some(Format::Wirelog);
+            empty.or_else(|| Format::detect(&first)).ok_or_else(|| {
                 ParseError::at(
                     1,
                     "cannot tell the format: expected a wire log line (`12.345 ms  M> 40 42 02`), a \

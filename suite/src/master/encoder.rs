@@ -438,6 +438,12 @@ impl DriveEncoder {
 
 impl Hooks for DriveEncoder {
     fn received(&mut self, ch: RxChar, listening: Option<UartSettings>) {
+        // A flood is cut here: nothing more is kept (the run, its record and its
+        // observations stay bounded) and the serving loop ends (`wants_stop`).
+        if self.timeline.characters >= MAX_CHARACTERS {
+            self.timeline.characters += 1;
+            return;
+        }
         let listening_hex = super::inputs::settings_hex(listening);
         self.log.push(super::inputs::Input::Received { ch: ch.into(), listening: listening_hex });
         if listening != self.listening {
@@ -453,11 +459,9 @@ impl Hooks for DriveEncoder {
         if self.heard.is_empty() {
             self.frame_begins(start_us);
         }
-        if self.timeline.characters < MAX_CHARACTERS {
-            self.heard.push(ch);
-            if self.read_late_us > 0 {
-                self.timeline.late_chars.push((ch.at_us, self.read_late_us));
-            }
+        self.heard.push(ch);
+        if self.read_late_us > 0 {
+            self.timeline.late_chars.push((ch.at_us, self.read_late_us));
         }
         self.timeline.characters += 1;
         if let Some(fault @ (UartFault::Parity | UartFault::Framing)) = ch.fault {
@@ -472,6 +476,10 @@ impl Hooks for DriveEncoder {
 
     fn marks_errors(&self) -> bool {
         self.port.is_some()
+    }
+
+    fn wants_stop(&self) -> bool {
+        self.timeline.characters >= MAX_CHARACTERS
     }
 
     fn reply_echo(&mut self) -> Option<&mut ReplyEcho> {

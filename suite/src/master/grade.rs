@@ -86,7 +86,12 @@ fn grade(
         result.push(Finding::error(format!("at {:.3} ms: {what}{more}", *at_us as f64 / 1000.0)).at(*at_us));
     }
     if timeline.characters >= encoder::MAX_CHARACTERS {
-        result.push(Finding::error(format!("the master flooded the line ({} characters)", timeline.characters)));
+        // Cut off: what the master did before the flood is no scenario run to grade.
+        result.push(Finding::error(format!(
+            "the master flooded the line: more than {} characters in the scenario, cut off there",
+            encoder::MAX_CHARACTERS
+        )));
+        return None;
     }
     // A declaration the master's own requests contradict: the scenarios it left out were
     // not graded on a truth, which the run cannot call a PASS (nor a FAIL of 000).

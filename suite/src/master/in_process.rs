@@ -225,6 +225,9 @@ fn run_scenario(
         if woken || !heard.is_empty() {
             action = master.step(now, &heard);
         }
+        if hooks.wants_stop() {
+            break; // a flood: the encoder has taken in all it will
+        }
     }
     hooks.finish(now);
     if flooded {
@@ -310,5 +313,32 @@ mod tests {
         let verdict = report.scenarios[0].verdict;
         assert_eq!(verdict, crate::verdict::CaseVerdict::Error, "{:?}", report.scenarios[0].findings);
         assert!(report.scenarios[0].findings.iter().any(|f| f.message().contains("the master sent nothing")));
+    }
+
+    /// A master that floods the line is cut off where the encoder has taken in all it
+    /// will: an ERROR (as the guide says), not a FAIL of the rules the flood breaks,
+    /// and a record no longer than the cut (issue 55: gigabytes per scenario).
+    #[test]
+    fn a_flooding_master_is_cut_off_and_is_an_error() {
+        struct Flood;
+        impl MasterUnderTest for Flood {
+            fn power_on(&mut self) {}
+            fn step(&mut self, now_us: u64, _heard: &[RxChar]) -> MasterAction {
+                // As a process writes a pseudo-terminal: far faster than any UART.
+                MasterAction {
+                    send: Some(Transmit { bytes: vec![0x40; 64], start_us: now_us, bps: 1_000_000 }),
+                    wake_us: Some(now_us + 64 * 11),
+                }
+            }
+        }
+        let options = Options { scenarios: Some("polling.long".into()), ..Options::default() };
+        let report = run(&mut Flood, "flood", hiperface_model::profiles::srs50(), &options);
+        let s = &report.scenarios[0];
+        assert_eq!(s.verdict, crate::verdict::CaseVerdict::Error, "{:?}", s.findings);
+        assert!(s.findings.iter().any(|f| f.message().contains("flooded")), "{:?}", s.findings);
+        let record = report.record.as_ref().unwrap();
+        let received =
+            record.runs[0].inputs.iter().filter(|i| matches!(i, super::super::inputs::Input::Received { .. })).count();
+        assert_eq!(received, super::super::encoder::MAX_CHARACTERS);
     }
 }

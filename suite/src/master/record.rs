@@ -70,22 +70,38 @@ pub fn compact(inputs: Vec<Input>) -> Vec<Input> {
     out
 }
 
-/// A quiet turn's time in a record that is no number.
+/// A quiet turn's time in a record that is no number, or more inputs than a run has.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("a quiet turn's time `{0}`")]
+#[error("{0}")]
 pub struct BadQuietTurn(pub String);
+
+/// The most inputs one scenario run's record holds written out: 650 times the largest
+/// a run of the catalogue takes (`polling.long`, about 1 500), so that a record's short
+/// forms cannot be written out into gigabytes (issue 55: 10 MB of quiet turns took
+/// 2.4 GB).
+pub const MAX_INPUTS: usize = 1_000_000;
 
 /// The inputs with every short form written out again.
 pub fn expand(inputs: &[Input]) -> Result<Vec<Input>, BadQuietTurn> {
+    let too_many = || BadQuietTurn(format!("more than {MAX_INPUTS} inputs in one scenario run: no run has so many"));
+    if inputs.len() > MAX_INPUTS {
+        return Err(too_many());
+    }
     let mut out = Vec::with_capacity(inputs.len() * 2);
     for input in inputs {
+        if out.len() > MAX_INPUTS {
+            return Err(too_many());
+        }
         let Input::Quiet { at, rate_read, bps } = input else {
             out.push(input.clone());
             continue;
         };
         let mut t = 0u64;
         for (k, word) in at.split_whitespace().enumerate() {
-            let n: u64 = word.parse().map_err(|_| BadQuietTurn(word.to_string()))?;
+            if out.len() > MAX_INPUTS {
+                return Err(too_many());
+            }
+            let n: u64 = word.parse().map_err(|_| BadQuietTurn(format!("a quiet turn's time `{word}`")))?;
             t = if k == 0 { n } else { t.saturating_add(n) };
             out.push(Input::Read { unwatched_us: 0 });
             out.push(Input::Idle { now_us: t });
@@ -430,5 +446,9 @@ mod tests {
         );
         assert_eq!(expand(&short).unwrap(), log);
         assert!(expand(&[Input::Quiet { at: "1 x".into(), rate_read: false, bps: None }]).is_err());
+        // Short forms are not written out without bound.
+        let flood = Input::Quiet { at: "1 ".repeat(MAX_INPUTS), rate_read: true, bps: None };
+        let e = expand(&[flood]).unwrap_err();
+        assert!(e.to_string().contains("more than 1000000 inputs"), "{e}");
     }
 }

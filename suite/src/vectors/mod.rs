@@ -249,11 +249,31 @@ pub enum LoadError {
 /// The JSON Schema of vector files.
 pub const SCHEMA: &str = include_str!("../../../vectors/schema.json");
 
+/// The largest vector file read, bytes: 128 times this project's largest (128 KB). A
+/// larger one, or anything that is not a regular file (a link to `/dev/zero`), is
+/// refused before it is read.
+pub const MAX_FILE_BYTES: u64 = 16 << 20;
+
 /// Read a vector file: JSON Schema first (with the `schema` feature; errors name the
 /// vector id where there is one), then the types.
 pub fn load(path: &Path) -> Result<VectorFile, LoadError> {
-    let text = std::fs::read_to_string(path).map_err(|source| LoadError::Io { path: path.into(), source })?;
+    use std::io::Read;
     let invalid = |message: String| LoadError::Invalid { path: path.into(), message };
+    let io = |source| LoadError::Io { path: path.into(), source };
+    let meta = std::fs::metadata(path).map_err(io)?;
+    if !meta.is_file() {
+        return Err(invalid("not a regular file: a vector file is read from a file".into()));
+    }
+    let too_large =
+        || invalid(format!("larger than {} MiB, more than any vector file: not read", MAX_FILE_BYTES >> 20));
+    if meta.len() > MAX_FILE_BYTES {
+        return Err(too_large());
+    }
+    let mut text = String::new();
+    std::fs::File::open(path).map_err(io)?.take(MAX_FILE_BYTES + 1).read_to_string(&mut text).map_err(io)?;
+    if text.len() as u64 > MAX_FILE_BYTES {
+        return Err(too_large());
+    }
     let json: serde_json::Value = serde_json::from_str(&text).map_err(|e| invalid(format!("not JSON: {e}")))?;
     #[cfg(feature = "schema")]
     check_schema(&json).map_err(invalid)?;
@@ -341,4 +361,27 @@ pub fn verify_dir(dir: &Path) -> Result<(usize, Vec<String>), LoadError> {
         return Err(LoadError::NoVectors { path: dir.into() });
     }
     Ok((count, failures))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Hostile vector files are refused before they are read (issue 55: a 113 MB file
+    /// took 1.37 GB, a `*.json` link to `/dev/zero` ran out of memory).
+    #[test]
+    fn a_vector_file_is_read_only_when_it_is_a_file_of_bounded_size() {
+        let dir = tempfile::tempdir().unwrap();
+        let zero = dir.path().join("zero.json");
+        std::os::unix::fs::symlink("/dev/zero", &zero).unwrap();
+        let e = load(&zero).err().unwrap().to_string();
+        assert!(e.contains("not a regular file"), "{e}");
+        let huge = dir.path().join("huge.json");
+        std::fs::File::create(&huge).unwrap().set_len(MAX_FILE_BYTES + 1).unwrap();
+        let e = load(&huge).err().unwrap().to_string();
+        assert!(e.contains("larger than 16 MiB"), "{e}");
+        // This project's own files load.
+        let ours = Path::new(env!("CARGO_MANIFEST_DIR")).join("../vectors/generated-current.json");
+        assert!(load(&ours).is_ok());
+    }
 }
