@@ -61,6 +61,20 @@ const VECTOR_FILES: &[(&str, &str)] = &[
     ("master-tables.json", include_str!("../../vectors/master-tables.json")),
 ];
 
+/// The vector files built into the command, read as vectors, each with its file name:
+/// what `vectors show` and `vectors book` use where no `--dir` is given (after `cargo
+/// install`, outside the repository).
+pub fn builtin_vector_files() -> Result<Vec<(String, hiperface_suite::vectors::VectorFile)>, BadBuiltinVectors> {
+    VECTOR_FILES
+        .iter()
+        .map(|(name, text)| {
+            serde_json::from_str(text)
+                .map(|f| (name.to_string(), f))
+                .map_err(|e| BadBuiltinVectors { name, why: e.to_string() })
+        })
+        .collect()
+}
+
 /// A vector file's name, and how many of its tests cite each clause id.
 type Citations = (&'static str, BTreeMap<String, usize>);
 

@@ -154,9 +154,9 @@ enum VectorsCommand {
         /// Markdown or HTML for an example; SVG (its own), Markdown or HTML for a diagram.
         #[arg(long, value_enum)]
         format: Option<PieceFormat>,
-        /// The folder of the vector files.
-        #[arg(long, default_value = "vectors")]
-        dir: PathBuf,
+        /// The folder of the vector files (default: the files built into the command).
+        #[arg(long)]
+        dir: Option<PathBuf>,
     },
     /// Write the protocol reference (a Markdown chapter per command, every frame a byte
     /// diagram from a vector, timing diagrams as SVG) into DIR, e.g. `--out
@@ -165,9 +165,9 @@ enum VectorsCommand {
         /// The folder to write the pages into (made if need be).
         #[arg(long, value_name = "DIR")]
         out: PathBuf,
-        /// The folder of the vector files.
-        #[arg(long, default_value = "vectors")]
-        dir: PathBuf,
+        /// The folder of the vector files (default: the files built into the command).
+        #[arg(long)]
+        dir: Option<PathBuf>,
     },
 }
 
@@ -276,6 +276,17 @@ fn run_simulator(port: &PortSpec, profile: &str, log: bool, world: &World) -> Re
     Ok(Ended::Done)
 }
 
+/// The vector files of `dir`, or those built into the command.
+fn vector_files(
+    dir: Option<&std::path::Path>,
+) -> Result<Vec<(String, hiperface_conformance::vectors::VectorFile)>, CommandError> {
+    match dir {
+        Some(d) => hiperface_conformance::vectors::load_named(d)
+            .map_err(|e| CommandError::Usage(format!("--dir {}: {e}", d.display()))),
+        None => Ok(hiperface_conformance::clauses::builtin_vector_files()?),
+    }
+}
+
 /// Print to standard output; a reader that stops early (`| head`) is not an error.
 fn print_all(text: &str) -> Result<(), CommandError> {
     use std::io::Write as _;
@@ -335,7 +346,7 @@ fn vectors_command(what: VectorsCommand) -> Result<Ended, CommandError> {
             Ok(Ended::Done)
         }
         VectorsCommand::Show { id, format, dir } => {
-            let files = vectors::load_named(&dir)?;
+            let files = vector_files(dir.as_deref())?;
             let format = format.map(|f| match f {
                 PieceFormat::Markdown => vectors::reference::PieceFormat::Markdown,
                 PieceFormat::Html => vectors::reference::PieceFormat::Html,
@@ -347,7 +358,7 @@ fn vectors_command(what: VectorsCommand) -> Result<Ended, CommandError> {
             Ok(Ended::Done)
         }
         VectorsCommand::Book { out, dir } => {
-            let files = vectors::load_named(&dir)?;
+            let files = vector_files(dir.as_deref())?;
             let pages = vectors::reference::book(&files);
             for (name, text) in &pages {
                 let path = out.join(name);

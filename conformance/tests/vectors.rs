@@ -578,4 +578,23 @@ fn vectors_show_exports_one_example_or_diagram() {
     let (code, _, err) = show(&["001-5.1.4.1-read-position", "--format", "svg"]);
     assert_eq!(code, Some(2));
     assert!(err.contains("SVG is for the timing diagrams"), "{err}");
+    // Anywhere, as after `cargo install`: the vector files built into the command, the
+    // same pieces (issue 56: "error: vectors: No such file or directory").
+    let elsewhere = temp();
+    let out = Command::new(env!("CARGO_BIN_EXE_hiperface"))
+        .current_dir(elsewhere.path())
+        .args(["vectors", "show", "001-5.1.4.1-read-position"])
+        .output()
+        .unwrap();
+    assert_eq!(String::from_utf8_lossy(&out.stdout), md, "{}", String::from_utf8_lossy(&out.stderr));
+    // A folder that is not there is named as the flag it came from.
+    let (code, _, err) = {
+        let out = Command::new(env!("CARGO_BIN_EXE_hiperface"))
+            .args(["vectors", "show", "exchange-42h", "--dir", "/nonexistent/vectors"])
+            .output()
+            .unwrap();
+        (out.status.code(), (), String::from_utf8_lossy(&out.stderr).into_owned())
+    };
+    assert_eq!(code, Some(2));
+    assert!(err.contains("--dir /nonexistent/vectors"), "{err}");
 }

@@ -195,6 +195,12 @@ fn joined(a: Vec<Phase>, b: Vec<Phase>) -> Vec<Phase> {
 // ---------------------------------------------------------------------------------
 
 /// `us` in ms with µs precision: "5.730 ms", "100 ms".
+/// One bit's time as it is (1/9600 s = "104.17 µs"), not rounded to whole µs: a reader
+/// multiplies it by 11 or 55 and gets the character and the timeout printed beside it.
+fn bit_time(s: UartSettings) -> String {
+    format!("{:.2} µs", 1e6 / f64::from(s.baud.bits_per_second().max(1)))
+}
+
 fn ms(us: u64) -> String {
     if us % 1000 == 0 {
         format!("{} ms", us / 1000)
@@ -620,14 +626,17 @@ fn exchange_42h() -> Result<Diagram, Surprise> {
     let req_ticks: Vec<u64> = std::iter::once(0).chain(sent.chars.iter().map(|c| c.end_us)).collect();
     req_axis.draw(&mut svg, axis_y, &req_ticks);
     rep_axis.draw(&mut svg, axis_y, &[rep_t0, rep_t1]);
-    let bit = settings.bit_time_us();
+    // The bit time as it is (1/9600 s = 104.17 µs), so that a reader gets the
+    // character (11 bits = 1.146 ms) and the timeout (55 bits = 5.730 ms) from it.
+    let bps = settings.baud.bits_per_second();
+    let bit = 1e6 / f64::from(bps.max(1));
     let ct = settings.char_time_us();
     let notes_y = axis_y + 42.0;
     svg.text(
         PLOT_LEFT,
         notes_y,
         &format!(
-            "1 bit = {bit} µs, 1 character = {} bits = {} ({}) · 000:T4, 000:T28/settings",
+            "1 bit = 1/{bps} s = {bit:.2} µs, 1 character = {} bits = {} ({}) · 000:T4, 000:T28/settings",
             settings.bits_per_char(),
             ms(ct),
             format_words(settings)
@@ -718,7 +727,7 @@ fn exchange_42h() -> Result<Diagram, Surprise> {
     ]);
     caption.figure(
         "bit time",
-        &format!("{bit} µs, 1/{} s rounded up to whole µs", settings.baud.bits_per_second()),
+        &format!("{bit:.2} µs (1/{bps} s); a time of several bits is computed from it and rounded up to whole µs once"),
         &[clause::UART_SETTINGS.clause()],
     );
     caption.figure(
@@ -1223,12 +1232,7 @@ fn settings_67h() -> Result<Diagram, Surprise> {
         let Some(c) = sent.chars.first() else { continue };
         let y = top + 62.0 + i as f64 * 136.0;
         let row = Axis::new(c.start_us, c.start_us + span_us, PLOT_LEFT, PLOT_RIGHT);
-        lane_name(
-            &mut svg,
-            y + 20.0,
-            &format!("{} Bd", s.baud.bits_per_second()),
-            &format!("bit {} µs", s.bit_time_us()),
-        );
+        lane_name(&mut svg, y + 20.0, &format!("{} Bd", s.baud.bits_per_second()), &format!("bit {}", bit_time(s)));
         bit_trace(
             &mut svg,
             &row,
@@ -1267,7 +1271,7 @@ fn settings_67h() -> Result<Diagram, Surprise> {
     for s in [old, heard] {
         caption.figure(
             &format!("bit and character time at {} Bd", s.baud.bits_per_second()),
-            &format!("{} µs, {} (rounded up to whole µs)", s.bit_time_us(), ms(s.char_time_us())),
+            &format!("{}, {} (11 bits, rounded up to whole µs)", bit_time(s), ms(s.char_time_us())),
             &[clause::UART_SETTINGS.clause()],
         );
     }
@@ -1388,7 +1392,8 @@ mod tests {
         let timeout = s.timeout_us(Edition::Current);
         assert_eq!(timeout, 5730);
         assert!(svg.contains(&format!("request timeout {}", ms(timeout))), "5.730 ms");
-        assert!(svg.contains(&format!("1 bit = {} µs", s.bit_time_us())), "105 µs");
+        // 11 × 104.17 µs = 1.146 ms and 55 × 104.17 µs = 5.730 ms, as printed.
+        assert!(svg.contains("1 bit = 1/9600 s = 104.17 µs"), "104.17 µs");
         assert!(svg.contains(&format!("= {}", ms(s.char_time_us()))), "1.146 ms");
         assert!(svg.contains(&format!("pause ≥ {}", ms(s.pause_us(Edition::Current)))));
         // The request's characters reach the slave at the ends of their stop bits, and

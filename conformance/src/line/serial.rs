@@ -84,7 +84,29 @@ fn open_native(path: &str, settings: UartSettings) -> Result<serialport::TTYPort
         .flow_control(FlowControl::None)
         .timeout(Duration::from_millis(1))
         .open_native()
-        .map_err(|e| LineError::Open { port: path.to_string(), reason: e.to_string() })
+        .map_err(|e| LineError::Open { port: path.to_string(), reason: open_failure(path, &e) })
+}
+
+/// Why a port would not open, with what helps: the ports there are where it is not
+/// there, the group that may open them where permission was refused.
+fn open_failure(path: &str, e: &serialport::Error) -> String {
+    let mut reason = e.to_string();
+    let denied = matches!(e.kind(), serialport::ErrorKind::Io(std::io::ErrorKind::PermissionDenied))
+        || reason.contains("Permission denied");
+    if denied {
+        reason.push_str(
+            "; a user opens serial ports as a member of their group (usually `dialout`: `sudo usermod -aG dialout \
+             $USER`, then log in again)",
+        );
+    } else if !std::path::Path::new(path).exists() {
+        let ports: Vec<String> =
+            serialport::available_ports().unwrap_or_default().into_iter().map(|p| p.port_name).collect();
+        reason.push_str(&match ports.as_slice() {
+            [] => "; no serial port is there now (is the adapter plugged in?)".to_string(),
+            _ => format!("; the serial ports there now: {}", ports.join(", ")),
+        });
+    }
+    reason
 }
 
 /// As [`open_port`], with the kernel marking what the UART saw in the data it
@@ -370,6 +392,18 @@ impl Line for SerialLine {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A port that is not there: the error lists the ports that are (issue 56: a user
+    /// with `/dev/ttyUSB0` unplugged learned nothing of where the adapter went).
+    #[test]
+    fn a_missing_port_is_named_with_the_ports_there_are() {
+        let Err(e) = open_native("/dev/ttyUSB-hiperface-missing", UartSettings::DEFAULT) else {
+            panic!("a port that is not there opened")
+        };
+        let e = e.to_string();
+        assert!(e.contains("cannot open /dev/ttyUSB-hiperface-missing"), "{e}");
+        assert!(e.contains("the serial ports there now") || e.contains("no serial port is there now"), "{e}");
+    }
     use hiperface_model::settings::{Baud, Parity as HfParity};
     use std::io::Write;
 
