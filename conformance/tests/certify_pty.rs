@@ -72,6 +72,29 @@ fn a_silent_device_stops_the_run_quickly_with_an_error() {
     assert!(report.safety.unverified.iter().all(|u| !u.contains("lost")), "{:#?}", report.safety);
 }
 
+/// The same on the command line, as a user with nothing attached meets it (issue 56:
+/// the hint 17 times on each stream and a "ratio 11.01"): the reason once per stream,
+/// the cases not run named together, no ratio of a run that ended early.
+#[test]
+fn a_silent_device_is_said_once_on_the_command_line() {
+    let _one = common::one_at_a_time();
+    let (_device_end, port) = serialport::TTYPort::pair().unwrap();
+    let path = port.name().unwrap();
+    drop(port);
+    let out = Command::new(env!("CARGO_BIN_EXE_hiperface"))
+        .args(["certify", "slave", "--port", &path, "--allow-writes"])
+        .output()
+        .unwrap();
+    let (stdout, stderr) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert_eq!(out.status.code(), Some(3), "{stdout}{stderr}");
+    let hint = "the device has not answered any request";
+    assert_eq!(stderr.matches(&format!("not run: {hint}")).count(), 1, "{stderr}");
+    assert!(stderr.contains("(not run, as above)"), "{stderr}");
+    assert_eq!(stdout.matches(hint).count(), 3, "the reason, the first case's and the abort line: {stdout}");
+    assert!(stdout.contains("findings to read first (2):") && stdout.contains("the same in "), "{stdout}");
+    assert!(stdout.contains("the run ended early") && !stdout.contains("ratio"), "{stdout}");
+}
+
 #[test]
 fn the_port_gone_mid_run_leaves_a_partial_report() {
     let _one = common::one_at_a_time();

@@ -195,13 +195,23 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
         }
         b
     });
+    // A reason the run gives every case after it was aborted is said once, not per case.
+    let mut said_before: Vec<String> = Vec::new();
     let mut report = super::run(line, profile, &options, |i, n, r| {
         let mut text = format!("[{i:>2}/{n}] {:<16} {}", r.verdict.label(), r.id);
         if r.attempts > 1 {
             text.push_str(&format!(" ({} runs: the harness was disturbed)", r.attempts));
         }
         for f in r.findings.iter().filter(|f| matches!(f.verdict(), CaseVerdict::Fail | CaseVerdict::Error)) {
-            text.push_str(&format!("\n          {f}"));
+            let line = f.to_string();
+            if !line.contains("not run: ") {
+                text.push_str(&format!("\n          {line}"));
+            } else if said_before.contains(&line) {
+                text.push_str(" (not run, as above)");
+            } else {
+                text.push_str(&format!("\n          {line}"));
+                said_before.push(line);
+            }
         }
         match &bar {
             Some(b) => {
@@ -237,6 +247,14 @@ fn summarize(report: &super::Report, profile: &Profile) {
             "virtual time: {:.0} ms of line time run in {:.1} ms; EEPROM writes {}",
             report.line_time_ms,
             report.wall_time_ms,
+            report.safety.eeprom_writes
+        );
+    } else if let (Some(_), true) = (&report.aborted, report.line_time_ms > 0.0) {
+        // A run cut short has no ratio worth the name (its waits for a silent device).
+        say!(
+            "wall time {:.0} ms; the run ended early, after {:.0} ms of exchanges; EEPROM writes {}",
+            report.wall_time_ms,
+            report.line_time_ms,
             report.safety.eeprom_writes
         );
     } else if report.line_time_ms > 0.0 {

@@ -47,6 +47,10 @@ pub struct Attention {
     /// More findings of the unit with the same verdict and clause, left out of this
     /// list (in the unit's own section).
     pub more: usize,
+    /// Other units with the very same finding and no exchange to show (every case not
+    /// run after a run was aborted): listed here once, not once each.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub also: Vec<&'static str>,
 }
 
 /// The findings of `units` to put first: FAILs, then ERRORs, NOT-EXERCISED and
@@ -63,6 +67,19 @@ pub fn attention(units: &[CaseResult]) -> Vec<Attention> {
                     continue;
                 }
                 let (request, reply) = f.at_us().map_or((None, None), |t| exchange(u, t));
+                if request.is_none() {
+                    let same = |a: &&mut Attention| {
+                        a.verdict == verdict
+                            && a.request.is_none()
+                            && a.clause == f.clause_id()
+                            && a.finding == f.message()
+                            && a.unit != u.id
+                    };
+                    if let Some(a) = out.iter_mut().find(|a| same(a)) {
+                        a.also.push(u.id);
+                        continue;
+                    }
+                }
                 out.push(Attention {
                     unit: u.id,
                     title: u.title,
@@ -76,6 +93,7 @@ pub fn attention(units: &[CaseResult]) -> Vec<Attention> {
                     reply: reply.map(|r| r.bytes.clone()),
                     figure: f.figure(),
                     more: 0,
+                    also: Vec::new(),
                 });
             }
         }
@@ -164,6 +182,9 @@ impl Attention {
         if self.more > 0 {
             let what = if self.more == 1 { "finding" } else { "findings" };
             rows.push(words("more", format!("{} more {what} like it in {}'s own section", self.more, self.unit)));
+        }
+        if !self.also.is_empty() {
+            rows.push(words("also", format!("the same in {} more: {}", self.also.len(), self.also.join(", "))));
         }
         rows
     }
