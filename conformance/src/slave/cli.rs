@@ -22,7 +22,7 @@ pub struct CertifySlaveArgs {
     /// `virtual` (the reference model in-process, virtual time), a serial port path,
     /// `tcp://host:port` (a serial device server such as ser2net, raw) or
     /// `rfc2217://host:port` (one that takes the line's settings, RFC 2217).
-    #[arg(long, value_name = "sim|virtual|PATH|tcp://HOST:PORT")]
+    #[arg(long, value_name = "sim|virtual|PATH|tcp://HOST:PORT|rfc2217://HOST:PORT")]
     pub port: PortSpec,
     /// The device's profile: a built-in name or a TOML file.
     #[arg(long, default_value = "SRS50")]
