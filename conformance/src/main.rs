@@ -124,6 +124,13 @@ enum CertifyWhat {
 
 #[derive(Subcommand)]
 enum VectorsCommand {
+    /// Every id `vectors show` takes: the examples' (with their command, what each
+    /// shows and its file) and the timing diagrams' (with their titles).
+    List {
+        /// The folder of the vector files (default: the files built into the command).
+        #[arg(long)]
+        dir: Option<PathBuf>,
+    },
     /// Write the generated vector files into DIR (documents.json and master-tables.json
     /// are transcribed from the documents by hand and never generated).
     Generate {
@@ -343,6 +350,10 @@ fn vectors_command(what: VectorsCommand) -> Result<Ended, CommandError> {
                 }
                 None => print_all(&text)?,
             }
+            Ok(Ended::Done)
+        }
+        VectorsCommand::List { dir } => {
+            print_all(&vectors::reference::list(&vector_files(dir.as_deref())?))?;
             Ok(Ended::Done)
         }
         VectorsCommand::Show { id, format, dir } => {

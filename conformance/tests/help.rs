@@ -22,6 +22,7 @@ const COMMANDS: &[&[&str]] = &[
     &["vectors", "verify"],
     &["vectors", "export"],
     &["vectors", "book"],
+    &["vectors", "list"],
     &["vectors", "show"],
     &["export-profile"],
     &["master"],

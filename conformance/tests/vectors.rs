@@ -597,4 +597,14 @@ fn vectors_show_exports_one_example_or_diagram() {
     };
     assert_eq!(code, Some(2));
     assert!(err.contains("--dir /nonexistent/vectors"), "{err}");
+    // Every id there is, listed, each one `show` takes.
+    let out = Command::new(env!("CARGO_BIN_EXE_hiperface")).args(["vectors", "list"]).output().unwrap();
+    let listed = String::from_utf8_lossy(&out.stdout).into_owned();
+    let ids: Vec<&str> = listed.lines().filter_map(|l| l.split('\t').next()).collect();
+    let vectors: usize = named_files().iter().map(|(_, f)| f.vectors.len()).sum();
+    assert_eq!(ids.len(), vectors + 5, "{listed}");
+    assert!(ids.contains(&"001-5.1.4.1-read-position") && ids.contains(&"exchange-42h"), "{listed}");
+    let (code, _, err) = show(&["no-such-id"]);
+    assert_eq!(code, Some(2));
+    assert!(err.contains("`hiperface vectors list` lists every id"), "{err}");
 }

@@ -188,6 +188,21 @@ pub fn piece(files: &[(String, VectorFile)], id: &str, format: Option<PieceForma
     Err(PieceError::Unknown { id: id.to_string(), diagrams: known.join(", ") })
 }
 
+/// Every id [`piece`] takes, one line each: the vectors' (id, command, what it shows,
+/// its file) and the diagrams' (id, title), for `hiperface vectors list`.
+pub fn list(files: &[(String, VectorFile)]) -> String {
+    let mut out = String::new();
+    for (name, file) in files {
+        for v in &file.vectors {
+            out.push_str(&format!("{}\t{}\t{} ({name})\n", v.id, v.command, v.meaning));
+        }
+    }
+    for d in crate::timing_diagrams::diagrams() {
+        out.push_str(&format!("{}\tdiagram\t{}\n", d.id, d.title));
+    }
+    out
+}
+
 /// Why [`piece`] has nothing to give.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum PieceError {
@@ -199,7 +214,7 @@ pub enum PieceError {
     )]
     ExampleAsSvg(String),
     #[error(
-        "no vector or diagram has the id {id:?}; `hiperface vectors export` lists the vectors' ids, the diagrams \
+        "no vector or diagram has the id {id:?}; `hiperface vectors list` lists every id; the diagrams \
          are {diagrams}"
     )]
     Unknown { id: String, diagrams: String },
