@@ -245,8 +245,10 @@ pub fn page_head(title: &str) -> String {
          <style>body{{font-family:sans-serif;max-width:75em;margin:2em auto}}table{{border-collapse:collapse}}\
          td,th{{border:1px solid #ccc;padding:.2em .5em;text-align:left}}.PASS{{color:#070}}\
          .FAIL{{color:#b00;font-weight:bold}}.NON-STRICT{{color:#a60}}.ERROR{{color:#b0b}}.NOT-EXERCISED{{color:#b0b}}.UNKNOWN{{color:#066}}\
-         .NOT-APPLICABLE{{color:#666}}\
-         pre{{background:#f4f4f4;padding:.5em}}svg{{border:1px solid #ddd}}</style></head><body>",
+         .NOT-APPLICABLE{{color:#666}}.PASSED{{color:#070}}.FAILED{{color:#b00}}.INCOMPLETE{{color:#b0b}}\
+         td{{vertical-align:top}}\
+         pre{{background:#f4f4f4;padding:.5em;white-space:pre-wrap;overflow-wrap:anywhere}}\
+         svg{{border:1px solid #ddd;max-width:100%;height:auto}}</style></head><body>",
         escape(title)
     )
 }
