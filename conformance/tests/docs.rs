@@ -303,9 +303,10 @@ fn the_readme_is_a_front_door_with_the_two_commands() {
     assert!(lines < 200, "README.md has {lines} lines: it is the front door; move the rest into the guide (docs/src)");
     // CI runs them as "the README's main command" and "the README's test command".
     let ci = read(&root().join(".ci/run"));
-    for command in
-        ["cargo run --release -p hiperface-conformance -- certify slave --port sim", "cargo test --workspace"]
-    {
+    for command in [
+        "cargo run --release -p hiperface-conformance -- certify slave --port sim",
+        "cargo test --workspace --no-fail-fast",
+    ] {
         assert!(readme.contains(&format!("```sh\n{command}\n```")), "README.md does not give `{command}` on its own");
         let shared = command.split(" -- ").last().expect("a command");
         assert!(ci.contains(shared), ".ci/run does not run the README's `{command}`");
