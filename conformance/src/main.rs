@@ -417,7 +417,16 @@ fn man_pages(out: Option<&std::path::Path>) -> Result<Ended, CommandError> {
     };
     let top = Cli::command();
     let Some(dir) = out else {
-        return print_all(&String::from_utf8_lossy(&render(top)?)).map(|()| Ended::Done);
+        // On its own the page names pages (hiperface-certify(1), ...) that only `--out`
+        // writes: it says so, and how to read them.
+        let mut page = String::from_utf8_lossy(&render(top)?).into_owned();
+        page.push_str(
+            ".SH FILES\nThe page of each command named above (hiperface\\-certify(1), \
+             hiperface\\-certify\\-slave(1), ...) is written by \\fBhiperface man \\-\\-out\\fR \\fIDIR\\fR; \
+             read one with \\fBman \\-l\\fR \\fIDIR\\fR\\fB/hiperface\\-certify\\-slave.1\\fR, or put \\fIDIR\\fR on \
+             \\fBMANPATH\\fR (as man1).\n",
+        );
+        return print_all(&page).map(|()| Ended::Done);
     };
     std::fs::create_dir_all(dir).map_err(CommandError::file(dir))?;
     let mut pages = vec![("hiperface".to_string(), top.clone())];

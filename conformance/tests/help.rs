@@ -141,6 +141,8 @@ fn completions_and_manual_pages_are_generated() {
     let (code, page) = run(&["man"]);
     assert_eq!(code, 0, "{page}");
     assert!(page.starts_with(".ie") || page.contains(".TH hiperface 1"), "{page}");
+    // On its own it says where the pages it names come from (issue 56).
+    assert!(page.contains(".SH FILES") && page.contains("hiperface man \\-\\-out"), "{page}");
     let dir = tempfile::tempdir().unwrap();
     let (code, text) = run(&["man", "--out", dir.path().to_str().unwrap()]);
     assert_eq!(code, 0, "{text}");
