@@ -78,7 +78,6 @@ pub fn builtin_vector_files() -> Result<Vec<(String, hiperface_suite::vectors::V
 /// A vector file's name, and how many of its tests cite each clause id.
 type Citations = (&'static str, BTreeMap<String, usize>);
 
-/// The clause ids each vector file cites, with how many tests cite each.
 /// A vector file built into the command that does not read as vectors.
 #[derive(Debug, thiserror::Error)]
 #[error("the built-in vector file {name}: {why}")]
@@ -87,26 +86,21 @@ pub struct BadBuiltinVectors {
     pub why: String,
 }
 
+/// The clause ids each vector file cites, with how many tests cite each (the files read
+/// as `vectors show` reads them).
 fn vector_citations() -> Result<Vec<Citations>, BadBuiltinVectors> {
-    let mut out = Vec::new();
-    for (name, text) in VECTOR_FILES {
-        let doc: serde_json::Value =
-            serde_json::from_str(text).map_err(|e| BadBuiltinVectors { name, why: e.to_string() })?;
-        let mut counts = BTreeMap::new();
-        let groups = doc
-            .get("testGroups")
-            .and_then(|g| g.as_array())
-            .ok_or(BadBuiltinVectors { name, why: "no testGroups".into() })?;
-        for test in groups.iter().filter_map(|g| g.get("tests")?.as_array()).flatten() {
-            for id in test.get("clauses").and_then(|c| c.as_array()).into_iter().flatten() {
-                if let Some(id) = id.as_str() {
-                    *counts.entry(id.to_string()).or_insert(0) += 1;
-                }
+    let files = builtin_vector_files()?;
+    Ok(VECTOR_FILES
+        .iter()
+        .zip(files)
+        .map(|((name, _), (_, file))| {
+            let mut counts = BTreeMap::new();
+            for id in file.vectors.iter().flat_map(|v| &v.clauses) {
+                *counts.entry(id.clone()).or_insert(0) += 1;
             }
-        }
-        out.push((*name, counts));
-    }
-    Ok(out)
+            (*name, counts)
+        })
+        .collect())
 }
 
 fn force_name(f: Force) -> &'static str {

@@ -43,9 +43,6 @@ struct Punctuality {
 }
 
 impl Hooks for Punctuality {
-    fn stamps_as_early_as_unwatched(&self) -> bool {
-        true
-    }
     fn read(&mut self, unwatched_us: u64) {
         self.late_us.fetch_max(unwatched_us, Ordering::SeqCst);
     }
@@ -60,9 +57,6 @@ impl Hooks for Punctuality {
 struct FollowLine;
 
 impl Hooks for FollowLine {
-    fn stamps_as_early_as_unwatched(&self) -> bool {
-        true
-    }
     fn sets_port(&self) -> bool {
         false
     }
@@ -77,9 +71,6 @@ struct Logger<'a> {
 }
 
 impl Hooks for Logger<'_> {
-    fn stamps_as_early_as_unwatched(&self) -> bool {
-        true
-    }
     fn frame(&mut self, _slave: &mut Slave, step: &Step) {
         if let Some(l) = self.log.as_deref_mut() {
             let t = step.received.last_us as f64 / 1000.0;

@@ -135,6 +135,17 @@ struct Defect {
     collateral: &'static [&'static str],
 }
 
+/// The cases that read Read Encoder Status besides identity.status: the power-up case,
+/// and those that answer errors (nothing of them is stacked, 000:T37).
+const READS_STATUS: &[&str] = &[
+    "powerup.reset",
+    "protocol.checksum",
+    "protocol.unknown-command",
+    "protocol.length",
+    "protocol.argument",
+    "fields.lifecycle",
+];
+
 const DEFECTS: &[Defect] = &[
     Defect { name: "reply-checksum", case: "identity.version", clause: "000:2.3.3", collateral: &[] },
     Defect {
@@ -143,14 +154,7 @@ const DEFECTS: &[Defect] = &[
         clause: "000:2.2.2",
         // the power-up case reads the status too, and so do the cases that answer
         // errors (nothing of them is stacked, 000:T37)
-        collateral: &[
-            "powerup.reset",
-            "protocol.checksum",
-            "protocol.unknown-command",
-            "protocol.length",
-            "protocol.argument",
-            "fields.lifecycle",
-        ],
+        collateral: READS_STATUS,
     },
     Defect {
         name: "late-reply",
@@ -196,14 +200,7 @@ const DEFECTS: &[Defect] = &[
         // a warning bit the model did not expect may be a real fault (NON-STRICT on a
         // black box) until Read Encoder Status says nothing is stored; the power-up
         // case reads the status again, and so do the cases that answer errors
-        collateral: &[
-            "powerup.reset",
-            "protocol.checksum",
-            "protocol.unknown-command",
-            "protocol.length",
-            "protocol.argument",
-            "fields.lifecycle",
-        ],
+        collateral: READS_STATUS,
     },
     Defect { name: "store-read-only", case: "fields.access-code", clause: "000:T52", collateral: &[] },
     // every power-up case starts with an Encoder Reset, and the stored settings are

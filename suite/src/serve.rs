@@ -46,10 +46,11 @@ pub trait Hooks {
     /// device's UART stamps a character when it arrives: a simulator that was not
     /// scheduled must not see a pause that was its own and split a request the master
     /// sent whole (seen: `certify slave` through a line emulator to the simulator on a
-    /// busy machine, 0Ch to a valid request). Not for the encoder that grades a master:
-    /// it grades pauses, and marks what a late read could hide as unproven instead.
+    /// busy machine, 0Ch to a valid request). Not for the encoder that grades a master
+    /// (it says so): it grades pauses, and marks what a late read could hide as
+    /// unproven instead.
     fn stamps_as_early_as_unwatched(&self) -> bool {
-        false
+        true
     }
     /// Time passes with nothing received; the model was polled at `now_us` just before.
     fn idle(&mut self, _now_us: u64) {}

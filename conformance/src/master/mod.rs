@@ -17,7 +17,7 @@ pub use hiperface_suite::master::{
 
 use crate::line::echo::{Echo, EchoMode};
 use crate::line::reply_echo::ReplyEcho;
-use crate::verdict::{CaseResult, Finding, MAX_ATTEMPTS};
+use crate::verdict::{CaseResult, Finding, END_BUDGET, MAX_ATTEMPTS};
 pub use hiperface_model::master::obligations::POLLING_PERIOD_MS;
 use hiperface_model::Profile;
 use scenario_run::{echo_slack_us, on_port, open_port, run_scenario, Drive, ScenarioRun};
@@ -80,15 +80,12 @@ impl Operator for ConsoleOperator {
     }
 }
 
-/// The time a run may spend on running undecided scenarios again at its end, ms: a
-/// quarter of the time its scenarios took (`needed_ms`), the runs again during the run
-/// included. Beyond it a scenario keeps its undecided (UNKNOWN) result.
+/// The time a run may spend on running undecided scenarios again at its end, ms: its
+/// [`END_BUDGET`] share of the time its scenarios took (`needed_ms`), the runs again
+/// during the run included.
 fn end_budget_ms(report: &DriveReport) -> f64 {
     END_BUDGET * report.needed_ms
 }
-
-/// [`end_budget_ms`]'s share of the scenarios' own time.
-pub const END_BUDGET: f64 = 0.25;
 
 /// How a master is run.
 #[derive(Debug, Clone)]

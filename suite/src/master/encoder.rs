@@ -482,6 +482,12 @@ impl Hooks for DriveEncoder {
         self.timeline.characters >= MAX_CHARACTERS
     }
 
+    /// Characters as read: a pause in a request is graded, and what a late read could
+    /// hide is marked unproven (`Timeline::unproven`), not closed up.
+    fn stamps_as_early_as_unwatched(&self) -> bool {
+        false
+    }
+
     fn reply_echo(&mut self) -> Option<&mut ReplyEcho> {
         self.port.as_mut().map(|p| &mut p.echo)
     }

@@ -10,7 +10,7 @@ use crate::exchange::{Bus, BusMaster};
 use crate::line::frame_encoder::{FrameEncoder, FramedEncoder};
 use crate::line::virtual_line::VirtualLine;
 use crate::line::{Line, LineError, LineKind};
-use crate::verdict::MAX_ATTEMPTS;
+use crate::verdict::{END_BUDGET, MAX_ATTEMPTS};
 use hiperface_model::{CommandId, Grading, Profile, Slave};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -177,11 +177,6 @@ pub fn replay(record: &Record, progress: impl FnMut(usize, usize, &CaseResult)) 
     Ok(report)
 }
 
-/// The time a run may spend at its end on running its undecided cases again: this
-/// share of the time the run took until then. Beyond it a case keeps its undecided
-/// (UNKNOWN) result.
-pub const END_BUDGET: f64 = 0.25;
-
 /// What the runs of the cases leave for the run's end.
 #[derive(Default)]
 struct Runs {
@@ -289,7 +284,7 @@ fn run_on(
     // The cases still undecided after their runs (the harness's own lateness left a
     // verdict untold each time): run again once the others are done, when a busy spell
     // may have passed, within a budget of time.
-    let mut undecided: Vec<(usize, CaseResult)> = Vec::new();
+    let mut undecided: Vec<usize> = Vec::new();
     for (i, case) in selected.iter().enumerate() {
         let mut result = case.result();
         let case_start = Instant::now();
@@ -315,7 +310,7 @@ fn run_on(
                 *t = runs.last_run_us;
             }
             if still_undecided {
-                undecided.push((i, result.clone()));
+                undecided.push(i);
             }
         }
         result.duration_ms = case_start.elapsed().as_secs_f64() * 1000.0;
@@ -328,8 +323,8 @@ fn run_on(
     // time, not the machine's: a record played back decides as the run did.
     let end_start_us = master.now_us();
     let budget_us = (END_BUDGET * end_start_us.saturating_sub(run_start_us) as f64) as u64;
-    for (i, undecided_result) in undecided {
-        let (Some(case), Some(slot)) = (selected.get(i), results.get_mut(i)) else { continue };
+    for i in undecided {
+        let (Some(case), Some(Some(result))) = (selected.get(i), results.get_mut(i)) else { continue };
         let spent_us = master.now_us().saturating_sub(end_start_us);
         let last_us = last_run_us.get(i).copied().unwrap_or(0);
         if report.aborted.is_some() || spent_us + last_us > budget_us {
@@ -340,13 +335,11 @@ fn run_on(
             ));
             continue;
         }
-        let mut result = undecided_result;
         let case_start = Instant::now();
         let runs_before = result.attempts;
-        runs.attempt(case, master, &mut model, &mut tally, options, &mut result, runs_before, &mut report.aborted);
+        runs.attempt(case, master, &mut model, &mut tally, options, result, runs_before, &mut report.aborted);
         result.duration_ms = case_start.elapsed().as_secs_f64() * 1000.0;
-        progress(i + 1, selected.len(), &result);
-        *slot = Some(result);
+        progress(i + 1, selected.len(), result);
     }
     report.cases.extend(results.into_iter().flatten());
     let Runs { restores_run, not_read_back, .. } = runs;

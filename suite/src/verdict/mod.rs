@@ -178,6 +178,12 @@ pub const EXIT_INCOMPLETE: u8 = 3;
 /// harness's own timing was disturbed; its result is its last run's.
 pub const MAX_ATTEMPTS: u32 = 3;
 
+/// A unit still undecided after [`MAX_ATTEMPTS`] runs in a row is run again at the end
+/// of the run (up to as many runs more) while that takes at most this share of the
+/// run's own time (a slave run's line time until then, a master run's scenarios'
+/// time); beyond it the unit keeps its undecided (UNKNOWN) result.
+pub const END_BUDGET: f64 = 0.25;
+
 /// `*` and `?` glob matching, comma-separated alternatives: which units `--cases`
 /// and `--scenarios` select. An alternative that starts with `!` excludes what it
 /// matches: `!fault.*` is everything but the fault scenarios, `startup.*,!*.user-*` the
