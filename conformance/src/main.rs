@@ -159,6 +159,8 @@ enum VectorsCommand {
         /// A vector's id (001-5.1.4.1-read-position) or a diagram's (exchange-42h).
         id: String,
         /// Markdown or HTML for an example; SVG (its own), Markdown or HTML for a diagram.
+        /// An example's Markdown carries no style: its `hf-*` classes are styled by
+        /// frames.css, which `vectors book` writes beside the pages; HTML carries it.
         #[arg(long, value_enum)]
         format: Option<PieceFormat>,
         /// The folder of the vector files (default: the files built into the command).
@@ -166,8 +168,8 @@ enum VectorsCommand {
         dir: Option<PathBuf>,
     },
     /// Write the protocol reference (a Markdown chapter per command, every frame a byte
-    /// diagram from a vector, timing diagrams as SVG) into DIR, e.g. `--out
-    /// docs/src/reference` for the user guide.
+    /// diagram from a vector, timing diagrams as SVG, the diagrams' style sheet
+    /// frames.css) into DIR, e.g. `--out docs/src/reference` for the user guide.
     Book {
         /// The folder to write the pages into (made if need be).
         #[arg(long, value_name = "DIR")]

@@ -413,11 +413,19 @@ fn a_failed_certificate_puts_its_failures_first_in_every_form() {
         assert!(md.contains(&format!("| {row} |")), "{row}: {md}");
     }
     assert!(md.contains("--defect") || md.contains("certify slave --port"), "the command line: {md}");
-    // The wire log marks the exchange the FAIL is about.
-    assert!(md.lines().any(|l| l.contains("M>  40 46") && l.contains("<-- FAIL 000:T10")), "{md}");
+    // The wire log marks the frame the FAIL is about: the late reply, and the reply
+    // whose checksum is wrong, with that byte pointed at.
+    assert!(md.lines().any(|l| l.contains("S<  40 46") && l.contains("<-- FAIL 000:T10")), "{md}");
+    assert!(!md.lines().any(|l| l.contains("M>  ") && l.contains("<--")), "no request is at fault: {md}");
+    assert!(md.lines().any(|l| l.contains("S<  40 56") && l.contains("<-- FAIL 000:2.3.3")), "{md}");
+    assert!(md.contains("^^ checksum 76h, the XOR of the bytes before it"), "{md}");
+    // Each finding says where to look.
+    assert!(md_first.contains("check: the checksum: the XOR of the address"), "{md_first}");
+    assert!(md_first.contains("check: the reply path's latency"), "{md_first}");
     let html = std::fs::read_to_string(dir.join("certificate.html")).unwrap();
     let html_first = first_section(&html, "<h2>Findings to read first</h2>", "<h2>");
     check("certificate.html", &html_first);
+    assert!(html.contains("<mark class=\"bad\">76</mark>"), "the faulty byte highlighted: {html}");
     assert!(html.find("Findings to read first") < html.find("<h2>Cases</h2>"), "first: {html}");
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();

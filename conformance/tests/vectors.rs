@@ -232,11 +232,11 @@ fn reference_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/src/reference")
 }
 
-/// The Markdown pages of a folder and the SVG diagrams of its `svg/`, by name
+/// The Markdown pages and the style sheet of a folder and the SVG diagrams of its `svg/`, by name
 /// (`svg/exchange-42h.svg`).
 fn pages_in(dir: &Path) -> Vec<(String, String)> {
     let mut pages = Vec::new();
-    for (sub, ext) in [("", "md"), ("svg", "svg")] {
+    for (sub, ext) in [("", "md"), ("", "css"), ("svg", "svg")] {
         let Ok(entries) = std::fs::read_dir(dir.join(sub)) else { continue };
         for p in entries.map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|e| e == ext)) {
             let name = p.file_name().unwrap().to_string_lossy().into_owned();
@@ -555,10 +555,11 @@ fn vectors_show_exports_one_example_or_diagram() {
             String::from_utf8_lossy(&out.stderr).into_owned(),
         )
     };
-    // An example in Markdown, as the book has it, with the diagrams' style.
+    // An example in Markdown, as the book has it: no style in its text (the book's
+    // frames.css styles its classes).
     let (code, md, _) = show(&["001-5.1.4.1-read-position"]);
     assert_eq!(code, Some(0));
-    assert!(md.starts_with("<style>"), "{md}");
+    assert!(!md.contains("<style>") && md.contains("class=\"hf-frame\""), "{md}");
     assert!(md.contains("`001-5.1.4.1-read-position`"), "{md}");
     assert!(md.contains("<code>40h XOR 42h = 02h</code>"), "{md}");
     // A standalone page.
@@ -566,6 +567,7 @@ fn vectors_show_exports_one_example_or_diagram() {
     assert_eq!(code, Some(0));
     assert!(html.starts_with("<!DOCTYPE html>"), "{html}");
     assert!(html.contains("<h3>") && html.contains("<table class=\"hf-frame\">"), "{html}");
+    assert!(html.contains("table.hf-frame td.hf-bad"), "a standalone page carries the style: {html}");
     // A diagram as SVG, the same as the book's file.
     let (code, svg, _) = show(&["exchange-42h"]);
     assert_eq!(code, Some(0));

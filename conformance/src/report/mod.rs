@@ -9,7 +9,7 @@ use crate::command::CommandError;
 use std::path::Path;
 
 pub use hiperface_suite::report::{
-    escape, junit_suite, page_head, profile_digest, wire_text, Attention, NotRun, Reports, RunInfo,
+    escape, junit_suite, page_head, profile_digest, Attention, NotRun, Reports, RunInfo,
 };
 
 pub mod recorded;

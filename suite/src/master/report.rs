@@ -4,7 +4,8 @@
 //! as an SVG drawing in HTML.
 
 use super::DriveReport;
-use crate::report::{escape, junit_suite, page_head, wire_text, NotRun, Reports};
+use crate::report::wire::{self, UnderTest};
+use crate::report::{escape, junit_suite, page_head, NotRun, Reports};
 use hiperface_model::Profile;
 use std::fmt::Write as _;
 
@@ -25,7 +26,11 @@ impl Reports for MasterCertificate<'_> {
     }
 
     fn junit(&self) -> String {
-        junit_suite(format!("hiperface certify master ({})", self.report.master), &self.report.scenarios)
+        junit_suite(
+            format!("hiperface certify master ({})", self.report.master),
+            &self.report.scenarios,
+            UnderTest::Master,
+        )
     }
 
     fn markdown(&self) -> String {
@@ -99,7 +104,7 @@ fn markdown(r: &DriveReport) -> String {
         for f in &c.findings {
             s += &format!("- {} {f}\n", f.verdict().label());
         }
-        s += &format!("\n```\n{}```\n", wire_text(c));
+        s += &format!("\n```\n{}```\n", wire::text(c, UnderTest::Master));
     }
     s += &crate::report::documents_markdown(&r.scenarios);
     if !r.notes_per_scenario.is_empty() {

@@ -5,6 +5,7 @@
 //! HTML, JSON, the console), so that a customer and a CI log read the same thing.
 
 use crate::report::escape;
+use crate::report::wire::UnderTest;
 use crate::verdict::{CaseResult, CaseVerdict, Figure, WireEntry};
 use hiperface_model::CommandId;
 use serde::Serialize;
@@ -44,6 +45,8 @@ pub struct Attention {
     pub reply: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub figure: Option<Figure>,
+    /// Where to start looking, from the clause and the verdict (`report::check`).
+    pub check: &'static str,
     /// More findings of the unit with the same verdict and clause, left out of this
     /// list (in the unit's own section).
     pub more: usize,
@@ -92,6 +95,7 @@ pub fn attention(units: &[CaseResult]) -> Vec<Attention> {
                     request: request.map(|r| r.bytes.clone()),
                     reply: reply.map(|r| r.bytes.clone()),
                     figure: f.figure(),
+                    check: super::check::what_to_check(verdict, f.clause_id()),
                     more: 0,
                     also: Vec::new(),
                 });
@@ -105,13 +109,18 @@ pub fn attention(units: &[CaseResult]) -> Vec<Attention> {
 /// request).
 fn exchange(u: &CaseResult, at_us: u64) -> (Option<&WireEntry>, Option<&WireEntry>) {
     let Some(i) = request_index(u, at_us) else { return (None, None) };
-    let reply = u
-        .wire
+    (u.wire.get(i), reply_index(u, i).and_then(|r| u.wire.get(r)))
+}
+
+/// The wire entry of the reply to the request at `request` (before the next request).
+fn reply_index(u: &CaseResult, request: usize) -> Option<usize> {
+    u.wire
         .iter()
-        .skip(i + 1)
-        .take_while(|w| w.direction != WireEntry::REQUEST)
-        .find(|w| w.direction == WireEntry::REPLY);
-    (u.wire.get(i), reply)
+        .enumerate()
+        .skip(request + 1)
+        .take_while(|(_, w)| w.direction != WireEntry::REQUEST)
+        .find(|(_, w)| w.direction == WireEntry::REPLY)
+        .map(|(i, _)| i)
 }
 
 /// The wire entry of the request a finding at `at_us` is about. A slave's finding is
@@ -136,12 +145,18 @@ fn command_of(hex: &str) -> String {
     }
 }
 
-/// For each wire entry, the verdicts of the findings whose request it is ("FAIL
-/// 000:T10"), for the marks in a wire log; "" for an entry no finding is about.
-pub(super) fn marks(c: &CaseResult) -> Vec<String> {
+/// For each wire entry, the verdicts of the findings about the frame it is ("FAIL
+/// 000:T10"), for the marks in a wire log; "" for an entry no finding is about. The
+/// frame is the one the device under test sent in the exchange: a slave's reply, or
+/// its request where none was heard; a master's request.
+pub(super) fn marks(c: &CaseResult, under: UnderTest) -> Vec<String> {
     let mut marks: Vec<Vec<String>> = vec![Vec::new(); c.wire.len()];
     for f in c.findings.iter().filter(|f| !matches!(f.verdict(), CaseVerdict::Pass | CaseVerdict::NotApplicable)) {
-        let Some(entry) = f.at_us().and_then(|t| request_index(c, t)).and_then(|i| marks.get_mut(i)) else {
+        let frame = f.at_us().and_then(|t| request_index(c, t)).map(|i| match under {
+            UnderTest::Slave => reply_index(c, i).unwrap_or(i),
+            UnderTest::Master => i,
+        });
+        let Some(entry) = frame.and_then(|i| marks.get_mut(i)) else {
             continue;
         };
         let m = match f.clause_id() {
@@ -179,6 +194,7 @@ impl Attention {
         if let Some(f) = self.figure {
             rows.push(words("measured", f.to_string()));
         }
+        rows.push(words("check", self.check.to_string()));
         if self.more > 0 {
             let what = if self.more == 1 { "finding" } else { "findings" };
             rows.push(words("more", format!("{} more {what} like it in {}'s own section", self.more, self.unit)));
@@ -307,11 +323,12 @@ mod tests {
         let lines = a[0].lines().join("\n");
         assert!(lines.contains("17.904 ms measured, at most 10.000 ms allowed"), "{lines}");
         assert!(lines.contains("2 more findings like it"), "{lines}");
-        // The wire log marks the request the FAIL is about, and only it.
-        let wire = crate::report::wire_text(&c);
+        // The wire log marks the reply the FAIL is about (the slave's frame), and only it.
+        let wire = crate::report::wire::text(&c, UnderTest::Slave);
         let marked: Vec<&str> = wire.lines().filter(|l| l.contains("<--")).collect();
         assert_eq!(marked.len(), 2, "{wire}");
-        assert!(marked[1].contains("9.000 ms") && marked[1].contains("FAIL 000:T10"), "{wire}");
+        assert!(marked[1].contains("30.000 ms  S<") && marked[1].contains("FAIL 000:T10"), "{wire}");
+        assert!(marked[0].contains("1.500 ms  S<"), "{wire}");
         assert!(marked[0].contains("UNKNOWN") && marked[0].contains("NON-STRICT"), "{wire}");
     }
 
@@ -327,7 +344,7 @@ mod tests {
         assert_eq!((a[0].request.as_deref(), a[0].at_ms), (Some("40 42 02"), Some(6.0)));
         assert_eq!(a[0].reply.as_deref(), Some("40 42 00 00 00 01 03"), "the one after 9 ms");
         assert_eq!(a[1].reply.as_deref(), Some("40 42 00 00 00 01 03"), "the reply it followed");
-        let wire = crate::report::wire_text(&c);
+        let wire = crate::report::wire::text(&c, UnderTest::Master);
         let marked: Vec<&str> = wire.lines().filter(|l| l.contains("<--")).collect();
         assert_eq!(marked.len(), 1, "{wire}");
         assert!(marked[0].contains("9.000 ms") && marked[0].contains("FAIL 000:2.3.3, FAIL 000:2.3.4"), "{wire}");
@@ -339,6 +356,8 @@ mod tests {
         c.push(Finding::error("port gone").at(5));
         let a = attention(&[c]);
         assert_eq!((a[0].request.as_deref(), a[0].reply.as_deref()), (None, None));
-        assert!(a[0].details().is_empty(), "{:?}", a[0].details());
+        let details: Vec<&str> = a[0].details().iter().map(|d| d.what).collect();
+        assert_eq!(details, ["check"], "no exchange, only where to look");
+        assert!(a[0].check.starts_with("the connection"), "{:?}", a[0].check);
     }
 }

@@ -4,6 +4,8 @@
 //! `master::report`, `listen::report`); the harness writes them to files.
 
 pub mod attention;
+pub mod check;
+pub mod wire;
 
 pub use attention::{attention, Attention};
 
@@ -181,7 +183,7 @@ pub trait Reports {
 }
 
 /// One JUnit suite of cases (slave cases or master scenarios).
-pub fn junit_suite(name: String, cases: &[crate::verdict::CaseResult]) -> String {
+pub fn junit_suite(name: String, cases: &[crate::verdict::CaseResult], under: wire::UnderTest) -> String {
     use quick_junit::{NonSuccessKind, Report as JReport, TestCase, TestCaseStatus, TestSuite};
     let mut suite = TestSuite::new(name);
     for c in cases {
@@ -196,7 +198,7 @@ pub fn junit_suite(name: String, cases: &[crate::verdict::CaseResult]) -> String
             CaseVerdict::Fail => {
                 let mut s = TestCaseStatus::non_success(NonSuccessKind::Failure);
                 s.set_message(detail.trim().to_string());
-                s.set_description(wire_text(c));
+                s.set_description(wire::text(c, under));
                 s
             }
             // Not observed: neither a pass nor the device's failure (INCOMPLETE).
@@ -219,20 +221,6 @@ pub fn junit_suite(name: String, cases: &[crate::verdict::CaseResult]) -> String
     r.to_string().unwrap_or_else(|e| format!("<!-- cannot serialise: {e} -->"))
 }
 
-/// A case's wire log as text, a line per frame; a request a finding is about is marked
-/// with the finding's verdict ("<-- FAIL 000:T10"), so that the exchange that failed
-/// stands out of a long log.
-pub fn wire_text(c: &crate::verdict::CaseResult) -> String {
-    c.wire
-        .iter()
-        .zip(attention::marks(c))
-        .map(|(w, mark)| {
-            let mark = if mark.is_empty() { String::new() } else { format!("  <-- {mark}") };
-            format!("{:>12.3} ms  {}  {}{mark}\n", w.t_us as f64 / 1000.0, w.direction, w.bytes)
-        })
-        .collect()
-}
-
 /// Text made safe inside HTML.
 pub fn escape(t: &str) -> String {
     t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
@@ -247,7 +235,8 @@ pub fn page_head(title: &str) -> String {
          .FAIL{{color:#b00;font-weight:bold}}.NON-STRICT{{color:#a60}}.ERROR{{color:#b0b}}.NOT-EXERCISED{{color:#b0b}}.UNKNOWN{{color:#066}}\
          .NOT-APPLICABLE{{color:#666}}.PASSED{{color:#070}}.FAILED{{color:#b00}}.INCOMPLETE{{color:#b0b}}\
          td{{vertical-align:top}}\
-         pre{{background:#f4f4f4;padding:.5em;white-space:pre-wrap;overflow-wrap:anywhere}}\
+         pre{{background:#f4f4f4;padding:.5em;white-space:pre;overflow-x:auto;max-width:72em;margin:0}}\
+         mark.bad{{background:rgba(220,50,47,.45);color:inherit;font-weight:bold}}\
          svg{{border:1px solid #ddd;max-width:100%;height:auto}}</style></head><body>",
         escape(title)
     )

@@ -3,7 +3,8 @@
 //! case, the safety section and the response times.
 
 use super::{Report, TimingMode};
-use crate::report::{escape, junit_suite, page_head, wire_text, NotRun, Reports};
+use crate::report::wire::{self, UnderTest};
+use crate::report::{escape, junit_suite, page_head, NotRun, Reports};
 use crate::verdict::CaseVerdict;
 use std::fmt::Write as _;
 
@@ -15,7 +16,7 @@ impl Reports for Report {
     }
 
     fn junit(&self) -> String {
-        junit_suite(format!("hiperface certify slave ({})", self.profile), &self.cases)
+        junit_suite(format!("hiperface certify slave ({})", self.profile), &self.cases, UnderTest::Slave)
     }
 
     fn markdown(&self) -> String {
@@ -74,8 +75,8 @@ fn markdown(r: &Report) -> String {
         if shows_wire(c) {
             let _ = writeln!(
                 s,
-                "\nWire log (`<--` marks the exchanges the findings are about):\n\n```\n{}```\n",
-                wire_text(c)
+                "\nWire log (`<--` marks the frame each finding is about, `^^` a faulty byte in it):\n\n```\n{}```\n",
+                wire::text(c, UnderTest::Slave)
             );
         }
     }
@@ -206,10 +207,16 @@ fn html(r: &Report) -> String {
     );
     for c in &r.cases {
         let findings: String = c.findings.iter().map(|f| format!("{}<br>", escape(&f.to_string()))).collect();
-        let wire = if shows_wire(c) { format!("<pre>{}</pre>", escape(&wire_text(c))) } else { String::new() };
+        // The wire log in a row of its own, the table's width: a long frame stays within
+        // the page (it scrolls in its box) instead of widening the findings column.
+        let wire = if shows_wire(c) {
+            format!("<tr class=\"wire\"><td colspan=\"5\"><pre>{}</pre></td></tr>", wire::html(c, UnderTest::Slave))
+        } else {
+            String::new()
+        };
         let _ = write!(
             s,
-            "<tr id=\"{id}\"><td><code>{id}</code></td><td class=\"{v}\">{v}</td><td>{}</td><td>{}</td><td>{findings}{wire}</td></tr>",
+            "<tr id=\"{id}\"><td><code>{id}</code></td><td class=\"{v}\">{v}</td><td>{}</td><td>{}</td><td>{findings}</td></tr>{wire}",
             c.clause_list(),
             escape(c.title),
             id = c.id,
