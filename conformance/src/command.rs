@@ -24,20 +24,27 @@ pub enum Ended {
     /// states (verdicts, counts, outcome, the grading options): the report is no
     /// evidence, whatever the replayed outcome.
     Disagrees,
+    /// `decode --verify` of a report whose signature does not hold: not signed by the
+    /// key given, or changed since.
+    Unverified,
 }
 
 /// The exit code of a report that does not state what its record gives.
 pub const EXIT_DISAGREES: u8 = 4;
 
+/// The exit code of a report whose signature does not hold.
+pub const EXIT_UNVERIFIED: u8 = 5;
+
 impl Ended {
     /// 0 done or PASSED, 1 FAILED or a check that failed, 3 INCOMPLETE, 4 a report
-    /// that does not state what its record gives.
+    /// that does not state what its record gives, 5 a signature that does not hold.
     pub fn exit_code(self) -> u8 {
         match self {
             Ended::Done => 0,
             Ended::Graded(outcome) => outcome.exit_code(),
             Ended::CheckFailed => 1,
             Ended::Disagrees => EXIT_DISAGREES,
+            Ended::Unverified => EXIT_UNVERIFIED,
         }
     }
 }
@@ -111,6 +118,7 @@ mod tests {
         assert_eq!(Ended::Graded(Outcome::Incomplete).exit_code(), 3);
         assert_eq!(Ended::CheckFailed.exit_code(), 1);
         assert_eq!(Ended::Disagrees.exit_code(), 4);
+        assert_eq!(Ended::Unverified.exit_code(), 5);
         assert_eq!(CommandError::Usage("x".into()).exit_code(), 2);
         let e = CommandError::file("/nowhere")(std::io::Error::from(std::io::ErrorKind::NotFound));
         assert!(e.to_string().starts_with("/nowhere: "), "{e}");

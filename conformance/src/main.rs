@@ -69,6 +69,13 @@ enum Command {
     /// could be graded. A certify report is played back from the record of its wire:
     /// the run's verdicts, graded again.
     Decode(hiperface_conformance::listen::cli::DecodeArgs),
+    /// Make an Ed25519 key pair to sign certificates with (`certify … --sign KEY`): the
+    /// private key at FILE (readable by you alone, never over an existing file), the
+    /// public key at FILE.pub, which a lab publishes and `decode --verify` takes.
+    Keygen {
+        #[arg(long, value_name = "FILE")]
+        out: PathBuf,
+    },
     /// Listen to a live bus without talking (the port is opened read-only) and grade
     /// both sides as it goes; Ctrl-C ends the run with a summary and the reports.
     Monitor(hiperface_conformance::listen::monitor::MonitorArgs),
@@ -225,6 +232,11 @@ fn main() -> ExitCode {
             .and_then(|p| print_all(&profile_file::to_toml(&p)).map(|()| Ended::Done)),
         Command::Vectors { what } => vectors_command(what),
         Command::Decode(args) => hiperface_conformance::listen::cli::decode(&args),
+        Command::Keygen { out } => hiperface_conformance::report::signature::generate(&out).map(|public| {
+            say!("private key: {} (keep it to yourself; certify … --sign {})", out.display(), out.display());
+            say!("public key:  {} (publish it; decode report.json --verify {})", public.display(), public.display());
+            Ended::Done
+        }),
         Command::Monitor(args) => {
             let stop = hiperface_conformance::interrupt::flag("\ninterrupted: the summary and the reports follow");
             hiperface_conformance::listen::monitor::monitor(&args, &stop)

@@ -410,3 +410,118 @@ fn a_settings_change_takes_effect_after_the_reset() {
     assert_eq!(verdicts(&text), vec!["PASS"; 4], "{text}");
     assert_eq!(code, 0, "{text}");
 }
+
+/// A signed certificate (issue 55): `keygen`, `certify … --sign`, `decode --verify`.
+/// It verifies with the signer's public key; a byte changed in the verdicts, in the
+/// record, in a certificate beside it or in the signature, or another lab's key, is
+/// exit 5 with the reason first, and nothing is played back. A key made by OpenSSL
+/// signs and verifies the same.
+#[test]
+fn a_signed_certificate_verifies_and_one_changed_byte_anywhere_does_not() {
+    let tmp = tempfile::tempdir().unwrap();
+    let at = |p: &str| tmp.path().join(p);
+    let run = |args: &[&std::ffi::OsStr]| {
+        let out = Command::new(BIN).args(args).output().unwrap();
+        let text = String::from_utf8_lossy(&out.stdout).to_string() + &String::from_utf8_lossy(&out.stderr);
+        (out.status.code().unwrap_or(-1), text)
+    };
+    let os = |s: &str| std::ffi::OsString::from(s);
+    let (code, text) = run(&[&os("keygen"), &os("--out"), at("lab.pem").as_os_str()]);
+    assert_eq!(code, 0, "{text}");
+    let (code, text) = run(&[&os("keygen"), &os("--out"), at("lab.pem").as_os_str()]);
+    assert_eq!(code, 2, "a key is never overwritten: {text}");
+    let certify = |dir: &str, key: &str| {
+        run(&[
+            &os("certify"),
+            &os("slave"),
+            &os("--port"),
+            &os("virtual"),
+            &os("--cases"),
+            &os("position.*,identity.*"),
+            &os("--report"),
+            at(dir).as_os_str(),
+            &os("--sign"),
+            at(key).as_os_str(),
+        ])
+    };
+    let (code, text) = certify("run", "lab.pem");
+    assert_eq!(code, 0, "{text}");
+    let report = at("run/report.json");
+    let verify =
+        |key: &str| run(&[&os("decode"), report.as_os_str(), &os("--quiet"), &os("--verify"), at(key).as_os_str()]);
+    let (code, text) = verify("lab.pem.pub");
+    assert_eq!(code, 0, "{text}");
+    assert!(text.starts_with("the signature holds: report.json"), "first: {text}");
+    assert!(text.contains("every verdict as the report states it"), "then played back: {text}");
+    let original = std::fs::read(&report).unwrap();
+    let text_of = String::from_utf8(original.clone()).unwrap();
+    // One byte changed: in a verdict, in the record's events, in the options; then in a
+    // certificate beside it and in the signature itself.
+    let places = [
+        text_of.find("\"PASS\"").unwrap() + 1,
+        text_of.find("\"events\"").unwrap() + 40,
+        text_of.find("\"record\"").unwrap() + 200,
+        original.len() - 3,
+    ];
+    for i in places {
+        let mut changed = original.clone();
+        changed[i] = if changed[i] == b'A' { b'B' } else { b'A' };
+        std::fs::write(&report, &changed).unwrap();
+        let (code, text) = verify("lab.pem.pub");
+        assert_eq!(code, 5, "byte {i}: {text}");
+        assert!(text.starts_with("THE SIGNATURE DOES NOT HOLD: report.json changed"), "byte {i}: {text}");
+        assert!(!text.contains("PASSED"), "nothing played back: {text}");
+    }
+    std::fs::write(&report, &original).unwrap();
+    let md = at("run/certificate.md");
+    let certificate = std::fs::read_to_string(&md).unwrap();
+    std::fs::write(&md, certificate.replacen("PASSED", "PASSES", 1)).unwrap();
+    let (code, text) = verify("lab.pem.pub");
+    assert!(code == 5 && text.contains("certificate.md changed"), "{text}");
+    std::fs::write(&md, &certificate).unwrap();
+    let sig = at("run/report.sig");
+    let signature = std::fs::read_to_string(&sig).unwrap();
+    let at_sig = signature.find("\"signature\": \"").unwrap() + 20;
+    let mut edited = signature.clone().into_bytes();
+    edited[at_sig] = if edited[at_sig] == b'0' { b'1' } else { b'0' };
+    std::fs::write(&sig, &edited).unwrap();
+    let (code, text) = verify("lab.pem.pub");
+    assert!(code == 5 && text.contains("the signature does not hold"), "{text}");
+    std::fs::write(&sig, &signature).unwrap();
+    assert_eq!(verify("lab.pem.pub").0, 0, "restored, it verifies again");
+    // Another lab's key.
+    run(&[&os("keygen"), &os("--out"), at("other.pem").as_os_str()]);
+    let (code, text) = verify("other.pem.pub");
+    assert!(code == 5 && text.contains("signed with another key"), "{text}");
+    // No signature beside it.
+    std::fs::remove_file(&sig).unwrap();
+    let (code, text) = verify("lab.pem.pub");
+    assert!(code == 5 && text.contains("no signature"), "{text}");
+    // A private key where a public one belongs, and the reverse: errors before anything.
+    assert_eq!(verify("lab.pem").0, 2);
+    assert_eq!(certify("run2", "lab.pem.pub").0, 2);
+    assert!(!at("run2/report.json").exists(), "a bad key stops the run before it starts");
+    // OpenSSL's keys, where OpenSSL is installed.
+    let openssl =
+        |args: &[&std::ffi::OsStr]| Command::new("openssl").args(args).output().is_ok_and(|o| o.status.success());
+    if openssl(&[&os("genpkey"), &os("-algorithm"), &os("ed25519"), &os("-out"), at("o.pem").as_os_str()])
+        && openssl(&[
+            &os("pkey"),
+            &os("-in"),
+            at("o.pem").as_os_str(),
+            &os("-pubout"),
+            &os("-out"),
+            at("o.pub").as_os_str(),
+        ])
+    {
+        assert_eq!(certify("run3", "o.pem").0, 0);
+        let (code, text) = run(&[
+            &os("decode"),
+            at("run3/report.json").as_os_str(),
+            &os("--quiet"),
+            &os("--verify"),
+            at("o.pub").as_os_str(),
+        ]);
+        assert_eq!(code, 0, "{text}");
+    }
+}

@@ -27,6 +27,7 @@ const COMMANDS: &[&[&str]] = &[
     &["export-profile"],
     &["master"],
     &["decode"],
+    &["keygen"],
     &["monitor"],
     &["clauses"],
     &["completions"],

@@ -50,6 +50,12 @@ pub struct DecodeArgs {
     /// without what the harness knew), instead of playing back the record of its run.
     #[arg(long)]
     pub listen: bool,
+    /// Check the report's signature (report.sig beside it, written by `certify --sign`)
+    /// with this Ed25519 public key (PEM) before playing the record back: exit 5 when it
+    /// does not hold (another key, or a byte changed in the report, its record or a
+    /// signed file beside it).
+    #[arg(long, value_name = "PUBKEY", conflicts_with_all = ["listen", "vcd"])]
+    pub verify: Option<PathBuf>,
     #[command(flatten)]
     pub listening: ListeningArgs,
 }
@@ -89,7 +95,28 @@ pub fn decode(args: &DecodeArgs) -> Result<Ended, CommandError> {
              more than their limits (5 to 70 ms) for on time"
         )));
     }
-    let recorded = if args.listen || args.vcd.is_some() { None } else { recorded::read_any(&args.file)? };
+    let recorded = match &args.verify {
+        Some(key) => match recorded::read_verified(&args.file, key)? {
+            Ok((verified, r)) => {
+                say!(
+                    "the signature holds: {} as signed by the key given{}",
+                    verified.checked.join(", "),
+                    if verified.absent.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" ({} signed too, not beside it: not checked)", verified.absent.join(", "))
+                    }
+                );
+                Some(r)
+            }
+            Err(why) => {
+                say!("THE SIGNATURE DOES NOT HOLD: {why}: the report is no evidence of the signer's run");
+                return Ok(Ended::Unverified);
+            }
+        },
+        None if args.listen || args.vcd.is_some() => None,
+        None => recorded::read_any(&args.file)?,
+    };
     match recorded {
         Some(AnyRecorded::Slave(r)) => {
             return recorded::decode(*r, args.listening.report.as_deref(), args.listening.quiet)
@@ -146,7 +173,7 @@ pub fn conclude(
     report.run_info = Some(run_info);
     print_summary(&report);
     if let Some(dir) = report_dir {
-        crate::report::write_all(&report, dir)?;
+        crate::report::write_all(&report, dir, None)?;
     }
     Ok(Ended::Graded(report.outcome))
 }

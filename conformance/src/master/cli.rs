@@ -45,6 +45,10 @@ pub struct CertifyMasterArgs {
     /// Write report.json, junit.xml, certificate.md and certificate.html here.
     #[arg(long)]
     pub report: Option<PathBuf>,
+    /// Sign the reports with this Ed25519 private key (PKCS#8 PEM, made by `hiperface
+    /// keygen`): report.sig beside them, which `decode report.json --verify PUBKEY` checks.
+    #[arg(long, value_name = "KEY", requires = "report")]
+    pub sign: Option<PathBuf>,
     /// The application's polling period, ms: a master that sends no request for longer
     /// is NON-STRICT (000:3.2.2 "a sufficient cyclic request should be implemented").
     #[arg(long, default_value_t = hiperface_model::master::obligations::POLLING_PERIOD_MS,
@@ -100,6 +104,7 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<Ended, CommandError> {
             return Err(CommandError::NoScenarioMatches(globs.clone()));
         }
     }
+    let signer = args.sign.as_deref().map(crate::report::signature::Signer::load).transpose()?;
     if let Some(dir) = &args.report {
         crate::report::prepare_dir(dir)?;
     }
@@ -167,7 +172,7 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<Ended, CommandError> {
     );
     if let Some(dir) = &args.report {
         let certificate = super::report::MasterCertificate { report: &report, profile: &profile };
-        crate::report::write_all(&certificate, dir)?;
+        crate::report::write_all(&certificate, dir, signer.as_ref())?;
         eprintln!("reports written to {}", dir.display());
     }
     crate::report::say_attention(&report.attention());

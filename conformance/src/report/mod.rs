@@ -13,6 +13,7 @@ pub use hiperface_suite::report::{
 };
 
 pub mod recorded;
+pub mod signature;
 
 /// The console's end: the findings the certificate puts first, the same list.
 pub fn say_attention(items: &[Attention]) {
@@ -30,24 +31,37 @@ pub fn say_attention(items: &[Attention]) {
     }
 }
 
-/// Write report.json, junit.xml and the certificate as .md and .html into `dir`.
-pub fn write_all<R: Reports>(r: &R, dir: &Path) -> Result<(), CommandError> {
-    write_files(r, dir).map_err(|source| CommandError::WriteReport { dir: dir.to_path_buf(), source })
+/// Write report.json, junit.xml and the certificate as .md and .html into `dir`, and
+/// with a signer, report.sig over them all (`signature`).
+pub fn write_all<R: Reports>(r: &R, dir: &Path, signer: Option<&signature::Signer>) -> Result<(), CommandError> {
+    write_files(r, dir, signer).map_err(|source| CommandError::WriteReport { dir: dir.to_path_buf(), source })
 }
 
-fn write_files<R: Reports>(r: &R, dir: &Path) -> std::io::Result<()> {
+fn write_files<R: Reports>(r: &R, dir: &Path, signer: Option<&signature::Signer>) -> std::io::Result<()> {
     std::fs::create_dir_all(dir)?;
     let json = r.json().map_err(std::io::Error::other)?;
+    let (markdown, html) = (format!("{}.md", R::CERTIFICATE), format!("{}.html", R::CERTIFICATE));
     std::fs::write(dir.join("report.json"), json + "\n")?;
     std::fs::write(dir.join("junit.xml"), r.junit())?;
-    std::fs::write(dir.join(format!("{}.md", R::CERTIFICATE)), r.markdown())?;
-    std::fs::write(dir.join(format!("{}.html", R::CERTIFICATE)), r.html())
+    std::fs::write(dir.join(&markdown), r.markdown())?;
+    std::fs::write(dir.join(&html), r.html())?;
+    match signer {
+        Some(s) => s.sign(dir, &["report.json", "junit.xml", &markdown, &html]),
+        None => Ok(()),
+    }
 }
 
 /// The files a report directory receives (a certify run's certificate, or a listening
 /// report's).
-const WRITTEN: [&str; 6] =
-    ["report.json", "junit.xml", "certificate.md", "certificate.html", "listening.md", "listening.html"];
+const WRITTEN: [&str; 7] = [
+    "report.json",
+    "junit.xml",
+    "certificate.md",
+    "certificate.html",
+    "listening.md",
+    "listening.html",
+    signature::FILE,
+];
 
 /// An input is never the output: refused where writing the reports into `dir` would
 /// replace the file `input` (`decode DIR/report.json --report DIR` would put a report

@@ -2,6 +2,7 @@
 //! back to the catalogue (`slave::record`), the verdicts compared with the report's.
 
 use crate::command::{CommandError, Ended};
+use crate::report::signature;
 use hiperface_suite::master::record::{self as master_record, MasterRecord};
 use hiperface_suite::slave::record::{self as slave_record, Record};
 use hiperface_suite::slave::{self, CaseVerdict};
@@ -214,22 +215,62 @@ fn read_report_bytes(path: &Path) -> Result<Option<Vec<u8>>, CommandError> {
 /// capture. Only what `decode` needs is taken in (no tree of the whole file).
 pub fn read_any(path: &Path) -> Result<Option<AnyRecorded>, CommandError> {
     let Some(bytes) = read_report_bytes(path)? else { return Ok(None) };
+    parse_any(path, &bytes).map(Some)
+}
+
+/// The report at `path` whose signature (`report.sig` beside it) holds for `key`,
+/// checked on the very bytes then taken in: the signature, then the report. A report
+/// whose signature does not hold is [`Unverified`], never decoded.
+pub fn read_verified(
+    path: &Path,
+    key: &Path,
+) -> Result<Result<(signature::Verified, AnyRecorded), signature::Unverified>, CommandError> {
+    use std::io::Read;
+    const BOM: &[u8] = b"\xEF\xBB\xBF";
+    let key = signature::load_public(key)?;
+    let name = path.display().to_string();
+    if path.as_os_str() == "-" {
+        return Err(CommandError::Usage(
+            "--verify: a report on standard input has no signature beside it; give its path".into(),
+        ));
+    }
+    let file = std::fs::File::open(path).map_err(CommandError::file(path))?;
+    let mut raw = Vec::new();
+    file.take(MAX_REPORT_BYTES + 1).read_to_end(&mut raw).map_err(CommandError::file(path))?;
+    if raw.len() as u64 > MAX_REPORT_BYTES {
+        return Err(CommandError::Input {
+            name,
+            why: format!("larger than {} MiB, more than any report this tool writes: not read", MAX_REPORT_BYTES >> 20),
+        });
+    }
+    let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let report_name = path.file_name().map_or(String::new(), |n| n.to_string_lossy().into_owned());
+    let verified = match signature::verify(&key, dir, &report_name, &raw) {
+        Ok(v) => v,
+        Err(why) => return Ok(Err(why)),
+    };
+    let body = raw.strip_prefix(BOM).unwrap_or(&raw);
+    Ok(Ok((verified, parse_any(path, body)?)))
+}
+
+/// A report's bytes taken in: a slave's or a master's run with its record.
+fn parse_any(path: &Path, bytes: &[u8]) -> Result<AnyRecorded, CommandError> {
     let name = path.display().to_string();
     let unreadable = |why: String| CommandError::Input { name: name.clone(), why };
-    let probe: Probe = serde_json::from_slice(&bytes).map_err(|e| {
+    let probe: Probe = serde_json::from_slice(bytes).map_err(|e| {
         unreadable(format!(
             "cannot be read as a report (JSON): {e}; a capture is decoded from a CSV, wire log or sigrok file"
         ))
     })?;
     match probe.record.map(|r| r.format) {
         Some(Some(format)) if format == master_record::FORMAT => {
-            let file: MasterFile = serde_json::from_slice(&bytes)
+            let file: MasterFile = serde_json::from_slice(bytes)
                 .map_err(|e| unreadable(format!("the report or its record cannot be read: {e}")))?;
             let stated = Stated::of_units(file.scenarios, file.summary, file.outcome);
-            Ok(Some(AnyRecorded::Master(Box::new(MasterRecorded { name, record: file.record, stated }))))
+            Ok(AnyRecorded::Master(Box::new(MasterRecorded { name, record: file.record, stated })))
         }
         Some(Some(format)) if format == slave_record::FORMAT => {
-            let file: SlaveFile = serde_json::from_slice(&bytes)
+            let file: SlaveFile = serde_json::from_slice(bytes)
                 .map_err(|e| unreadable(format!("the report or its record cannot be read: {e}")))?;
             let mut stated = Stated::of_units(file.cases, file.summary, file.outcome);
             stated.run = vec![
@@ -239,7 +280,7 @@ pub fn read_any(path: &Path) -> Result<Option<AnyRecorded>, CommandError> {
                 ("tolerance_us", file.tolerance_us),
                 ("grading", file.grading),
             ];
-            Ok(Some(AnyRecorded::Slave(Box::new(Recorded { name, record: file.record, stated }))))
+            Ok(AnyRecorded::Slave(Box::new(Recorded { name, record: file.record, stated })))
         }
         Some(Some(other)) => Err(unreadable(format!(
             "a record of format `{other}`, which this version does not read (it reads `{}` and `{}`): decode it \
@@ -374,7 +415,7 @@ pub fn decode(recorded: Recorded, report_dir: Option<&Path>, quiet: bool) -> Res
     say!("{}: {}", report.profile, summary.join(", "));
     say!("{}", report.outcome().label());
     if let Some(dir) = report_dir {
-        crate::report::write_all(&report, dir)?;
+        crate::report::write_all(&report, dir, None)?;
         eprintln!("reports written to {}", dir.display());
     }
     Ok(if differences.is_empty() { Ended::Graded(report.outcome()) } else { Ended::Disagrees })

@@ -49,6 +49,10 @@ pub struct CertifySlaveArgs {
     /// Write report.json, junit.xml, certificate.md and certificate.html here.
     #[arg(long)]
     pub report: Option<PathBuf>,
+    /// Sign the reports with this Ed25519 private key (PKCS#8 PEM, made by `hiperface
+    /// keygen`): report.sig beside them, which `decode report.json --verify PUBKEY` checks.
+    #[arg(long, value_name = "KEY", requires = "report")]
+    pub sign: Option<PathBuf>,
     /// How values of the physical world are graded: `exact` or `range` (default: exact
     /// for `sim` and `virtual`, by range otherwise).
     #[arg(long)]
@@ -107,6 +111,7 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
         write_budget,
         cases,
         report: dir,
+        sign,
         grading,
         tolerance_ms,
         latency_ms,
@@ -125,6 +130,7 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
         delay_after_ms: rs485_delay_after_ms,
     };
     let profile = profile_file::resolve(&profile)?;
+    let signer = sign.as_deref().map(report::signature::Signer::load).transpose()?;
     let run_info = report::run_info(&profile);
     if let Some(dir) = &dir {
         report::prepare_dir(dir)?;
@@ -161,7 +167,7 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
                 let mut partial =
                     super::Report::aborted_before_start(&profile, &port.to_string(), &options, &e.to_string());
                 partial.run_info = Some(run_info.clone());
-                if report::write_all(&partial, dir).is_ok() {
+                if report::write_all(&partial, dir, signer.as_ref()).is_ok() {
                     eprintln!("partial report written to {}", dir.display());
                 }
             }
@@ -233,7 +239,7 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
     }
     summarize(&report, &profile);
     if let Some(dir) = dir {
-        report::write_all(&report, &dir)?;
+        report::write_all(&report, &dir, signer.as_ref())?;
         eprintln!("reports written to {}", dir.display());
     }
     Ok(Ended::Graded(report.outcome()))
