@@ -15,7 +15,7 @@ set -eu
 cd "$(dirname "$0")/.."
 RUNS=${RUNS:-10000000}
 JOBS=${JOBS:-1}
-TARGETS=${TARGETS:-"request response datalink slave observer capture_wirelog capture_csv capture_sigrok"}
+TARGETS=${TARGETS:-"request response datalink slave observer capture_wirelog capture_csv capture_sigrok report"}
 LOGS=$(mktemp -d)
 trap 'rm -rf "$LOGS"' EXIT
 

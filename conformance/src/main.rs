@@ -274,7 +274,7 @@ fn run_simulator(port: &PortSpec, profile: &str, log: bool, world: &World) -> Re
     let profile = profile_file::resolve(profile)?;
     let port: Box<dyn serialport::SerialPort> = match port {
         PortSpec::Pty => {
-            let (sim_end, other) = serialport::TTYPort::pair()
+            let (sim_end, other) = hiperface_conformance::line::pty_pair()
                 .map_err(|e| CommandError::Line(format!("cannot create a pseudo-terminal pair: {e}")))?;
             say!("{}", other.name().unwrap_or_default());
             // Keep the other end open so the pseudo-terminal lives until we stop.

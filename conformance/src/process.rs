@@ -1,7 +1,15 @@
 //! The master under test as a process: `--exec 'CMD {port}'` with the encoder's
 //! pseudo-terminal in place of `{port}`. Its start is power-on for the encoder. It is
 //! always reaped, whatever it does; what it prints is kept (capped) for the report.
+//! It inherits no descriptor of the harness but its standard streams (every descriptor
+//! the harness opens is close-on-exec: `line::pty_pair`), and what it started is ended
+//! with it: its process group, and any child that left the group or the session
+//! (`setsid`), found by parent while it lives and adopted by the harness once its parent
+//! ended.
 
+use nix::sys::signal::{kill, killpg, Signal};
+use nix::sys::wait::{waitpid, WaitPidFlag};
+use nix::unistd::{getpgrp, Pid};
 use std::io::Read;
 use std::os::unix::process::CommandExt as _;
 use std::process::{Child, Command, Stdio};
@@ -24,13 +32,88 @@ pub fn stop_all() {
 }
 
 /// Kill a process group (its id is its leader's pid): children a master left behind go
-/// too. With the `kill` utility: no `unsafe` signal call here.
+/// too.
 fn kill_group(pid: u32) {
-    let _ = Command::new("kill")
-        .args(["-KILL", "--", &format!("-{pid}")])
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .status();
+    let _ = killpg(Pid::from_raw(pid as i32), Signal::SIGKILL);
+}
+
+/// A process as `/proc/PID/stat` gives it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Proc {
+    pid: u32,
+    ppid: u32,
+    pgrp: u32,
+}
+
+/// One `/proc/PID/stat` line: the fields after the command's closing parenthesis (the
+/// command may hold spaces and parentheses) are the state, ppid and pgrp.
+fn parse_stat(pid: u32, stat: &str) -> Option<Proc> {
+    let rest = stat.get(stat.rfind(')')? + 1..)?;
+    let mut f = rest.split_ascii_whitespace().skip(1).map(|w| w.parse::<u32>().ok());
+    Some(Proc { pid, ppid: f.next()??, pgrp: f.next()?? })
+}
+
+/// Every process this harness can see.
+fn processes() -> Vec<Proc> {
+    let Ok(dir) = std::fs::read_dir("/proc") else { return Vec::new() };
+    dir.flatten()
+        .filter_map(|e| e.file_name().to_str().and_then(|n| n.parse::<u32>().ok()))
+        .filter_map(|pid| parse_stat(pid, &std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?))
+        .collect()
+}
+
+/// The processes a master started that its process group does not hold: every
+/// descendant of `master` (by parent), and every process handed to this harness as an
+/// orphan (it is the subreaper of its descendants) that is in none of the harness's
+/// own groups (a child that left the master's group or session, `setsid`, and whose
+/// parent ended). `running`: the groups of the masters still running, not theirs.
+fn escaped(all: &[Proc], master: u32, me: Proc, running: &[u32]) -> Vec<Proc> {
+    let orphans = all.iter().filter(|p| p.ppid == me.pid && p.pid != master && p.pgrp != me.pgrp);
+    let mut out: Vec<Proc> = orphans.filter(|p| !running.contains(&p.pgrp)).copied().collect();
+    // And every descendant of the master or of those, by parent.
+    let mut frontier: Vec<u32> = out.iter().map(|p| p.pid).chain([master]).collect();
+    while let Some(parent) = frontier.pop() {
+        let children: Vec<Proc> =
+            all.iter().filter(|c| c.ppid == parent && c.pid != master && !out.contains(c)).copied().collect();
+        frontier.extend(children.iter().map(|c| c.pid));
+        out.extend(children);
+    }
+    out
+}
+
+/// End what `master` started outside its group, and reap what was handed to this
+/// harness: a few rounds, as a killed parent hands its children on.
+fn end_escaped(master: u32) {
+    let me = Proc { pid: std::process::id(), ppid: 0, pgrp: getpgrp().as_raw() as u32 };
+    for _ in 0..20 {
+        let mut running = RUNNING.lock().map(|g| g.clone()).unwrap_or_default();
+        running.retain(|g| *g != master);
+        let found = escaped(&processes(), master, me, &running);
+        if found.is_empty() {
+            return;
+        }
+        for p in &found {
+            // Its group and session go with it, wherever it moved them.
+            if p.pgrp != me.pgrp && !running.contains(&p.pgrp) {
+                let _ = killpg(Pid::from_raw(p.pgrp as i32), Signal::SIGKILL);
+            }
+            let _ = kill(Pid::from_raw(p.pid as i32), Signal::SIGKILL);
+        }
+        for p in found.iter().filter(|p| p.ppid == me.pid) {
+            let _ = waitpid(Pid::from_raw(p.pid as i32), Some(WaitPidFlag::WNOHANG));
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+}
+
+/// This harness adopts the orphans of its descendants (`PR_SET_CHILD_SUBREAPER`), so
+/// that a master's child that left its group and outlived its parent is still found
+/// and ended, not handed to init.
+fn adopt_orphans() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        let _ = nix::sys::prctl::set_child_subreaper(true);
+    });
 }
 
 /// A running master.
@@ -45,6 +128,7 @@ impl MasterProcess {
     /// Start `command` (a shell command line) with `{port}` replaced by `port`.
     pub fn start(command: &str, port: &str) -> std::io::Result<MasterProcess> {
         let line = command.replace("{port}", port);
+        adopt_orphans();
         // A process group of its own: the master and whatever it starts (a serial
         // device server, a simulator) are stopped together.
         let mut child = Command::new("sh")
@@ -114,6 +198,7 @@ impl MasterProcess {
         }
         let pid = self.child.id();
         kill_group(pid);
+        end_escaped(pid);
         if self.child.try_wait().ok().flatten().is_none() {
             let _ = self.child.kill();
         }

@@ -430,7 +430,7 @@ impl PtySimulator {
         serve: impl FnOnce(Box<dyn SerialPort>, Arc<AtomicBool>) -> std::io::Result<()> + Send + 'static,
     ) -> Result<(PtySimulator, Box<dyn SerialPort>), String> {
         let (sim_end, harness_end) =
-            serialport::TTYPort::pair().map_err(|e| format!("cannot create a pseudo-terminal pair: {e}"))?;
+            crate::line::pty_pair().map_err(|e| format!("cannot create a pseudo-terminal pair: {e}"))?;
         let path = harness_end.name().unwrap_or_else(|| "pty".into());
         let stop = Arc::new(AtomicBool::new(false));
         let flag = stop.clone();

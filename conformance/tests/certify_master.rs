@@ -667,3 +667,47 @@ fn certify_master_on_a_terminal_shows_the_scenario_under_way() {
         assert!(md.contains(row), "{row}: {md}");
     }
 }
+
+/// The master under test gets no descriptor of the harness but its standard streams
+/// (issue 55: it inherited the harness's /dev/ptmx and the delivery probe's pair), and
+/// what it starts is ended with its scenario, also a child that left its session with
+/// `setsid` and whose parent is gone, also one that holds the master's output open
+/// (the run must not wait for it).
+#[test]
+fn a_master_inherits_no_descriptor_and_leaves_nothing_running() {
+    let _one = common::one_at_a_time();
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path();
+    let script = out.join("master.sh");
+    std::fs::write(
+        &script,
+        format!(
+            "ls -l /proc/$$/fd > {dir}/fds.txt\n\
+             (setsid sh -c 'echo $$ > {dir}/quiet.pid; exec sleep 300' </dev/null >/dev/null 2>&1 &)\n\
+             (setsid sh -c 'echo $$ > {dir}/holding.pid; exec sleep 300' &)\n\
+             exec sleep 300\n",
+            dir = out.display()
+        ),
+    )
+    .unwrap();
+    let started = std::time::Instant::now();
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_hiperface"))
+        .args(["certify", "master", "--scenarios", "startup.default", "--exec"])
+        .arg(format!("sh {} {{port}}", script.display()))
+        .output()
+        .unwrap();
+    assert!(started.elapsed() < std::time::Duration::from_secs(60), "the run waited for what the master started");
+    let said = String::from_utf8_lossy(&run.stdout).to_string() + &String::from_utf8_lossy(&run.stderr);
+    let fds = std::fs::read_to_string(out.join("fds.txt")).unwrap();
+    for line in fds.lines().filter(|l| l.contains("->")) {
+        assert!(!line.contains("ptmx") && !line.contains("/dev/pts/"), "inherited: {line}\n{fds}");
+    }
+    for name in ["quiet.pid", "holding.pid"] {
+        let pid = std::fs::read_to_string(out.join(name)).unwrap_or_else(|e| panic!("{name}: {e}\n{said}"));
+        let pid = pid.trim();
+        // Gone, or at most a zombie no one can be charged with (not ours: the harness ended).
+        let state = std::fs::read_to_string(format!("/proc/{pid}/stat")).unwrap_or_default();
+        let alive = !state.is_empty() && state.rsplit(')').next().is_some_and(|r| !r.trim_start().starts_with('Z'));
+        assert!(!alive, "{name} {pid} still runs after the run: {state}\n{said}");
+    }
+}

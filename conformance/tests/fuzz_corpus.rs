@@ -66,6 +66,18 @@ fn the_kept_corpus_and_the_regressions_replay() {
         }
         replayed.push((target, corpus.len(), regressions.len()));
     }
+    // The report and record reader (`decode` of a report): each file, and each cut
+    // short at a few places (a report truncated in transit).
+    let corpus = files(&root.join("corpus").join("report"));
+    let regressions = files(&root.join("regressions").join("report"));
+    for path in corpus.iter().chain(&regressions) {
+        let bytes = std::fs::read(path).unwrap();
+        hiperface_conformance::report::recorded::fuzz_report(&bytes);
+        for cut in [bytes.len() / 3, bytes.len() / 2, bytes.len().saturating_sub(2)] {
+            hiperface_conformance::report::recorded::fuzz_report(&bytes[..cut]);
+        }
+    }
+    replayed.push(("report", corpus.len(), regressions.len()));
     eprintln!("replayed (target, corpus files, regressions): {replayed:?}");
     // The minimised corpus of every target is kept in the repository (fuzz/corpus/):
     // a replay of none is no replay. Each holds dozens of files at least.

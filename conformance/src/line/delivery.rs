@@ -67,7 +67,7 @@ impl DeliveryProbe {
     /// real-time priority too, as the encoder that certifies masters reads at one.
     pub fn start_with(epoch: Instant, reader_real_time: bool) -> Result<DeliveryProbe, String> {
         let (writer_end, reader_end) =
-            serialport::TTYPort::pair().map_err(|e| format!("cannot create the probe's pseudo-terminal pair: {e}"))?;
+            crate::line::pty_pair().map_err(|e| format!("cannot create the probe's pseudo-terminal pair: {e}"))?;
         let shared = Arc::new(Mutex::new(Shared::default()));
         let stop = Arc::new(AtomicBool::new(false));
         let (granted_tx, granted_rx) = std::sync::mpsc::channel();

@@ -14,3 +14,13 @@ pub mod tcp;
 
 pub use clock::{read_until, RealTime, RxClock};
 pub use hiperface_suite::line::{echo, reply_echo, virtual_line, Line, LineError, LineKind, Sent, Window};
+
+/// A pseudo-terminal pair (its controlling side, its `/dev/pts/N` side) whose
+/// descriptors are close-on-exec: a master under test started by the harness
+/// (`process`) inherits neither, only the path it is given. `TTYPort::pair` opens both
+/// without the flag; each is replaced by a duplicate that has it (`F_DUPFD_CLOEXEC`) and
+/// the original closed.
+pub fn pty_pair() -> serialport::Result<(serialport::TTYPort, serialport::TTYPort)> {
+    let (controller, terminal) = serialport::TTYPort::pair()?;
+    Ok((controller.try_clone_native()?, terminal.try_clone_native()?))
+}

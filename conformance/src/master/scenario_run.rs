@@ -220,7 +220,7 @@ pub(super) fn run_scenario(
 ) -> ScenarioRun {
     let started = Instant::now();
     let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
-    let (encoder_end, master_end) = match serialport::TTYPort::pair() {
+    let (encoder_end, master_end) = match crate::line::pty_pair() {
         Ok(pair) => pair,
         Err(e) => {
             result.push(Finding::error(format!("cannot create a pseudo-terminal pair: {e}")));

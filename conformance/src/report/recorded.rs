@@ -420,3 +420,21 @@ pub fn decode(recorded: Recorded, report_dir: Option<&Path>, quiet: bool) -> Res
     }
     Ok(if differences.is_empty() { Ended::Graded(report.outcome()) } else { Ended::Disagrees })
 }
+
+/// The fuzz target's entry (fuzz/fuzz_targets/report.rs) and its corpus replay: any
+/// bytes as a report that `decode` reads, taken in and, where it is a report with a
+/// record, its record played back and held against what it states. An error for bad
+/// input is fine; a panic, a hang or memory beyond the input's bounds is not.
+pub fn fuzz_report(input: &[u8]) {
+    let Ok(recorded) = parse_any(Path::new("fuzz"), input) else { return };
+    match recorded {
+        AnyRecorded::Slave(r) => {
+            if let Ok(report) = slave::replay(&r.record, |_, _, _| {}) {
+                let _ = r.stated.differences(&Stated::of_slave_report(&report));
+            }
+        }
+        AnyRecorded::Master(r) => {
+            let _ = master_record::replay(&r.record);
+        }
+    }
+}
