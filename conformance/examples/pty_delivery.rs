@@ -2,15 +2,18 @@
 //! `line::delivery` run for a while, its statistics printed. For measuring a machine's
 //! load (e.g. beside `scripts/verdicts-under-load.sh`), not a test.
 //!
-//!     cargo run --release -p hiperface-conformance --example pty_delivery -- 10
+//!     cargo run --release -p hiperface-conformance --example pty_delivery -- 10 [--rt]
 
 use hiperface_conformance::line::delivery::DeliveryProbe;
 use std::time::{Duration, Instant};
 
 fn main() {
     let seconds: u64 = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(5);
+    // `--rt`: the reader at a real-time priority too, as `certify master` runs it (then
+    // only the kernel's own delivery is measured, not the reader's wait for a processor).
+    let reader_real_time = std::env::args().any(|a| a == "--rt");
     let epoch = Instant::now();
-    let probe = match DeliveryProbe::start(epoch) {
+    let probe = match DeliveryProbe::start_with(epoch, reader_real_time) {
         Ok(p) => p,
         Err(e) => {
             eprintln!("{e}");

@@ -27,6 +27,90 @@ pub fn real_time_priority() -> bool {
     set_thread_priority_and_policy(thread_native_id(), priority, policy).is_ok()
 }
 
+/// What is written to a pseudo-terminal reaches the other end through the kernel's
+/// unbound workers (`kworker/u*`), which run at nice 0 and wait for a processor behind
+/// every busy process: a reader at a real-time priority still gets its characters late.
+/// For a run, where permitted, they are raised to nice -20 and put back as they were
+/// afterwards (the guard's drop). Workers the kernel starts during the run are raised
+/// by [`KernelDelivery::refresh`].
+pub struct KernelDelivery {
+    /// Each raised worker and the nice it had.
+    raised: Vec<(u32, i32)>,
+}
+
+/// The nice the workers are raised to.
+const RAISED_NICE: i32 = -20;
+
+impl KernelDelivery {
+    /// Raise the workers there are now; `None` where not permitted (no worker raised).
+    pub fn raise() -> Option<KernelDelivery> {
+        let mut k = KernelDelivery { raised: Vec::new() };
+        k.refresh();
+        (!k.raised.is_empty()).then_some(k)
+    }
+
+    /// Raise the workers not raised yet (the kernel starts and ends them as it needs).
+    pub fn refresh(&mut self) {
+        let new: Vec<(u32, i32)> = unbound_workers()
+            .into_iter()
+            .filter(|(pid, nice)| *nice != RAISED_NICE && !self.raised.iter().any(|(p, _)| p == pid))
+            .collect();
+        if !new.is_empty() && renice(RAISED_NICE, new.iter().map(|(p, _)| *p)) {
+            self.raised.extend(new);
+        }
+    }
+
+    /// How many workers are raised.
+    pub fn count(&self) -> usize {
+        self.raised.len()
+    }
+}
+
+impl Drop for KernelDelivery {
+    fn drop(&mut self) {
+        let mut nices: Vec<i32> = self.raised.iter().map(|(_, n)| *n).collect();
+        nices.sort_unstable();
+        nices.dedup();
+        for nice in nices {
+            renice(nice, self.raised.iter().filter(|(_, n)| *n == nice).map(|(p, _)| *p));
+        }
+    }
+}
+
+/// The kernel's unbound workers and their nice.
+fn unbound_workers() -> Vec<(u32, i32)> {
+    let Ok(dir) = std::fs::read_dir("/proc") else { return Vec::new() };
+    dir.flatten()
+        .filter_map(|e| e.file_name().to_str().and_then(|n| n.parse::<u32>().ok()))
+        .filter_map(|pid| {
+            let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+            let (comm, nice) = comm_and_nice(&stat)?;
+            comm.starts_with("kworker/u").then_some((pid, nice))
+        })
+        .collect()
+}
+
+/// A `/proc/PID/stat` line's command (in parentheses, which it may itself hold) and
+/// nice (the 17th field after the command).
+fn comm_and_nice(stat: &str) -> Option<(&str, i32)> {
+    let (open, close) = (stat.find('(')?, stat.rfind(')')?);
+    let nice = stat.get(close + 1..)?.split_ascii_whitespace().nth(16)?.parse().ok()?;
+    Some((stat.get(open + 1..close)?, nice))
+}
+
+/// Set the nice of `pids` with the `renice` utility (no `unsafe` priority call here);
+/// whether it was permitted.
+fn renice(nice: i32, pids: impl Iterator<Item = u32>) -> bool {
+    let pids: Vec<String> = pids.map(|p| p.to_string()).collect();
+    std::process::Command::new("renice")
+        .args(["-n", &nice.to_string(), "-p"])
+        .args(&pids)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success())
+}
+
 /// The run delay of one thread: how long it has been runnable but not running.
 /// Open it on the thread it measures (each thread has its own).
 #[derive(Debug)]
@@ -158,5 +242,39 @@ mod tests {
         let (there, first) = there.join().unwrap();
         assert_ne!(there, here);
         assert_eq!(first, Some(0), "a reopened measure starts from zero");
+    }
+
+    #[test]
+    fn a_workers_command_and_nice_are_read_from_its_stat_line() {
+        let stat = "48 (kworker/u9:0-events (highpri)) I 2 0 0 0 -1 69238880 0 0 0 0 0 0 0 0 0 -20 1 0 30 0 0";
+        assert_eq!(super::comm_and_nice(stat), Some(("kworker/u9:0-events (highpri)", -20)));
+        assert_eq!(super::comm_and_nice("1 (init) S 0 1 1 0 -1 0 0 0 0 0 0 0 0 0 20 0 1 0"), Some(("init", 0)));
+        assert_eq!(super::comm_and_nice("garbage"), None);
+    }
+
+    /// The kernel's workers are raised for a run and put back as they were (where the
+    /// harness may: as root; elsewhere nothing changes and `raise` says so).
+    #[test]
+    #[cfg(target_os = "linux")]
+    fn the_kernels_workers_are_raised_and_put_back() {
+        let before = super::unbound_workers();
+        let Some(k) = super::KernelDelivery::raise() else {
+            assert!(super::unbound_workers().iter().all(|w| before.contains(w)), "nothing raised, nothing changed");
+            return;
+        };
+        let raised = k.raised.clone();
+        let now = super::unbound_workers();
+        for (pid, _) in &raised {
+            if let Some((_, nice)) = now.iter().find(|(p, _)| p == pid) {
+                assert_eq!(*nice, super::RAISED_NICE, "worker {pid}");
+            }
+        }
+        drop(k);
+        let after = super::unbound_workers();
+        for (pid, was) in &raised {
+            if let Some((_, nice)) = after.iter().find(|(p, _)| p == pid) {
+                assert_eq!(nice, was, "worker {pid} put back");
+            }
+        }
     }
 }

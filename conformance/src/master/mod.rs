@@ -183,6 +183,12 @@ pub fn run_with(
         },
         Attach::Port { .. } => None,
     };
+    // A master on a pseudo-terminal: the kernel's workers that deliver its characters
+    // raised for the run, where permitted (put back when `kernel` drops).
+    let mut kernel = match &options.attach {
+        Attach::Exec(_) => crate::sched::KernelDelivery::raise(),
+        Attach::Port { .. } => None,
+    };
     // Each scenario's result, its runs so far and the length of the run it rests on.
     let mut results: Vec<Option<CaseResult>> = vec![None; n];
     let mut attempts = vec![0u32; n];
@@ -194,6 +200,9 @@ pub fn run_with(
     let mut at_end = false;
     while let Some(i) = queue.pop_front() {
         let Some(scenario) = chosen.get(i) else { continue };
+        if let Some(k) = kernel.as_mut() {
+            k.refresh();
+        }
         let profile = scenario.encoder.map_or(profile, |make| make(profile));
         let declared_out = hiperface_suite::master::declared_out(scenario, &options.not_used);
         let result = if let Some(result) = declared_out {
@@ -306,6 +315,14 @@ pub fn run_with(
         report.scenarios.push(result);
     }
     report.echo = reply_echo.map(|e| (e.echo(), e.mode()));
+    if let Some(k) = kernel.take() {
+        report.notes.push(format!(
+            "The kernel's unbound workers, which deliver what is written to a pseudo-terminal, ran at nice -20 \
+             for the run ({} threads), so that a busy machine does not hold the line's characters back; put back \
+             as they were afterwards.",
+            k.count()
+        ));
+    }
     if let Some(d) = delivery.as_ref().map(|p| p.stats()) {
         report.delivery = Some(d);
         report.notes.push(format!(
