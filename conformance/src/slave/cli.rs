@@ -192,6 +192,11 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
     // Keep the simulator alive for the whole run.
     let simulator = opened.simulator;
     let line: Box<dyn Line> = Box::new(EchoLine::new(opened.line, echo));
+    // On a pseudo-terminal the kernel's workers deliver both ways: raised for the run
+    // where permitted, as `certify master` does (`sched::KernelDelivery`).
+    let kernel = (line.kind() == hiperface_suite::line::LineKind::PseudoTerminal)
+        .then(crate::sched::KernelDelivery::raise)
+        .flatten();
     eprintln!("certifying {} on {}", profile.name, line.describe());
     // A progress bar on a terminal; plain lines in logs.
     let bar = std::io::IsTerminal::is_terminal(&std::io::stderr()).then(|| {
@@ -234,6 +239,13 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
     }
     drop(simulator);
     report.run_info = Some(run_info);
+    if let Some(k) = kernel {
+        report.line_notes.push(format!(
+            "The kernel's unbound workers, which deliver what is written to a pseudo-terminal, ran at nice -20 for \
+             the run ({} threads); put back as they were afterwards.",
+            k.count()
+        ));
+    }
     if let Some(g) = &rs485_guard {
         report.line_notes.push(format!("The port ran in the kernel's {} (--rs485), put back afterwards.", g.in_force));
     }
