@@ -23,6 +23,7 @@ pub mod listen;
 pub mod master;
 pub mod port;
 pub mod process;
+pub mod procfs;
 pub mod report;
 pub mod sched;
 pub mod simulate;

@@ -37,7 +37,7 @@ fn kill_group(pid: u32) {
     let _ = killpg(Pid::from_raw(pid as i32), Signal::SIGKILL);
 }
 
-/// A process as `/proc/PID/stat` gives it.
+/// A process as `procfs` gives it: what tells who started it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct Proc {
     pid: u32,
@@ -45,21 +45,9 @@ struct Proc {
     pgrp: u32,
 }
 
-/// One `/proc/PID/stat` line: the fields after the command's closing parenthesis (the
-/// command may hold spaces and parentheses) are the state, ppid and pgrp.
-fn parse_stat(pid: u32, stat: &str) -> Option<Proc> {
-    let rest = stat.get(stat.rfind(')')? + 1..)?;
-    let mut f = rest.split_ascii_whitespace().skip(1).map(|w| w.parse::<u32>().ok());
-    Some(Proc { pid, ppid: f.next()??, pgrp: f.next()?? })
-}
-
 /// Every process this harness can see.
 fn processes() -> Vec<Proc> {
-    let Ok(dir) = std::fs::read_dir("/proc") else { return Vec::new() };
-    dir.flatten()
-        .filter_map(|e| e.file_name().to_str().and_then(|n| n.parse::<u32>().ok()))
-        .filter_map(|pid| parse_stat(pid, &std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?))
-        .collect()
+    crate::procfs::processes().into_iter().map(|p| Proc { pid: p.pid, ppid: p.ppid, pgrp: p.pgrp }).collect()
 }
 
 /// The processes a master started that its process group does not hold: every

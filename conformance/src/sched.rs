@@ -60,9 +60,14 @@ impl KernelDelivery {
         }
     }
 
-    /// How many workers are raised.
-    pub fn count(&self) -> usize {
-        self.raised.len()
+    /// What a report says of it (the run's notes).
+    pub fn note(&self) -> String {
+        format!(
+            "The kernel's unbound workers, which deliver what is written to a pseudo-terminal, ran at nice -20 for \
+             the run ({} threads), so that a busy machine does not hold the line's characters back; put back as \
+             they were afterwards.",
+            self.raised.len()
+        )
     }
 }
 
@@ -79,23 +84,11 @@ impl Drop for KernelDelivery {
 
 /// The kernel's unbound workers and their nice.
 fn unbound_workers() -> Vec<(u32, i32)> {
-    let Ok(dir) = std::fs::read_dir("/proc") else { return Vec::new() };
-    dir.flatten()
-        .filter_map(|e| e.file_name().to_str().and_then(|n| n.parse::<u32>().ok()))
-        .filter_map(|pid| {
-            let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
-            let (comm, nice) = comm_and_nice(&stat)?;
-            comm.starts_with("kworker/u").then_some((pid, nice))
-        })
+    crate::procfs::processes()
+        .into_iter()
+        .filter(|p| p.comm.starts_with("kworker/u"))
+        .map(|p| (p.pid, p.nice))
         .collect()
-}
-
-/// A `/proc/PID/stat` line's command (in parentheses, which it may itself hold) and
-/// nice (the 17th field after the command).
-fn comm_and_nice(stat: &str) -> Option<(&str, i32)> {
-    let (open, close) = (stat.find('(')?, stat.rfind(')')?);
-    let nice = stat.get(close + 1..)?.split_ascii_whitespace().nth(16)?.parse().ok()?;
-    Some((stat.get(open + 1..close)?, nice))
 }
 
 /// Set the nice of `pids` with the `renice` utility (no `unsafe` priority call here);
@@ -242,14 +235,6 @@ mod tests {
         let (there, first) = there.join().unwrap();
         assert_ne!(there, here);
         assert_eq!(first, Some(0), "a reopened measure starts from zero");
-    }
-
-    #[test]
-    fn a_workers_command_and_nice_are_read_from_its_stat_line() {
-        let stat = "48 (kworker/u9:0-events (highpri)) I 2 0 0 0 -1 69238880 0 0 0 0 0 0 0 0 0 -20 1 0 30 0 0";
-        assert_eq!(super::comm_and_nice(stat), Some(("kworker/u9:0-events (highpri)", -20)));
-        assert_eq!(super::comm_and_nice("1 (init) S 0 1 1 0 -1 0 0 0 0 0 0 0 0 0 20 0 1 0"), Some(("init", 0)));
-        assert_eq!(super::comm_and_nice("garbage"), None);
     }
 
     /// The kernel's workers are raised for a run and put back as they were (where the

@@ -316,12 +316,7 @@ pub fn run_with(
     }
     report.echo = reply_echo.map(|e| (e.echo(), e.mode()));
     if let Some(k) = kernel.take() {
-        report.notes.push(format!(
-            "The kernel's unbound workers, which deliver what is written to a pseudo-terminal, ran at nice -20 \
-             for the run ({} threads), so that a busy machine does not hold the line's characters back; put back \
-             as they were afterwards.",
-            k.count()
-        ));
+        report.notes.push(k.note());
     }
     if let Some(d) = delivery.as_ref().map(|p| p.stats()) {
         report.delivery = Some(d);

@@ -184,7 +184,6 @@ pub enum AnyRecorded {
 /// read to at most [`MAX_REPORT_BYTES`].
 fn read_report_bytes(path: &Path) -> Result<Option<Vec<u8>>, CommandError> {
     use std::io::Read;
-    const BOM: &[u8] = b"\xEF\xBB\xBF";
     if path.as_os_str() == "-" {
         return Ok(None);
     }
@@ -196,18 +195,29 @@ fn read_report_bytes(path: &Path) -> Result<Option<Vec<u8>>, CommandError> {
     if !opens_json && path.extension().is_none_or(|e| e != "json") {
         return Ok(None);
     }
-    let room = (MAX_REPORT_BYTES + 1).saturating_sub(text.len() as u64);
-    (&file).take(room).read_to_end(&mut text).map_err(CommandError::file(path))?;
-    if text.len() as u64 > MAX_REPORT_BYTES {
+    read_rest(&file, path, &mut text)?;
+    if text.starts_with(BOM) {
+        text.drain(..BOM.len());
+    }
+    Ok(Some(text))
+}
+
+/// A byte-order mark, taken off a report before it is parsed.
+const BOM: &[u8] = b"\xEF\xBB\xBF";
+
+/// Read the rest of the report `file` (at `path`) into `bytes`, to at most
+/// [`MAX_REPORT_BYTES`] in all: more is an error, not read.
+fn read_rest(file: &std::fs::File, path: &Path, bytes: &mut Vec<u8>) -> Result<(), CommandError> {
+    use std::io::Read;
+    let room = (MAX_REPORT_BYTES + 1).saturating_sub(bytes.len() as u64);
+    file.take(room).read_to_end(bytes).map_err(CommandError::file(path))?;
+    if bytes.len() as u64 > MAX_REPORT_BYTES {
         return Err(CommandError::Input {
             name: path.display().to_string(),
             why: format!("larger than {} MiB, more than any report this tool writes: not read", MAX_REPORT_BYTES >> 20),
         });
     }
-    if text.starts_with(BOM) {
-        text.drain(..BOM.len());
-    }
-    Ok(Some(text))
+    Ok(())
 }
 
 /// The report at `path`, if it is a certify report with a record (`None` for a
@@ -225,10 +235,7 @@ pub fn read_verified(
     path: &Path,
     key: &Path,
 ) -> Result<Result<(signature::Verified, AnyRecorded), signature::Unverified>, CommandError> {
-    use std::io::Read;
-    const BOM: &[u8] = b"\xEF\xBB\xBF";
     let key = signature::load_public(key)?;
-    let name = path.display().to_string();
     if path.as_os_str() == "-" {
         return Err(CommandError::Usage(
             "--verify: a report on standard input has no signature beside it; give its path".into(),
@@ -236,13 +243,7 @@ pub fn read_verified(
     }
     let file = std::fs::File::open(path).map_err(CommandError::file(path))?;
     let mut raw = Vec::new();
-    file.take(MAX_REPORT_BYTES + 1).read_to_end(&mut raw).map_err(CommandError::file(path))?;
-    if raw.len() as u64 > MAX_REPORT_BYTES {
-        return Err(CommandError::Input {
-            name,
-            why: format!("larger than {} MiB, more than any report this tool writes: not read", MAX_REPORT_BYTES >> 20),
-        });
-    }
+    read_rest(&file, path, &mut raw)?;
     let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     let report_name = path.file_name().map_or(String::new(), |n| n.to_string_lossy().into_owned());
     let verified = match signature::verify(&key, dir, &report_name, &raw) {

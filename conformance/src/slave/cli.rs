@@ -240,11 +240,7 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
     drop(simulator);
     report.run_info = Some(run_info);
     if let Some(k) = kernel {
-        report.line_notes.push(format!(
-            "The kernel's unbound workers, which deliver what is written to a pseudo-terminal, ran at nice -20 for \
-             the run ({} threads); put back as they were afterwards.",
-            k.count()
-        ));
+        report.line_notes.push(k.note());
     }
     if let Some(g) = &rs485_guard {
         report.line_notes.push(format!("The port ran in the kernel's {} (--rs485), put back afterwards.", g.in_force));

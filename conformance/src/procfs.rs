@@ -1,0 +1,61 @@
+//! The kernel's process table as `/proc/PID/stat` gives it, read one way: for ending
+//! what a master under test started (`process`) and for raising the kernel's workers
+//! that deliver a pseudo-terminal's characters (`sched`).
+
+/// The fields of one process's stat line the harness uses.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Stat {
+    pub pid: u32,
+    /// The command, as the kernel names it (`kworker/u8:2-events_unbound`).
+    pub comm: String,
+    pub ppid: u32,
+    pub pgrp: u32,
+    pub nice: i32,
+}
+
+/// One stat line of process `pid`. The command is in parentheses and may hold spaces
+/// and parentheses itself: the fields after the last `)` are the state, ppid, pgrp,
+/// and 14 more to the nice (the 17th).
+pub fn parse(pid: u32, stat: &str) -> Option<Stat> {
+    let (open, close) = (stat.find('(')?, stat.rfind(')')?);
+    let fields: Vec<&str> = stat.get(close + 1..)?.split_ascii_whitespace().collect();
+    Some(Stat {
+        pid,
+        comm: stat.get(open + 1..close)?.to_string(),
+        ppid: fields.get(1)?.parse().ok()?,
+        pgrp: fields.get(2)?.parse().ok()?,
+        nice: fields.get(16)?.parse().ok()?,
+    })
+}
+
+/// Every process this harness can see.
+pub fn processes() -> Vec<Stat> {
+    let Ok(dir) = std::fs::read_dir("/proc") else { return Vec::new() };
+    dir.flatten()
+        .filter_map(|e| e.file_name().to_str().and_then(|n| n.parse::<u32>().ok()))
+        .filter_map(|pid| parse(pid, &std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_stat_line_is_read_past_a_command_with_parentheses() {
+        let stat = "48 (kworker/u9:0-events (highpri)) I 2 0 0 0 -1 69238880 0 0 0 0 0 0 0 0 0 -20 1 0 30 0 0";
+        let s = parse(48, stat).unwrap();
+        assert_eq!((s.comm.as_str(), s.ppid, s.pgrp, s.nice), ("kworker/u9:0-events (highpri)", 2, 0, -20));
+        let init = parse(1, "1 (init) S 0 1 1 0 -1 0 0 0 0 0 0 0 0 0 20 0 1 0").unwrap();
+        assert_eq!((init.comm.as_str(), init.ppid, init.pgrp, init.nice), ("init", 0, 1, 0));
+        assert_eq!(parse(7, "garbage"), None);
+        assert_eq!(parse(7, "7 (short) S 1 7"), None, "no nice");
+    }
+
+    #[test]
+    #[cfg(target_os = "linux")]
+    fn this_process_is_in_the_table() {
+        let me = std::process::id();
+        assert!(processes().iter().any(|p| p.pid == me && p.ppid != 0), "pid {me}");
+    }
+}
