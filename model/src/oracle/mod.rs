@@ -12,7 +12,9 @@ use crate::slave::fields::Contents;
 use crate::slave::{Outcome, Reply, Slave};
 use core::fmt;
 
+mod before;
 mod deviation;
+pub use before::Before;
 pub use deviation::Deviation;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -133,6 +135,12 @@ impl Oracle {
         expected: &Outcome,
         observed: Option<&[u8]>,
     ) -> Grade {
+        self.grade_from(&Before::of(before, request, at_us), request, expected, observed)
+    }
+
+    /// [`Oracle::grade`] from what it reads of the state before the request, taken
+    /// with [`Before::of`] (the request's instant is in it).
+    pub fn grade_from(&self, before: &Before, request: &[u8], expected: &Outcome, observed: Option<&[u8]>) -> Grade {
         let edition = before.profile().edition;
         let command = CommandId::of_frame(request);
         let expected_frame = match (expected.reply, observed) {
@@ -147,7 +155,7 @@ impl Oracle {
                 // initialization time" in the legacy edition) rather than the command's.
                 let c = if request.first() == Some(&0xFF) {
                     clause::BROADCAST
-                } else if within_power_up(before, at_us) {
+                } else if before.within_power_up() {
                     if edition == Edition::Current {
                         clause::STATE_MACHINE
                     } else {
@@ -186,8 +194,7 @@ impl Oracle {
         if found.response == Response::EncoderStatus(FaultCode::NoFault) && found.warning {
             return Grade::against(Deviation::WarningWithoutCode, clause::WARNING_BIT, edition);
         }
-        let active = before.listening_settings(at_us).map(|s| s.byte());
-        let content = self.content(before, active, expected, &expected_frame, &found);
+        let content = self.content(before, expected, &expected_frame, &found);
         if content.verdict == Verdict::Fail {
             return content;
         }
@@ -204,16 +211,10 @@ impl Oracle {
         warning.unwrap_or(content)
     }
 
-    fn content(
-        &self,
-        before: &Slave,
-        active: Option<u8>,
-        expected: &Outcome,
-        e: &ResponseFrame,
-        found: &ResponseFrame,
-    ) -> Grade {
+    fn content(&self, before: &Before, expected: &Outcome, e: &ResponseFrame, found: &ResponseFrame) -> Grade {
         let c = expected.clause;
         let edition = before.profile().edition;
+        let active = before.active_settings();
         let wrong = |d| Grade::against(d, c, edition);
         match (e.response, found.response) {
             (Response::Error(pref), Response::Error(got)) if pref == got => Grade::pass(c),
@@ -256,7 +257,7 @@ impl Oracle {
     /// Values that depend on the physical world, graded by range and invariants.
     fn physical(
         &self,
-        before: &Slave,
+        before: &Before,
         a: Response,
         b: Response,
         c: Normative,
@@ -316,11 +317,10 @@ impl Oracle {
 /// know: PASS in a field the device had before the run (its contents are its own),
 /// NON-STRICT in a field created in the run and never written (the model assumes
 /// erased EEPROM, FFh: a decision, not a rule of 000). `None` if a known byte differs.
-fn unwritten_contents(before: &Slave, field: u8, offset: u8, want: &[u8], got: &[u8]) -> Option<Grade> {
-    let fields = &before.nonvolatile().fields;
+fn unwritten_contents(before: &Before, field: u8, offset: u8, want: &[u8], got: &[u8]) -> Option<Grade> {
     let mut erased_differs = false;
     for (i, (w, g)) in want.iter().zip(got).enumerate() {
-        match fields.contents(field, offset as usize + i) {
+        match before.read_contents(field, offset, i) {
             _ if w == g => {}
             Some(Contents::Unknown) => {}
             Some(Contents::Erased) => erased_differs = true,
@@ -337,7 +337,7 @@ fn unwritten_contents(before: &Slave, field: u8, offset: u8, want: &[u8], got: &
 /// Read Version of a real device: exact where the profile pins a value, otherwise by
 /// the form of 000:T31 (ASCII; the firmware padded with 00h; the date as DD.MM.YY)
 /// or 002 (the same, with up to 20 firmware characters).
-fn version(before: &Slave, want: &Version, got: &Version) -> Grade {
+fn version(before: &Before, want: &Version, got: &Version) -> Grade {
     let profile = before.profile();
     let rule = match profile.edition {
         Edition::Current => clause::READ_VERSION,

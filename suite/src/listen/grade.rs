@@ -6,7 +6,8 @@ use crate::exchange::{Exchange, HeardLate};
 use crate::line::Window;
 use crate::verdict::timing::{self, TimingMode};
 use crate::verdict::{CaseVerdict, Finding};
-use hiperface_model::oracle::Deviation;
+use hiperface_model::command::CommandId;
+use hiperface_model::oracle::{Before, Deviation};
 use hiperface_model::request::RequestFrame;
 use hiperface_model::response::ResponseFrame;
 use hiperface_model::slave::Reply;
@@ -25,16 +26,23 @@ impl Listener {
             Some(r) => (Some(r.heard), Some(r.bytes), r.decoded),
             None => (None, None, None),
         };
-        let mut before = self.shadow.clone();
+        // What the oracle reads of the state before the request; the whole model is
+        // kept only where the request carries a Code0 the encoder may know and the
+        // model not (a capture's every exchange would copy it otherwise).
+        let mut before = Before::of(&self.shadow, &open.bytes, complete_us);
+        let code0 = code0_of(&open.bytes);
+        let kept = code0.map(|_| self.shadow.clone());
         let mut expected = self.shadow.handle_frame(&open.bytes, complete_us);
-        if let Some(code0) = accepted_code0(&open.bytes, &expected, decoded.as_ref()) {
+        let accepted = code0.filter(|_| model_refused_encoder_took(&expected, decoded.as_ref()));
+        if let (Some(code0), Some(mut kept)) = (accepted, kept) {
             // The encoder took a Code0 the model refused: the listener does not know
             // the codes, so that one is the encoder's. // 000:T26
-            before.adopt_access_code(0, code0);
-            self.shadow = before.clone();
+            kept.adopt_access_code(0, code0);
+            before = Before::of(&kept, &open.bytes, complete_us);
+            self.shadow = kept;
             expected = self.shadow.handle_frame(&open.bytes, complete_us);
         }
-        let grade = self.oracle.grade(&before, &open.bytes, complete_us, &expected, observed.as_deref());
+        let grade = self.oracle.grade_from(&before, &open.bytes, &expected, observed.as_deref());
         let mut findings = Vec::new();
         if let Some(f) = Finding::graded(&grade, &open.bytes) {
             let knowable = grade.deviation().is_some_and(|d| knowable(&d, &open.bytes));
@@ -100,22 +108,27 @@ impl Listener {
     }
 }
 
-/// The Code0 of a request the model refused for its access code and the encoder
-/// accepted (a reply of the command's own form, not an error).
-fn accepted_code0(
-    request: &[u8],
-    expected: &hiperface_model::slave::Outcome,
-    heard: Option<&ResponseFrame>,
-) -> Option<u8> {
+/// Whether the model refused a request for its access code and the encoder accepted
+/// it (a reply of the command's own form, not an error).
+fn model_refused_encoder_took(expected: &hiperface_model::slave::Outcome, heard: Option<&ResponseFrame>) -> bool {
     use hiperface_model::response::Response;
     use hiperface_model::FaultCode::WrongAccessCode;
     let refused = match expected.reply {
         Reply::Frame(f) => f.response == Response::Error(WrongAccessCode) || expected.also.contains(WrongAccessCode),
         Reply::Silent(_) => false,
     };
-    let accepted = heard.is_some_and(|h| !matches!(h.response, Response::Error(_)));
-    let code0 = RequestFrame::decode(request).ok().and_then(|r| r.request.code0());
-    code0.filter(|_| refused && accepted)
+    refused && heard.is_some_and(|h| !matches!(h.response, Response::Error(_)))
+}
+
+/// The Code0 a request carries, if its command has one (000:T26).
+fn code0_of(request: &[u8]) -> Option<u8> {
+    use hiperface_model::command::AccessCodeRule;
+    // The command table says which commands carry one; only those are decoded.
+    let spec = CommandId::of_frame(request).spec()?;
+    if spec.access != AccessCodeRule::Code0 {
+        return None;
+    }
+    RequestFrame::decode(request).ok().and_then(|r| r.request.code0())
 }
 
 /// A deviation the listener can see whatever the encoder's stored state: the reply's

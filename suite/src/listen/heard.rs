@@ -20,8 +20,12 @@ pub(super) struct Heard {
 
 impl Heard {
     pub fn push(&mut self, c: RxChar, late_us: u64) {
+        // Most frames are short (a request 3–7 bytes, a reply up to 11 but Read
+        // Version and Read Data): a small first allocation, small enough for the
+        // allocator's fast path, grown for the long ones.
         if self.chars.capacity() == 0 {
-            self.chars.reserve(hiperface_model::frame::MAX_FRAME);
+            self.chars.reserve(16);
+            self.late_us.reserve(16);
         }
         self.chars.push(c);
         self.late_us.push(late_us);

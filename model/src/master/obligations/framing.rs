@@ -90,19 +90,23 @@ pub(super) fn requests_in(bytes: &[u8]) -> Option<Ends> {
 impl super::Observer {
     /// The frame in progress is complete.
     pub(super) fn complete(&mut self, out: &mut impl FnMut(Observation)) {
-        let framer = core::mem::replace(&mut self.framer, Framer::new());
-        let Some(first_end) = framer.ends_us.first().copied() else { return };
+        let first_end = self.framer.ends_us.first().copied().unwrap_or(0);
         let start = first_end.saturating_sub(self.char_time_us());
-        let bytes = framer.bytes.as_bytes();
-        let decoded = RequestFrame::decode(bytes).ok();
+        let decoded = RequestFrame::decode(self.framer.bytes.as_bytes()).ok();
         self.memo.answered = decoded.map(|r| r.request.command());
         if let Some(rf) = decoded {
+            // The common case: the frame is a request. Its characters' times need not
+            // be kept (a listener completes a frame per request heard: no copy of them).
+            let end = self.framer.last_us().unwrap_or(start);
+            self.framer.bytes = Frame::new();
             // A valid request right after a held fragment that completes it is not
             // possible (the fragment would be part of it); the fragment stands alone.
             self.release_held(out);
-            self.request(rf, framer.last_us().unwrap_or(start), start, out);
+            self.request(rf, end, start, out);
             return;
         }
+        let framer = core::mem::replace(&mut self.framer, Framer::new());
+        let bytes = framer.bytes.as_bytes();
         // Two fragments of one request: a gap inside it.
         if let Some(h) = self.held.take() {
             let mut joined = h.framer.bytes;
