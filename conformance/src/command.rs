@@ -27,6 +27,8 @@ pub enum Ended {
     /// `decode --verify` of a report whose signature does not hold: not signed by the
     /// key given, or changed since.
     Unverified,
+    /// `compare --baseline`: a report regressed against the baseline.
+    Regressed,
 }
 
 /// The exit code of a report that does not state what its record gives.
@@ -36,13 +38,14 @@ pub const EXIT_DISAGREES: u8 = 4;
 pub const EXIT_UNVERIFIED: u8 = 5;
 
 impl Ended {
-    /// 0 done or PASSED, 1 FAILED or a check that failed, 3 INCOMPLETE, 4 a report
+    /// 0 done or PASSED, 1 FAILED, a check that failed or a regression against a
+    /// baseline, 3 INCOMPLETE, 4 a report
     /// that does not state what its record gives, 5 a signature that does not hold.
     pub fn exit_code(self) -> u8 {
         match self {
             Ended::Done => 0,
             Ended::Graded(outcome) => outcome.exit_code(),
-            Ended::CheckFailed => 1,
+            Ended::CheckFailed | Ended::Regressed => 1,
             Ended::Disagrees => EXIT_DISAGREES,
             Ended::Unverified => EXIT_UNVERIFIED,
         }

@@ -69,6 +69,10 @@ enum Command {
     /// could be graded. A certify report is played back from the record of its wire:
     /// the run's verdicts, graded again.
     Decode(hiperface_conformance::listen::cli::DecodeArgs),
+    /// Certify reports side by side: a matrix of cases (or scenarios) by report, in
+    /// Markdown, HTML, JSON and JUnit; with `--baseline`, exit 1 when a report regressed
+    /// against it.
+    Compare(hiperface_conformance::report::compare::CompareArgs),
     /// Make an Ed25519 key pair to sign certificates with (`certify … --sign KEY`): the
     /// private key at FILE (readable by you alone, never over an existing file), the
     /// public key at FILE.pub, which a lab publishes and `decode --verify` takes.
@@ -232,6 +236,7 @@ fn main() -> ExitCode {
             .and_then(|p| print_all(&profile_file::to_toml(&p)).map(|()| Ended::Done)),
         Command::Vectors { what } => vectors_command(what),
         Command::Decode(args) => hiperface_conformance::listen::cli::decode(&args),
+        Command::Compare(args) => hiperface_conformance::report::compare::compare(&args),
         Command::Keygen { out } => hiperface_conformance::report::signature::generate(&out).map(|public| {
             say!("private key: {} (keep it to yourself; certify … --sign {})", out.display(), out.display());
             say!("public key:  {} (publish it; decode report.json --verify {})", public.display(), public.display());

@@ -27,6 +27,7 @@ const COMMANDS: &[&[&str]] = &[
     &["export-profile"],
     &["master"],
     &["decode"],
+    &["compare"],
     &["keygen"],
     &["monitor"],
     &["clauses"],

@@ -12,6 +12,7 @@ pub use hiperface_suite::report::{
     escape, junit_suite, page_head, profile_digest, Attention, NotRun, Reports, RunInfo,
 };
 
+pub mod compare;
 pub mod recorded;
 pub mod signature;
 
@@ -53,7 +54,7 @@ fn write_files<R: Reports>(r: &R, dir: &Path, signer: Option<&signature::Signer>
 
 /// The files a report directory receives (a certify run's certificate, or a listening
 /// report's).
-const WRITTEN: [&str; 7] = [
+const WRITTEN: [&str; 11] = [
     "report.json",
     "junit.xml",
     "certificate.md",
@@ -61,6 +62,10 @@ const WRITTEN: [&str; 7] = [
     "listening.md",
     "listening.html",
     signature::FILE,
+    compare::MARKDOWN,
+    compare::HTML,
+    compare::JSON,
+    compare::JUNIT,
 ];
 
 /// An input is never the output: refused where writing the reports into `dir` would

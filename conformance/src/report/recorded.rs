@@ -202,6 +202,19 @@ fn read_report_bytes(path: &Path) -> Result<Option<Vec<u8>>, CommandError> {
     Ok(Some(text))
 }
 
+/// The report.json at `path` (`compare`'s input): its bytes, a byte-order mark taken
+/// off, read to at most [`MAX_REPORT_BYTES`]; a file that cannot be opened or read is
+/// an error that names it.
+pub fn read_report(path: &Path) -> Result<Vec<u8>, CommandError> {
+    let file = std::fs::File::open(path).map_err(CommandError::file(path))?;
+    let mut bytes = Vec::new();
+    read_rest(&file, path, &mut bytes)?;
+    if bytes.starts_with(BOM) {
+        bytes.drain(..BOM.len());
+    }
+    Ok(bytes)
+}
+
 /// A byte-order mark, taken off a report before it is parsed.
 const BOM: &[u8] = b"\xEF\xBB\xBF";
 

@@ -5,6 +5,7 @@
 
 pub mod attention;
 pub mod check;
+pub mod compare;
 pub mod wire;
 
 pub use attention::{attention, Attention};

@@ -32,7 +32,7 @@ use std::process::ExitCode;
 /// - UNKNOWN: heard, but the harness cannot tell (the listener does not know the
 ///   encoder's stored state; a character carried a line error);
 /// - ERROR: the harness could not run it (port gone, the master exited).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, serde::Deserialize)]
 #[serde(rename_all = "SCREAMING-KEBAB-CASE")]
 pub enum CaseVerdict {
     Pass,
@@ -108,7 +108,7 @@ impl From<Verdict> for CaseVerdict {
 }
 
 /// What a whole run adds up to.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize)]
 #[serde(rename_all = "SCREAMING-KEBAB-CASE")]
 pub enum Outcome {
     /// Every unit that ran was observed and graded PASS or NON-STRICT, and something was.
