@@ -12,14 +12,37 @@ use crate::command::CommandByte;
 use crate::frame::{Frame, MAX_FRAME};
 use crate::request::{RequestChecks, RequestFrame};
 
-/// The master's characters of the frame in progress, with their receive times.
-#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+/// The master's characters of the frame in progress, with their receive times. Only
+/// the times of the characters it holds are its state (`complete` clears the bytes and
+/// leaves the times of the frame before: equality and hashing, which the model checker
+/// counts states by, look at the live ones alone).
+#[derive(Debug, Clone)]
 pub(super) struct Framer {
     pub(super) bytes: Frame,
     pub(super) ends_us: [u64; MAX_FRAME],
 }
 
+impl PartialEq for Framer {
+    fn eq(&self, other: &Framer) -> bool {
+        self.bytes == other.bytes && self.live_ends() == other.live_ends()
+    }
+}
+
+impl Eq for Framer {}
+
+impl core::hash::Hash for Framer {
+    fn hash<H: core::hash::Hasher>(&self, state: &mut H) {
+        self.bytes.hash(state);
+        self.live_ends().hash(state);
+    }
+}
+
 impl Framer {
+    /// The receive times of the characters held.
+    fn live_ends(&self) -> &[u64] {
+        self.ends_us.get(..self.bytes.len()).unwrap_or(&self.ends_us)
+    }
+
     pub(super) fn new() -> Framer {
         Framer { bytes: Frame::new(), ends_us: [0; MAX_FRAME] }
     }
