@@ -873,3 +873,27 @@ fn numbers_are_read_whole_and_not_from_words() {
     assert_eq!(n("at 1.5"), None);
     assert_eq!(n("Table 10 50"), Some(50));
 }
+
+/// The book's catalogue page shows what `certify slave --list` and `certify master
+/// --list` print, table for table. `HIPERFACE_BLESS=1` writes the tables into the page.
+#[test]
+fn the_catalogue_page_is_what_list_prints() {
+    let path = root().join("docs/src/catalogue.md");
+    let mut page = read(&path);
+    for (command, marker) in [("slave", "slave cases"), ("master", "master scenarios")] {
+        let (listed, code) = run(&["certify", command, "--list"]);
+        assert_eq!(code, Some(0), "certify {command} --list: {listed}");
+        let (begin, end) = (format!("<!-- {marker}: begin -->\n"), format!("<!-- {marker}: end -->"));
+        let from = page.find(&begin).unwrap_or_else(|| panic!("no {begin:?} in catalogue.md")) + begin.len();
+        let to = page[from..].find(&end).map(|i| from + i).unwrap_or_else(|| panic!("no {end:?}"));
+        let shown = page[from..to].to_string();
+        if std::env::var_os("HIPERFACE_BLESS").is_some() {
+            page.replace_range(from..to, &format!("{}\n", listed.trim_end()));
+        } else {
+            assert_eq!(shown.trim_end(), listed.trim_end(), "catalogue.md's {marker} are stale: HIPERFACE_BLESS=1");
+        }
+    }
+    if std::env::var_os("HIPERFACE_BLESS").is_some() {
+        std::fs::write(&path, page).expect("write catalogue.md");
+    }
+}

@@ -215,10 +215,27 @@ int main(void) {
     HfCertifyOptions none = {0};
     none.cases = "no.such.case";
     CHECK(hf_certify("SRS50", silent, NULL, &none, &report, error, sizeof error) == HF_STATUS_INVALID);
+    /* The command line's glob grammar: braces, commas, exclusions; unpaired braces select nothing. */
+    const char *globs[] = {"{identity.status,protocol.checksum}", "protocol.{checksum,length}",
+                           "protocol.*,!protocol.{parity,argument,unknown-command}"};
+    for (size_t g = 0; g < sizeof globs / sizeof globs[0]; g++) {
+        HfCertifyOptions chosen = {0};
+        unsigned chosen_calls = 0;
+        chosen.cases = globs[g];
+        CHECK(hf_certify("SRS50", random_answer, &chosen_calls, &chosen, &report, error, sizeof error) == HF_STATUS_OK);
+        CHECK(hf_report_case_count(report) == 2);
+        hf_report_free(report);
+    }
+    none.cases = "{identity.status";
+    CHECK(hf_certify("SRS50", silent, NULL, &none, &report, error, sizeof error) == HF_STATUS_INVALID);
     CHECK(hf_report_outcome(NULL) == HF_OUTCOME_INCOMPLETE);
     CHECK(hf_report_case_count(NULL) == 0);
     CHECK(hf_report_text(NULL, HF_REPORT_FORM_JSON) == NULL);
     hf_report_free(NULL);
+    /* The catalogues, as `certify slave --list` and `certify master --list` print them. */
+    CHECK(strstr(hf_catalogue(HF_CATALOGUE_SLAVE_CASES), "| `identity.type-label` |") != NULL);
+    CHECK(strstr(hf_catalogue(HF_CATALOGUE_MASTER_SCENARIOS), "| `startup.default` |") != NULL);
+    CHECK(hf_catalogue(2) == NULL && hf_catalogue(-1) == NULL);
     for (int run = 0; run < 3; run++) {
         unsigned calls = 0;
         srand(7 + run);

@@ -187,6 +187,20 @@ typedef enum HfReportForm {
 } HfReportForm;
 
 /**
+ * A catalogue of the suite, as `hf_catalogue` gives it.
+ */
+typedef enum HfCatalogue {
+  /**
+   * The slave cases `hf_certify` runs (`HfCertifyOptions.cases` selects by their id).
+   */
+  HF_CATALOGUE_SLAVE_CASES = 0,
+  /**
+   * The master scenarios `hf_certify_master` runs (`HfCertifyMasterOptions.scenarios`).
+   */
+  HF_CATALOGUE_MASTER_SCENARIOS = 1,
+} HfCatalogue;
+
+/**
  * A certification's report, of an encoder ([`hf_certify`]) or of a master
  * ([`hf_certify_master`]). Opaque to C; freed with [`hf_report_free`].
  */
@@ -345,7 +359,8 @@ typedef struct HfCertifyOptions {
    */
   const char *profile_toml;
   /**
-   * Only the cases whose id matches this glob (`*`, `?`, `{a,b}`); null: all.
+   * Only the cases whose id matches this glob (`*`, `?`, `{a,b}`, comma-separated
+   * alternatives, `!` to leave out: the command line's `--cases`); null: all.
    */
   const char *cases;
   /**
@@ -415,7 +430,8 @@ typedef struct HfCertifyMasterOptions {
    */
   const char *profile_toml;
   /**
-   * Only the scenarios whose id matches this glob; null: all.
+   * Only the scenarios whose id matches this glob (the grammar of `cases` above and
+   * of the command line's `--scenarios`); null: all.
    */
   const char *scenarios;
   /**
@@ -835,6 +851,14 @@ const char *hf_case_verdict_name(int verdict);
  * other value. A static NUL-terminated string: never freed.
  */
 const char *hf_report_form_name(int form);
+
+/**
+ * The catalogue `which` as a Markdown table (id, what it checks, clauses), the text
+ * `hiperface certify slave --list` and `certify master --list` print: NUL-terminated,
+ * owned by the library for the life of the process (never freed by the caller). Null
+ * for a value that names no catalogue.
+ */
+const char *hf_catalogue(int which);
 
 /**
  * The name of an [`HfStatus`] as the header spells its constant without the prefix

@@ -66,7 +66,8 @@ pub struct HfCertifyOptions {
     /// The encoder's profile as TOML text (the format of `hiperface export-profile`),
     /// NUL-terminated; null: the built-in profile named in the call.
     pub profile_toml: *const c_char,
-    /// Only the cases whose id matches this glob (`*`, `?`, `{a,b}`); null: all.
+    /// Only the cases whose id matches this glob (`*`, `?`, `{a,b}`, comma-separated
+    /// alternatives, `!` to leave out: the command line's `--cases`); null: all.
     pub cases: *const c_char,
     /// Leave out the cases that write EEPROM (restored after each) ...
     pub skip_writes: bool,
@@ -406,7 +407,8 @@ pub struct HfCertifyMasterOptions {
     /// The encoder's profile as TOML text, NUL-terminated; null: the built-in profile
     /// named in the call.
     pub profile_toml: *const c_char,
-    /// Only the scenarios whose id matches this glob; null: all.
+    /// Only the scenarios whose id matches this glob (the grammar of `cases` above and
+    /// of the command line's `--scenarios`); null: all.
     pub scenarios: *const c_char,
     /// The application's polling period (000:3.2.2), ms; 0: 1000, as the command's.
     pub polling_period_ms: u32,
@@ -690,4 +692,34 @@ pub extern "C" fn hf_report_form_name(form: c_int) -> *const c_char {
         ],
         form,
     )
+}
+
+/// A catalogue of the suite, as `hf_catalogue` gives it.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum HfCatalogue {
+    /// The slave cases `hf_certify` runs (`HfCertifyOptions.cases` selects by their id).
+    SlaveCases = 0,
+    /// The master scenarios `hf_certify_master` runs (`HfCertifyMasterOptions.scenarios`).
+    MasterScenarios = 1,
+}
+
+/// The catalogue `which` as a Markdown table (id, what it checks, clauses), the text
+/// `hiperface certify slave --list` and `certify master --list` print: NUL-terminated,
+/// owned by the library for the life of the process (never freed by the caller). Null
+/// for a value that names no catalogue.
+#[no_mangle]
+pub extern "C" fn hf_catalogue(which: c_int) -> *const c_char {
+    use std::sync::OnceLock;
+    static SLAVE: OnceLock<CString> = OnceLock::new();
+    static MASTER: OnceLock<CString> = OnceLock::new();
+    let text = |cell: &'static OnceLock<CString>, make: fn() -> String| {
+        // The table holds no NUL: ids, titles and clause ids are text of the catalogue.
+        cell.get_or_init(|| CString::new(make()).unwrap_or_default()).as_ptr()
+    };
+    match which {
+        0 => text(&SLAVE, hiperface_suite::report::catalogue::slave_cases),
+        1 => text(&MASTER, hiperface_suite::report::catalogue::master_scenarios),
+        _ => core::ptr::null(),
+    }
 }

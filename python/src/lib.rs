@@ -451,9 +451,23 @@ fn decode_capture(
     serde_json::to_string(&report).map_err(|e| HiperfaceError::new_err(e.to_string()))
 }
 
+/// The catalogue of `side` ("slave": the cases `certify` runs, "master": the scenarios
+/// `certify_master` runs) as a Markdown table (id, what it checks, clauses): what
+/// `hiperface certify slave --list` and `certify master --list` print.
+#[pyfunction]
+fn catalogue(side: &str) -> PyResult<String> {
+    use hiperface_suite::report::catalogue;
+    match side {
+        "slave" => Ok(catalogue::slave_cases()),
+        "master" => Ok(catalogue::master_scenarios()),
+        other => Err(PyValueError::new_err(format!("catalogue `{other}`: expected `slave` or `master`"))),
+    }
+}
+
 #[pymodule]
 fn _hiperface(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(checksum, m)?)?;
+    m.add_function(wrap_pyfunction!(catalogue, m)?)?;
     m.add_function(wrap_pyfunction!(seal, m)?)?;
     m.add_function(wrap_pyfunction!(is_valid, m)?)?;
     m.add_function(wrap_pyfunction!(decode_request, m)?)?;

@@ -220,3 +220,30 @@ def test_the_error_stack_and_warning_bit_of_the_encoder_itself():
     t[0] = reset_us - 100_000 + 1_100_000
     reply, _ = enc.answer(heard(b"\x40\x50\x10"))  # the stored settings, stack cleared
     assert reply == b"\x40\x50\x00\x10"
+
+
+@pytest.mark.parametrize(
+    "glob, chosen",
+    [
+        ("{protocol.checksum,identity.status}", ["identity.status", "protocol.checksum"]),
+        ("protocol.{checksum,length}", ["protocol.checksum", "protocol.length"]),
+        ("protocol.*, !protocol.{parity,argument,unknown-command}", ["protocol.checksum", "protocol.length"]),
+    ],
+)
+def test_case_globs_take_braces_commas_and_exclusions(profile, glob, chosen):
+    """The command line's grammar (docs: command-line.md, selecting cases)."""
+    report = hiperface.certify(TinyEncoder(position=POSITION), profile, cases=glob)
+    assert sorted(c.id for c in report.cases) == chosen
+
+
+def test_a_glob_whose_braces_do_not_pair_selects_nothing_and_is_refused(profile):
+    with pytest.raises(ValueError, match="no case matches"):
+        hiperface.certify(TinyEncoder(position=POSITION), profile, cases="{protocol.checksum")
+
+
+def test_the_catalogues_are_what_list_prints():
+    slave, master = hiperface.catalogue("slave"), hiperface.catalogue("master")
+    assert slave.startswith("| id | what it checks | clauses |") and "| `identity.type-label` |" in slave
+    assert "| `startup.default` |" in master
+    with pytest.raises(ValueError, match="expected `slave` or `master`"):
+        hiperface.catalogue("drive")

@@ -16,8 +16,13 @@ use std::path::PathBuf;
 pub struct CertifyMasterArgs {
     /// The master under test as a command line; `{port}` is replaced by the path of the
     /// encoder's pseudo-terminal. Its start is the encoder's power-on.
-    #[arg(long, conflicts_with = "port", required_unless_present = "port")]
+    #[arg(long, conflicts_with = "port", required_unless_present_any = ["port", "list"])]
     pub exec: Option<String>,
+    /// Print the catalogue instead of running it: every scenario's id (what
+    /// `--scenarios` selects), what it checks and the clauses it grades, as a Markdown
+    /// table.
+    #[arg(long, conflicts_with_all = ["exec", "port"])]
+    pub list: bool,
     /// A drive on a serial port (e.g. a USB-RS-485 adapter wired to the drive's encoder
     /// connector): the harness serves the port as the encoder.
     #[arg(long)]
@@ -33,8 +38,8 @@ pub struct CertifyMasterArgs {
     /// The encoder's profile: a built-in name or a TOML file.
     #[arg(long, default_value = "SRS50")]
     pub profile: String,
-    /// Run only scenarios whose id matches (glob with `*` and `?`, comma-separated; an
-    /// alternative starting with `!` leaves out what it matches: `'!fault.*'`).
+    /// Run only scenarios whose id matches: `*` and `?`, comma-separated alternatives,
+    /// braces (`'{startup.*,polling.long}'`), `!` to leave out (`'!fault.*'`).
     #[arg(long)]
     pub scenarios: Option<String>,
     /// Commands the master never sends, comma-separated (`4Ah,67h`): the scenarios
@@ -77,6 +82,10 @@ pub struct MasterArgs {
 
 /// Certify the master; exit code 0 when it passed, 1 when not.
 pub fn certify_master(args: &CertifyMasterArgs) -> Result<Ended, CommandError> {
+    if args.list {
+        crate::say!("{}", hiperface_suite::report::catalogue::master_scenarios().trim_end());
+        return Ok(Ended::Done);
+    }
     let profile = profile_file::resolve(&args.profile)?;
     let attach = match (&args.exec, &args.port) {
         (Some(exec), _) => Attach::Exec(exec.clone()),

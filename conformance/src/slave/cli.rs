@@ -22,8 +22,12 @@ pub struct CertifySlaveArgs {
     /// `virtual` (the reference model in-process, virtual time), a serial port path,
     /// `tcp://host:port` (a serial device server such as ser2net, raw) or
     /// `rfc2217://host:port` (one that takes the line's settings, RFC 2217).
-    #[arg(long, value_name = "sim|virtual|PATH|tcp://HOST:PORT|rfc2217://HOST:PORT")]
-    pub port: PortSpec,
+    #[arg(long, value_name = "sim|virtual|PATH|tcp://HOST:PORT|rfc2217://HOST:PORT", required_unless_present = "list")]
+    pub port: Option<PortSpec>,
+    /// Print the catalogue instead of running it: every case's id (what `--cases`
+    /// selects), what it checks and the clauses it grades, as a Markdown table.
+    #[arg(long, conflicts_with = "port")]
+    pub list: bool,
     /// The device's profile: a built-in name or a TOML file.
     #[arg(long, default_value = "SRS50")]
     pub profile: String,
@@ -42,8 +46,8 @@ pub struct CertifySlaveArgs {
     /// Cap on EEPROM writes in the run.
     #[arg(long, default_value_t = 200)]
     pub write_budget: u32,
-    /// Run only cases whose id matches (glob with `*` and `?`, comma-separated; an
-    /// alternative starting with `!` leaves out what it matches: `'!fields.*'`).
+    /// Run only cases whose id matches: `*` and `?`, comma-separated alternatives,
+    /// braces (`'{powerup.reset,timing.*}'`), `!` to leave out (`'!fields.*'`).
     #[arg(long)]
     pub cases: Option<String>,
     /// Write report.json, junit.xml, certificate.md and certificate.html here.
@@ -102,8 +106,13 @@ pub struct CertifySlaveArgs {
 /// port implies, nothing selected refused before the port is touched, and a partial
 /// report when the port cannot be opened.
 pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
+    if args.list {
+        crate::say!("{}", hiperface_suite::report::catalogue::slave_cases().trim_end());
+        return Ok(Ended::Done);
+    }
     let CertifySlaveArgs {
         port,
+        list: _,
         profile,
         allow_writes,
         allow_counter_change,
@@ -129,6 +138,7 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
         delay_before_ms: rs485_delay_before_ms,
         delay_after_ms: rs485_delay_after_ms,
     };
+    let Some(port) = port else { return Err(CommandError::Usage("give the device with --port".into())) };
     let profile = profile_file::resolve(&profile)?;
     let signer = sign.as_deref().map(report::signature::Signer::load).transpose()?;
     let run_info = report::run_info(&profile);

@@ -4,6 +4,7 @@
 //! `master::report`, `listen::report`); the harness writes them to files.
 
 pub mod attention;
+pub mod catalogue;
 pub mod check;
 pub mod compare;
 pub mod wire;
