@@ -186,3 +186,41 @@ impl super::Observer {
         out(Observation { rule, at_us: h.start_us, measured_us: None, command: None, data_rates: None });
     }
 }
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use super::Framer;
+    use core::hash::{Hash, Hasher};
+
+    fn hash(f: &Framer) -> u64 {
+        let mut h = std::hash::DefaultHasher::new();
+        f.hash(&mut h);
+        h.finish()
+    }
+
+    fn framer(chars: &[(u8, u64)]) -> Framer {
+        let mut f = Framer::new();
+        for (byte, end_us) in chars {
+            f.push(*byte, *end_us);
+        }
+        f
+    }
+
+    /// The model checker counts the observer's states by equality and hash: a framer is
+    /// the characters it holds with their times, whatever an earlier frame left behind.
+    #[test]
+    fn a_framer_is_its_characters_and_their_times_only() {
+        let fresh = framer(&[(0x40, 1_000)]);
+        let mut reused = framer(&[(0x40, 5_000), (0x42, 6_000), (0x02, 7_000)]);
+        reused.bytes = crate::frame::Frame::new();
+        reused.push(0x40, 1_000);
+        assert!(reused == fresh && hash(&reused) == hash(&fresh), "a stale time beyond the held characters");
+        let other_byte = framer(&[(0x41, 1_000)]);
+        let other_time = framer(&[(0x40, 1_001)]);
+        for different in [&other_byte, &other_time] {
+            assert!(*different != fresh, "{different:?}");
+            assert_ne!(hash(different), hash(&fresh), "{different:?}");
+        }
+    }
+}
