@@ -113,3 +113,22 @@ fn an_error_response_to_read_encoder_status_is_recognised() {
     let g = grade(&s, &hex("40 50 11"), Some(&hex("40 50 0B 1B")), Grading::Exact);
     assert_eq!(g.verdict(), Verdict::Fail, "{g}");
 }
+
+/// Silence where the slave must answer is charged to the state machine's rule within
+/// the power-up windows (000:T9; 000:T29's "respond to new requests after initialization
+/// time" in the legacy edition) and to the command's own clause after them.
+#[test]
+fn silence_in_the_power_up_windows_breaks_the_state_machine_rule() {
+    let request = hex("40 42 02");
+    for (profile, within) in [(profiles::srs50(), "000:T9"), (profiles::legacy_srs(), "000:T29")] {
+        let s = Slave::new(profile);
+        // In the default window (initialization over at 100 ms, the window open until
+        // 900 ms): the slave answers Read Position, and silence breaks 000:T9.
+        for (at_us, clause) in [(300_000, within), (20_000_000, "000:T12")] {
+            let mut model = s.clone();
+            let expected = model.handle_frame(&request, at_us);
+            let g = Oracle::new(Grading::Exact).grade(&s, &request, at_us, &expected, None);
+            assert_eq!((g.verdict(), g.clause().id()), (Verdict::Fail, clause), "{} at {at_us} µs: {g}", profile.name);
+        }
+    }
+}
