@@ -137,7 +137,12 @@ pub fn serve_with(
             std::mem::take(&mut heard)
         };
         let line_bps = line_rate(port.as_ref(), hooks);
+        // How far the line has been watched: a read that came back at `t` after the
+        // harness was unwatched for a while saw what had come by `t - unwatched`, no
+        // later (what came meanwhile may wait in the kernel for the next read).
+        let mut watched_through_us = None;
         for Chunk { bytes, at_us: t, unwatched_us } in chunks {
+            watched_through_us = Some(t.saturating_sub(unwatched_us));
             hooks.read(unwatched_us);
             let listening = slave.listening_settings(t);
             let arrived = if hooks.stamps_as_early_as_unwatched() {
@@ -162,8 +167,11 @@ pub fn serve_with(
             }
             feed(slave, hooks, &mut master_chars, Some(t), &mut steps);
         }
-        if let Some(echo) = hooks.reply_echo() {
-            echo.idle(now(epoch), &mut master_chars);
+        // An echo is given up only for time the line was watched: one the harness did
+        // not read for its own lateness may still be in the kernel, and is the echo, not
+        // the master's.
+        if let (Some(echo), Some(through)) = (hooks.reply_echo(), watched_through_us) {
+            echo.idle(through, &mut master_chars);
         }
         feed(slave, hooks, &mut master_chars, None, &mut steps);
         // One instant for the model and the hooks: a record of the hooks' inputs
