@@ -443,21 +443,9 @@ impl Comparison {
                         s
                     }
                 } else {
-                    let detail = u.findings.iter().map(|f| format!("[{}] {}", f.clause, f.message)).collect::<Vec<_>>();
-                    match u.verdict {
-                        CaseVerdict::Pass | CaseVerdict::NonStrict => TestCaseStatus::success(),
-                        CaseVerdict::NotApplicable => TestCaseStatus::skipped(),
-                        CaseVerdict::Fail => {
-                            let mut s = TestCaseStatus::non_success(NonSuccessKind::Failure);
-                            s.set_message(detail.join("; "));
-                            s
-                        }
-                        CaseVerdict::Error | CaseVerdict::NotExercised | CaseVerdict::Unknown => {
-                            let mut s = TestCaseStatus::non_success(NonSuccessKind::Error);
-                            s.set_message(format!("{}: {}", u.verdict.label(), detail.join("; ")));
-                            s
-                        }
-                    }
+                    let detail: Vec<String> =
+                        u.findings.iter().map(|f| format!("[{}] {}", f.clause, f.message)).collect();
+                    super::junit_status(u.verdict, &detail.join("; "))
                 };
                 let mut t = TestCase::new(u.id.clone(), status);
                 t.set_classname(format!("hiperface.{}", u.id.split('.').next().unwrap_or("case")));

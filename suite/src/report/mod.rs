@@ -186,30 +186,14 @@ pub trait Reports {
 
 /// One JUnit suite of cases (slave cases or master scenarios).
 pub fn junit_suite(name: String, cases: &[crate::verdict::CaseResult], under: wire::UnderTest) -> String {
-    use quick_junit::{NonSuccessKind, Report as JReport, TestCase, TestCaseStatus, TestSuite};
+    use quick_junit::{Report as JReport, TestCase, TestSuite};
     let mut suite = TestSuite::new(name);
     for c in cases {
         let detail: String = c.findings.iter().map(|f| format!("[{}] {f}\n", f.verdict().label())).collect();
-        let status = match c.verdict {
-            CaseVerdict::Pass | CaseVerdict::NonStrict => TestCaseStatus::success(),
-            CaseVerdict::NotApplicable => {
-                let mut s = TestCaseStatus::skipped();
-                s.set_message(detail.trim().to_string());
-                s
-            }
-            CaseVerdict::Fail => {
-                let mut s = TestCaseStatus::non_success(NonSuccessKind::Failure);
-                s.set_message(detail.trim().to_string());
-                s.set_description(wire::text(c, under));
-                s
-            }
-            // Not observed: neither a pass nor the device's failure (INCOMPLETE).
-            CaseVerdict::Error | CaseVerdict::NotExercised | CaseVerdict::Unknown => {
-                let mut s = TestCaseStatus::non_success(NonSuccessKind::Error);
-                s.set_message(format!("{}: {}", c.verdict.label(), detail.trim()));
-                s
-            }
-        };
+        let mut status = junit_status(c.verdict, detail.trim());
+        if c.verdict == CaseVerdict::Fail {
+            status.set_description(wire::text(c, under));
+        }
         let mut t = TestCase::new(c.id, status);
         t.set_classname(format!("hiperface.{}", c.id.split('.').next().unwrap_or("case")));
         t.set_time(std::time::Duration::from_secs_f64(c.duration_ms / 1000.0));
@@ -221,6 +205,32 @@ pub fn junit_suite(name: String, cases: &[crate::verdict::CaseResult], under: wi
     let mut r = JReport::new("hiperface");
     r.add_test_suite(suite);
     r.to_string().unwrap_or_else(|e| format!("<!-- cannot serialise: {e} -->"))
+}
+
+/// A unit's JUnit status by its verdict, `detail` its findings: PASS and NON-STRICT
+/// succeed, NOT-APPLICABLE is skipped, FAIL is a failure, and what was not observed
+/// (ERROR, NOT-EXERCISED, UNKNOWN) is an error: neither a pass nor the device's
+/// failure.
+pub fn junit_status(verdict: CaseVerdict, detail: &str) -> quick_junit::TestCaseStatus {
+    use quick_junit::{NonSuccessKind, TestCaseStatus};
+    match verdict {
+        CaseVerdict::Pass | CaseVerdict::NonStrict => TestCaseStatus::success(),
+        CaseVerdict::NotApplicable => {
+            let mut s = TestCaseStatus::skipped();
+            s.set_message(detail.to_string());
+            s
+        }
+        CaseVerdict::Fail => {
+            let mut s = TestCaseStatus::non_success(NonSuccessKind::Failure);
+            s.set_message(detail.to_string());
+            s
+        }
+        CaseVerdict::Error | CaseVerdict::NotExercised | CaseVerdict::Unknown => {
+            let mut s = TestCaseStatus::non_success(NonSuccessKind::Error);
+            s.set_message(format!("{}: {detail}", verdict.label()));
+            s
+        }
+    }
 }
 
 /// Text made safe inside HTML.
