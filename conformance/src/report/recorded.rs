@@ -196,10 +196,7 @@ fn read_report_bytes(path: &Path) -> Result<Option<Vec<u8>>, CommandError> {
         return Ok(None);
     }
     read_rest(&file, path, &mut text)?;
-    if text.starts_with(BOM) {
-        text.drain(..BOM.len());
-    }
-    Ok(Some(text))
+    Ok(Some(without_bom(text)))
 }
 
 /// The report.json at `path` (`compare`'s input): its bytes, a byte-order mark taken
@@ -209,14 +206,19 @@ pub fn read_report(path: &Path) -> Result<Vec<u8>, CommandError> {
     let file = std::fs::File::open(path).map_err(CommandError::file(path))?;
     let mut bytes = Vec::new();
     read_rest(&file, path, &mut bytes)?;
-    if bytes.starts_with(BOM) {
-        bytes.drain(..BOM.len());
-    }
-    Ok(bytes)
+    Ok(without_bom(bytes))
 }
 
 /// A byte-order mark, taken off a report before it is parsed.
 const BOM: &[u8] = b"\xEF\xBB\xBF";
+
+/// `bytes` without a leading byte-order mark.
+fn without_bom(mut bytes: Vec<u8>) -> Vec<u8> {
+    if bytes.starts_with(BOM) {
+        bytes.drain(..BOM.len());
+    }
+    bytes
+}
 
 /// Read the rest of the report `file` (at `path`) into `bytes`, to at most
 /// [`MAX_REPORT_BYTES`] in all: more is an error, not read.

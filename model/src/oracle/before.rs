@@ -51,7 +51,7 @@ impl Before {
         Before {
             profile: *slave.profile(),
             active: slave.listening_settings(at_us).map(|s| s.byte()),
-            within_power_up: super::within_power_up(slave, at_us),
+            within_power_up: within_power_up(slave, at_us),
             read,
         }
     }
@@ -75,4 +75,13 @@ impl Before {
         let r = self.read.as_ref().filter(|r| (r.field, r.offset) == (field, offset))?;
         r.contents.get(i).copied().flatten()
     }
+}
+
+/// Whether `at_us` falls within the power-up windows of the slave's last power-on or
+/// reset (000:T9: until the switch to the stored settings, and a little past it,
+/// where a slave's clock and a master's may differ).
+fn within_power_up(slave: &Slave, at_us: u64) -> bool {
+    const PAST_THE_SWITCH_US: u64 = 100_000;
+    let windows_us = u64::from(slave.profile().user_settings_ms) * 1000 + PAST_THE_SWITCH_US;
+    slave.power_up().since_us.is_some_and(|since| at_us < since.saturating_add(windows_us))
 }

@@ -378,15 +378,6 @@ fn version(before: &Before, want: &Version, got: &Version) -> Grade {
 pub const REPLY_FORM: [Normative; 5] =
     [clause::CHECKSUM, clause::COMMAND_BYTE, clause::ENCODER_RESET, clause::ERROR_RESPONSE, clause::COMMAND_DEFINITION];
 
-/// Whether `at_us` falls within the power-up windows of the slave's last power-on or
-/// reset (000:T9: until the switch to the stored settings, and a little past it,
-/// where a slave's clock and a master's may differ).
-fn within_power_up(slave: &Slave, at_us: u64) -> bool {
-    const PAST_THE_SWITCH_US: u64 = 100_000;
-    let windows_us = u64::from(slave.profile().user_settings_ms) * 1000 + PAST_THE_SWITCH_US;
-    slave.power_up().since_us.is_some_and(|since| at_us < since.saturating_add(windows_us))
-}
-
 fn malformed_clause(e: ResponseError) -> Normative {
     match e {
         ResponseError::BadChecksum { .. } => clause::CHECKSUM,

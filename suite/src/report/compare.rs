@@ -422,7 +422,7 @@ impl Comparison {
     /// unit fails where it regressed (and only there: a FAIL the baseline had too is
     /// not news to the gate); without one, as its verdict says.
     pub fn junit(&self) -> String {
-        use quick_junit::{NonSuccessKind, Report, TestCase, TestCaseStatus, TestSuite};
+        use quick_junit::{Report, TestCase, TestCaseStatus, TestSuite};
         let mut report = Report::new("hiperface compare");
         let skip = usize::from(self.baseline);
         for c in self.reports.iter().skip(skip) {
@@ -438,9 +438,7 @@ impl Comparison {
                     if regressed.is_empty() {
                         TestCaseStatus::success()
                     } else {
-                        let mut s = TestCaseStatus::non_success(NonSuccessKind::Failure);
-                        s.set_message(regressed.join("; "));
-                        s
+                        super::junit_status(CaseVerdict::Fail, &regressed.join("; "))
                     }
                 } else {
                     let detail: Vec<String> =
@@ -453,9 +451,7 @@ impl Comparison {
             }
             // Units the baseline ran and this report does not have at all.
             for r in self.regressions.iter().filter(|r| r.report == c.label && c.unit(&r.unit).is_none()) {
-                let mut s = TestCaseStatus::non_success(NonSuccessKind::Failure);
-                s.set_message(r.what.clone());
-                suite.add_test_case(TestCase::new(r.unit.clone(), s));
+                suite.add_test_case(TestCase::new(r.unit.clone(), super::junit_status(CaseVerdict::Fail, &r.what)));
             }
             report.add_test_suite(suite);
         }
@@ -569,8 +565,11 @@ fn newly_run(n: &Unit, before: &str, change: &impl Fn(&str, ChangeKind, String) 
 /// A unit whose findings the reader of the comparison will want: anything but a
 /// clean PASS or NOT-APPLICABLE.
 fn worth_reading(u: &Unit) -> bool {
-    !matches!(u.verdict, CaseVerdict::Pass | CaseVerdict::NotApplicable)
-        || !u.findings.is_empty() && u.verdict != CaseVerdict::NotApplicable
+    match u.verdict {
+        CaseVerdict::NotApplicable => false,
+        CaseVerdict::Pass => !u.findings.is_empty(),
+        _ => true,
+    }
 }
 
 fn kind_name(k: Kind) -> &'static str {
