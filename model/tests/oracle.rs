@@ -123,8 +123,18 @@ fn silence_in_the_power_up_windows_breaks_the_state_machine_rule() {
     for (profile, within) in [(profiles::srs50(), "000:T9"), (profiles::legacy_srs(), "000:T29")] {
         let s = Slave::new(profile);
         // In the default window (initialization over at 100 ms, the window open until
-        // 900 ms): the slave answers Read Position, and silence breaks 000:T9.
-        for (at_us, clause) in [(300_000, within), (20_000_000, "000:T12")] {
+        // 900 ms): the slave answers Read Position, and silence breaks 000:T9. The rule
+        // holds a little past the switch to the stored settings (100 ms: a slave's clock
+        // and a master's may differ), and not a microsecond beyond.
+        let switch_us = u64::from(profile.user_settings_ms) * 1000;
+        let cases = [
+            (300_000, within),
+            (switch_us + 50_000, within),
+            (switch_us + 99_999, within),
+            (switch_us + 100_000, "000:T12"),
+            (20_000_000, "000:T12"),
+        ];
+        for (at_us, clause) in cases {
             let mut model = s.clone();
             let expected = model.handle_frame(&request, at_us);
             let g = Oracle::new(Grading::Exact).grade(&s, &request, at_us, &expected, None);
