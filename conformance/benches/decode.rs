@@ -2,8 +2,8 @@
 //! Type Label, Read Encoder Status, Read Position, an exchange every 40 ms) read,
 //! framed, told apart and graded by the listener, without printing. Target (issue
 //! 13): >= 1 M frames/s (a request and its reply are two frames); issue 55 asks 3 M on
-//! one core (`taskset -c 1`: 1.85 M measured 2026-11-27, the figures and the profile in
-//! docs/src/watching-a-live-bus.md). Memory does not grow with the capture.
+//! one core (`taskset -c 1`: 1.65–2.16 M measured 2026-11-28, the figures and the
+//! profile in docs/src/watching-a-live-bus.md). Memory does not grow with the capture.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use hiperface_conformance::capture::{Format, ReadOptions};

@@ -66,6 +66,12 @@ impl fmt::Debug for ReceivedFrame {
     }
 }
 
+/// When a frame whose last character ended at `last_us` is complete: once the
+/// timeout after it has passed without another character. // 000:2.2.2
+pub const fn complete_at(last_us: u64, timeout_us: u64) -> u64 {
+    last_us.saturating_add(timeout_us)
+}
+
 /// The frame assembler.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct DataLink {
@@ -106,7 +112,8 @@ impl DataLink {
     /// Take a character. When it arrives at least the timeout after the previous one,
     /// the previous frame is complete and is returned.
     pub fn receive(&mut self, ch: RxChar) -> Option<ReceivedFrame> {
-        let done = match self.current {
+        // By reference: the frame in progress is not copied for each character.
+        let done = match &self.current {
             Some(cur) if ch.at_us.saturating_sub(cur.last_us) >= self.timeout_us => self.close(),
             _ => None,
         };
@@ -116,7 +123,7 @@ impl DataLink {
                 let _ = cur.bytes.push(ch.byte);
                 cur.uart_fault = cur.uart_fault.or(ch.fault);
                 cur.last_us = cur.last_us.max(ch.at_us);
-                cur.complete_us = cur.last_us.saturating_add(self.timeout_us);
+                cur.complete_us = complete_at(cur.last_us, self.timeout_us);
             }
             None => {
                 let mut bytes = Frame::new();
@@ -127,7 +134,7 @@ impl DataLink {
                     uart_fault: ch.fault,
                     first_us: ch.at_us,
                     last_us: ch.at_us,
-                    complete_us: ch.at_us.saturating_add(self.timeout_us),
+                    complete_us: complete_at(ch.at_us, self.timeout_us),
                 });
             }
         }
@@ -136,20 +143,20 @@ impl DataLink {
 
     /// The frame in progress, once the timeout after its last character has elapsed.
     pub fn poll(&mut self, now_us: u64) -> Option<ReceivedFrame> {
-        match self.current {
-            Some(cur) if now_us >= cur.last_us.saturating_add(self.timeout_us) => self.close(),
+        match &self.current {
+            Some(cur) if now_us >= complete_at(cur.last_us, self.timeout_us) => self.close(),
             _ => None,
         }
     }
 
     /// When the frame in progress will be complete, if one is.
     pub fn deadline(&self) -> Option<u64> {
-        self.current.map(|c| c.last_us.saturating_add(self.timeout_us))
+        self.current.as_ref().map(|c| complete_at(c.last_us, self.timeout_us))
     }
 
     fn close(&mut self) -> Option<ReceivedFrame> {
         let mut done = self.current.take()?;
-        done.complete_us = done.last_us.saturating_add(self.timeout_us);
+        done.complete_us = complete_at(done.last_us, self.timeout_us);
         Some(done)
     }
 }

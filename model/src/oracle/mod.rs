@@ -141,9 +141,23 @@ impl Oracle {
     /// [`Oracle::grade`] from what it reads of the state before the request, taken
     /// with [`Before::of`] (the request's instant is in it).
     pub fn grade_from(&self, before: &Before, request: &[u8], expected: &Outcome, observed: Option<&[u8]>) -> Grade {
+        let command = CommandId::of_frame(request);
+        self.grade_decoded(before, request, expected, observed.map(|bytes| ResponseFrame::decode(bytes, command)))
+    }
+
+    /// [`Oracle::grade_from`] where the reply heard was decoded already, for the
+    /// request's command, by [`ResponseFrame::decode`] (a listener decodes each reply
+    /// once, for the master's rules and for this).
+    pub fn grade_decoded(
+        &self,
+        before: &Before,
+        request: &[u8],
+        expected: &Outcome,
+        observed: Option<Result<ResponseFrame, ResponseError>>,
+    ) -> Grade {
         let edition = before.profile().edition;
         let command = CommandId::of_frame(request);
-        let expected_frame = match (expected.reply, observed) {
+        let (expected_frame, decoded) = match (expected.reply, observed) {
             (Reply::Silent(_), None) => return Grade::pass(expected.clause),
             (Reply::Silent(_), Some(_)) => {
                 return Grade::against(Deviation::UnexpectedReply, expected.clause, edition);
@@ -166,10 +180,9 @@ impl Oracle {
                 };
                 return Grade::against(Deviation::NoReply, c, edition);
             }
-            (Reply::Frame(e), Some(_)) => e,
+            (Reply::Frame(e), Some(decoded)) => (e, decoded),
         };
-        let bytes = observed.unwrap_or(&[]);
-        let found = match ResponseFrame::decode(bytes, command) {
+        let found = match decoded {
             Ok(found) => found,
             Err(ResponseError::WrongLength { to: CommandId::ReadVersion, data_len })
                 if edition == Edition::Legacy && data_len < 37 =>

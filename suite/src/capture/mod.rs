@@ -236,26 +236,65 @@ fn peek_first_line(input: &mut dyn BufRead) -> std::io::Result<String> {
 }
 
 /// Read one line into `buf` (cleared first), counting lines; `false` at the end.
-/// A line longer than `MAX_LINE` is an error, not an allocation without bound.
+/// A line of 64 KiB or more is an error, not an allocation without bound.
 pub(crate) fn next_line(input: &mut dyn BufRead, buf: &mut String, line: &mut u64) -> Result<bool, ParseError> {
-    const MAX_LINE: u64 = 64 * 1024;
-    *line += 1;
     // The line's buffer is reused: a capture of millions of lines allocates once.
     let mut bytes = std::mem::take(buf).into_bytes();
-    bytes.clear();
-    let mut limited = std::io::Read::take(&mut *input, MAX_LINE);
-    let n = BufRead::read_until(&mut limited, b'\n', &mut bytes)
-        .map_err(|e| ParseError::at(*line, format!("cannot read: {e}")))?;
-    if n == 0 {
+    if !next_line_bytes(input, &mut bytes, line)? {
         return Ok(false);
     }
-    if n as u64 == MAX_LINE && bytes.last() != Some(&b'\n') {
-        return Err(ParseError::at(*line, format!("a line longer than {MAX_LINE} bytes")));
+    *buf = String::from_utf8(bytes).map_err(|_| ParseError::at(*line, "not UTF-8 text"))?;
+    Ok(true)
+}
+
+/// [`next_line`] without the check that the line is UTF-8: for a reader that reads
+/// the common form from the bytes and checks the text only where it falls back to it.
+pub(crate) fn next_line_bytes(
+    input: &mut dyn BufRead,
+    bytes: &mut Vec<u8>,
+    line: &mut u64,
+) -> Result<bool, ParseError> {
+    next_line_within(input, bytes, line, 64 * 1024)
+}
+
+/// [`next_line_bytes`] with the bound on a line's length (without its newline) as a
+/// parameter: the tests try it at a few bytes.
+fn next_line_within(
+    input: &mut dyn BufRead,
+    bytes: &mut Vec<u8>,
+    line: &mut u64,
+    max_line: usize,
+) -> Result<bool, ParseError> {
+    *line += 1;
+    bytes.clear();
+    // Straight from the reader's buffer (a line is most often within it): what
+    // `read_until` does, with the bound on the line's length checked as it goes.
+    let mut ended = false;
+    while !ended {
+        let available = input.fill_buf().map_err(|e| ParseError::at(*line, format!("cannot read: {e}")))?;
+        if available.is_empty() {
+            break;
+        }
+        let used = match memchr::memchr(b'\n', available) {
+            Some(newline) => {
+                ended = true;
+                newline + 1
+            }
+            None => available.len(),
+        };
+        // The line without its newline: shorter than the bound.
+        if bytes.len() + used - usize::from(ended) >= max_line {
+            return Err(ParseError::at(*line, format!("a line of {max_line} bytes or more")));
+        }
+        bytes.extend_from_slice(available.get(..used).unwrap_or(available));
+        input.consume(used);
+    }
+    if bytes.is_empty() {
+        return Ok(false);
     }
     while matches!(bytes.last(), Some(b'\n' | b'\r')) {
         bytes.pop();
     }
-    *buf = String::from_utf8(bytes).map_err(|_| ParseError::at(*line, "not UTF-8 text"))?;
     Ok(true)
 }
 
@@ -277,6 +316,40 @@ pub(crate) fn hex_byte(s: &str) -> Option<u8> {
 mod tests {
     use super::*;
     use proptest::prelude::*;
+
+    proptest! {
+        /// A line is read whole whatever the reader's buffer, and one as long as the
+        /// bound (its newline aside) is an error, as `read_until` on a reader limited
+        /// to the bound read it: its first `max` bytes without a newline among them.
+        #[test]
+        fn lines_are_read_within_their_bound(
+            text in proptest::collection::vec(prop_oneof![Just(b'a'), Just(b'\n'), Just(b'\r')], 0..60),
+            capacity in 1usize..9,
+            max in 1usize..12,
+        ) {
+            let mut fast = std::io::BufReader::with_capacity(capacity, &text[..]);
+            let mut reference = &text[..];
+            let (mut got, mut line) = (Vec::new(), 0);
+            loop {
+                let mut want = Vec::new();
+                let n = BufRead::read_until(&mut std::io::Read::take(&mut reference, max as u64), b'\n', &mut want).unwrap();
+                let expected = match n {
+                    0 => Ok(false),
+                    n if n == max && want.last() != Some(&b'\n') => Err(()),
+                    _ => Ok(true),
+                };
+                let result = next_line_within(&mut fast, &mut got, &mut line, max);
+                prop_assert_eq!(result.as_ref().map(|b| *b).map_err(|_| ()), expected);
+                if expected != Ok(true) {
+                    break;
+                }
+                while matches!(want.last(), Some(b'\n' | b'\r')) {
+                    want.pop();
+                }
+                prop_assert_eq!(&got, &want);
+            }
+        }
+    }
 
     /// 9600 Bd, a sample a µs (sigrok).
     const OPTIONS: ReadOptions = ReadOptions { baud: 9600, samplerate_hz: Some(1_000_000) };

@@ -6,8 +6,7 @@
 //! characters between are taken as sent back to back at the bus's rate: the log does
 //! not keep them apart, so a gap inside a frame is not in it.
 
-use super::{next_line, Capture, Event, Input, Mark, ParseError, ReadOptions, Role};
-use std::collections::VecDeque;
+use super::{Capture, Event, Input, Mark, ParseError, ReadOptions, Role};
 
 /// A line of the text form.
 pub fn is_line(l: &str) -> bool {
@@ -47,16 +46,125 @@ fn ms_as_us(word: &str) -> Option<u64> {
     (t_ms.is_finite() && t_ms >= 0.0).then(|| (t_ms * 1000.0).round() as u64)
 }
 
+/// Read the common form of a line from its bytes: `<digits>[.<up to 3 digits>] ms M>|S<`
+/// and two-digit hex bytes, separated by spaces or tabs, printable ASCII only. What it
+/// reads, [`parse_line`] reads the same; anything else (`0x40`, `1e3 ms`, a comment, a
+/// character outside ASCII) is left to [`parse_line`], which checks the text is UTF-8.
+/// A capture holds millions of such lines: no allocation, one pass over the words.
+fn parse_common(line: &[u8], bytes: &mut Vec<u8>) -> Option<(u64, Role)> {
+    // The time: up to 12 digits, a point and up to 3 more, exactly in µs.
+    let mut at = after_blanks(line, 0);
+    let (mut int, mut int_digits) = (0u64, 0);
+    while let Some(d) = line.get(at).filter(|b| b.is_ascii_digit()) {
+        (int, int_digits, at) = (int * 10 + u64::from(d - b'0'), int_digits + 1, at + 1);
+        if int_digits > 12 {
+            return None;
+        }
+    }
+    let (mut frac, mut frac_digits) = (0u64, 0);
+    if line.get(at) == Some(&b'.') {
+        at += 1;
+        while let Some(d) = line.get(at).filter(|b| b.is_ascii_digit()) {
+            (frac, frac_digits, at) = (frac * 10 + u64::from(d - b'0'), frac_digits + 1, at + 1);
+            if frac_digits > 3 {
+                return None;
+            }
+        }
+    }
+    if int_digits == 0 {
+        return None;
+    }
+    let t_us = int * 1000 + frac * 10u64.pow(3 - frac_digits);
+    // `ms`, then `M>` or `S<`: two-character words, blanks before each.
+    let word = |at: usize| {
+        let start = after_blanks(line, at);
+        line.get(start..start + 2).filter(|_| start > at).map(|w| (w, start + 2))
+    };
+    let (b"ms", at) = word(at)? else { return None };
+    let (role, mut at) = match word(at)? {
+        (b"M>", at) => (Role::Master, at),
+        (b"S<", at) => (Role::Slave, at),
+        _ => return None,
+    };
+    // The bytes: two hex digits each, a space or a tab before each.
+    bytes.clear();
+    loop {
+        let blanks = after_blanks(line, at);
+        match (line.get(blanks), line.get(blanks + 1), line.get(blanks + 2)) {
+            (None, _, _) => break,
+            (Some(h), Some(l), None | Some(b' ' | b'\t')) if blanks > at => {
+                let (h, l) = (HEX_DIGIT[usize::from(*h)], HEX_DIGIT[usize::from(*l)]);
+                if (h | l) > 0x0F {
+                    return None;
+                }
+                bytes.push(h << 4 | l);
+                at = blanks + 2;
+            }
+            _ => return None,
+        }
+    }
+    (!bytes.is_empty()).then_some((t_us, role))
+}
+
+/// Where the spaces and tabs from `at` on end.
+fn after_blanks(line: &[u8], mut at: usize) -> usize {
+    while let Some(b' ' | b'\t') = line.get(at) {
+        at += 1;
+    }
+    at
+}
+
+/// A hex digit's value by its character; 0xFF for any other character.
+const HEX_DIGIT: [u8; 256] = {
+    let mut t = [0xFF; 256];
+    let mut c = 0;
+    while c < 256 {
+        t[c] = match c as u8 {
+            d @ b'0'..=b'9' => d - b'0',
+            d @ b'a'..=b'f' => d - b'a' + 10,
+            d @ b'A'..=b'F' => d - b'A' + 10,
+            _ => 0xFF,
+        };
+        c += 1;
+    }
+    t
+};
+
+/// One frame of the log: its time, who sent it, its bytes (a buffer kept from frame to
+/// frame).
+struct Logged {
+    t_us: u64,
+    role: Role,
+    bytes: Vec<u8>,
+    /// The line it was read from.
+    line: u64,
+}
+
+impl Logged {
+    fn new() -> Logged {
+        Logged { t_us: 0, role: Role::Master, bytes: Vec::with_capacity(hiperface_model::frame::MAX_FRAME), line: 0 }
+    }
+}
+
+/// The frame whose characters are being handed out: the first one's end, the step
+/// between them, the next to hand out.
+struct Expanding {
+    first_end: u64,
+    step: u64,
+    next: usize,
+}
+
 pub struct Reader<'a> {
     source: Source<'a>,
     options: ReadOptions,
-    pending: VecDeque<Event>,
     last_us: u64,
     line: u64,
-    ahead: Option<(u64, Role, Vec<u8>)>,
-    /// The lines of the look-ahead frame and of the frame being expanded.
-    ahead_line: u64,
-    frame_line: u64,
+    /// The frame being expanded, and how.
+    frame: Logged,
+    expanding: Option<Expanding>,
+    /// One frame of look-ahead (where the next one starts bounds this one), if read.
+    ahead: Logged,
+    has_ahead: bool,
     /// Replies whose characters did not fit at the bus's rate.
     compressed: u64,
     /// The run's timing tolerance, where a report states it.
@@ -66,7 +174,7 @@ pub struct Reader<'a> {
 enum Source<'a> {
     Text {
         input: Input<'a>,
-        buf: String,
+        buf: Vec<u8>,
     },
     /// The frames of a report.json, case after case.
     Report(std::vec::IntoIter<(u64, Role, Vec<u8>)>),
@@ -115,55 +223,70 @@ impl<'a> Reader<'a> {
             tolerance_us = report.tolerance_us;
             Source::Report(frames.into_iter())
         } else {
-            Source::Text { input, buf: String::new() }
+            Source::Text { input, buf: Vec::new() }
         };
         Ok(Reader {
             source,
             options,
-            pending: VecDeque::new(),
             last_us: 0,
             line: 0,
-            ahead: None,
-            ahead_line: 0,
-            frame_line: 0,
+            frame: Logged::new(),
+            expanding: None,
+            ahead: Logged::new(),
+            has_ahead: false,
             compressed: 0,
             tolerance_us,
         })
     }
 
-    fn next_frame(&mut self) -> Result<Option<(u64, Role, Vec<u8>)>, ParseError> {
-        match &mut self.source {
+    /// The next frame of the log into `into`; `false` at the end.
+    fn next_frame(source: &mut Source, line: &mut u64, into: &mut Logged) -> Result<bool, ParseError> {
+        match source {
             Source::Report(frames) => {
-                self.line += 1;
-                Ok(frames.next())
+                *line += 1;
+                let Some((t_us, role, bytes)) = frames.next() else { return Ok(false) };
+                (into.t_us, into.role, into.line) = (t_us, role, *line);
+                into.bytes.clear();
+                into.bytes.extend_from_slice(&bytes);
+                Ok(true)
             }
             Source::Text { input, buf } => loop {
-                if !next_line(input.as_mut(), buf, &mut self.line)? {
-                    return Ok(None);
+                if !super::next_line_bytes(input.as_mut(), buf, line)? {
+                    return Ok(false);
                 }
-                let l = buf.trim();
-                if l.is_empty() || l.starts_with('#') {
-                    continue;
-                }
-                let (t_us, role, bytes) = parse_line(l).ok_or_else(|| {
-                    ParseError::at(self.line, format!("expected `<time> ms M>|S< <hex bytes>`, found `{l}`"))
-                })?;
-                return Ok(Some((super::capture_time(t_us, self.line)?, role, bytes)));
+                let (t_us, role) = match parse_common(buf, &mut into.bytes) {
+                    Some(common) => common,
+                    None => {
+                        let l = std::str::from_utf8(buf).map_err(|_| ParseError::at(*line, "not UTF-8 text"))?.trim();
+                        if l.is_empty() || l.starts_with('#') {
+                            continue;
+                        }
+                        let (t_us, role, bytes) = parse_line(l).ok_or_else(|| {
+                            ParseError::at(*line, format!("expected `<time> ms M>|S< <hex bytes>`, found `{l}`"))
+                        })?;
+                        into.bytes.clear();
+                        into.bytes.extend_from_slice(&bytes);
+                        (t_us, role)
+                    }
+                };
+                (into.t_us, into.role, into.line) = (super::capture_time(t_us, *line)?, role, *line);
+                return Ok(true);
             },
         }
     }
 
-    /// The frame's characters, each stamped at the end of its stop bit. A reply
-    /// whose characters back to back would run into the next frame (a log of a line
-    /// that does not pace characters, such as `--port sim`) ends the timeout before
-    /// that frame instead: its start is as logged, its length is not in the log.
+    /// How the frame's characters are stamped, each at the end of its stop bit. A
+    /// reply whose characters back to back would run into the next frame (a log of a
+    /// line that does not pace characters, such as `--port sim`) ends the timeout
+    /// before that frame instead: its start is as logged, its length is not in the log.
     ///
     /// Likewise a request written at once on such a line, whose characters back to back
     /// would begin before the frame before it ended (a long Store Data, or one at a
     /// data rate the log does not say): its end is as logged, its characters share the
     /// time since that frame.
-    fn expand(&mut self, t_us: u64, role: Role, bytes: &[u8], next_start: Option<u64>) -> Result<(), ParseError> {
+    fn expand(&mut self, next_start: Option<u64>) -> Result<Expanding, ParseError> {
         let ct = self.options.char_time_us();
+        let Logged { t_us, role, ref bytes, line } = self.frame;
         let n = bytes.len() as u64;
         let mut step = ct;
         let first_end = match role {
@@ -179,10 +302,7 @@ impl<'a> Reader<'a> {
             Role::Slave => t_us.checked_add(ct),
         };
         let first_end = first_end.filter(|t| *t >= self.last_us).ok_or_else(|| {
-            ParseError::at(
-                self.frame_line,
-                "a frame that starts before the one before it ended: expected times in order",
-            )
+            ParseError::at(line, "a frame that starts before the one before it ended: expected times in order")
         })?;
         if let (Role::Slave, Some(next)) = (role, next_start) {
             let room = next.saturating_sub(self.options.timeout_us()).saturating_sub(first_end);
@@ -191,20 +311,15 @@ impl<'a> Reader<'a> {
                 self.compressed += 1;
             }
         }
-        let channel = role as u8;
-        for (i, b) in bytes.iter().enumerate() {
-            let at_us = first_end + i as u64 * step;
-            self.pending.push_back(Event { at_us, channel, role: Some(role), mark: Mark::Byte(*b), late_us: 0 });
-        }
         self.last_us = first_end + (n - 1) * step;
-        Ok(())
+        Ok(Expanding { first_end, step, next: 0 })
     }
 
     /// When a frame's first start bit began.
-    fn start_of(&self, (t_us, role, bytes): &(u64, Role, Vec<u8>)) -> u64 {
-        match role {
-            Role::Master => t_us.saturating_sub(bytes.len() as u64 * self.options.char_time_us()),
-            Role::Slave => *t_us,
+    fn start_of(&self, f: &Logged) -> u64 {
+        match f.role {
+            Role::Master => f.t_us.saturating_sub(f.bytes.len() as u64 * self.options.char_time_us()),
+            Role::Slave => f.t_us,
         }
     }
 }
@@ -213,28 +328,41 @@ impl Iterator for Reader<'_> {
     type Item = Result<Event, ParseError>;
     fn next(&mut self) -> Option<Self::Item> {
         loop {
-            if let Some(e) = self.pending.pop_front() {
-                return Some(Ok(e));
+            if let Some(x) = &mut self.expanding {
+                if let Some(b) = self.frame.bytes.get(x.next) {
+                    let at_us = x.first_end + x.next as u64 * x.step;
+                    x.next += 1;
+                    let role = self.frame.role;
+                    return Some(Ok(Event {
+                        at_us,
+                        channel: role as u8,
+                        role: Some(role),
+                        mark: Mark::Byte(*b),
+                        late_us: 0,
+                    }));
+                }
+                self.expanding = None;
             }
-            // One frame of look-ahead: where the next one starts bounds this one.
-            let (frame, line) = match self.ahead.take() {
-                Some(f) => (f, self.ahead_line),
-                None => match self.next_frame() {
-                    Ok(Some(f)) => (f, self.line),
-                    Ok(None) => return None,
+            // The look-ahead frame (or the next one read) becomes the frame, and the one
+            // after it is read ahead.
+            if self.has_ahead {
+                std::mem::swap(&mut self.frame, &mut self.ahead);
+            } else {
+                match Self::next_frame(&mut self.source, &mut self.line, &mut self.frame) {
+                    Ok(true) => {}
+                    Ok(false) => return None,
                     Err(e) => return Some(Err(e)),
-                },
-            };
-            let ahead = match self.next_frame() {
-                Ok(f) => f,
-                Err(e) => return Some(Err(e)),
-            };
-            self.ahead_line = self.line;
-            self.frame_line = line;
-            let next_start = ahead.as_ref().map(|f| self.start_of(f));
-            self.ahead = ahead;
-            if let Err(e) = self.expand(frame.0, frame.1, &frame.2, next_start) {
+                }
+            }
+            let more = Self::next_frame(&mut self.source, &mut self.line, &mut self.ahead);
+            self.has_ahead = matches!(more, Ok(true));
+            if let Err(e) = more {
                 return Some(Err(e));
+            }
+            let next_start = self.has_ahead.then(|| self.start_of(&self.ahead));
+            match self.expand(next_start) {
+                Ok(x) => self.expanding = Some(x),
+                Err(e) => return Some(Err(e)),
             }
         }
     }
@@ -300,6 +428,38 @@ mod tests {
             let float = (text.parse::<f64>().unwrap() * 1000.0).round() as u64;
             proptest::prop_assert_eq!(ms_as_us(text), Some(float));
         }
+    }
+
+    proptest::proptest! {
+        /// What the fast reading of the common form reads, the general reading reads
+        /// the same (it leaves everything else to it): near-valid lines and any bytes.
+        #[test]
+        fn the_common_form_reads_as_the_general_form(
+            line in "[ \t]{0,2}[0-9.]{1,14}[ \t]{1,2}(ms|MS|s)[ \t]{1,2}(M>|S<|M)([ \t][0-9a-fA-FxX]{1,3}){0,5}[ \t\x0b\x0c]?",
+            noise in proptest::collection::vec(proptest::prelude::any::<u8>(), 0..40),
+        ) {
+            for input in [line.as_bytes(), &noise[..]] {
+                let mut bytes = Vec::new();
+                if let Some((t_us, role)) = parse_common(input, &mut bytes) {
+                    let text = std::str::from_utf8(input).unwrap().trim();
+                    proptest::prop_assert_eq!(parse_line(text), Some((t_us, role, bytes)));
+                }
+            }
+        }
+    }
+
+    /// The logs' own lines take the fast reading (else the bench measures the slow one).
+    #[test]
+    fn the_logs_own_lines_are_the_common_form() {
+        let mut bytes = Vec::new();
+        let line = b"    1234.567 ms  S< 40 52 E4 22 80 00 54";
+        assert_eq!(parse_common(line, &mut bytes), Some((1_234_567, Role::Slave)));
+        assert_eq!(bytes, [0x40, 0x52, 0xE4, 0x22, 0x80, 0x00, 0x54]);
+        assert_eq!(parse_common(b"10 ms\tM> ff", &mut bytes), Some((10_000, Role::Master)));
+        for other in [&b"10.5 ms M> 0x40"[..], b"1e3 ms M> 40", b"# 10 ms M> 40", b"10.000 ms M> 40 \xc2\xa0", b""] {
+            assert_eq!(parse_common(other, &mut bytes), None, "{}", String::from_utf8_lossy(other));
+        }
+        assert!(parse_line("10.5 ms M> 0x40").is_some(), "the general form reads what the common one leaves");
     }
 
     #[test]

@@ -23,9 +23,10 @@ impl Listener {
         let timeout_us = self.shadow.timeout_us(open.end_us);
         let complete_us = open.end_us.saturating_add(timeout_us);
         let (reply, observed, decoded) = match reply {
-            Some(r) => (Some(r.heard), Some(r.bytes), r.decoded),
+            Some(r) => (Some(r.heard), Some(r.bytes), Some(r.decoded)),
             None => (None, None, None),
         };
+        let frame = decoded.as_ref().and_then(|d| d.as_ref().ok());
         // What the oracle reads of the state before the request; the whole model is
         // kept only where the request carries a Code0 the encoder may know and the
         // model not (a capture's every exchange would copy it otherwise).
@@ -33,7 +34,7 @@ impl Listener {
         let code0 = code0_of(&open.bytes);
         let kept = code0.map(|_| self.shadow.clone());
         let mut expected = self.shadow.handle_frame(&open.bytes, complete_us);
-        let accepted = code0.filter(|_| model_refused_encoder_took(&expected, decoded.as_ref()));
+        let accepted = code0.filter(|_| model_refused_encoder_took(&expected, frame));
         if let (Some(code0), Some(mut kept)) = (accepted, kept) {
             // The encoder took a Code0 the model refused: the listener does not know
             // the codes, so that one is the encoder's. // 000:T26
@@ -42,7 +43,7 @@ impl Listener {
             self.shadow = kept;
             expected = self.shadow.handle_frame(&open.bytes, complete_us);
         }
-        let grade = self.oracle.grade_from(&before, &open.bytes, &expected, observed.as_deref());
+        let grade = self.oracle.grade_decoded(&before, &open.bytes, &expected, decoded);
         let mut findings = Vec::new();
         if let Some(f) = Finding::graded(&grade, &open.bytes) {
             let knowable = grade.deviation().is_some_and(|d| knowable(&d, &open.bytes));
@@ -62,6 +63,7 @@ impl Listener {
         }
         let mut response_ms = None;
         let mut request = open.bytes;
+        let mut reply_chars = None;
         if let (Some(r), Reply::Frame(_)) = (reply, expected.reply) {
             let heard_late = HeardLate { request_end_us: open.end_late_us, reply_start_us: r.first_late_us() };
             let settings = self.shadow.listening_settings(open.end_us).unwrap_or(self.options.settings);
@@ -87,10 +89,11 @@ impl Listener {
                 self.summary.response_time(command, t);
             }
             request = x.request;
+            reply_chars = Some(x.reply);
         }
         // What a well-formed reply tells of the encoder's world (as `certify` does on a
         // real device).
-        if let (Some(frame), true) = (decoded, findings.is_empty()) {
+        if let (Some(frame), true) = (frame, findings.is_empty()) {
             self.shadow.adopt_reply(&frame.response);
         }
         self.follow(complete_us);
@@ -105,6 +108,14 @@ impl Listener {
         };
         self.summary.exchange(&heard);
         out(&heard);
+        // Its buffers serve the frames to come.
+        self.spare.keep_bytes(heard.request);
+        if let Some(bytes) = heard.reply {
+            self.spare.keep_bytes(bytes);
+        }
+        if let Some(chars) = reply_chars {
+            self.spare.keep_chars(chars);
+        }
     }
 }
 

@@ -15,20 +15,26 @@ use std::fmt;
 #[derive(Debug, Default)]
 pub(super) struct Heard {
     pub chars: Vec<RxChar>,
+    /// How late each character may have been heard, µs; empty while every one was
+    /// heard on time (a capture file's are: no second buffer per frame).
     late_us: Vec<u64>,
 }
 
 impl Heard {
+    /// An empty frame in a buffer kept from an earlier one.
+    pub fn in_buffer(chars: Vec<RxChar>) -> Heard {
+        Heard { chars, late_us: Vec::new() }
+    }
+
+    #[inline]
     pub fn push(&mut self, c: RxChar, late_us: u64) {
-        // Most frames are short (a request 3–7 bytes, a reply up to 11 but Read
-        // Version and Read Data): a small first allocation, small enough for the
-        // allocator's fast path, grown for the long ones.
-        if self.chars.capacity() == 0 {
-            self.chars.reserve(16);
-            self.late_us.reserve(16);
+        if late_us != 0 && self.late_us.is_empty() {
+            self.late_us.resize(self.chars.len(), 0);
         }
         self.chars.push(c);
-        self.late_us.push(late_us);
+        if !self.late_us.is_empty() || late_us != 0 {
+            self.late_us.push(late_us);
+        }
     }
 
     pub fn len(&self) -> usize {
@@ -43,10 +49,18 @@ impl Heard {
         self.chars.iter().map(|c| c.byte).collect()
     }
 
+    /// The bytes into `buffer` (emptied first): a buffer kept from an earlier frame.
+    pub fn bytes_into(&self, mut buffer: Vec<u8>) -> Vec<u8> {
+        buffer.clear();
+        buffer.extend(self.chars.iter().map(|c| c.byte));
+        buffer
+    }
+
     /// The characters from `n` on; these keep the first `n`.
     pub fn split_off(&mut self, n: usize) -> Heard {
         let n = n.min(self.chars.len());
-        Heard { chars: self.chars.split_off(n), late_us: self.late_us.split_off(n) }
+        let late_us = if self.late_us.is_empty() { Vec::new() } else { self.late_us.split_off(n) };
+        Heard { chars: self.chars.split_off(n), late_us }
     }
 
     /// How late the first character may have been heard, µs.
@@ -57,6 +71,45 @@ impl Heard {
     /// How late the last character may have been heard, µs.
     pub fn last_late_us(&self) -> u64 {
         self.late_us.last().copied().unwrap_or(0)
+    }
+}
+
+/// Buffers kept from frame to frame, so that a capture of millions of frames
+/// allocates a few: each frame's characters, and the bytes of a request and its reply.
+#[derive(Debug, Default)]
+pub(super) struct Spare {
+    chars: Vec<Vec<RxChar>>,
+    bytes: Vec<Vec<u8>>,
+}
+
+impl Spare {
+    /// Buffers kept of each kind, and the largest kept (a frame cut at four times the
+    /// longest valid one).
+    const KEEP: usize = 4;
+    const LARGEST: usize = 4 * hiperface_model::frame::MAX_FRAME;
+
+    pub fn chars(&mut self) -> Vec<RxChar> {
+        // Most frames are short (a request 3–7 bytes, a reply up to 11 but Read
+        // Version and Read Data): a small first allocation, grown for the long ones.
+        self.chars.pop().unwrap_or_else(|| Vec::with_capacity(16))
+    }
+
+    pub fn bytes(&mut self) -> Vec<u8> {
+        self.bytes.pop().unwrap_or_else(|| Vec::with_capacity(16))
+    }
+
+    pub fn keep_chars(&mut self, mut chars: Vec<RxChar>) {
+        if self.chars.len() < Self::KEEP && chars.capacity() <= Self::LARGEST {
+            chars.clear();
+            self.chars.push(chars);
+        }
+    }
+
+    pub fn keep_bytes(&mut self, mut bytes: Vec<u8>) {
+        if self.bytes.len() < Self::KEEP && bytes.capacity() <= Self::LARGEST {
+            bytes.clear();
+            self.bytes.push(bytes);
+        }
     }
 }
 
@@ -112,5 +165,35 @@ mod tests {
         assert_eq!((h.bytes(), h.first_late_us(), h.last_late_us()), (vec![0x40, 0x41], 0, 0));
         assert_eq!((reply.bytes(), reply.first_late_us(), reply.last_late_us()), (vec![0x42, 0x43], 9_000, 4_000));
         assert_eq!(Heard::default().split_off(3).len(), 0);
+        // Lateness after characters heard on time, and on time after late ones.
+        let mut h = Heard::default();
+        for (i, late) in [0u64, 0, 7_000, 0].into_iter().enumerate() {
+            h.push(RxChar::ok(0x40 + i as u8, 1_000 * i as u64), late);
+        }
+        assert_eq!((h.first_late_us(), h.last_late_us()), (0, 0));
+        let tail = h.split_off(2);
+        assert_eq!((tail.first_late_us(), tail.last_late_us(), h.last_late_us()), (7_000, 0, 0));
+        let mut h = Heard::default();
+        h.push(RxChar::ok(0x40, 1_000), 0);
+        h.push(RxChar::ok(0x41, 2_000), 3_000);
+        assert_eq!((h.first_late_us(), h.last_late_us()), (0, 3_000));
+    }
+
+    #[test]
+    fn kept_buffers_come_back_empty_and_are_few() {
+        let mut spare = Spare::default();
+        let mut chars = spare.chars();
+        chars.push(RxChar::ok(0x40, 1));
+        let at = chars.as_ptr();
+        spare.keep_chars(chars);
+        let again = spare.chars();
+        assert!(again.is_empty() && again.as_ptr() == at, "the same buffer, emptied");
+        for _ in 0..10 {
+            spare.keep_bytes(vec![1, 2, 3]);
+        }
+        assert_eq!(spare.bytes.len(), Spare::KEEP);
+        assert!(spare.bytes().is_empty());
+        spare.keep_bytes(Vec::with_capacity(Spare::LARGEST + 1));
+        assert!(spare.bytes.iter().all(|b| b.capacity() <= Spare::LARGEST), "a huge buffer is not kept");
     }
 }

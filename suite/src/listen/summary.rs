@@ -60,8 +60,21 @@ pub struct Summary {
 impl Summary {
     pub(super) fn exchange(&mut self, h: &HeardExchange) {
         self.exchanges += 1;
-        *self.verdicts.entry(h.verdict.label()).or_insert(0) += 1;
-        *self.per_command.entry(h.command).or_default().entry(h.verdict.label()).or_insert(0) += 1;
+        let label = h.verdict.label();
+        // The counts exist after the first exchanges: looked up, not entered, on the
+        // path every exchange takes.
+        match self.verdicts.get_mut(label) {
+            Some(n) => *n += 1,
+            None => _ = self.verdicts.insert(label, 1),
+        }
+        let per_verdict = match self.per_command.get_mut(&h.command) {
+            Some(v) => v,
+            None => self.per_command.entry(h.command).or_default(),
+        };
+        match per_verdict.get_mut(label) {
+            Some(n) => *n += 1,
+            None => _ = per_verdict.insert(label, 1),
+        }
         if h.verdict != CaseVerdict::Pass && self.exchanges_kept.len() < KEPT {
             self.exchanges_kept.push(h.clone());
         }
@@ -77,7 +90,10 @@ impl Summary {
 
     pub(super) fn response_time(&mut self, command: CommandId, t_us: i64) {
         let ms = t_us as f64 / 1000.0;
-        let t = self.response_times.entry(command).or_default();
+        let t = match self.response_times.get_mut(&command) {
+            Some(t) => t,
+            None => self.response_times.entry(command).or_default(),
+        };
         if t.count == 0 {
             (t.min_ms, t.max_ms) = (ms, ms);
             t.histogram = vec![0; BUCKETS_MS.len() + 1];

@@ -354,6 +354,24 @@ impl Observer {
         }
     }
 
+    /// The first instant at which [`Observer::poll`] may observe anything, where
+    /// nothing else happens before: a frame in progress completes at its timeout, a
+    /// held fragment stands alone once the line has been quiet. A caller that polls
+    /// only from then on (a listener fed millions of characters) misses nothing.
+    pub fn next_due_us(&self) -> Option<u64> {
+        let complete = self.framer.last_us().map(|last| last.saturating_add(self.timeout_us()));
+        let quiet = match &self.held {
+            Some(h) if self.framer.bytes.is_empty() => {
+                Some(h.framer.last_us().unwrap_or(0).saturating_add(self.timeout_us().saturating_mul(4)))
+            }
+            _ => None,
+        };
+        match (complete, quiet) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
+    }
+
     /// A character from the master.
     pub fn master_char(&mut self, ch: RxChar, out: &mut impl FnMut(Observation)) {
         let start = ch.at_us.saturating_sub(self.char_time_us());
@@ -431,5 +449,54 @@ mod tests {
         plain.forget_recommendations();
         assert_eq!(remembers, plain);
         assert_eq!(remembers.memo, Recommendations::NONE);
+    }
+
+    /// What a master sends in the property below: requests, fragments of one, two run
+    /// together.
+    const SENT: &[&[u8]] = &[
+        &[0x40, 0x42, 0x02],
+        &[0x40, 0x50, 0x10],
+        &[0x40, 0x42],
+        &[0x02],
+        &[0x40, 0x42, 0x02, 0x40, 0x50, 0x10],
+        &[0xFF, 0x53, 0x11, 0xBF],
+    ];
+
+    proptest::proptest! {
+        /// Before `next_due_us` a poll observes nothing and changes nothing, whatever
+        /// the master sent (requests, fragments, several run together) with whatever
+        /// gaps: a listener that polls only from then on misses nothing. And where
+        /// something is due, polling then does change the observer.
+        #[test]
+        fn nothing_is_due_before_next_due(
+            frames in proptest::collection::vec(
+                (proptest::sample::select(SENT),
+                 0u64..30_000, 0u64..3_000),
+                1..8),
+            probe in proptest::prop_oneof![0u64..6_000, 0u64..200_000],
+        ) {
+            let mut o = Observer::new(crate::profiles::srs50());
+            let mut now = 0;
+            let mut sink = |_: Observation| {};
+            for (bytes, gap, inside) in frames {
+                now += gap + 1;
+                for b in bytes.iter() {
+                    now += 1_146 + inside % 2_000;
+                    if o.next_due_us().is_some_and(|due| due <= now) {
+                        o.poll(now, &mut sink);
+                    }
+                    o.master_char(RxChar::ok(*b, now), &mut sink);
+                }
+                let due = o.next_due_us();
+                let t = now + probe;
+                let mut polled = o.clone();
+                let mut seen = 0;
+                polled.poll(t, &mut |_| seen += 1);
+                match due {
+                    Some(due) if t >= due => proptest::prop_assert_ne!(&polled, &o, "due at {} µs, polled at {}", due, t),
+                    _ => proptest::prop_assert_eq!((&polled, seen), (&o, 0), "nothing due before {:?}, polled at {}", due, t),
+                }
+            }
+        }
     }
 }
