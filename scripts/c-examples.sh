@@ -24,7 +24,7 @@ out=target/c-examples
 mkdir -p "$out"
 lib=target/c-release/libhiperface.a
 flags=(-std=c11 -Wall -Wextra -Werror -Iffi/include)
-libs=("$lib" -lpthread -ldl)
+libs=("$lib" -lpthread -ldl -lm)
 sanitized=(-g -fsanitize=address,undefined -fno-sanitize-recover=all)
 "$CC" "${flags[@]}" "${sanitized[@]}" -o "$out/tiny_encoder" examples/c/tiny_encoder.c "${libs[@]}"
 "$CC" "${flags[@]}" "${sanitized[@]}" -o "$out/tiny_master" examples/c/tiny_master.c "${libs[@]}"
