@@ -292,7 +292,10 @@ unsafe fn run_profile(
 /// `HF_STATUS_INVALID`, with why in `error` (`error_len` chars; may be null).
 ///
 /// Physical values (the position, the temperature) are graded by range, as on a real
-/// device: the encoder's world is its own and the run does not know it.
+/// device: the encoder's world is its own and the run does not know it. A data field
+/// the run creates and reads before writing is expected to hold FFh, erased EEPROM
+/// (the project's decision DESIGN:fields, not a rule of 000): other bytes there are
+/// NON-STRICT, never FAIL.
 ///
 /// The encoder is handed each request once the character timeout after its last
 /// character has passed (000:2.2.2), as a slave's UART driver finds it; it listens
@@ -375,15 +378,19 @@ pub struct HfMasterAction {
     pub len: usize,
     pub start_us: u64,
     pub bps: u32,
-    /// When to be called again if nothing is heard before; 0: only when something is
-    /// heard.
+    /// When to be called again if no character comes before (one not after now: 1 µs
+    /// from now). 0 asks nothing new: a wake asked earlier and not yet come still
+    /// stands (each action's wake replaces the one before).
     pub wake_us: u64,
 }
 
-/// A master under test: `step` is called with `context` at power-on (`now_us` 0), when
-/// characters of the encoder's replies have reached it (`heard`, `heard_len` of them)
-/// and when the time it asked for has come; it writes what it does into `action`.
-/// `power_on` (may be null) is called before each scenario: start afresh.
+/// A master under test. `step` is called with `context` once at power-on (`now_us` 0,
+/// nothing heard); once for each character of the encoder's replies, as its stop bit
+/// ends (`heard_len` 1, `now_us` that character's `at_us`); and at the `wake_us` it
+/// asked for when no character came first. It writes what it does at `now_us` into
+/// `action`. `power_on` (may be null) is called before each scenario: start afresh.
+/// (Pinned by `step_is_called_at_power_on_per_character_and_at_its_wake` in the
+/// suite's in-process master.)
 #[repr(C)]
 #[derive(Debug, Clone, Copy)]
 pub struct HfMaster {

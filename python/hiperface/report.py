@@ -122,7 +122,10 @@ def certify(
     its first character starts), or ``(reply, start_us, then_settings)`` with the
     settings byte it listens with afterwards (67h, 000:T33; the stored settings again
     after an Encoder Reset). It listens from the start in the profile's stored
-    settings, past its power-up. ``profile``: a built-in name or a profile's TOML
+    settings, past its power-up. Physical values are graded by range, as on a real
+    device; a data field the run creates and reads before writing is expected to hold
+    FFh (erased EEPROM, the project's decision DESIGN:fields): other bytes there are
+    NON-STRICT, never FAIL. ``profile``: a built-in name or a profile's TOML
     file. ``cases``: only the cases whose id matches this glob. EEPROM writes and
     counter changes run unless skipped. An exception the encoder raises ends the run's
     answers (silence) and is raised when the run is over."""
@@ -155,12 +158,14 @@ def certify_master(
     report as ``hiperface certify master --exec``, without a pseudo-terminal or a
     process. Each scenario powers the encoder and the master on at time 0: the master's
     ``power_on()`` is called (if it has one), then ``step(now_us, heard)`` (or the
-    master itself, if callable): at power-on, whenever characters of the encoder's
-    replies have reached it (``heard``: ``(byte, end_us)`` pairs, each at the end of its
-    stop bit), and when the time it asked for has come. ``step`` returns None (nothing
-    to do until something is heard), a time in µs (be called again then), or ``(data,
-    start_us[, wake_us[, bps]])``: bytes-like data whose first character starts at
-    ``start_us`` (no earlier than now, nor than the end of what it sent before), sent at
+    master itself, if callable): once at power-on (``now_us`` 0, nothing heard), once
+    for each character of the encoder's replies as its stop bit ends (``heard``: one
+    ``(byte, end_us)`` pair, ``now_us`` its end), and at the time it asked for when no
+    character came first (a time not after now: 1 µs from now). ``step`` returns None
+    (nothing new: a time asked for earlier still stands), a time in µs (be called again
+    then, replacing the one asked before), or ``(data, start_us[, wake_us[, bps]])``:
+    bytes-like data whose first character starts at ``start_us`` (no earlier than now,
+    nor than the end of what it sent before), sent at
     ``bps`` (9600 unless given: the encoder's delivery rate, 000:T7). ``profile``: the
     encoder's, a built-in name or a profile's TOML file; ``scenarios``: only those whose
     id matches this glob; ``polling_period_ms``: the application's polling period

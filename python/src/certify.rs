@@ -167,8 +167,8 @@ impl PyMaster {
     }
 }
 
-/// What a master's `step` returned, as an action: None (nothing; called again when
-/// something is heard), an int (called again then), or `(data, start_us)`,
+/// What a master's `step` returned, as an action: None (nothing new: a wake asked before still
+/// stands), an int (called again then), or `(data, start_us)`,
 /// `(data, start_us, wake_us)` or `(data, start_us, wake_us, bps)`.
 fn master_action(returned: &Bound<'_, PyAny>) -> PyResult<MasterAction> {
     if returned.is_none() {

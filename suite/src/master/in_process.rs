@@ -315,6 +315,61 @@ mod tests {
         assert!(report.scenarios[0].findings.iter().any(|f| f.message().contains("the master sent nothing")));
     }
 
+    /// The contract `step` is called under (the C and Python masters' too): once at
+    /// power-on with nothing heard; once for each character of a reply as its stop bit
+    /// ends (`now_us` that end); at the wake asked for when nothing came first, a wake
+    /// not after now 1 µs later; a wake stays asked until it comes or another replaces
+    /// it (an action without one leaves it); what is sent starts at `start_us`, or now,
+    /// or when the master's line is free, whichever is latest.
+    #[test]
+    fn step_is_called_at_power_on_per_character_and_at_its_wake() {
+        #[derive(Default)]
+        struct Recorder {
+            calls: Vec<(u64, Vec<RxChar>)>,
+            wakes: Vec<u64>,
+        }
+        impl MasterUnderTest for Recorder {
+            fn power_on(&mut self) {}
+            fn step(&mut self, now_us: u64, heard: &[RxChar]) -> MasterAction {
+                self.calls.push((now_us, heard.to_vec()));
+                let read_position = || vec![0x40, 0x42, 0x02];
+                let mut action = MasterAction::default();
+                match (self.calls.len(), heard.is_empty()) {
+                    // Power-on: a wake 2 s on, past the encoder's start-up (000:T9).
+                    (1, _) => action.wake_us = Some(2_000_000),
+                    // A request to start 5 ms from now, and a wake already past.
+                    (2, true) => {
+                        action.send = Some(Transmit { bytes: read_position(), start_us: now_us + 5_000, bps: 9600 });
+                        action.wake_us = Some(now_us - 10);
+                    }
+                    // Past the wake in the past: a wake 0.5 s on, which the reply's
+                    // characters (no wake asked) leave standing.
+                    (3, true) => action.wake_us = Some(2_500_000),
+                    _ => {}
+                }
+                self.wakes.extend(action.wake_us);
+                action
+            }
+        }
+        let options = Options { scenarios: Some("polling.long".into()), ..Options::default() };
+        let mut master = Recorder::default();
+        let _ = run(&mut master, "recorder", hiperface_model::profiles::srs50(), &options);
+        let calls = &master.calls;
+        assert_eq!(calls.first(), Some(&(0, Vec::new())), "first at power-on, nothing heard");
+        assert_eq!((calls[1].0, calls[1].1.is_empty()), (2_000_000, true), "then at its wake");
+        assert_eq!((calls[2].0, calls[2].1.is_empty()), (2_000_001, true), "a wake in the past: 1 µs on");
+        let replies: Vec<_> = calls.iter().filter(|(_, h)| !h.is_empty()).collect();
+        assert_eq!(replies.len(), 7, "one call per character of the 7-byte reply: {calls:?}");
+        for (now, heard) in &replies {
+            assert_eq!((heard.len(), heard[0].at_us), (1, *now), "one character, called as it ends");
+        }
+        // The request started 5 ms after the call that sent it (not at once), so its
+        // reply's first character ends later than 2 000 000 + 5 000 + its 3 characters.
+        assert!(replies[0].0 > 2_000_000 + 5_000 + 3 * 1_146, "{calls:?}");
+        let last = calls.last().map(|(t, h)| (*t, h.is_empty()));
+        assert_eq!(last, Some((2_500_000, true)), "the wake asked before the reply still came: {calls:?}");
+    }
+
     /// A master that floods the line is cut off where the encoder has taken in all it
     /// will: an ERROR (as the guide says), not a FAIL of the rules the flood breaks,
     /// and a record no longer than the cut (issue 55: gigabytes per scenario).
