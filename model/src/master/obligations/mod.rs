@@ -471,14 +471,14 @@ mod tests {
         fn nothing_is_due_before_next_due(
             frames in proptest::collection::vec(
                 (proptest::sample::select(SENT),
-                 0u64..30_000, 0u64..3_000),
+                 0u64..30_000, 0u64..3_000, proptest::bool::ANY),
                 1..8),
             probe in proptest::prop_oneof![0u64..6_000, 0u64..200_000],
         ) {
             let mut o = Observer::new(crate::profiles::srs50());
             let mut now = 0;
             let mut sink = |_: Observation| {};
-            for (bytes, gap, inside) in frames {
+            for (bytes, gap, inside, completed) in frames {
                 now += gap + 1;
                 for b in bytes.iter() {
                     now += 1_146 + inside % 2_000;
@@ -486,6 +486,12 @@ mod tests {
                         o.poll(now, &mut sink);
                     }
                     o.master_char(RxChar::ok(*b, now), &mut sink);
+                }
+                // The frame completed (a fragment is then held, the framer empty), or
+                // still in the framer.
+                if let Some(due) = o.next_due_us().filter(|_| completed) {
+                    now = now.max(due);
+                    o.poll(now, &mut sink);
                 }
                 let due = o.next_due_us();
                 let t = now + probe;
