@@ -181,7 +181,11 @@ pub fn conclude(
 /// The line per exchange on standard output, coloured by verdict where standard
 /// output is a terminal that wants colour (`NO_COLOR`, `CLICOLOR_FORCE` respected).
 pub struct LiveView {
-    out: Option<anstream::AutoStream<Box<dyn Write>>>,
+    out: Option<Box<dyn Write>>,
+    /// Whether lines are coloured: on a terminal that takes colour (anstream's choice,
+    /// `NO_COLOR` and the like). Otherwise no escape is written at all, rather than
+    /// written and stripped again for every line of a million-exchange capture.
+    colour: bool,
     /// Flush after each line (a live bus), or once at the end (a file).
     live: bool,
 }
@@ -189,21 +193,27 @@ pub struct LiveView {
 impl LiveView {
     pub fn new(quiet: bool, live: bool) -> LiveView {
         let choice = anstream::AutoStream::choice(&std::io::stdout());
+        let colour = choice != anstream::ColorChoice::Never;
         let raw: Box<dyn Write> = Box::new(std::io::BufWriter::new(std::io::stdout()));
-        LiveView { out: (!quiet).then(|| anstream::AutoStream::new(raw, choice)), live }
+        let out: Box<dyn Write> = if colour { Box::new(anstream::AutoStream::new(raw, choice)) } else { raw };
+        LiveView { out: (!quiet).then_some(out), colour, live }
     }
 
     pub fn print(&mut self, h: &HeardExchange) {
         let Some(out) = self.out.as_mut() else { return };
-        use anstyle::AnsiColor;
-        let colour = match h.verdict {
-            CaseVerdict::Pass => AnsiColor::Green,
-            CaseVerdict::NonStrict => AnsiColor::Yellow,
-            CaseVerdict::Fail => AnsiColor::Red,
-            _ => AnsiColor::Cyan,
+        let _ = if self.colour {
+            use anstyle::AnsiColor;
+            let colour = match h.verdict {
+                CaseVerdict::Pass => AnsiColor::Green,
+                CaseVerdict::NonStrict => AnsiColor::Yellow,
+                CaseVerdict::Fail => AnsiColor::Red,
+                _ => AnsiColor::Cyan,
+            };
+            let style = anstyle::Style::new().fg_color(Some(colour.into()));
+            writeln!(out, "{style}{h}{style:#}")
+        } else {
+            writeln!(out, "{h}")
         };
-        let style = anstyle::Style::new().fg_color(Some(colour.into()));
-        let _ = writeln!(out, "{style}{h}{style:#}");
         if self.live {
             let _ = out.flush();
         }

@@ -134,16 +134,22 @@ pub struct HeardExchange {
 /// per finding (the live view, the reports).
 impl fmt::Display for HeardExchange {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let reply = self.reply.as_deref().map_or("(silence)".to_string(), |b| Hex(b).to_string());
-        let rt = self.response_ms.map_or(String::new(), |t| format!(" {t:+.3} ms"));
+        // Written straight to the formatter: the live view prints one per exchange.
         write!(
             f,
-            "{:>12.3} ms  {:<10} {}  M> {}  S< {reply}{rt}",
+            "{:>12.3} ms  {:<10} {}  M> {}  S< ",
             self.t_ms,
             self.verdict.label(),
             self.command,
             Hex(&self.request)
         )?;
+        match self.reply.as_deref() {
+            Some(bytes) => write!(f, "{}", Hex(bytes))?,
+            None => f.write_str("(silence)")?,
+        }
+        if let Some(t) = self.response_ms {
+            write!(f, " {t:+.3} ms")?;
+        }
         for finding in &self.findings {
             write!(f, "\n{:>27} {finding}", finding.verdict().label())?;
         }
