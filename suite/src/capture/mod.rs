@@ -298,13 +298,29 @@ fn next_line_within(
     Ok(true)
 }
 
+/// A hex digit's value by its character; 0xFF for any other character.
+pub(crate) const HEX_DIGIT: [u8; 256] = {
+    let mut t = [0xFF; 256];
+    let mut c = 0;
+    while c < 256 {
+        t[c] = match c as u8 {
+            d @ b'0'..=b'9' => d - b'0',
+            d @ b'a'..=b'f' => d - b'a' + 10,
+            d @ b'A'..=b'F' => d - b'A' + 10,
+            _ => 0xFF,
+        };
+        c += 1;
+    }
+    t
+};
+
 /// A byte written as two hex digits, optionally with `0x`.
 pub(crate) fn hex_byte(s: &str) -> Option<u8> {
-    let nibble = |c: u8| (c as char).to_digit(16);
     // The common form first: a capture holds millions of them.
     if let [h, l] = s.as_bytes() {
-        if let (Some(h), Some(l)) = (nibble(*h), nibble(*l)) {
-            return u8::try_from(h << 4 | l).ok();
+        let (h, l) = (HEX_DIGIT[usize::from(*h)], HEX_DIGIT[usize::from(*l)]);
+        if (h | l) <= 0x0F {
+            return Some(h << 4 | l);
         }
     }
     let s = s.trim();

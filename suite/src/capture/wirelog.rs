@@ -35,15 +35,38 @@ fn parse_line(l: &str) -> Option<(u64, Role, Vec<u8>)> {
 /// A time written in ms (`171.465`), in µs. The logs' own form (at most three
 /// decimals) is read exactly; any other number is rounded to the µs.
 fn ms_as_us(word: &str) -> Option<u64> {
-    let (int, frac) = word.split_once('.').unwrap_or((word, ""));
-    let digits = |s: &str| s.bytes().all(|b| b.is_ascii_digit());
-    if !int.is_empty() && int.len() <= 12 && frac.len() <= 3 && digits(int) && digits(frac) {
-        let int: u64 = int.parse().ok()?;
-        let frac = frac.bytes().chain(std::iter::repeat(b'0')).take(3).fold(0, |us, d| us * 10 + u64::from(d - b'0'));
-        return Some(int * 1000 + frac);
+    // A word holds no space or tab: the exact form, if it is one, is the whole word.
+    if let Some((us, _)) = exact_ms_as_us(word.as_bytes()) {
+        return Some(us);
     }
     let t_ms: f64 = word.parse().ok()?;
     (t_ms.is_finite() && t_ms >= 0.0).then(|| (t_ms * 1000.0).round() as u64)
+}
+
+/// The logs' own form of a time at the start of `text`, exactly in µs, and how many
+/// bytes it takes: 1 to 12 digits, then optionally a point and up to 3 more, up to the
+/// end of `text` or a space or a tab.
+fn exact_ms_as_us(text: &[u8]) -> Option<(u64, usize)> {
+    // One pass: the integer's digits and then the fraction's, as one number.
+    let (mut n, mut int_digits, mut frac_digits, mut point) = (0u64, 0u32, 0u32, false);
+    let mut len = text.len();
+    for (i, b) in text.iter().enumerate() {
+        match b {
+            b'0'..=b'9' if !point && int_digits < 12 => int_digits += 1,
+            b'0'..=b'9' if point && frac_digits < 3 => frac_digits += 1,
+            b'.' if !point => {
+                point = true;
+                continue;
+            }
+            b' ' | b'\t' => {
+                len = i;
+                break;
+            }
+            _ => return None,
+        }
+        n = n * 10 + u64::from(b - b'0');
+    }
+    (int_digits > 0).then(|| (n * 10u64.pow(3 - frac_digits), len))
 }
 
 /// Read the common form of a line from its bytes: `<digits>[.<up to 3 digits>] ms M>|S<`
@@ -52,29 +75,10 @@ fn ms_as_us(word: &str) -> Option<u64> {
 /// character outside ASCII) is left to [`parse_line`], which checks the text is UTF-8.
 /// A capture holds millions of such lines: no allocation, one pass over the words.
 fn parse_common(line: &[u8], bytes: &mut Vec<u8>) -> Option<(u64, Role)> {
-    // The time: up to 12 digits, a point and up to 3 more, exactly in µs.
-    let mut at = after_blanks(line, 0);
-    let (mut int, mut int_digits) = (0u64, 0);
-    while let Some(d) = line.get(at).filter(|b| b.is_ascii_digit()) {
-        (int, int_digits, at) = (int * 10 + u64::from(d - b'0'), int_digits + 1, at + 1);
-        if int_digits > 12 {
-            return None;
-        }
-    }
-    let (mut frac, mut frac_digits) = (0u64, 0);
-    if line.get(at) == Some(&b'.') {
-        at += 1;
-        while let Some(d) = line.get(at).filter(|b| b.is_ascii_digit()) {
-            (frac, frac_digits, at) = (frac * 10 + u64::from(d - b'0'), frac_digits + 1, at + 1);
-            if frac_digits > 3 {
-                return None;
-            }
-        }
-    }
-    if int_digits == 0 {
-        return None;
-    }
-    let t_us = int * 1000 + frac * 10u64.pow(3 - frac_digits);
+    // The time, in the logs' own form.
+    let start = after_blanks(line, 0);
+    let (t_us, len) = exact_ms_as_us(line.get(start..)?)?;
+    let at = start + len;
     // `ms`, then `M>` or `S<`: two-character words, blanks before each.
     let word = |at: usize| {
         let start = after_blanks(line, at);
@@ -93,7 +97,7 @@ fn parse_common(line: &[u8], bytes: &mut Vec<u8>) -> Option<(u64, Role)> {
         match (line.get(blanks), line.get(blanks + 1), line.get(blanks + 2)) {
             (None, _, _) => break,
             (Some(h), Some(l), None | Some(b' ' | b'\t')) if blanks > at => {
-                let (h, l) = (HEX_DIGIT[usize::from(*h)], HEX_DIGIT[usize::from(*l)]);
+                let (h, l) = (super::HEX_DIGIT[usize::from(*h)], super::HEX_DIGIT[usize::from(*l)]);
                 if (h | l) > 0x0F {
                     return None;
                 }
@@ -113,22 +117,6 @@ fn after_blanks(line: &[u8], mut at: usize) -> usize {
     }
     at
 }
-
-/// A hex digit's value by its character; 0xFF for any other character.
-const HEX_DIGIT: [u8; 256] = {
-    let mut t = [0xFF; 256];
-    let mut c = 0;
-    while c < 256 {
-        t[c] = match c as u8 {
-            d @ b'0'..=b'9' => d - b'0',
-            d @ b'a'..=b'f' => d - b'a' + 10,
-            d @ b'A'..=b'F' => d - b'A' + 10,
-            _ => 0xFF,
-        };
-        c += 1;
-    }
-    t
-};
 
 /// One frame of the log: its time, who sent it, its bytes (a buffer kept from frame to
 /// frame).
