@@ -89,26 +89,31 @@ impl Spare {
     const LARGEST: usize = 4 * hiperface_model::frame::MAX_FRAME;
 
     pub fn chars(&mut self) -> Vec<RxChar> {
-        // Most frames are short (a request 3–7 bytes, a reply up to 11 but Read
-        // Version and Read Data): a small first allocation, grown for the long ones.
-        self.chars.pop().unwrap_or_else(|| Vec::with_capacity(16))
+        Self::take(&mut self.chars)
     }
 
     pub fn bytes(&mut self) -> Vec<u8> {
-        self.bytes.pop().unwrap_or_else(|| Vec::with_capacity(16))
+        Self::take(&mut self.bytes)
     }
 
-    pub fn keep_chars(&mut self, mut chars: Vec<RxChar>) {
-        if self.chars.len() < Self::KEEP && chars.capacity() <= Self::LARGEST {
-            chars.clear();
-            self.chars.push(chars);
-        }
+    pub fn keep_chars(&mut self, chars: Vec<RxChar>) {
+        Self::keep(&mut self.chars, chars);
     }
 
-    pub fn keep_bytes(&mut self, mut bytes: Vec<u8>) {
-        if self.bytes.len() < Self::KEEP && bytes.capacity() <= Self::LARGEST {
-            bytes.clear();
-            self.bytes.push(bytes);
+    pub fn keep_bytes(&mut self, bytes: Vec<u8>) {
+        Self::keep(&mut self.bytes, bytes);
+    }
+
+    fn take<T>(kept: &mut Vec<Vec<T>>) -> Vec<T> {
+        // Most frames are short (a request 3–7 bytes, a reply up to 11 but Read
+        // Version and Read Data): a small first allocation, grown for the long ones.
+        kept.pop().unwrap_or_else(|| Vec::with_capacity(16))
+    }
+
+    fn keep<T>(kept: &mut Vec<Vec<T>>, mut buffer: Vec<T>) {
+        if kept.len() < Self::KEEP && buffer.capacity() <= Self::LARGEST {
+            buffer.clear();
+            kept.push(buffer);
         }
     }
 }
