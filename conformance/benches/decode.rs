@@ -6,34 +6,16 @@
 //! profile in docs/src/watching-a-live-bus.md). Memory does not grow with the capture.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use hiperface_conformance::capture::{Format, ReadOptions};
-use hiperface_conformance::listen::{listen_to, Options};
-use hiperface_model::{profiles, UartSettings};
+use hiperface_conformance::capture::Format;
+use hiperface_conformance::listen::listen_to;
 
-const CYCLE: [(&str, &str); 3] =
-    [("40 52 12", "40 52 E4 22 80 00 54"), ("40 50 10", "40 50 00 10"), ("40 42 02", "40 42 00 00 00 00 02")];
-
-fn wirelog(exchanges: usize) -> String {
-    let mut s = String::with_capacity(exchanges * 70);
-    for i in 0..exchanges {
-        let (req, reply) = CYCLE[i % CYCLE.len()];
-        let t = 10.0 + 40.0 * i as f64;
-        s += &format!("{t:12.3} ms  M> {req}\n{:12.3} ms  S< {reply}\n", t + 7.73);
-    }
-    s
-}
+#[path = "support/decode_log.rs"]
+mod decode_log;
 
 fn decode(c: &mut Criterion) {
     const EXCHANGES: usize = 100_000;
-    let text = wirelog(EXCHANGES);
-    let options = Options {
-        profile: profiles::srs50(),
-        settings: UartSettings::DEFAULT,
-        tolerance_us: 100,
-        master_channel: None,
-        polling_period_ms: hiperface_model::master::obligations::POLLING_PERIOD_MS,
-    };
-    let read = ReadOptions { baud: 9600, samplerate_hz: None };
+    let text = decode_log::wirelog(EXCHANGES);
+    let (read, options) = decode_log::heard_as();
     // The session is clean: every exchange must pass, or the figure means nothing.
     let summary = listen_to(text.as_bytes(), Some(Format::Wirelog), read, options.clone()).unwrap();
     assert_eq!(summary.exchanges, EXCHANGES as u64);

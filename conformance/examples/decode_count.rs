@@ -10,12 +10,11 @@
 //!
 //! (instructions are repeatable whatever else the machine does; time is the bench's).
 
-use hiperface_conformance::capture::{Format, ReadOptions};
-use hiperface_conformance::listen::{listen_to, Options};
-use hiperface_model::{profiles, UartSettings};
+use hiperface_conformance::capture::Format;
+use hiperface_conformance::listen::listen_to;
 
-const CYCLE: [(&str, &str); 3] =
-    [("40 52 12", "40 52 E4 22 80 00 54"), ("40 50 10", "40 50 00 10"), ("40 42 02", "40 42 00 00 00 00 02")];
+#[path = "../benches/support/decode_log.rs"]
+mod decode_log;
 
 fn main() -> std::process::ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -26,12 +25,7 @@ fn main() -> std::process::ExitCode {
     let path = match args.as_slice() {
         [write, n, file] if write == "--write" => {
             let Ok(exchanges) = n.parse::<usize>() else { return usage() };
-            let mut text = String::with_capacity(exchanges * 70);
-            for i in 0..exchanges {
-                let (req, reply) = CYCLE[i % CYCLE.len()];
-                let t = 10.0 + 40.0 * i as f64;
-                text += &format!("{t:12.3} ms  M> {req}\n{:12.3} ms  S< {reply}\n", t + 7.73);
-            }
+            let text = decode_log::wirelog(exchanges);
             if let Err(e) = std::fs::write(file, text) {
                 eprintln!("{file}: {e}");
                 return std::process::ExitCode::FAILURE;
@@ -48,14 +42,7 @@ fn main() -> std::process::ExitCode {
             return std::process::ExitCode::FAILURE;
         }
     };
-    let options = Options {
-        profile: profiles::srs50(),
-        settings: UartSettings::DEFAULT,
-        tolerance_us: 100,
-        master_channel: None,
-        polling_period_ms: hiperface_model::master::obligations::POLLING_PERIOD_MS,
-    };
-    let read = ReadOptions { baud: 9600, samplerate_hz: None };
+    let (read, options) = decode_log::heard_as();
     match listen_to(&text, Some(Format::Wirelog), read, options) {
         // Every exchange of the clean log passes, or the count means nothing.
         Ok(s) if s.exchanges > 0 && s.count(hiperface_conformance::verdict::CaseVerdict::Pass) == s.exchanges => {
