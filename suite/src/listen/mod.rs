@@ -241,8 +241,7 @@ impl Listener {
                 .frames
                 .iter()
                 .any(|a| a.heard.chars.first().is_some_and(|c| c.at_us.saturating_sub(self.char_us) <= end));
-            // A reply that starts at the window's end is heard a character later.
-            if now > end.saturating_add(self.char_us) && !reply_under_way {
+            if now > self.window_heard_until(open) && !reply_under_way {
                 let open = self.open.take();
                 if let Some(open) = open {
                     self.exchange(open, None, out);
@@ -256,13 +255,18 @@ impl Listener {
         self.due_us = self.next_due();
     }
 
+    /// The last instant a reply in `open`'s window may still be heard beginning: one
+    /// that starts at the window's end is heard a character later.
+    fn window_heard_until(&self, open: &Open) -> u64 {
+        open.window_end_us.saturating_add(self.char_us)
+    }
+
     /// The first instant at which time passing may change anything: a frame times
-    /// out, a request's reply window closes (a character after its end, as `advance`
-    /// closes it), the master's rules are due.
+    /// out, a request's reply window closes (just after `window_heard_until`, as
+    /// `advance` closes it), the master's rules are due.
     fn next_due(&self) -> u64 {
         let frame = self.frames.iter().filter_map(|a| a.deadline(self.timeout_us)).min().unwrap_or(u64::MAX);
-        let window =
-            self.open.as_ref().map_or(u64::MAX, |o| o.window_end_us.saturating_add(self.char_us).saturating_add(1));
+        let window = self.open.as_ref().map_or(u64::MAX, |o| self.window_heard_until(o).saturating_add(1));
         frame.min(window).min(self.observer.next_due_us().unwrap_or(u64::MAX))
     }
 

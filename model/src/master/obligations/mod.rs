@@ -340,18 +340,27 @@ impl Observer {
     /// Time has reached `now_us` with no character from the master: a frame in
     /// progress completes once its timeout has elapsed.
     pub fn poll(&mut self, now_us: u64, out: &mut impl FnMut(Observation)) {
-        if let Some(last) = self.framer.last_us() {
-            if now_us >= last.saturating_add(self.timeout_us()) {
-                self.complete(out);
-            }
+        if self.frame_complete_us().is_some_and(|complete| now_us >= complete) {
+            self.complete(out);
         }
         // A held fragment with nothing after it for long: it was malformed on its own.
-        if let Some(h) = &self.held {
-            let quiet = h.framer.last_us().unwrap_or(0).saturating_add(self.timeout_us().saturating_mul(4));
-            if self.framer.bytes.is_empty() && now_us >= quiet {
-                self.release_held(out);
-            }
+        if self.held_alone_us().is_some_and(|alone| now_us >= alone) {
+            self.release_held(out);
         }
+    }
+
+    /// When the frame in progress completes: the timeout after its last character.
+    #[inline]
+    fn frame_complete_us(&self) -> Option<u64> {
+        self.framer.last_us().map(|last| last.saturating_add(self.timeout_us()))
+    }
+
+    /// When a held fragment stands alone, with no frame in progress after it: the line
+    /// quiet four timeouts after it.
+    #[inline]
+    fn held_alone_us(&self) -> Option<u64> {
+        let h = self.held.as_ref().filter(|_| self.framer.bytes.is_empty())?;
+        Some(h.framer.last_us().unwrap_or(0).saturating_add(self.timeout_us().saturating_mul(4)))
     }
 
     /// The first instant at which [`Observer::poll`] may observe anything, where
@@ -359,14 +368,7 @@ impl Observer {
     /// held fragment stands alone once the line has been quiet. A caller that polls
     /// only from then on (a listener fed millions of characters) misses nothing.
     pub fn next_due_us(&self) -> Option<u64> {
-        let complete = self.framer.last_us().map(|last| last.saturating_add(self.timeout_us()));
-        let quiet = match &self.held {
-            Some(h) if self.framer.bytes.is_empty() => {
-                Some(h.framer.last_us().unwrap_or(0).saturating_add(self.timeout_us().saturating_mul(4)))
-            }
-            _ => None,
-        };
-        match (complete, quiet) {
+        match (self.frame_complete_us(), self.held_alone_us()) {
             (Some(a), Some(b)) => Some(a.min(b)),
             (a, b) => a.or(b),
         }
