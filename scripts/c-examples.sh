@@ -5,6 +5,11 @@
 #                           certified in-process with the whole catalogue (hf_certify),
 #                           under AddressSanitizer and UBSan: PASSED, in under 50 ms
 #   tiny_encoder --defect   its checksum slip: FAILED, on the checksum clause 000:2.3.3
+#   tiny_encoder --temperature 120
+#                           its world (the sensor reads 120 °C, above its 115) told to
+#                           the run, which grades exactly: warning 1Eh on every reply,
+#                           PASSED; with --ignore-temperature FAILED on 000:T27 and
+#                           000:2.3.4, and PASSED at 25 °C (the defect needs the heat)
 #   tiny_master             a tiny C master (written from the specification alone)
 #                           certified in-process with the whole scenario catalogue
 #                           (hf_certify_master), under AddressSanitizer and UBSan: PASSED
@@ -58,6 +63,19 @@ tail -3 "$out/defect.txt"
 grep -q "^FAILED$" "$out/defect.txt" || { echo "the defective encoder's run is not FAILED"; exit 1; }
 grep -q "FAIL \[000:2.3.3\]" "$out/defect.txt" || { echo "no FAIL on the checksum clause"; exit 1; }
 under_50ms "$out/defect.txt"
+echo "-- tiny_encoder --temperature 120: its world told to the run, graded exactly (expected PASSED)"
+"$out/tiny_encoder" --temperature 120 > "$out/hot.txt" || { cat "$out/hot.txt"; echo "the hot encoder was not PASSED"; exit 1; }
+tail -2 "$out/hot.txt"
+echo "-- tiny_encoder --temperature 120 --ignore-temperature (expected FAILED on 000:T27 and 000:2.3.4)"
+if "$out/tiny_encoder" --temperature 120 --ignore-temperature > "$out/hot_defect.txt"; then
+    cat "$out/hot_defect.txt"; echo "the encoder that ignores its temperature was not failed"; exit 1
+fi
+grep -q "^FAILED$" "$out/hot_defect.txt" || { echo "its run is not FAILED"; exit 1; }
+grep -q "FAIL \[000:T27\] .*expected \[40 D0 1E 8E\]" "$out/hot_defect.txt" \
+    || { echo "no FAIL of Read Encoder Status without 1Eh"; exit 1; }
+grep -q "FAIL \[000:2.3.4\] .*warning bit clear" "$out/hot_defect.txt" || { echo "no FAIL of the warning bit"; exit 1; }
+"$out/tiny_encoder" --temperature 25 --ignore-temperature | tail -1 | grep -q "^PASSED$" \
+    || { echo "at 25 °C the defect cannot show, yet the run was not PASSED"; exit 1; }
 echo "-- tiny_master: certified in-process with the scenario catalogue (expected PASSED), JUnit written"
 "$out/tiny_master" --junit "$out/tiny_master.junit.xml" | tee "$out/tiny_master.txt"
 grep -q "^PASSED$" "$out/tiny_master.txt" || { echo "the conformant master was not PASSED"; exit 1; }

@@ -21,6 +21,7 @@ static void random_answer(void *context, const HfHeard *heard, HfAnswer *answer)
     for (size_t i = 0; i < HF_MAX_FRAME; i++) answer->reply[i] = (uint8_t)rand();
     answer->start_us = (rand() % 4 == 0) ? (uint64_t)rand() << 20 : heard->complete_us + (uint64_t)(rand() % 3000);
     answer->then_settings = (int16_t)(rand() % 400 - 100);
+    answer->restarts = rand() % 8 == 0;
 }
 
 static void silent(void *context, const HfHeard *heard, HfAnswer *answer) {
@@ -228,6 +229,21 @@ int main(void) {
     }
     none.cases = "{identity.status";
     CHECK(hf_certify("SRS50", silent, NULL, &none, &report, error, sizeof error) == HF_STATUS_INVALID);
+    /* A world whose fault names no fault has: refused, the name in the error. */
+    HfWorld unheard = {.init_faults = "watchdog, dog"};
+    HfCertifyOptions worldly = {.world = &unheard};
+    CHECK(hf_certify("SRS50", silent, NULL, &worldly, &report, error, sizeof error) == HF_STATUS_INVALID);
+    CHECK(report == NULL && strstr(error, "unknown start-up fault `dog`") != NULL);
+    unheard = (HfWorld){.position_faults = "watchdog"};
+    CHECK(hf_certify("SRS50", silent, NULL, &worldly, &report, error, sizeof error) == HF_STATUS_INVALID);
+    CHECK(strstr(error, "unknown position fault `watchdog`") != NULL);
+    /* A world that reads, with a garbage encoder: a report, never a crash. */
+    HfInputs hot = {.temperature_c = 200, .led_current_ma = 60};
+    unheard = (HfWorld){.inputs = &hot, .init_faults = "watchdog,counter", .position_faults = "", .i2c_fault = true};
+    unsigned worldly_calls = 0;
+    CHECK(hf_certify("SRS50", random_answer, &worldly_calls, &worldly, &report, error, sizeof error) == HF_STATUS_OK);
+    CHECK(worldly_calls > 0 && hf_report_outcome(report) != HF_OUTCOME_PASSED);
+    hf_report_free(report);
     CHECK(hf_report_outcome(NULL) == HF_OUTCOME_INCOMPLETE);
     CHECK(hf_report_case_count(NULL) == 0);
     CHECK(hf_report_text(NULL, HF_REPORT_FORM_JSON) == NULL);

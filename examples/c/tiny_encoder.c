@@ -4,11 +4,17 @@
  * virtual time). It supports Read Position (42h), Read Encoder Status (50h), Read Type
  * Label (52h) and Encoder Reset (53h); every other command is an unknown command.
  *
- *   tiny_encoder [--defect] [--junit PATH]
+ *   tiny_encoder [--defect] [--temperature C [--ignore-temperature]] [--junit PATH]
  *
  *   (no option)     the conformant encoder: exit 0 if the run is PASSED
  *   --defect        the same encoder computing its checksum without the address byte
  *                   (a classic slip): FAILED on 000:2.3.3; exit 1
+ *   --temperature C the encoder's sensor reads C degrees Celsius, and the run is told
+ *                   so (HfCertifyOptions.world): outside the data sheet's -40...115
+ *                   it raises the warning 1Eh before every reply (000:T59), graded
+ *                   exactly
+ *   --ignore-temperature  the defect of never checking the temperature: FAILED where
+ *                   the warning is missing
  *   --junit PATH    also write the report as JUnit XML to PATH
  *
  * Prints each case that is not PASS (verdict, id) with its findings
@@ -19,6 +25,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #include "hiperface.h"
@@ -94,10 +101,8 @@ enum {
  * valid values 0...7FFFh. The shaft of this tiny device never turns: it stands at
  * TINY_POSITION (any value of the measuring range is a valid Read Position answer,
  * 000:T12; -DTINY_POSITION=0 builds the same device standing at 0).
- * Note: hf_certify grades physical values "Exact", against its own simulated shaft at
- * 0, which the callback is never told (HfHeard carries no inputs): with 1234h it FAILs
- * Read Position on 000:T12 although the value is valid. Reported to the suite's
- * authors; the encoder is not bent to it. */
+ * Without a world in the options the run grades a position by its range; with one,
+ * exactly, so the world given says where the shaft stands (main). */
 #define STEPS_PER_TURN (1024u * 32u)
 #ifndef TINY_POSITION
 #define TINY_POSITION 0x1234u
@@ -108,12 +113,19 @@ enum {
 #define DEFAULT_WINDOW_US 900000u /* Default Communication, unless a request came */
 #define USER_SETTINGS_US 1100000u /* Change of communication settings: no UART until then */
 
+/* The data sheet's temperature limits ([limits] above): outside them, warning 1Eh. */
+#define TEMPERATURE_MIN_C (-40)
+#define TEMPERATURE_MAX_C 115
+#define E_TEMPERATURE 0x1E        /* 000:T59 Encoder temperature critical: warning bit */
+
 /* The time from the request's timeout to the reply's start bit: well within every
  * command's maximum response time (000:T10: 5 ms at least). */
 #define TURNAROUND_US 200u
 
 typedef struct Encoder {
     bool defect;           /* the checksum slip */
+    bool ignore_temperature; /* the other defect: the sensor never looked at */
+    int16_t temperature_c; /* what the sensor reads */
     uint8_t address;
     /* The power-up state machine (000:T9); the run starts long past power-up. */
     bool restarted;        /* an Encoder Reset was executed ... */
@@ -145,9 +157,7 @@ static uint64_t timeout_us(uint8_t settings) {
 }
 
 /* An operational fault detected: stored once until read out (000:T27); a fifth
- * drops the oldest. This device has no sensor that could fail, so nothing calls it
- * in this build; it is here to show the stack's rules next to its reader. */
-static void stack_push(Encoder *e, uint8_t code) __attribute__((unused));
+ * drops the oldest. */
 static void stack_push(Encoder *e, uint8_t code) {
     for (size_t i = 0; i < e->stacked; i++)
         if (e->stack[i] == code) return;
@@ -165,6 +175,14 @@ static uint8_t stack_pop(Encoder *e) {
     memmove(e->stack, e->stack + 1, e->stacked - 1);
     e->stacked--;
     return code;
+}
+
+/* 000:T59: the temperature "will be checked prior to every Slave response message";
+ * outside the limits it is stacked (the warning bit set, 000:2.3.4). */
+static void monitor(Encoder *e) {
+    if (e->ignore_temperature) return;
+    if (e->temperature_c < TEMPERATURE_MIN_C || e->temperature_c > TEMPERATURE_MAX_C)
+        stack_push(e, E_TEMPERATURE);
 }
 
 /* 000:2.3.3: XOR over all frame bytes including the address. */
@@ -232,6 +250,8 @@ static void encoder(void *context, const HfHeard *h, HfAnswer *a) {
                                              (000:T12, T27, T28, T29) */
     }
 
+    /* Read Encoder Status reads the stack first; every other reply is checked now */
+    if (error || command != 0x50) monitor(e);
     a->len = 0;
     a->reply[a->len++] = e->address;
     if (error) {
@@ -251,6 +271,7 @@ static void encoder(void *context, const HfHeard *h, HfAnswer *a) {
         }
         case 0x50: {                      /* Read Encoder Status, 000:T27 */
             uint8_t status = stack_pop(e);
+            monitor(e); /* a condition still present is stacked again (000:T59) */
             /* the warning bit stays until every entry is read out (000:2.3.4) */
             a->reply[a->len++] = command | (e->stacked ? ERROR_BIT : 0);
             a->reply[a->len++] = status;
@@ -273,6 +294,7 @@ static void encoder(void *context, const HfHeard *h, HfAnswer *a) {
             e->stacked = 0;
             a->len = 0;
             a->then_settings = STORED_SETTINGS;
+            a->restarts = true;
             return;
         }
     }
@@ -309,20 +331,33 @@ static int write_junit(HfReport *report, const char *path) {
 }
 
 int main(int argc, char **argv) {
-    Encoder e = {.address = OWN_ADDRESS};
+    Encoder e = {.address = OWN_ADDRESS, .temperature_c = 25};
     const char *junit = NULL;
+    bool told = false; /* --temperature: the run is told the encoder's world */
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--defect") == 0) {
             e.defect = true;
+        } else if (strcmp(argv[i], "--ignore-temperature") == 0) {
+            e.ignore_temperature = true;
+        } else if (strcmp(argv[i], "--temperature") == 0 && i + 1 < argc) {
+            e.temperature_c = (int16_t)atoi(argv[++i]);
+            told = true;
         } else if (strcmp(argv[i], "--junit") == 0 && i + 1 < argc) {
             junit = argv[++i];
         } else {
-            fprintf(stderr, "usage: %s [--defect] [--junit PATH]\n", argv[0]);
+            fprintf(stderr, "usage: %s [--defect] [--temperature C [--ignore-temperature]] [--junit PATH]\n",
+                    argv[0]);
             return 2;
         }
     }
 
     HfCertifyOptions options = {.profile_toml = PROFILE};
+    /* The world the encoder was put in, told to the run so that it grades exactly:
+     * the shaft where this device stands, the temperature its sensor reads. */
+    HfInputs inputs = {.position = TINY_POSITION, .speed = 0, .temperature_c = e.temperature_c,
+                       .led_current_ma = 10};
+    HfWorld world = {.inputs = &inputs};
+    if (told) options.world = &world;
     HfReport *report = NULL;
     char why[512] = "";
     double start = now_ms();

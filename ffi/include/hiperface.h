@@ -338,15 +338,20 @@ typedef struct HfAnswer {
   uint64_t start_us;
   /**
    * The settings byte (000:T33) the encoder listens with after this answer (67h; the
-   * stored settings again after an Encoder Reset), or -1: unchanged. It is taken up
-   * once the reply is out (at once after silence). Not yet for a profile whose
-   * stored settings are not the default ones: after an Encoder Reset the run talks
-   * in the default settings in the default window (000:T9), which one answer's
-   * settings cannot follow, and a conformant encoder is failed in the power-up
-   * cases (a known fault of the harness, pinned by an ignored test in
-   * suite/tests/in_process.rs). Every built-in profile uses the default settings.
+   * default settings kept by a request in the default window, 000:T9; the stored
+   * settings after an Encoder Reset), or -1: unchanged. It is taken up once the
+   * reply is out (at once after silence).
    */
   int16_t then_settings;
+  /**
+   * The encoder restarts (Encoder Reset, 000:T29): from the answer's end its UART
+   * follows the power-up windows of the profile (000:T9): not listening during the
+   * initialization, the default settings in the default window, none while it
+   * changes them, then `then_settings` (the stored ones; -1: the profile's). An
+   * answer that sets `then_settings` ends the windows: the answer to a request in
+   * the default window sets the default settings (E4h) to keep them.
+   */
+  bool restarts;
 } HfAnswer;
 
 /**
@@ -354,6 +359,37 @@ typedef struct HfAnswer {
  * to [`hf_certify`].
  */
 typedef void (*HfEncoderFn)(void *context, const struct HfHeard *heard, struct HfAnswer *answer);
+
+/**
+ * The world an encoder under test was put in for the run, so that the run grades
+ * against the same one: every value exactly, the warning bit and the error stack's
+ * codes included (a temperature outside the profile's limits raises 1Eh before
+ * every reply, 000:T59; a start-up fault is found at power-up, 000:T38-T46).
+ */
+typedef struct HfWorld {
+  /**
+   * Its physical inputs; null: the defaults (25 °C, 10 mA, the shaft at 0 and at
+   * rest).
+   */
+  const struct HfInputs *inputs;
+  /**
+   * The faults it found at start-up, comma-separated, by the names of `hiperface
+   * simulate --init-fault` (`alignment-data`, `angular-offset`, `partition-table`,
+   * `analog-limits`, `type-code`, `watchdog`, `counter`, `extended-type-label`,
+   * `multiturn-parameters`); null or empty: none.
+   */
+  const char *init_faults;
+  /**
+   * Faults of its position measurement while the run lasts, likewise
+   * (`analog-signals`, `analog-monitoring`, `singleturn`, `multiturn-amplitude`,
+   * `multiturn-sync`, `multiturn-vector-length`, `multiturn-counter`).
+   */
+  const char *position_faults;
+  /**
+   * Its internal I2C bus is down (000:T43).
+   */
+  bool i2c_fault;
+} HfWorld;
 
 /**
  * What [`hf_certify`] may do; a zeroed struct (or null) runs every case.
@@ -378,6 +414,11 @@ typedef struct HfCertifyOptions {
    * test has nothing to lose: by default both run.
    */
   bool skip_counter_change;
+  /**
+   * The world the caller put the encoder in; null: its own, which the run does not
+   * know (values of the physical world graded by range, as on a real device).
+   */
+  const struct HfWorld *world;
 } HfCertifyOptions;
 
 /**
@@ -745,7 +786,8 @@ enum HfStatus hf_oracle_grade(struct HfSlave *slave,
  * `HF_STATUS_INVALID`, with why in `error` (`error_len` chars; may be null).
  *
  * Physical values (the position, the temperature) are graded by range, as on a real
- * device: the encoder's world is its own and the run does not know it. A data field
+ * device: the encoder's world is its own and the run does not know it, unless
+ * `options->world` gives it (then every value is graded exactly). A data field
  * the run creates and reads before writing is expected to hold FFh, erased EEPROM
  * (the project's decision DESIGN:fields, not a rule of 000): other bytes there are
  * NON-STRICT, never FAIL.

@@ -5,7 +5,7 @@
 //! link their protocol code with this and certify it on every build.
 
 use crate::{c_text, profile, tell, HfStatus, HF_CLAUSE_LEN, HF_MAX_FRAME, HF_REASON_LEN};
-use crate::{HfFault, HF_ID_LEN};
+use crate::{HfFault, HfInputs, HF_ID_LEN};
 use core::ffi::{c_char, c_int, c_void, CStr};
 use hiperface_model::datalink::{ReceivedFrame, RxChar};
 use hiperface_model::{Frame, Profile, UartFault, UartSettings};
@@ -16,6 +16,7 @@ use hiperface_suite::master::DriveReport;
 use hiperface_suite::profile_file;
 use hiperface_suite::report::Reports;
 use hiperface_suite::slave::{self, CaseResult, CaseVerdict, Options, Outcome, Report};
+use hiperface_suite::world::World;
 use std::ffi::CString;
 use std::path::Path;
 
@@ -51,14 +52,17 @@ pub struct HfAnswer {
     /// starts within the command's response time (000:T8).
     pub start_us: u64,
     /// The settings byte (000:T33) the encoder listens with after this answer (67h; the
-    /// stored settings again after an Encoder Reset), or -1: unchanged. It is taken up
-    /// once the reply is out (at once after silence). Not yet for a profile whose
-    /// stored settings are not the default ones: after an Encoder Reset the run talks
-    /// in the default settings in the default window (000:T9), which one answer's
-    /// settings cannot follow, and a conformant encoder is failed in the power-up
-    /// cases (a known fault of the harness, pinned by an ignored test in
-    /// suite/tests/in_process.rs). Every built-in profile uses the default settings.
+    /// default settings kept by a request in the default window, 000:T9; the stored
+    /// settings after an Encoder Reset), or -1: unchanged. It is taken up once the
+    /// reply is out (at once after silence).
     pub then_settings: i16,
+    /// The encoder restarts (Encoder Reset, 000:T29): from the answer's end its UART
+    /// follows the power-up windows of the profile (000:T9): not listening during the
+    /// initialization, the default settings in the default window, none while it
+    /// changes them, then `then_settings` (the stored ones; -1: the profile's). An
+    /// answer that sets `then_settings` ends the windows: the answer to a request in
+    /// the default window sets the default settings (E4h) to keep them.
+    pub restarts: bool,
 }
 
 /// The encoder under test: answer `heard` into `answer`. `context` is the pointer given
@@ -80,6 +84,57 @@ pub struct HfCertifyOptions {
     /// ... and those that change the counter (not restorable). An encoder in a unit
     /// test has nothing to lose: by default both run.
     pub skip_counter_change: bool,
+    /// The world the caller put the encoder in; null: its own, which the run does not
+    /// know (values of the physical world graded by range, as on a real device).
+    pub world: *const HfWorld,
+}
+
+/// The world an encoder under test was put in for the run, so that the run grades
+/// against the same one: every value exactly, the warning bit and the error stack's
+/// codes included (a temperature outside the profile's limits raises 1Eh before
+/// every reply, 000:T59; a start-up fault is found at power-up, 000:T38-T46).
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct HfWorld {
+    /// Its physical inputs; null: the defaults (25 °C, 10 mA, the shaft at 0 and at
+    /// rest).
+    pub inputs: *const HfInputs,
+    /// The faults it found at start-up, comma-separated, by the names of `hiperface
+    /// simulate --init-fault` (`alignment-data`, `angular-offset`, `partition-table`,
+    /// `analog-limits`, `type-code`, `watchdog`, `counter`, `extended-type-label`,
+    /// `multiturn-parameters`); null or empty: none.
+    pub init_faults: *const c_char,
+    /// Faults of its position measurement while the run lasts, likewise
+    /// (`analog-signals`, `analog-monitoring`, `singleturn`, `multiturn-amplitude`,
+    /// `multiturn-sync`, `multiturn-vector-length`, `multiturn-counter`).
+    pub position_faults: *const c_char,
+    /// Its internal I2C bus is down (000:T43).
+    pub i2c_fault: bool,
+}
+
+/// The world `w` points to, read; why not in the error.
+///
+/// # Safety
+/// `w` is null or points to a valid [`HfWorld`] whose pointers are null or valid
+/// (`inputs` readable, the strings NUL-terminated).
+unsafe fn read_world(w: *const HfWorld) -> Result<World, String> {
+    // SAFETY: the caller's promise.
+    let Some(w) = (unsafe { w.as_ref() }) else { return Ok(World::default()) };
+    // SAFETY: the caller's promise.
+    let inputs = unsafe { w.inputs.as_ref() }.map(|i| (*i).into());
+    // SAFETY: null or NUL-terminated by the caller's promise.
+    let names = |p: *const c_char, what: &str| -> Result<Vec<String>, String> {
+        if p.is_null() {
+            return Ok(Vec::new());
+        }
+        // SAFETY: not null, NUL-terminated by the caller's promise.
+        let text = unsafe { CStr::from_ptr(p) }.to_str().map_err(|_| format!("the world's {what} are not UTF-8"))?;
+        Ok(text.split(',').map(str::trim).filter(|n| !n.is_empty()).map(str::to_string).collect())
+    };
+    let init = names(w.init_faults, "start-up faults")?;
+    let position = names(w.position_faults, "position faults")?;
+    World::from_names(inputs, init.iter().map(String::as_str), position.iter().map(String::as_str), w.i2c_fault)
+        .map_err(|e| e.to_string())
 }
 
 /// What a whole run adds up to.
@@ -231,14 +286,19 @@ impl CEncoder {
             complete_us: f.complete_us,
         };
         heard.bytes[..kept.len()].copy_from_slice(kept);
-        let mut a = HfAnswer { reply: [0; HF_MAX_FRAME], len: 0, start_us: 0, then_settings: -1 };
+        let mut a = HfAnswer { reply: [0; HF_MAX_FRAME], len: 0, start_us: 0, then_settings: -1, restarts: false };
         // SAFETY: the caller of hf_certify promised a function that takes these two
         // pointers (valid for the call) and its context.
         unsafe { (self.answer)(self.context, &heard, &mut a) };
         // Settings that do not exist (000:T33) are no change of what it listens with.
         let then_settings = u8::try_from(a.then_settings).ok().and_then(|b| UartSettings::decode(b).ok());
         let reply = a.reply.get(..a.len.min(HF_MAX_FRAME)).filter(|r| !r.is_empty());
-        Answer { reply: reply.and_then(|r| Frame::from_bytes(r).ok()), start_us: a.start_us, then_settings }
+        Answer {
+            reply: reply.and_then(|r| Frame::from_bytes(r).ok()),
+            start_us: a.start_us,
+            then_settings,
+            restarts: a.restarts,
+        }
     }
 }
 
@@ -298,7 +358,8 @@ unsafe fn run_profile(
 /// `HF_STATUS_INVALID`, with why in `error` (`error_len` chars; may be null).
 ///
 /// Physical values (the position, the temperature) are graded by range, as on a real
-/// device: the encoder's world is its own and the run does not know it. A data field
+/// device: the encoder's world is its own and the run does not know it, unless
+/// `options->world` gives it (then every value is graded exactly). A data field
 /// the run creates and reads before writing is expected to hold FFh, erased EEPROM
 /// (the project's decision DESIGN:fields, not a rule of 000): other bytes there are
 /// NON-STRICT, never FAIL.
@@ -352,6 +413,15 @@ pub unsafe extern "C" fn hf_certify(
                 return HfStatus::Invalid;
             }
             run.cases = Some(glob.to_string());
+        }
+        // SAFETY: the caller's promise.
+        match unsafe { read_world(o.world) } {
+            Ok(world) => run.world = world,
+            Err(why) => {
+                // SAFETY: the caller's promise.
+                unsafe { tell(error, error_len, why) };
+                return HfStatus::Invalid;
+            }
         }
     }
     let mut encoder = CEncoder { answer, context };

@@ -138,6 +138,13 @@ pub struct HfInputs {
     pub led_current_ma: u16,
 }
 
+impl From<HfInputs> for hiperface_model::slave::inputs::PhysicalInputs {
+    fn from(i: HfInputs) -> Self {
+        let HfInputs { position, speed, temperature_c, led_current_ma } = i;
+        hiperface_model::slave::inputs::PhysicalInputs { position, speed, temperature_c, led_current_ma }
+    }
+}
+
 /// A slave: the reference model of an encoder. Opaque to C; its size and alignment are
 /// [`hf_slave_size`] and [`hf_slave_align`].
 pub struct HfSlave {
@@ -530,12 +537,7 @@ pub unsafe extern "C" fn hf_slave_set_inputs(slave: *mut HfSlave, inputs: *const
     let Some(s) = (unsafe { slave_mut(slave) }) else { return HfStatus::Null };
     // SAFETY: null or readable by the caller's promise.
     let Some(i) = (unsafe { inputs.as_ref() }) else { return HfStatus::Null };
-    let mut now = s.slave.inputs();
-    now.position = i.position;
-    now.speed = i.speed;
-    now.temperature_c = i.temperature_c;
-    now.led_current_ma = i.led_current_ma;
-    s.slave.set_inputs(now);
+    s.slave.set_inputs((*i).into());
     HfStatus::Ok
 }
 

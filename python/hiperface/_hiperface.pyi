@@ -1,6 +1,6 @@
 """Typing stubs of the compiled module (python/src/lib.rs)."""
 
-from typing import Any, Callable, List, Optional, Tuple, Union
+from typing import Any, Callable, List, Mapping, Optional, Tuple, Union
 
 # What a frame may be given as: copied, never kept.
 BytesLike = Union[bytes, bytearray, memoryview]
@@ -65,6 +65,7 @@ def certify_encoder(
     cases: Optional[str] = None,
     skip_writes: bool = False,
     skip_counter_change: bool = False,
+    world: Optional[Mapping[str, Any]] = None,
 ) -> Tuple[str, str, str, str]: ...
 
 def certify_master_in_process(

@@ -9,7 +9,7 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Dict, List, Optional, Union
+from typing import Any, Callable, Dict, List, Mapping, Optional, Union
 
 #: Verdicts from worst to best, as the reports spell them.
 VERDICTS = ("FAIL", "ERROR", "NOT-EXERCISED", "UNKNOWN", "NON-STRICT", "PASS", "NOT-APPLICABLE")
@@ -112,6 +112,7 @@ def certify(
     cases: Optional[str] = None,
     skip_writes: bool = False,
     skip_counter_change: bool = False,
+    world: Optional[Mapping[str, Any]] = None,
 ) -> Report:
     """Certify an encoder written in Python with the whole slave catalogue, in
     virtual time, in-process: the same cases, verdicts and report as ``hiperface
@@ -120,15 +121,21 @@ def certify(
     µs, once the character timeout after its last character has passed, 000:2.2.2);
     it returns None (silence) or ``(reply, start_us)`` (a bytes-like reply, the time
     its first character starts), or ``(reply, start_us, then_settings)`` with the
-    settings byte it listens with afterwards (67h, 000:T33; the stored settings again
-    after an Encoder Reset), taken up once the reply is out. Not yet for a profile
-    whose stored settings are not the default ones: after an Encoder Reset the run
-    talks in the default settings in the default window (000:T9), which one answer
-    cannot follow, and a conformant encoder is failed in the power-up cases (a known
-    fault of the harness; every built-in profile uses the default settings). It
-    listens from the start in the profile's stored
-    settings, past its power-up. Physical values are graded by range, as on a real
-    device; a data field the run creates and reads before writing is expected to hold
+    settings byte it listens with afterwards (67h, 000:T33; the default settings kept
+    by a request in the default window, 000:T9), taken up once the reply is out, or
+    ``(reply, start_us, then_settings, restarts)``: after an Encoder Reset (000:T29)
+    ``restarts`` is True and the UART follows the profile's power-up windows
+    (000:T9: not listening during the initialization, the default settings in the
+    default window, then ``then_settings``, the stored ones) until an answer names
+    settings again. It listens from the start in the profile's stored settings, past
+    its power-up. Physical values are graded by range, as on a real device, unless
+    ``world`` says what world the encoder was put in: then every value is graded
+    exactly, the warning bit and the error stack included (a temperature outside the
+    profile's limits raises 1Eh before every reply, 000:T59). ``world`` is a dict of
+    ``position``, ``speed``, ``temperature_c``, ``led_current_ma`` (the physical
+    inputs; defaults 25 °C, 10 mA, the shaft at 0 and at rest), ``init_faults`` and
+    ``position_faults`` (lists of names as ``hiperface simulate --init-fault``
+    spells them) and ``i2c_fault``. A data field the run creates and reads before writing is expected to hold
     FFh (erased EEPROM, the project's decision DESIGN:fields): other bytes there are
     NON-STRICT, never FAIL. ``profile``: a built-in name or a profile's TOML
     file. ``cases``: only the cases whose id matches this glob. EEPROM writes and
@@ -142,6 +149,7 @@ def certify(
         cases=cases,
         skip_writes=skip_writes,
         skip_counter_change=skip_counter_change,
+        world=world,
     )
     names = ("report.json", "junit.xml", "certificate.md", "certificate.html")
     files = dict(zip(names, texts))

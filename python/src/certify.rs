@@ -6,6 +6,7 @@
 use crate::{profile_error, Frame, HiperfaceError};
 use hiperface_model::datalink::{ReceivedFrame, RxChar};
 use hiperface_model::master::obligations::POLLING_PERIOD_MS;
+use hiperface_model::slave::inputs::PhysicalInputs;
 use hiperface_model::{CommandId, Frame as WireFrame, UartFault, UartSettings};
 use hiperface_suite::line::frame_encoder::Answer;
 use hiperface_suite::master;
@@ -14,9 +15,10 @@ use hiperface_suite::master::report::MasterCertificate;
 use hiperface_suite::profile_file;
 use hiperface_suite::report::Reports;
 use hiperface_suite::slave::{self, Options};
+use hiperface_suite::world::World;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyBytes, PyTuple};
+use pyo3::types::{PyBytes, PyDict, PyTuple};
 use std::cell::RefCell;
 use std::rc::Rc;
 
@@ -55,19 +57,72 @@ fn fault_name(f: Option<UartFault>) -> Option<&'static str> {
     })
 }
 
+/// The world an encoder was put in, from a dict: `position`, `speed`,
+/// `temperature_c`, `led_current_ma` (the physical inputs; those left out at their
+/// defaults, 25 °C, 10 mA, the shaft at 0 and at rest), `init_faults`,
+/// `position_faults` (lists of names, as `hiperface simulate --init-fault` spells
+/// them) and `i2c_fault`. Any other key is an error.
+fn read_world(w: &Bound<'_, PyDict>) -> PyResult<World> {
+    const KEYS: [&str; 7] =
+        ["position", "speed", "temperature_c", "led_current_ma", "init_faults", "position_faults", "i2c_fault"];
+    for key in w.keys() {
+        let key: String = key.extract()?;
+        if !KEYS.contains(&key.as_str()) {
+            return Err(PyValueError::new_err(format!("world: unknown key `{key}` (known: {})", KEYS.join(", "))));
+        }
+    }
+    let mut inputs = PhysicalInputs::default();
+    let mut given = false;
+    if let Some(v) = w.get_item("position")? {
+        inputs.position = v.extract()?;
+        given = true;
+    }
+    if let Some(v) = w.get_item("speed")? {
+        inputs.speed = v.extract()?;
+        given = true;
+    }
+    if let Some(v) = w.get_item("temperature_c")? {
+        inputs.temperature_c = v.extract()?;
+        given = true;
+    }
+    if let Some(v) = w.get_item("led_current_ma")? {
+        inputs.led_current_ma = v.extract()?;
+        given = true;
+    }
+    let names = |key: &str| -> PyResult<Vec<String>> {
+        match w.get_item(key)? {
+            Some(v) => v.extract(),
+            None => Ok(Vec::new()),
+        }
+    };
+    let (init, position) = (names("init_faults")?, names("position_faults")?);
+    let i2c_fault = match w.get_item("i2c_fault")? {
+        Some(v) => v.extract()?,
+        None => false,
+    };
+    World::from_names(
+        given.then_some(inputs),
+        init.iter().map(String::as_str),
+        position.iter().map(String::as_str),
+        i2c_fault,
+    )
+    .map_err(|e| PyValueError::new_err(format!("world: {e}")))
+}
+
 /// What the encoder returned, as an answer: None (silence), or a tuple `(reply,
-/// start_us)` or `(reply, start_us, then_settings)`.
+/// start_us)`, `(reply, start_us, then_settings)` or `(reply, start_us,
+/// then_settings, restarts)`.
 fn answer(returned: &Bound<'_, PyAny>) -> PyResult<Answer> {
     if returned.is_none() {
         return Ok(Answer::SILENT);
     }
     let wrong = || {
         PyTypeError::new_err(
-            "an encoder returns None (silence) or (reply, start_us[, then_settings]), reply bytes-like",
+            "an encoder returns None (silence) or (reply, start_us[, then_settings[, restarts]]), reply bytes-like",
         )
     };
     let t = returned.downcast::<PyTuple>().map_err(|_| wrong())?;
-    if !(2..=3).contains(&t.len()) {
+    if !(2..=4).contains(&t.len()) {
         return Err(wrong());
     }
     let reply: Frame = t.get_item(0)?.extract()?;
@@ -82,11 +137,15 @@ fn answer(returned: &Bound<'_, PyAny>) -> PyResult<Answer> {
             )
         }
     };
+    let restarts: bool = match t.get_item(3).ok() {
+        Some(r) => r.extract()?,
+        None => false,
+    };
     let reply = match reply.0.len() {
         0 => None,
         _ => Some(WireFrame::from_bytes(&reply.0).map_err(|_| PyValueError::new_err("a reply is at most 135 bytes"))?),
     };
-    Ok(Answer { reply, start_us, then_settings })
+    Ok(Answer { reply, start_us, then_settings, restarts })
 }
 
 /// Certify `encoder` with the whole slave catalogue in virtual time against `profile`
@@ -94,13 +153,14 @@ fn answer(returned: &Bound<'_, PyAny>) -> PyResult<Answer> {
 /// HTML text. The first exception the encoder raises ends its answers (silence
 /// after it) and is raised when the run is over.
 #[pyfunction]
-#[pyo3(signature = (encoder, profile="SRS50", *, cases=None, skip_writes=false, skip_counter_change=false))]
+#[pyo3(signature = (encoder, profile="SRS50", *, cases=None, skip_writes=false, skip_counter_change=false, world=None))]
 pub fn certify_encoder(
     encoder: Bound<'_, PyAny>,
     profile: &str,
     cases: Option<String>,
     skip_writes: bool,
     skip_counter_change: bool,
+    world: Option<Bound<'_, PyDict>>,
 ) -> PyResult<(String, String, String, String)> {
     let profile = profile_file::resolve(profile).map_err(profile_error)?;
     let call = match encoder.getattr("answer") {
@@ -116,6 +176,7 @@ pub fn certify_encoder(
         cases,
         allow_writes: !skip_writes,
         allow_counter_change: !skip_counter_change,
+        world: world.map(|w| read_world(&w)).transpose()?.unwrap_or_default(),
         ..Options::all_allowed()
     };
     let failed: Rc<RefCell<Option<PyErr>>> = Rc::default();

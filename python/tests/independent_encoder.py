@@ -4,7 +4,7 @@ or the catalogue: a peer that the catalogue must PASS, and, one switch at a time
 86 defects it must FAIL or that are argued (test_independent_encoder.py).
 
 Frame interface, as `hiperface.certify` takes it: answer(heard) -> None |
-(reply, start_us[, then_settings]). `defect` names one planted bug: each is one
+(reply, start_us[, then_settings[, restarts]]). `defect` names one planted bug: each is one
 `self.d(...)` branch with its name, so grepping for the name shows the change.
 Where 000 is silent the author chose: the argument is checked before the access
 code; 4Ah/4Bh check the field number (12h), read-only (0Eh), the code (0Fh), then
@@ -183,8 +183,8 @@ class Encoder:
             start = now + 5_600
         if self.d("slow_store_data") and len(heard.bytes) > 1 and heard.bytes[1] == 0x4B:
             start = now + 251_000
-        if isinstance(out, tuple):          # (reply, then_settings)
-            return (out[0], start, out[1])
+        if isinstance(out, tuple):          # (reply, then_settings[, restarts])
+            return (out[0], start, *out[1:])
         if then is not None:
             return (out, start, then)
         return (out, start)
@@ -242,7 +242,7 @@ class Encoder:
         if res is None:
             return None
         if isinstance(res, tuple) and res[0] == "reset":
-            return (b"", res[1])
+            return (b"", res[1], True)      # restarts: the power-up windows, 000:T9
         if isinstance(res, tuple) and res[0] == "raw53":
             return (self.frame(reply_addr, cmd, b""), res[1])
         if isinstance(res, tuple) and res[0] == "raw":

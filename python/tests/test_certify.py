@@ -185,9 +185,41 @@ def test_an_object_without_answer_is_a_type_error(profile):
         hiperface.certify(object(), profile)
 
 
+def test_a_world_given_to_certify_is_graded_exactly(profile):
+    # The encoder's sensor reads 120 °C, above its 115: told so, the run grades every
+    # value exactly, 1Eh on Read Encoder Status and the warning bit on every reply
+    # (000:T59, 000:2.3.4).
+    world = {"position": POSITION, "temperature_c": 120}
+    hot = TinyEncoder(temperature_c=120)
+    report = hiperface.certify(hot, profile, world=world)
+    assert report.outcome == "PASSED", fails(report)
+    assert report.raw["grading"] == "Exact"
+    assert report.case("identity.status").verdict == "PASS"
+    assert any(reply and reply[1:3] == b"\xd0\x1e" for _, reply, _ in hot.log), "1Eh was never read"
+    # The encoder that never looks at its temperature: FAILED on exactly those rules.
+    deaf = TinyEncoder(temperature_c=120, watches_temperature=False)
+    report = hiperface.certify(deaf, profile, world=world)
+    assert report.outcome == "FAILED"
+    assert {f.clause for _, f in fails(report)} == {"000:T27", "000:2.3.4"}, fails(report)
+    # Without the world the run cannot know the heat: graded by range, it passes.
+    assert hiperface.certify(TinyEncoder(temperature_c=120, watches_temperature=False), profile).outcome == "PASSED"
+
+
+@pytest.mark.parametrize(
+    "world, error",
+    [
+        ({"temperature": 120}, "world: unknown key `temperature`"),
+        ({"init_faults": ["dog"]}, "world: unknown start-up fault `dog`"),
+        ({"position_faults": ["watchdog"]}, "world: unknown position fault `watchdog`"),
+    ],
+)
+def test_a_world_that_does_not_read_is_refused(profile, world, error):
+    with pytest.raises(ValueError, match=error):
+        hiperface.certify(TinyEncoder(), profile, world=world)
+
+
 def test_the_error_stack_and_warning_bit_of_the_encoder_itself():
-    # What certify cannot reach (it has no way to raise an operational fault in an
-    # encoder under test): 000:2.3.4 warning bit, 000:T27 stack of four, stored once,
+    # The stack's rules one by one, faults raised directly: 000:2.3.4 warning bit, 000:T27 stack of four, stored once,
     # the oldest dropped and read first; an Encoder Reset clears it.
     from types import SimpleNamespace
 

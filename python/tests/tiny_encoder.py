@@ -44,6 +44,10 @@ OPTION_CODE = 0x00  # "for new HIPERFACE Slaves this value is always 00h"
 # still; by default at this constant, valid position (any value below 8000h is one).
 STEPS_PER_TURN = 1024 * 32
 POSITION = 0x00002A5C
+# The data sheet's temperature limits (the profile's [limits]) and the code for
+# leaving them (000:T59).
+TEMPERATURE_MIN_C, TEMPERATURE_MAX_C = -40, 115
+TEMPERATURE_CRITICAL = 0x1E
 
 # Command identifiers (000:T10).
 READ_POSITION = 0x42
@@ -97,7 +101,8 @@ class TinyEncoder:
     """The TINY-PY encoder. ``defects``: names from ``DEFECTS``, each breaking one rule.
     ``position``: where the (standing) shaft is, in absolute position steps."""
 
-    def __init__(self, defects: Iterable[str] = (), *, position: int = POSITION) -> None:
+    def __init__(self, defects: Iterable[str] = (), *, position: int = POSITION, temperature_c: int = 25,
+                 watches_temperature: bool = True) -> None:
         self.defects = frozenset(defects)
         unknown = self.defects - set(DEFECTS)
         if unknown:
@@ -105,6 +110,10 @@ class TinyEncoder:
         if not 0 <= position < STEPS_PER_TURN:
             raise ValueError(f"a single-turn position is 0..{STEPS_PER_TURN - 1} (000:T11)")
         self.position = position
+        # What its sensor reads, and whether the firmware looks at it at all (False: the
+        # defect of an encoder that never raises 1Eh).
+        self.temperature_c = temperature_c
+        self.watches_temperature = watches_temperature
         # 000:T9: at time 0 the encoder is already past power-up, operational in its
         # stored settings. `reset_us` is the last (software) reset, None: none yet.
         self.reset_us: Optional[int] = None
@@ -228,6 +237,10 @@ class TinyEncoder:
         return self._reply(heard, READ_ENCODER_STATUS, bytes([code]))
 
     def _reply(self, heard, command: int, data: bytes) -> Tuple[bytes, int]:
+        # 000:T59 Encoder temperature critical, "checked prior to every Slave response
+        # message": outside the data sheet's limits it is stored as 1Eh.
+        if self.watches_temperature and not TEMPERATURE_MIN_C <= self.temperature_c <= TEMPERATURE_MAX_C:
+            self.raise_fault(TEMPERATURE_CRITICAL)
         # 000:2.3.4 Warning Bit: bit 7 of the command byte while a fault is stored.
         if self.stack:
             command |= 0x80

@@ -113,7 +113,7 @@ impl Encoder {
         let reset = matches!(outcome.reply, Reply::Silent(Silence::Reset));
         let then_settings = outcome.then_settings.or(reset.then(|| self.slave.nonvolatile().settings));
         let Reply::Frame(rf) = &mut outcome.reply else {
-            return Answer { then_settings, ..Answer::SILENT };
+            return Answer { then_settings, restarts: reset, ..Answer::SILENT };
         };
         let mut reply = rf.encode().as_bytes().to_vec();
         match (self.defect, command) {
@@ -132,7 +132,7 @@ impl Encoder {
             _ => {}
         }
         let Ok(frame) = Frame::from_bytes(&reply) else { return Answer::SILENT };
-        Answer { reply: Some(frame), start_us: f.complete_us + 300, then_settings }
+        Answer { reply: Some(frame), start_us: f.complete_us + 300, then_settings, restarts: false }
     }
 }
 

@@ -10,7 +10,7 @@ use common::failing;
 
 use hiperface_model::datalink::{ReceivedFrame, RxChar};
 use hiperface_model::slave::{Reply, Silence};
-use hiperface_model::{checksum, profiles, Frame, Profile, Slave};
+use hiperface_model::{checksum, profiles, Frame, Profile, Slave, UartSettings};
 use hiperface_suite::line::frame_encoder::Answer;
 use hiperface_suite::slave::{self, Options, Outcome, Report};
 
@@ -18,13 +18,15 @@ use hiperface_suite::slave::{self, Options, Outcome, Report};
 /// fed to it a character time apart, ending when the frame's last one was received.
 struct ModelByFrames {
     slave: Slave,
+    /// Since an Encoder Reset, until it has said whether it kept the default settings.
+    powering: bool,
     /// A defect applied to each reply: (its bytes, its start) rewritten.
     defect: fn(&mut Vec<u8>, &mut u64, &ReceivedFrame),
 }
 
 impl ModelByFrames {
     fn new(profile: Profile, defect: fn(&mut Vec<u8>, &mut u64, &ReceivedFrame)) -> ModelByFrames {
-        ModelByFrames { slave: Slave::operational(profile), defect }
+        ModelByFrames { slave: Slave::operational(profile), powering: false, defect }
     }
 
     fn answer(&mut self, f: &ReceivedFrame) -> Answer {
@@ -38,24 +40,38 @@ impl ModelByFrames {
             let _ = self.slave.receive(RxChar { byte, at_us, fault });
         }
         let Some(step) = self.slave.poll(f.complete_us) else { return Answer::SILENT };
-        let Some(t) = step.transmission else {
-            // After an Encoder Reset the stored settings again (000:T29), as the frame
-            // interface says: the settings an encoder listens with from now on.
-            let reset = matches!(step.outcome.reply, Reply::Silent(Silence::Reset));
-            let then_settings = step.outcome.then_settings.or(reset.then(|| self.slave.nonvolatile().settings));
-            return Answer { then_settings, ..Answer::SILENT };
-        };
+        // After an Encoder Reset the power-up windows, then the stored settings
+        // (000:T9, 000:T29); a request in the default window keeps the default ones.
+        if matches!(step.outcome.reply, Reply::Silent(Silence::Reset)) {
+            self.powering = true;
+            return Answer::restart(self.slave.nonvolatile().settings);
+        }
+        let kept = self.powering && self.slave.power_up().kept_default;
+        self.powering &= !kept;
+        let then_settings = step.outcome.then_settings.or(kept.then_some(UartSettings::DEFAULT));
+        let Some(t) = step.transmission else { return Answer { then_settings, ..Answer::SILENT } };
         let mut reply = t.frame.as_bytes().to_vec();
         let mut start_us = t.earliest_start_us + 300;
         (self.defect)(&mut reply, &mut start_us, f);
         let Some(reply) = Frame::from_bytes(&reply).ok().filter(|r| !r.is_empty()) else { return Answer::SILENT };
-        Answer { reply: Some(reply), start_us, then_settings: t.then_settings }
+        Answer { reply: Some(reply), start_us, then_settings, restarts: false }
     }
 }
 
 fn certify(profile: Profile, defect: fn(&mut Vec<u8>, &mut u64, &ReceivedFrame)) -> Report {
+    certify_answers(profile, defect, |a| a)
+}
+
+/// As [`certify`], each answer then rewritten by `answers` (a defect of what the
+/// encoder says of its UART).
+fn certify_answers(
+    profile: Profile,
+    defect: fn(&mut Vec<u8>, &mut u64, &ReceivedFrame),
+    answers: fn(Answer) -> Answer,
+) -> Report {
     let mut encoder = ModelByFrames::new(profile, defect);
-    let report = slave::in_process(move |f: &ReceivedFrame| encoder.answer(f), profile, &Options::all_allowed());
+    let report =
+        slave::in_process(move |f: &ReceivedFrame| answers(encoder.answer(f)), profile, &Options::all_allowed());
     // The record plays back to the same verdicts (what `decode` does with report.json).
     let record = report.record.as_ref().expect("the run keeps its record");
     let again = slave::replay(record, |_, _, _| {}).expect("the record plays back");
@@ -107,22 +123,31 @@ fn silence_to_read_position_fails_its_case() {
     assert!(failing(&r).iter().any(|f| f.starts_with("position.read ")), "{:?}", failing(&r));
 }
 
-/// Found 2026-11-28, not yet mended: with stored settings other than the default ones
-/// (here 19200 Bd), the reference model behind the frame interface FAILs the power-up
-/// cases after an Encoder Reset (000:T9, 000:T29, ...) and timing.read-position
-/// (000:T12). The harness talks in the default settings in the default window (the
-/// model's power-up windows) while the line lets the encoder listen with one
-/// `then_settings` per answer: an encoder has no way to say "the default settings in
-/// the default window, the stored ones after". The reference is conformant by
-/// definition, so these are the harness's false FAILs; the mend (an answer that says
-/// the encoder restarts, the line then taking the power-up windows from the profile,
-/// in C and Python alike) is issue 58's item 6 (`then_settings` after 53h).
+/// With stored settings other than the default ones (here 19200 Bd) the harness talks
+/// in the default settings in the default window after an Encoder Reset (000:T9,
+/// 000:T29): the encoder's answer says it restarts, and the line follows the power-up
+/// windows of the profile until the answer to a request in the default window keeps
+/// the default settings. Before the answer could say so, the reference FAILed here.
 #[test]
-#[ignore = "a known false FAIL of the frame interface (issue 58, then_settings after 53h): run with --ignored"]
 fn the_reference_passes_with_stored_settings_other_than_the_default() {
     let mut profile = profiles::srs50();
     profile.settings =
         hiperface_model::UartSettings { baud: hiperface_model::settings::Baud::B19200, ..profile.settings };
     let r = certify(profile, conformant);
     assert_eq!(r.outcome(), Outcome::Passed, "{:?}", failing(&r));
+}
+
+/// The defect the restart answer lets the harness see: an encoder that comes back
+/// from an Encoder Reset listening in its stored settings at once, without the
+/// default window of 000:T9, FAILs the power-up cases (and only where 000:T9 or
+/// 000:T29 says so).
+#[test]
+fn an_encoder_that_restarts_in_its_stored_settings_at_once_fails_on_the_power_up_windows() {
+    let mut profile = profiles::srs50();
+    profile.settings =
+        hiperface_model::UartSettings { baud: hiperface_model::settings::Baud::B19200, ..profile.settings };
+    let r = certify_answers(profile, conformant, |a| Answer { restarts: false, ..a });
+    assert_eq!(r.outcome(), Outcome::Failed);
+    let fails = failing(&r);
+    assert!(fails.iter().any(|f| f.starts_with("powerup.")), "{fails:?}");
 }

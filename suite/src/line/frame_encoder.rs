@@ -10,6 +10,7 @@
 
 use super::virtual_line::SlaveDevice;
 use hiperface_model::datalink::{DataLink, ReceivedFrame, RxChar};
+use hiperface_model::slave::powerup::{CommState, PowerUp};
 use hiperface_model::{Edition, Frame, Profile, Transmission, UartSettings};
 
 /// What an encoder under test does with a request.
@@ -22,18 +23,32 @@ pub struct Answer {
     /// request's end (an encoder that does not wait for the timeout, 000:2.2.2).
     pub start_us: u64,
     /// The UART settings the encoder listens with from now on (after its reply, or
-    /// at once when silent): 67h (000:T33), or the stored settings again after an
-    /// Encoder Reset (000:T29). `None`: unchanged.
+    /// at once when silent): 67h (000:T33), the default settings kept by a request in
+    /// the default window (000:T9), or the stored settings again after an Encoder
+    /// Reset (000:T29). `None`: unchanged.
     pub then_settings: Option<UartSettings>,
+    /// The encoder restarts (Encoder Reset, 000:T29): from the answer's end its UART
+    /// follows the power-up windows of its profile (000:T9): not listening during the
+    /// initialization, the default settings in the default window, none while it
+    /// changes them, and `then_settings` after (the stored ones; `None`: the
+    /// profile's). An answer that names settings of its own ends the windows (the
+    /// default settings kept by a request in the default window).
+    pub restarts: bool,
 }
 
 impl Answer {
     /// Silence, settings unchanged.
-    pub const SILENT: Answer = Answer { reply: None, start_us: 0, then_settings: None };
+    pub const SILENT: Answer = Answer { reply: None, start_us: 0, then_settings: None, restarts: false };
 
     /// `reply`, its first character starting at `start_us`.
     pub const fn reply(reply: Frame, start_us: u64) -> Answer {
-        Answer { reply: Some(reply), start_us, then_settings: None }
+        Answer { reply: Some(reply), start_us, then_settings: None, restarts: false }
+    }
+
+    /// Silence, and a restart: the power-up windows of 000:T9 from the request's end,
+    /// then the settings `stored`.
+    pub const fn restart(stored: UartSettings) -> Answer {
+        Answer { then_settings: Some(stored), restarts: true, ..Answer::SILENT }
     }
 }
 
@@ -59,18 +74,21 @@ impl<F: FnMut(&ReceivedFrame) -> Answer> FrameEncoder for F {
 /// changes them as its answers say.
 pub struct FramedEncoder<E: FrameEncoder> {
     pub encoder: E,
-    edition: Edition,
+    profile: Profile,
     link: DataLink,
     listening: UartSettings,
     /// Settings the encoder takes up at a time (after a reply still on the wire).
     next: Option<(UartSettings, u64)>,
+    /// Since a restart: its power-up, whose windows (000:T9) say what the UART
+    /// listens with, and the settings after them.
+    powering: Option<(PowerUp, UartSettings)>,
 }
 
 impl<E: FrameEncoder> FramedEncoder<E> {
     pub fn new(encoder: E, profile: &Profile) -> FramedEncoder<E> {
         let listening = profile.settings;
         let link = DataLink::new(listening.timeout_us(profile.edition));
-        FramedEncoder { encoder, edition: profile.edition, link, listening, next: None }
+        FramedEncoder { encoder, profile: *profile, link, listening, next: None, powering: None }
     }
 
     /// The settings the encoder takes up by `now_us`, if a change is due.
@@ -78,22 +96,47 @@ impl<E: FrameEncoder> FramedEncoder<E> {
         self.next.filter(|(_, at)| *at <= now_us).map(|(settings, _)| settings)
     }
 
+    /// What the UART listens with at `now_us` (`None`: in a power-up window where it
+    /// does not listen), and the settings that frame what it receives then: those of
+    /// the window to come while it does not listen.
+    fn settings_at(&self, now_us: u64) -> (Option<UartSettings>, UartSettings) {
+        let Some((up, stored)) = self.powering else {
+            let s = self.due(now_us).unwrap_or(self.listening);
+            return (Some(s), s);
+        };
+        let framing = match up.state(&self.profile, now_us) {
+            CommState::Initialization => UartSettings::DEFAULT,
+            _ => stored,
+        };
+        let listening = up.settings(&self.profile, now_us, stored);
+        (listening, listening.unwrap_or(framing))
+    }
+
     /// Take up the settings due by `now_us`.
     fn settle(&mut self, now_us: u64) {
         if let Some(settings) = self.due(now_us) {
             self.listening = settings;
-            self.link.set_timeout(settings.timeout_us(self.edition));
             self.next = None;
         }
+        let (_, framing) = self.settings_at(now_us);
+        self.link.set_timeout(framing.timeout_us(self.profile.edition));
     }
 
     fn answer(&mut self, frame: ReceivedFrame) -> Option<Transmission> {
         let answer = self.encoder.answer(&frame);
-        let settings = self.listening;
+        let (_, settings) = self.settings_at(frame.last_us);
         let start = answer.start_us.max(frame.last_us);
         let reply_ends = |f: &Frame| start + f.len() as u64 * settings.char_time_us();
         let free_at = answer.reply.as_ref().map_or(frame.complete_us, reply_ends);
-        if let Some(then) = answer.then_settings {
+        if answer.restarts {
+            let stored = answer.then_settings.unwrap_or(self.profile.settings);
+            self.powering = Some((PowerUp::at(free_at), stored));
+            self.next = None;
+        } else if let Some(then) = answer.then_settings {
+            // Settings of its own: the power-up windows no longer decide.
+            if self.powering.take().is_some() {
+                self.listening = settings;
+            }
             self.next = Some((then, free_at));
         }
         let frame = answer.reply?;
@@ -125,7 +168,7 @@ impl<E: FrameEncoder> SlaveDevice for FramedEncoder<E> {
     }
 
     fn listening_settings(&self, now_us: u64) -> Option<UartSettings> {
-        Some(self.due(now_us).unwrap_or(self.listening))
+        self.settings_at(now_us).0
     }
 
     /// The encoder says when its reply starts: nothing is added.
@@ -134,10 +177,13 @@ impl<E: FrameEncoder> SlaveDevice for FramedEncoder<E> {
     }
 
     fn edition(&self) -> Edition {
-        self.edition
+        self.profile.edition
     }
 
     fn describe(&self) -> String {
-        format!("an encoder under test in-process, frame by frame, in virtual time ({:?} edition)", self.edition)
+        format!(
+            "an encoder under test in-process, frame by frame, in virtual time ({:?} edition)",
+            self.profile.edition
+        )
     }
 }
