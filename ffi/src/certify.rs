@@ -649,10 +649,15 @@ pub unsafe extern "C" fn hf_report_free(report: *mut HfReport) {
 #[no_mangle]
 pub unsafe extern "C" fn hf_report_outcome(report: *const HfReport) -> HfOutcome {
     // SAFETY: the caller's promise.
-    match unsafe { report.as_ref() }.map(|r| r.run.outcome()) {
-        Some(Outcome::Passed) => HfOutcome::Passed,
-        Some(Outcome::Failed) => HfOutcome::Failed,
-        Some(Outcome::Incomplete) | None => HfOutcome::Incomplete,
+    unsafe { report.as_ref() }.map_or(HfOutcome::Incomplete, |r| hf_outcome(r.run.outcome()))
+}
+
+/// The C mirror of a run's outcome.
+const fn hf_outcome(o: Outcome) -> HfOutcome {
+    match o {
+        Outcome::Passed => HfOutcome::Passed,
+        Outcome::Failed => HfOutcome::Failed,
+        Outcome::Incomplete => HfOutcome::Incomplete,
     }
 }
 
@@ -804,5 +809,48 @@ pub extern "C" fn hf_catalogue(which: c_int) -> *const c_char {
         0 => text(&SLAVE, hiperface_suite::report::catalogue::slave_cases),
         1 => text(&MASTER, hiperface_suite::report::catalogue::master_scenarios),
         _ => core::ptr::null(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::names::{hf_fault_name, hf_verdict_name};
+    use hiperface_model::Verdict;
+    use std::collections::BTreeSet;
+
+    fn text(p: *const c_char) -> String {
+        // SAFETY: the name functions return static NUL-terminated strings.
+        unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned()
+    }
+
+    /// One spelling: the C names are the core's (the faults in capitals, as C spells
+    /// its constants), and each C mirror maps the core's values one to one.
+    #[test]
+    fn the_c_names_and_values_are_the_cores() {
+        let mut seen = BTreeSet::new();
+        for v in CaseVerdict::ALL {
+            let c = case_verdict(v) as c_int;
+            assert!(seen.insert(c));
+            assert_eq!(text(hf_case_verdict_name(c)), v.label());
+        }
+        seen.clear();
+        for v in Verdict::ALL {
+            let c = crate::hf_verdict(v) as c_int;
+            assert!(seen.insert(c));
+            assert_eq!(text(hf_verdict_name(c)), v.name());
+        }
+        seen.clear();
+        for f in UartFault::ALL {
+            let c = hf_fault(Some(f)) as c_int;
+            assert!(seen.insert(c) && c != HfFault::None as c_int);
+            assert_eq!(text(hf_fault_name(c)), f.name().to_ascii_uppercase());
+        }
+        seen.clear();
+        for o in [Outcome::Passed, Outcome::Failed, Outcome::Incomplete] {
+            let c = hf_outcome(o) as c_int;
+            assert!(seen.insert(c));
+            assert_eq!(text(hf_outcome_name(c)), o.label());
+        }
     }
 }

@@ -138,6 +138,15 @@ pub struct HfInputs {
     pub led_current_ma: u16,
 }
 
+/// The C mirror of an oracle's verdict.
+pub(crate) const fn hf_verdict(v: Verdict) -> HfVerdict {
+    match v {
+        Verdict::Pass => HfVerdict::Pass,
+        Verdict::NonStrict => HfVerdict::NonStrict,
+        Verdict::Fail => HfVerdict::Fail,
+    }
+}
+
 impl From<HfInputs> for hiperface_model::slave::inputs::PhysicalInputs {
     fn from(i: HfInputs) -> Self {
         let HfInputs { position, speed, temperature_c, led_current_ma } = i;
@@ -636,15 +645,8 @@ pub unsafe extern "C" fn hf_oracle_grade(
     let expected =
         if uart_fault { s.slave.handle_faulty_frame(request, at_us) } else { s.slave.handle_frame(request, at_us) };
     let grade = oracle.grade(&before, request, at_us, &expected, observed);
-    let mut g = HfGrade {
-        verdict: match grade.verdict() {
-            Verdict::Pass => HfVerdict::Pass,
-            Verdict::NonStrict => HfVerdict::NonStrict,
-            Verdict::Fail => HfVerdict::Fail,
-        },
-        clause: [0; HF_CLAUSE_LEN],
-        reason: [0; HF_REASON_LEN],
-    };
+    let mut g =
+        HfGrade { verdict: hf_verdict(grade.verdict()), clause: [0; HF_CLAUSE_LEN], reason: [0; HF_REASON_LEN] };
     c_text(&mut g.clause, grade.clause());
     if let Some(d) = grade.deviation() {
         c_text(&mut g.reason, d);

@@ -19,6 +19,24 @@ pub enum UartFault {
     Overrun,
 }
 
+impl UartFault {
+    pub const ALL: [UartFault; 4] = [UartFault::Parity, UartFault::Framing, UartFault::Noise, UartFault::Overrun];
+
+    /// The fault's name, as captures, Python and (in capitals) C spell it.
+    pub const fn name(self) -> &'static str {
+        match self {
+            UartFault::Parity => "parity",
+            UartFault::Framing => "framing",
+            UartFault::Noise => "noise",
+            UartFault::Overrun => "overrun",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<UartFault> {
+        UartFault::ALL.iter().copied().find(|f| f.name() == name)
+    }
+}
+
 /// One received character.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct RxChar {
@@ -164,6 +182,17 @@ impl DataLink {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn every_uart_fault_is_read_back_by_its_name() {
+        let names = UartFault::ALL.map(UartFault::name);
+        assert_eq!(names, ["parity", "framing", "noise", "overrun"]);
+        for f in UartFault::ALL {
+            assert_eq!(UartFault::from_name(f.name()), Some(f));
+        }
+        assert_eq!(UartFault::from_name("Parity"), None);
+        assert_eq!(UartFault::from_name(""), None);
+    }
 
     #[test]
     fn frames_are_split_exactly_at_the_timeout() {

@@ -114,3 +114,8 @@ class Oracle:
     def grade(
         self, slave: Slave, request: BytesLike, at_us: int, reply: Optional[BytesLike], uart_fault: bool = False
     ) -> Grade: ...
+
+#: Every case verdict's name, the worst first, as the core spells it.
+CASE_VERDICTS: Tuple[str, ...]
+#: Every UART fault's name (000:T47), as Heard.uart_fault and Slave.receive spell it.
+UART_FAULTS: Tuple[str, ...]

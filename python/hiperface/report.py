@@ -11,8 +11,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Mapping, Optional, Union
 
-#: Verdicts from worst to best, as the reports spell them.
-VERDICTS = ("FAIL", "ERROR", "NOT-EXERCISED", "UNKNOWN", "NON-STRICT", "PASS", "NOT-APPLICABLE")
+from ._hiperface import CASE_VERDICTS
+
+#: Verdicts from worst to best, as the reports spell them (the core's names).
+VERDICTS = CASE_VERDICTS
 
 
 @dataclass(frozen=True)

@@ -49,12 +49,7 @@ impl Heard {
 }
 
 fn fault_name(f: Option<UartFault>) -> Option<&'static str> {
-    f.map(|f| match f {
-        UartFault::Parity => "parity",
-        UartFault::Framing => "framing",
-        UartFault::Noise => "noise",
-        UartFault::Overrun => "overrun",
-    })
+    f.map(UartFault::name)
 }
 
 /// The world an encoder was put in, from a dict: `position`, `speed`,

@@ -3,14 +3,15 @@
 //! certification report reader.
 
 use hiperface_model::checksum::{is_valid as xor_is_zero, xor};
-use hiperface_model::{Grading, Oracle as ModelOracle, RequestFrame, RxChar, Step, UartFault, Verdict};
+use hiperface_model::{Grading, Oracle as ModelOracle, RequestFrame, RxChar, Step, UartFault};
 use hiperface_suite::capture::Format;
 use hiperface_suite::listen::decode::{grade_capture, DecodeOptions};
+use hiperface_suite::verdict::CaseVerdict;
 use hiperface_suite::{profile_file, vectors};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyFileNotFoundError, PyOSError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyByteArray, PyBytes, PyMemoryView};
+use pyo3::types::{PyByteArray, PyBytes, PyMemoryView, PyTuple};
 use std::path::Path;
 
 mod certify;
@@ -163,17 +164,10 @@ struct Slave {
 }
 
 fn uart_fault(fault: Option<&str>) -> PyResult<Option<UartFault>> {
-    Ok(match fault {
-        None => None,
-        Some("parity") => Some(UartFault::Parity),
-        Some("framing") => Some(UartFault::Framing),
-        Some("noise") => Some(UartFault::Noise),
-        Some("overrun") => Some(UartFault::Overrun),
-        Some(other) => {
-            return Err(PyValueError::new_err(format!(
-                "fault `{other}`: expected None, \"parity\", \"framing\", \"noise\" or \"overrun\""
-            )))
-        }
+    let Some(name) = fault else { return Ok(None) };
+    UartFault::from_name(name).map(Some).ok_or_else(|| {
+        let known: Vec<String> = UartFault::ALL.iter().map(|f| format!("{:?}", f.name())).collect();
+        PyValueError::new_err(format!("fault `{name}`: expected None, {}", known.join(", ")))
     })
 }
 
@@ -295,11 +289,7 @@ impl Oracle {
         };
         let g = self.oracle.grade(&before, request, at_us, &expected, reply);
         Grade {
-            verdict: match g.verdict() {
-                Verdict::Pass => "PASS",
-                Verdict::NonStrict => "NON-STRICT",
-                Verdict::Fail => "FAIL",
-            },
+            verdict: g.verdict().name(),
             clause: g.clause().to_string(),
             reason: g.deviation().map(|d| d.to_string()).unwrap_or_default(),
         }
@@ -483,6 +473,11 @@ fn _hiperface(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Grade>()?;
     m.add_class::<Oracle>()?;
     m.add_class::<Vector>()?;
+    // The names as the core spells them, the worst verdict first (the reports' order).
+    let verdicts: Vec<&str> = CaseVerdict::ALL.iter().rev().map(|v| v.label()).collect();
+    m.add("CASE_VERDICTS", PyTuple::new(m.py(), verdicts)?)?;
+    let faults: Vec<&str> = UartFault::ALL.iter().map(|f| f.name()).collect();
+    m.add("UART_FAULTS", PyTuple::new(m.py(), faults)?)?;
     m.add("HiperfaceError", m.py().get_type::<HiperfaceError>())?;
     m.add("MalformedRequest", m.py().get_type::<MalformedRequest>())?;
     m.add("ProfileError", m.py().get_type::<ProfileError>())?;

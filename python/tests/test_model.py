@@ -91,3 +91,27 @@ def test_an_unknown_uart_fault_is_a_value_error():
     with pytest.raises(ValueError):
         Slave("SRS50").receive(0x40, 0, fault="static")
     Slave("SRS50").receive(0x40, 0, fault="parity")
+
+
+def test_every_name_is_the_cores_spelling():
+    # One spelling for every front end (reports, C, Python): the names come from the
+    # core, in the reports' order, worst verdict first.
+    from hiperface._hiperface import CASE_VERDICTS, UART_FAULTS
+    from hiperface.report import VERDICTS
+
+    assert VERDICTS == CASE_VERDICTS == (
+        "FAIL", "ERROR", "NOT-EXERCISED", "UNKNOWN", "NON-STRICT", "PASS", "NOT-APPLICABLE")
+    assert UART_FAULTS == ("parity", "framing", "noise", "overrun")
+    for fault in UART_FAULTS:
+        # A character with a UART fault ends in 09h for the slave (000:T47).
+        slave = Slave("SRS50")
+        frame = bytes([0x40, 0x42, 0x02])
+        for i, b in enumerate(frame):
+            slave.receive(b, (i + 1) * CHAR_US, fault=fault if i == 0 else None)
+        t = slave.poll(3 * CHAR_US + 10_000)
+        assert t is not None and t.frame[1:3] == b"\x50\x09", (fault, t)
+    with pytest.raises(ValueError, match='expected None, "parity", "framing", "noise", "overrun"'):
+        Slave("SRS50").receive(0x40, 0, fault="static")
+    good = Slave("SRS50").handle_frame(b"\x40\x50\x10", 10_000)
+    grades = {Oracle().grade(Slave("SRS50"), b"\x40\x50\x10", 10_000, r).verdict for r in (good, None)}
+    assert grades == {"PASS", "FAIL"} and grades <= set(VERDICTS)

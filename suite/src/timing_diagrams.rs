@@ -16,6 +16,8 @@ use hiperface_model::settings::{Baud, Edition, Parity, UartSettings};
 use hiperface_model::slave::powerup::CommState;
 use hiperface_model::{AddressByte, Profile, Reply, Slave, Step, Transmission};
 
+use crate::report::escape;
+
 /// One timing diagram of the protocol reference.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Diagram {
@@ -263,21 +265,6 @@ const ORANGE: &str = "#b86500";
 const PURPLE: &str = "#7a3a9e";
 const RED: &str = "#b3261e";
 
-/// Escape text for SVG content and attributes.
-fn escape(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            c => out.push(c),
-        }
-    }
-    out
-}
-
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Anchor {
     Start,
@@ -523,27 +510,6 @@ fn state_colours(state: CommState) -> (&'static str, &'static str) {
     }
 }
 
-/// The shortest name of a state, for a narrow box.
-fn abbreviation(state: CommState) -> &'static str {
-    match state {
-        CommState::Initialization => "Init.",
-        CommState::DefaultCommunication => "Default",
-        CommState::OperationalDefault => "Op. (default)",
-        CommState::ChangeOfSettings => "Change",
-        CommState::OperationalUser => "Op. (user)",
-    }
-}
-
-fn short_name(state: CommState) -> &'static str {
-    match state {
-        CommState::Initialization => "Initialization",
-        CommState::DefaultCommunication => "Default Communication",
-        CommState::OperationalDefault => "Operational (default)",
-        CommState::ChangeOfSettings => "Change of settings",
-        CommState::OperationalUser => "Operational (user-defined)",
-    }
-}
-
 /// What the slave listens with, as a lane says it.
 fn listening_text(s: Option<UartSettings>) -> String {
     s.map_or_else(|| "no UART".to_string(), |s| s.to_string())
@@ -556,7 +522,7 @@ fn phase_boxes(svg: &mut Svg, axis: &Axis, phases: &[Phase], y: f64) {
         let (x1, x2) = (axis.x(p.from_us), axis.x(p.to_us));
         svg.rect(x1, y, x2 - x1, h, state_colours(p.state).0, state_colours(p.state).1);
         let room = x2 - x1 - 6.0;
-        let names = [p.state.name(), short_name(p.state), abbreviation(p.state)];
+        let names = p.state.names();
         let fonts = [Font::LABEL, Font::SMALL.colour(INK)];
         let fits = fonts.iter().flat_map(|f| names.iter().map(move |n| (*f, *n))).find(|(f, n)| f.width(n) <= room);
         if let Some((font, name)) = fits {
@@ -1463,7 +1429,7 @@ mod tests {
 
     #[test]
     fn text_is_escaped_and_bits_are_lsb_first_with_even_parity() {
-        assert_eq!(escape("a < b & \"c\" > d"), "a &lt; b &amp; &quot;c&quot; &gt; d");
+        assert_eq!(escape("a < b & \"c\" > d"), "a &lt; b &amp; \"c\" &gt; d");
         let b = bits(0x42, UartSettings::DEFAULT);
         let levels: Vec<bool> = b.iter().map(|(_, l)| *l).collect();
         // 42h = 0100 0010: D1 and D6 set; two ones, so even parity 0.

@@ -24,13 +24,23 @@ pub enum Verdict {
     Fail,
 }
 
-impl fmt::Display for Verdict {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
+impl Verdict {
+    /// Every verdict, the best first.
+    pub const ALL: [Verdict; 3] = [Verdict::Pass, Verdict::NonStrict, Verdict::Fail];
+
+    /// The verdict's name, as every report, C and Python spell it.
+    pub const fn name(self) -> &'static str {
+        match self {
             Verdict::Pass => "PASS",
             Verdict::NonStrict => "NON-STRICT",
             Verdict::Fail => "FAIL",
-        })
+        }
+    }
+}
+
+impl fmt::Display for Verdict {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
     }
 }
 
@@ -408,6 +418,14 @@ fn malformed_clause(e: ResponseError) -> Normative {
 mod tests {
     use super::*;
     use crate::command::CommandId;
+
+    #[test]
+    fn verdicts_are_named_as_the_reports_write_them_the_best_first() {
+        assert_eq!(Verdict::ALL.map(Verdict::name), ["PASS", "NON-STRICT", "FAIL"]);
+        assert!(Verdict::ALL.windows(2).all(|w| w[0] < w[1]));
+        extern crate std;
+        assert_eq!(std::format!("{}", Verdict::NonStrict), "NON-STRICT");
+    }
 
     #[test]
     fn reply_form_lists_every_clause_a_malformed_reply_cites() {

@@ -19,14 +19,25 @@ pub enum CommState {
 }
 
 impl CommState {
-    pub const fn name(self) -> &'static str {
+    /// The state's names, longest first: 000 Table 9's, then shorter ones for less
+    /// room (a timing diagram's box); one table, so that every writer says the same.
+    pub const fn names(self) -> [&'static str; 3] {
         match self {
-            CommState::Initialization => "Initialization",
-            CommState::DefaultCommunication => "Default Communication",
-            CommState::OperationalDefault => "Operational (default communication)",
-            CommState::ChangeOfSettings => "Change of communication settings",
-            CommState::OperationalUser => "Operational (user-defined communication)",
+            CommState::Initialization => ["Initialization", "Initialization", "Init."],
+            CommState::DefaultCommunication => ["Default Communication", "Default Communication", "Default"],
+            CommState::OperationalDefault => {
+                ["Operational (default communication)", "Operational (default)", "Op. (default)"]
+            }
+            CommState::ChangeOfSettings => ["Change of communication settings", "Change of settings", "Change"],
+            CommState::OperationalUser => {
+                ["Operational (user-defined communication)", "Operational (user-defined)", "Op. (user)"]
+            }
         }
+    }
+
+    /// The state's name in 000 Table 9.
+    pub const fn name(self) -> &'static str {
+        self.names()[0]
     }
 }
 
@@ -91,6 +102,32 @@ impl PowerUp {
 mod tests {
     use super::*;
     use crate::profiles;
+
+    #[test]
+    fn each_state_has_table_9s_name_first_and_shorter_ones_after() {
+        let states = [
+            CommState::Initialization,
+            CommState::DefaultCommunication,
+            CommState::OperationalDefault,
+            CommState::ChangeOfSettings,
+            CommState::OperationalUser,
+        ];
+        assert_eq!(
+            states.map(CommState::name),
+            [
+                "Initialization",
+                "Default Communication",
+                "Operational (default communication)",
+                "Change of communication settings",
+                "Operational (user-defined communication)",
+            ]
+        );
+        assert_eq!(states.map(|s| s.names()[2]), ["Init.", "Default", "Op. (default)", "Change", "Op. (user)"]);
+        for s in states {
+            let [long, short, shortest] = s.names();
+            assert!(long.len() >= short.len() && short.len() > shortest.len(), "{long}");
+        }
+    }
 
     #[test]
     fn table_9_timeline() {

@@ -233,7 +233,10 @@ pub fn junit_status(verdict: CaseVerdict, detail: &str) -> quick_junit::TestCase
     }
 }
 
-/// Text made safe inside HTML.
+/// Text made safe as the content of an HTML or SVG element: the one escape of every
+/// page and diagram the project writes. No writer puts outside text in an attribute
+/// (ids there are the catalogue's own, or made safe by `compare`'s anchors), so
+/// quotes stay as they are, and Markdown around the text reads as it did.
 pub fn escape(t: &str) -> String {
     t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
 }

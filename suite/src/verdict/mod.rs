@@ -81,11 +81,13 @@ impl CaseVerdict {
         }
     }
 
+    /// The verdict's name, as every report, C and Python spell it (a grade's three
+    /// are the oracle's own).
     pub fn label(self) -> &'static str {
         match self {
-            CaseVerdict::Pass => "PASS",
-            CaseVerdict::NonStrict => "NON-STRICT",
-            CaseVerdict::Fail => "FAIL",
+            CaseVerdict::Pass => Verdict::Pass.name(),
+            CaseVerdict::NonStrict => Verdict::NonStrict.name(),
+            CaseVerdict::Fail => Verdict::Fail.name(),
             CaseVerdict::NotApplicable => "NOT-APPLICABLE",
             CaseVerdict::NotExercised => "NOT-EXERCISED",
             CaseVerdict::Unknown => "UNKNOWN",

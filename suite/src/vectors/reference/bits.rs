@@ -4,7 +4,7 @@
 //! model's decoder applied to a byte with that value, never typed here, so a layout
 //! cannot say what the model does not do.
 
-use super::html;
+use crate::report::escape;
 use hiperface_model::settings::{BusMode, Parity, SettingsError, TimeoutSelect};
 use hiperface_model::slave::fields::{FieldStatus, BLOCK};
 use hiperface_model::{Edition, UartSettings};
@@ -155,13 +155,13 @@ pub fn layout_html(packed: Packed) -> String {
     }
     s.push_str("</tr>\n<tr><th>field</th>");
     for f in &fields {
-        let _ = write!(s, "<td colspan=\"{}\"><b>{}</b></td>", f.high - f.low + 1, html(f.name));
+        let _ = write!(s, "<td colspan=\"{}\"><b>{}</b></td>", f.high - f.low + 1, escape(f.name));
     }
     s.push_str("</tr>\n<tr><th>values</th>");
     for f in &fields {
         let width = (f.high - f.low + 1) as usize;
         let lines: Vec<String> =
-            f.values.iter().map(|(v, meaning)| format!("<code>{v:0width$b}</code> {}", html(meaning))).collect();
+            f.values.iter().map(|(v, meaning)| format!("<code>{v:0width$b}</code> {}", escape(meaning))).collect();
         let _ = write!(s, "<td colspan=\"{width}\">{}</td>", lines.join("<br>"));
     }
     s.push_str("</tr>\n</table>\n");

@@ -16,6 +16,7 @@ mod bits;
 mod pages;
 
 use super::{parse_hex, Erratum, Expected, Setup, Vector, VectorFile, VectorStep};
+use crate::report::escape;
 use crate::timing_diagrams::Diagram;
 use hiperface_model::clause;
 use hiperface_model::command::{AccessCodeRule, CommandSet, CommandSpec, DataLength, Editions, COMMAND_TABLE};
@@ -232,7 +233,7 @@ fn standalone(title: &str, markdown: &str) -> String {
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{}</title>\n\
          <style>body {{ font-family: sans-serif; max-width: 60em; margin: 1em auto; padding: 0 1em; }}\n{STYLE_SHEET}</style>\n\
          </head>\n<body>\n{body}</body>\n</html>\n",
-        html(title)
+        escape(title)
     )
 }
 
@@ -668,7 +669,7 @@ fn frame_html(bytes: &[u8], role: Role, caption: &str, marked: &[bool]) -> Strin
         while i < end {
             let span = labels[i..end].iter().take_while(|l| **l == labels[i]).count();
             let colspan = if span > 1 { format!(" colspan=\"{span}\"") } else { String::new() };
-            let _ = write!(s, "<td class=\"hf-l\"{colspan}>{}</td>", html(&labels[i]));
+            let _ = write!(s, "<td class=\"hf-l\"{colspan}>{}</td>", escape(&labels[i]));
             i += span;
         }
         s.push_str("</tr>\n</table>\n");
@@ -686,7 +687,7 @@ fn frame_html(bytes: &[u8], role: Role, caption: &str, marked: &[bool]) -> Strin
             writeln!(s, "<p class=\"hf-xor\">{bytes}: too short for a checksum after the address and the command</p>");
     }
     for line in meanings(bytes, role, &labels) {
-        let _ = writeln!(s, "<p class=\"hf-bits-said\">{}</p>", html(&line));
+        let _ = writeln!(s, "<p class=\"hf-bits-said\">{}</p>", escape(&line));
     }
     if let (Role::Reply(_), Some(&command)) = (role, bytes.get(1)) {
         if command & 0x80 != 0 {
@@ -973,14 +974,9 @@ fn slug(name: &str) -> String {
     words.join("-")
 }
 
-/// Text for HTML.
-fn html(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
-}
-
 /// Text for Markdown prose: no HTML, no emphasis by accident.
 fn md(s: &str) -> String {
-    html(s).replace('*', "\\*").replace('_', "\\_")
+    escape(s).replace('*', "\\*").replace('_', "\\_")
 }
 
 #[cfg(test)]

@@ -3,7 +3,8 @@
 //! own figure or the model's reply), and the master-side tables as the vectors hold them
 //! with the model's answer beside each row.
 
-use super::{chapter_file, html, md, GENERATED};
+use super::{chapter_file, md, GENERATED};
+use crate::report::escape;
 use crate::vectors::{tables, VectorFile};
 use hiperface_model::clause;
 use hiperface_model::command::{CommandSpec, Editions, COMMAND_TABLE};
@@ -244,8 +245,8 @@ pub fn master_tables(files: &[(String, VectorFile)]) -> String {
             "\n## {title}\n\n{} rows; clause {}.\n\n| {} | {} (as printed) | the model | vector |\n|---|---|---|---|\n",
             rows.len(),
             clauses.join(", "),
-            html(input),
-            html(output)
+            escape(input),
+            escape(output)
         );
         for (id, t) in rows {
             let model = match tables::evaluate(table, &t.input) {
