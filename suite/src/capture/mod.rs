@@ -335,8 +335,11 @@ pub(crate) fn next_line_bytes(
     bytes: &mut Vec<u8>,
     line: &mut u64,
 ) -> Result<bool, ParseError> {
-    next_line_within(input, bytes, line, 64 * 1024)
+    next_line_within(input, bytes, line, MAX_LINE)
 }
+
+/// The bound on a line's length, its newline aside: 64 KiB.
+pub(crate) const MAX_LINE: usize = 64 * 1024;
 
 /// [`next_line_bytes`] with the bound on a line's length (without its newline) as a
 /// parameter: the tests try it at a few bytes.
