@@ -73,6 +73,81 @@ pub struct Event {
     pub late_us: u64,
 }
 
+/// Characters that follow one another at a steady pace on one channel, handed on
+/// together: a frame of a capture that holds whole frames (a wire log's line), or one
+/// [`Event`] of any other. The first may be any mark; the others are bytes received
+/// whole, each `step_us` after the one before, with the first one's channel, role and
+/// lateness. What a run says, its events say one by one ([`Run::events`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Run {
+    pub first: Event,
+    /// From one character's end to the next one's, µs.
+    pub step_us: u64,
+    /// The bytes after the first character, `rest_len` of them.
+    rest: [u8; Run::REST],
+    rest_len: u8,
+}
+
+impl Run {
+    /// The most bytes a run holds after its first: a longer frame is several runs.
+    pub const REST: usize = 15;
+
+    /// A run of `bytes` (at most [`Run::REST`] + 1 of them; `None` for none), the
+    /// first ending at `at_us`.
+    pub fn of_bytes(at_us: u64, step_us: u64, channel: u8, role: Option<Role>, bytes: &[u8]) -> Option<Run> {
+        let (first, more) = bytes.split_first()?;
+        let mut rest = [0; Run::REST];
+        rest.get_mut(..more.len())?.copy_from_slice(more);
+        let first = Event { at_us, channel, role, mark: Mark::Byte(*first), late_us: 0 };
+        Some(Run { first, step_us, rest, rest_len: more.len() as u8 })
+    }
+
+    /// How many characters it holds.
+    pub fn len(&self) -> usize {
+        1 + usize::from(self.rest_len)
+    }
+
+    /// Never: a run holds its first character at least.
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+
+    /// The bytes after the first character.
+    pub fn rest(&self) -> &[u8] {
+        self.rest.get(..usize::from(self.rest_len)).unwrap_or(&self.rest)
+    }
+
+    /// When its last character ended.
+    pub fn last_us(&self) -> u64 {
+        self.first.at_us + u64::from(self.rest_len) * self.step_us
+    }
+
+    /// Its characters from the `n`th on (`None` if that is past its end).
+    pub fn from_nth(&self, n: usize) -> Option<Run> {
+        let event = self.events().nth(n)?;
+        let rest = self.rest().get(n..).unwrap_or_default();
+        let mut run = Run { first: event, step_us: self.step_us, rest: [0; Run::REST], rest_len: rest.len() as u8 };
+        run.rest.get_mut(..rest.len())?.copy_from_slice(rest);
+        Some(run)
+    }
+
+    /// Its characters one by one, as events.
+    pub fn events(&self) -> impl Iterator<Item = Event> + '_ {
+        let first = self.first;
+        std::iter::once(first).chain(self.rest().iter().zip(1u64..).map(move |(b, i)| Event {
+            at_us: first.at_us + i * self.step_us,
+            mark: Mark::Byte(*b),
+            ..first
+        }))
+    }
+}
+
+impl From<Event> for Run {
+    fn from(first: Event) -> Run {
+        Run { first, step_us: 0, rest: [0; Run::REST], rest_len: 0 }
+    }
+}
+
 /// A capture that cannot be read: where, and what was expected there.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error("line {line}: {message}")]
@@ -183,6 +258,12 @@ pub trait Capture: Iterator<Item = Result<Event, ParseError>> + Send {
     fn tolerance_us(&self) -> Option<u64> {
         None
     }
+    /// The next characters as a run: the next event, where the capture does not
+    /// hold whole frames. The same events in the same order as `next`, whichever of
+    /// the two hands them out.
+    fn next_run(&mut self) -> Option<Result<Run, ParseError>> {
+        self.next().map(|e| e.map(Run::from))
+    }
 }
 
 /// Open `input` in `format` (`None`: detect it from the first line).
@@ -254,8 +335,11 @@ pub(crate) fn next_line_bytes(
     bytes: &mut Vec<u8>,
     line: &mut u64,
 ) -> Result<bool, ParseError> {
-    next_line_within(input, bytes, line, 64 * 1024)
+    next_line_within(input, bytes, line, MAX_LINE)
 }
+
+/// The bound on a line's length, its newline aside: 64 KiB.
+pub(crate) const MAX_LINE: usize = 64 * 1024;
 
 /// [`next_line_bytes`] with the bound on a line's length (without its newline) as a
 /// parameter: the tests try it at a few bytes.

@@ -4,17 +4,17 @@
 //! capture's length), stops at its first error, and stops when the listener stops
 //! asking (a dropped receiver), so neither side can hang on the other.
 
-use super::{Capture, Event, ParseError};
+use super::{Capture, Event, ParseError, Run};
 use std::sync::mpsc::{sync_channel, Receiver};
 use std::thread::Scope;
 
-/// Events per batch: large enough that the channel costs nothing per event.
+/// Runs per batch: large enough that the channel costs nothing per run.
 const BATCH: usize = 4096;
 /// Batches the reader may run ahead.
 const AHEAD: usize = 4;
 
 struct Batch {
-    events: Vec<Result<Event, ParseError>>,
+    runs: Vec<Result<Run, ParseError>>,
     /// The reader's channels and assumptions once this batch was read.
     channels: Vec<String>,
     assumptions: Vec<String>,
@@ -31,13 +31,15 @@ pub fn prefetch<'scope, 'env: 'scope>(
     let assumptions = capture.assumptions();
     let (tx, rx) = sync_channel(AHEAD);
     scope.spawn(move || loop {
-        let mut events = Vec::with_capacity(BATCH);
+        // The capture's runs, not its events: a capture of whole frames crosses over
+        // a frame at a time.
+        let mut runs = Vec::with_capacity(BATCH);
         let mut stop = false;
-        while events.len() < BATCH {
-            match capture.next() {
-                Some(e) => {
-                    stop = e.is_err();
-                    events.push(e);
+        while runs.len() < BATCH {
+            match capture.next_run() {
+                Some(r) => {
+                    stop = r.is_err();
+                    runs.push(r);
                     if stop {
                         break;
                     }
@@ -48,34 +50,55 @@ pub fn prefetch<'scope, 'env: 'scope>(
                 }
             }
         }
-        let batch = Batch { events, channels: capture.channels(), assumptions: capture.assumptions() };
+        let batch = Batch { runs, channels: capture.channels(), assumptions: capture.assumptions() };
         if tx.send(batch).is_err() || stop {
             return;
         }
     });
-    Prefetched { rx, current: Vec::new().into_iter(), channels, assumptions, tolerance_us }
+    Prefetched { rx, current: Vec::new().into_iter(), run: None, channels, assumptions, tolerance_us }
 }
 
 /// The listener's side of [`prefetch`].
 pub struct Prefetched {
     rx: Receiver<Batch>,
-    current: std::vec::IntoIter<Result<Event, ParseError>>,
+    current: std::vec::IntoIter<Result<Run, ParseError>>,
+    /// The run being handed out event by event, and its next event.
+    run: Option<(Run, usize)>,
     channels: Vec<String>,
     assumptions: Vec<String>,
     tolerance_us: Option<u64>,
+}
+
+impl Prefetched {
+    /// The next run of the batches, whole.
+    fn next_whole(&mut self) -> Option<Result<Run, ParseError>> {
+        loop {
+            if let Some(r) = self.current.next() {
+                return Some(r);
+            }
+            let batch = self.rx.recv().ok()?;
+            self.current = batch.runs.into_iter();
+            self.channels = batch.channels;
+            self.assumptions = batch.assumptions;
+        }
+    }
 }
 
 impl Iterator for Prefetched {
     type Item = Result<Event, ParseError>;
     fn next(&mut self) -> Option<Self::Item> {
         loop {
-            if let Some(e) = self.current.next() {
-                return Some(e);
+            if let Some((run, n)) = &mut self.run {
+                if let Some(e) = run.events().nth(*n) {
+                    *n += 1;
+                    return Some(Ok(e));
+                }
+                self.run = None;
             }
-            let batch = self.rx.recv().ok()?;
-            self.current = batch.events.into_iter();
-            self.channels = batch.channels;
-            self.assumptions = batch.assumptions;
+            match self.next_whole()? {
+                Ok(run) => self.run = Some((run, 0)),
+                Err(e) => return Some(Err(e)),
+            }
         }
     }
 }
@@ -91,6 +114,15 @@ impl Capture for Prefetched {
     }
     fn tolerance_us(&self) -> Option<u64> {
         self.tolerance_us
+    }
+    fn next_run(&mut self) -> Option<Result<Run, ParseError>> {
+        // What is left of a run begun event by event comes first.
+        if let Some((run, n)) = self.run.take() {
+            if let Some(rest) = run.from_nth(n) {
+                return Some(Ok(rest));
+            }
+        }
+        self.next_whole()
     }
 }
 

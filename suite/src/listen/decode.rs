@@ -71,8 +71,8 @@ pub fn grade_capture(
         let mut capture = capture::prefetch(s, capture);
         let mut listener: Option<Listener> = None;
         let mut last_us = 0;
-        while let Some(e) = capture.next() {
-            let e = e.map_err(unreadable)?;
+        while let Some(run) = capture.next_run() {
+            let run = run.map_err(unreadable)?;
             // The master's channel is known once the capture has named it.
             let l = match &mut listener {
                 Some(l) => l,
@@ -89,8 +89,8 @@ pub fn grade_capture(
                     listener.insert(Listener::new(options.clone()))
                 }
             };
-            last_us = e.at_us;
-            l.feed(e, &mut |h| heard(h));
+            last_us = run.last_us();
+            l.feed_run(&run, &mut |h| heard(h));
         }
         let mut l = listener.unwrap_or_else(|| Listener::new(options.clone()));
         l.finish(last_us, &mut |h| heard(h));
@@ -144,19 +144,16 @@ pub fn listen_to(
     options: Options,
 ) -> Result<Summary, capture::ParseError> {
     let (_, capture) = capture::open(Box::new(input), format, read)?;
-    std::thread::scope(|s| listen_all(capture::prefetch(s, capture), options))
+    std::thread::scope(|s| listen_all(&mut capture::prefetch(s, capture), options))
 }
 
-fn listen_all(
-    capture: impl Iterator<Item = Result<capture::Event, capture::ParseError>>,
-    options: Options,
-) -> Result<Summary, capture::ParseError> {
+fn listen_all<C: Capture + ?Sized>(capture: &mut C, options: Options) -> Result<Summary, capture::ParseError> {
     let mut listener = Listener::new(options);
     let mut last_us = 0;
-    for e in capture {
-        let e = e?;
-        last_us = e.at_us;
-        listener.feed(e, &mut |_| {});
+    while let Some(run) = capture.next_run() {
+        let run = run?;
+        last_us = run.last_us();
+        listener.feed_run(&run, &mut |_| {});
     }
     listener.finish(last_us, &mut |_| {});
     Ok(listener.summary)
@@ -176,7 +173,7 @@ pub fn fuzz_capture(format: capture::Format, input: &[u8]) {
         polling_period_ms: hiperface_model::master::obligations::POLLING_PERIOD_MS,
     };
     let read = capture::ReadOptions { baud: 9600, samplerate_hz: Some(1_000_000) };
-    if let Ok((_, capture)) = capture::open(Box::new(input), Some(format), read) {
-        let _ = listen_all(capture, options);
+    if let Ok((_, mut capture)) = capture::open(Box::new(input), Some(format), read) {
+        let _ = listen_all(capture.as_mut(), options);
     }
 }

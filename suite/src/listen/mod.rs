@@ -19,7 +19,7 @@
 //! timing are graded; a difference in content from the model is reported as
 //! UNKNOWN with the oracle's reason, not as FAIL.
 
-use crate::capture::{Event, Mark, Role};
+use crate::capture::{Event, Mark, Role, Run};
 use crate::verdict::timing;
 use crate::verdict::{CaseVerdict, Finding, Outcome};
 pub use heard::HeardExchange;
@@ -55,6 +55,10 @@ pub struct Options {
     /// The application's polling period, ms (000:3.2.2).
     pub polling_period_ms: u32,
 }
+
+/// A frame longer than any valid one is cut at this many characters: memory stays
+/// bounded.
+const MAX_HEARD: usize = 4 * hiperface_model::frame::MAX_FRAME;
 
 /// The frame being assembled on one channel: it ends where the model's data link
 /// ends one, the timeout after its last character (000:2.2.2); `heard` keeps its
@@ -157,11 +161,7 @@ impl Listener {
         } else {
             self.now_us = self.now_us.max(e.at_us);
         }
-        let role = e.role.or(match self.options.master_channel {
-            Some(m) if m == e.channel => Some(Role::Master),
-            Some(_) => Some(Role::Slave),
-            None => None,
-        });
+        let role = self.role_of(&e);
         if e.mark == Mark::Break {
             // A break ends the frame it interrupts. // 000:T47 (a UART fault)
             self.summary.breaks += 1;
@@ -172,7 +172,6 @@ impl Listener {
         let (byte, fault) = e.mark.as_received();
         self.summary.characters += 1;
         self.summary.flagged += u64::from(fault.is_some());
-        const MAX: usize = 4 * hiperface_model::frame::MAX_FRAME;
         let at = match self.frames.binary_search_by_key(&e.channel, |a| a.channel) {
             Ok(at) => at,
             Err(at) => {
@@ -190,12 +189,63 @@ impl Listener {
             a.heard = Heard::in_buffer(self.spare.chars());
         }
         // A frame longer than any valid one is cut: memory stays bounded.
-        if a.heard.len() < MAX {
+        if a.heard.len() < MAX_HEARD {
             a.heard.push(ch, e.late_us);
         }
         if let Some(complete) = a.deadline(self.timeout_us) {
             self.due_us = self.due_us.min(complete);
         }
+    }
+
+    /// Take in a run of characters, as [`Listener::feed`] takes in each of its events
+    /// in turn. Characters that come before anything falls due go straight to their
+    /// channel's frame, found once for them.
+    pub fn feed_run(&mut self, run: &Run, out: &mut impl FnMut(&HeardExchange)) {
+        self.feed(run.first, out);
+        let role = self.role_of(&run.first);
+        let mut at_us = run.first.at_us;
+        let mut rest = run.rest().iter();
+        loop {
+            // What `feed` does with a byte before anything is due, on the frame that
+            // took the character before (`feed` left one on the run's channel).
+            let frame = self.frames.binary_search_by_key(&run.first.channel, |a| a.channel).ok();
+            if let Some(a) = frame.and_then(|at| self.frames.get_mut(at)).filter(|_| self.skip_until_due) {
+                while let Some(&byte) = rest.as_slice().first() {
+                    let next_us = at_us + run.step_us;
+                    if next_us >= self.due_us {
+                        break;
+                    }
+                    rest.next();
+                    at_us = next_us;
+                    self.now_us = self.now_us.max(at_us);
+                    self.summary.characters += 1;
+                    a.role = role;
+                    a.last_us = Some(a.last_us.map_or(at_us, |last| last.max(at_us)));
+                    if a.heard.chars.capacity() == 0 {
+                        a.heard = Heard::in_buffer(self.spare.chars());
+                    }
+                    if a.heard.len() < MAX_HEARD {
+                        a.heard.push(RxChar { byte, at_us, fault: None }, run.first.late_us);
+                    }
+                    if let Some(complete) = a.deadline(self.timeout_us) {
+                        self.due_us = self.due_us.min(complete);
+                    }
+                }
+            }
+            // One that falls due: the whole way.
+            let Some(&byte) = rest.next() else { return };
+            at_us += run.step_us;
+            self.feed(Event { at_us, mark: Mark::Byte(byte), ..run.first }, out);
+        }
+    }
+
+    /// Who sent `e`: as the capture says, else by the master's channel if known.
+    fn role_of(&self, e: &Event) -> Option<Role> {
+        e.role.or(match self.options.master_channel {
+            Some(m) if m == e.channel => Some(Role::Master),
+            Some(_) => Some(Role::Slave),
+            None => None,
+        })
     }
 
     /// Nothing was heard until `now_us` (a live bus, quiet): close what timed out.
@@ -472,6 +522,60 @@ mod tests {
         }
         l.finish(events.last().map_or(0, |e| e.at_us), &mut |h| lines.push(h.to_string()));
         (lines, serde_json::to_string(&l.summary).unwrap_or_default())
+    }
+
+    /// Frames as runs: bytes of [`FRAMES`] (a long one too), at paces from faster
+    /// than the bus to slower than its timeout.
+    fn runs() -> impl Strategy<Value = Vec<Run>> {
+        let long: &'static [u8] = &[0x40; 40];
+        let frame = (
+            prop_oneof![proptest::sample::select(FRAMES), Just(long)],
+            prop_oneof![Just(None), Just(Some(Role::Master)), Just(Some(Role::Slave))],
+            prop_oneof![0u64..4_000, 0u64..400_000],
+            prop_oneof![Just(1_146u64), 0u64..1_146, 1_146u64..30_000],
+        );
+        proptest::collection::vec(frame, 1..24).prop_map(|frames| {
+            let mut at_us = 0;
+            let mut runs = Vec::new();
+            for (bytes, role, gap, step) in frames {
+                at_us += gap + 1_146;
+                let channel = role.map_or(0, |r| r as u8);
+                for part in bytes.chunks(Run::REST + 1) {
+                    runs.extend(Run::of_bytes(at_us, step, channel, role, part));
+                    at_us += step * part.len() as u64;
+                }
+            }
+            runs
+        })
+    }
+
+    fn heard_runs(runs: &[Run], by_event: bool, master_channel: Option<u8>) -> (Vec<String>, String) {
+        let options = Options {
+            profile: hiperface_model::profiles::srs50(),
+            settings: UartSettings::DEFAULT,
+            tolerance_us: 100,
+            master_channel,
+            polling_period_ms: hiperface_model::master::obligations::POLLING_PERIOD_MS,
+        };
+        let mut l = Listener::new(options);
+        let mut lines = Vec::new();
+        for r in runs {
+            if by_event {
+                r.events().for_each(|e| l.feed(e, &mut |h| lines.push(h.to_string())));
+            } else {
+                l.feed_run(r, &mut |h| lines.push(h.to_string()));
+            }
+        }
+        l.finish(runs.last().map_or(0, Run::last_us), &mut |h| lines.push(h.to_string()));
+        (lines, serde_json::to_string(&l.summary).unwrap_or_default())
+    }
+
+    proptest! {
+        /// A run is heard as its characters one by one.
+        #[test]
+        fn a_run_is_heard_as_its_events(runs in runs(), master_channel in proptest::option::of(0u8..2)) {
+            prop_assert_eq!(heard_runs(&runs, false, master_channel), heard_runs(&runs, true, master_channel));
+        }
     }
 
     proptest! {
