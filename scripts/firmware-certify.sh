@@ -1,0 +1,100 @@
+#!/usr/bin/env bash
+# Certify the encoder firmware image (firmware/encoder-rs) without hardware: build it,
+# boot it in QEMU's mps2-an385 with its UART on a pseudo-terminal, and run the whole
+# slave catalogue through that pseudo-terminal (docs/src/firmware.md).
+#
+#   scripts/firmware-certify.sh                      the clean image
+#   scripts/firmware-certify.sh defect-timeout-x2    the image with a planted defect
+#                                                    (a cargo feature of the image)
+#   FIRMWARE_CASES='timing.*' scripts/firmware-certify.sh   part of the catalogue
+#
+# Prints the image's sha256, the board and `qemu-system-arm --version` (also written to
+# firmware.txt beside the report: the harness has no field for device notes), then the
+# harness's console; the reports go to target/firmware/<clean|feature>/. Exits as the
+# harness does (0 PASSED, 1 FAILED, 3 INCOMPLETE, 2 could not start). QEMU is stopped
+# on every exit path.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$PWD
+feature=${1:-}
+name=${feature:-clean}
+board=mps2-an385
+profile=SRS50
+out=$root/target/firmware/$name
+mkdir -p "$out"
+
+command -v qemu-system-arm >/dev/null || {
+  echo "qemu-system-arm not found: apt-get install -y qemu-system-arm" >&2
+  exit 2
+}
+
+# One cargo build at a time: the image (thumbv7m-none-eabi, its own workspace and
+# lock file), then the harness.
+(
+  cd firmware/encoder-rs
+  cargo build -q --release --locked ${feature:+--features "$feature"}
+)
+image=$root/firmware/encoder-rs/target/thumbv7m-none-eabi/release/hiperface-encoder-fw
+cp "$image" "$out/image.elf"
+cargo build -q --release -p hiperface-conformance
+hiperface=$root/target/release/hiperface
+
+sha=$(sha256sum "$image" | cut -d' ' -f1)
+qemu_version=$(qemu-system-arm --version | head -1)
+{
+  echo "image: firmware/encoder-rs ${feature:+(feature $feature)} sha256 $sha"
+  echo "board: $board (QEMU: Cortex-M3, CMSDK APB UART0 on -serial pty, CMSDK APB TIMER0/TIMER1)"
+  echo "qemu: $qemu_version"
+  echo "revision: $(git rev-parse HEAD)$(git diff --quiet HEAD -- firmware model || echo ' (modified)')"
+  echo "profile: $profile; stored settings in RAM (simulated EEPROM, lost when QEMU stops)"
+} | tee "$out/firmware.txt"
+
+qemu_log=$out/qemu.log
+qemu_pid=
+cleanup() {
+  if [ -n "$qemu_pid" ] && kill -0 "$qemu_pid" 2>/dev/null; then
+    kill "$qemu_pid" 2>/dev/null || true
+    wait "$qemu_pid" 2>/dev/null || true
+  fi
+}
+trap cleanup EXIT
+trap 'exit 130' INT
+trap 'exit 143' TERM
+
+# -serial pty: QEMU opens a pseudo-terminal for UART0 and says which on stderr.
+# -monitor none, -display none: nothing else reads or writes the terminal.
+qemu-system-arm -M "$board" -display none -monitor none -serial pty -kernel "$image" \
+  >"$qemu_log" 2>&1 &
+qemu_pid=$!
+
+pty=
+for _ in $(seq 100); do
+  pty=$(sed -n 's|^char device redirected to \(/dev/pts/[0-9]*\).*|\1|p' "$qemu_log" | head -1)
+  [ -n "$pty" ] && break
+  kill -0 "$qemu_pid" 2>/dev/null || break
+  sleep 0.1
+done
+if [ -z "$pty" ]; then
+  echo "QEMU did not open a pseudo-terminal:" >&2
+  cat "$qemu_log" >&2
+  exit 2
+fi
+echo "QEMU pid $qemu_pid, UART0 on $pty"
+
+# The image powers on with QEMU: initialization, the default window, then the stored
+# settings from 1100 ms (000:T9). Start once that is over, as after a real power-on.
+sleep 1.5
+
+# Pseudo-terminal flags: the image's EEPROM is RAM, so writes, counter changes and
+# Sensor Adjustment (which only the model's bookkeeping sees) are allowed, as for
+# `--port sim`. Everything else (echo, timing tolerance, the line's class) the harness
+# finds out about a pseudo-terminal itself.
+set +e
+"$hiperface" certify slave --port "$pty" --profile "$profile" \
+  --allow-writes --allow-counter-change --allow-adjustment \
+  ${FIRMWARE_CASES:+--cases "$FIRMWARE_CASES"} \
+  --report "$out"
+status=$?
+set -e
+echo "report: $out (certificate.md, report.json, junit.xml; firmware.txt, qemu.log, image.elf)"
+exit $status
