@@ -4,23 +4,30 @@
 # slave catalogue through that pseudo-terminal (docs/src/firmware.md).
 #
 #   scripts/firmware-certify.sh                      the clean image
-#   scripts/firmware-certify.sh defect-timeout-x2    the image with a planted defect
+#   scripts/firmware-certify.sh --features defect-timeout-x4
+#                                                    the image with a planted defect
 #                                                    (a cargo feature of the image)
-#   FIRMWARE_CASES='timing.*' scripts/firmware-certify.sh   part of the catalogue
+#   scripts/firmware-certify.sh --cases 'timing.*' --tolerance-ms 0
+#                                                    any further arguments go to
+#                                                    `hiperface certify slave`
 #
 # Prints the image's sha256, the board and `qemu-system-arm --version` (also written to
 # firmware.txt beside the report: the harness has no field for device notes), then the
 # harness's console; the reports go to target/firmware/<clean|feature>/. Exits as the
-# harness does (0 PASSED, 1 FAILED, 3 INCOMPLETE, 2 could not start). QEMU is stopped
+# harness does (FIRMWARE_REPORT=DIR puts them elsewhere; 0 PASSED, 1 FAILED, 3 INCOMPLETE, 2 could not start). QEMU is stopped
 # on every exit path.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
-feature=${1:-}
+feature=
+if [ "${1:-}" = --features ]; then
+  feature=${2:?--features needs a feature of firmware/encoder-rs}
+  shift 2
+fi
 name=${feature:-clean}
 board=mps2-an385
 profile=SRS50
-out=$root/target/firmware/$name
+out=${FIRMWARE_REPORT:-$root/target/firmware/$name}
 mkdir -p "$out"
 
 command -v qemu-system-arm >/dev/null || {
@@ -92,8 +99,7 @@ sleep 1.5
 set +e
 "$hiperface" certify slave --port "$pty" --profile "$profile" \
   --allow-writes --allow-counter-change --allow-adjustment \
-  ${FIRMWARE_CASES:+--cases "$FIRMWARE_CASES"} \
-  --report "$out"
+  --report "$out" "$@"
 status=$?
 set -e
 echo "report: $out (certificate.md, report.json, junit.xml; firmware.txt, qemu.log, image.elf)"

@@ -109,17 +109,25 @@ fn now_us(cs: &CriticalSection) -> u64 {
     ticks / TICKS_PER_US
 }
 
+/// How much longer than asked the alarm waits: 1 in the clean image.
+const DEFECT_FACTOR: u64 = if cfg!(feature = "defect-timeout-x4") {
+    4
+} else if cfg!(feature = "defect-timeout-x2") {
+    2
+} else {
+    1
+};
+
 /// Arm TIMER1 to interrupt at `at_us` (a clock reading), or disarm it.
 fn alarm(at_us: Option<u64>, now_us: u64) {
     ALARM_TIMER.ctrl().write(0);
     ALARM_TIMER.intstatus().write(1);
     let Some(at) = at_us else { return };
     let delay_us = at.saturating_sub(now_us);
-    // The planted defect (feature `defect-timeout-x2`): the alarm waits twice the
-    // delay, so a request's character timeout (000:2.2.2) ends late and the reply
-    // starts late (000:T10).
-    #[cfg(feature = "defect-timeout-x2")]
-    let delay_us = delay_us.saturating_mul(2);
+    // The planted defect (features `defect-timeout-x2`, `defect-timeout-x4`): the
+    // alarm waits twice (four times) the delay, so a request's character timeout
+    // (000:2.2.2) is taken as over late and the reply starts late (000:T10).
+    let delay_us = delay_us.saturating_mul(DEFECT_FACTOR);
     // Rounded up to a tick so that the alarm never comes before the deadline; a
     // deadline beyond one count (171 s) interrupts early and is armed again.
     let ticks = delay_us.saturating_mul(TICKS_PER_US).clamp(1, u32::MAX as u64) as u32;
