@@ -133,6 +133,8 @@ extern "C" {
 /// handler; the four it uses are `#[no_mangle]` functions in main.rs.
 #[link_section = ".vector_table.interrupts"]
 #[no_mangle]
+// Evaluated at compile time: an index out of range fails the build, it cannot panic.
+#[allow(clippy::indexing_slicing)]
 pub static __INTERRUPTS: [Vector; 32] = {
     let mut v = [const { Vector { reserved: 0 } }; 32];
     let mut i = 0;
