@@ -88,6 +88,14 @@ if [ -z "$pty" ]; then
 fi
 echo "QEMU pid $qemu_pid, UART0 on $pty"
 
+# How long QEMU's threads have waited for a processor, ms (the kernel's run delay,
+# /proc/PID/task/*/schedstat, second field): the emulator is the device's processor,
+# and time it waits is charged to the device's replies, which the harness cannot
+# measure (it measures its own lateness and the pseudo-terminal's delivery).
+qemu_waited_ms() {
+  cat /proc/"$qemu_pid"/task/*/schedstat 2>/dev/null | awk '{ns += $2} END {printf "%d", ns / 1e6}'
+}
+
 # The image powers on with QEMU: initialization, the default window, then the stored
 # settings from 1100 ms (000:T9). Start once that is over, as after a real power-on.
 sleep 1.5
@@ -96,11 +104,15 @@ sleep 1.5
 # Sensor Adjustment (which only the model's bookkeeping sees) are allowed, as for
 # `--port sim`. Everything else (echo, timing tolerance, the line's class) the harness
 # finds out about a pseudo-terminal itself.
+waited_before=$(qemu_waited_ms)
 set +e
 "$hiperface" certify slave --port "$pty" --profile "$profile" \
   --allow-writes --allow-counter-change --allow-adjustment \
   --report "$out" "$@"
 status=$?
 set -e
+waited=$(($(qemu_waited_ms) - waited_before))
+echo "QEMU waited for a processor $waited ms in all during the run (its threads' run delay)" |
+  tee -a "$out/firmware.txt"
 echo "report: $out (certificate.md, report.json, junit.xml; firmware.txt, qemu.log, image.elf)"
 exit $status
