@@ -65,12 +65,16 @@ cleanup() {
   fi
 }
 trap cleanup EXIT
+# Until the harness runs, an interrupt ends the script (and the EXIT trap stops QEMU).
 trap 'exit 130' INT
 trap 'exit 143' TERM
 
 # -serial pty: QEMU opens a pseudo-terminal for UART0 and says which on stderr.
 # -monitor none, -display none: nothing else reads or writes the terminal.
-qemu-system-arm -M "$board" -display none -monitor none -serial pty -kernel "$image" \
+# setsid: a session of its own, so that a Ctrl-C on the terminal reaches the harness
+# (which then restores the device through the port) and not QEMU; the EXIT trap stops
+# it by its pid.
+setsid qemu-system-arm -M "$board" -display none -monitor none -serial pty -kernel "$image" \
   >"$qemu_log" 2>&1 &
 qemu_pid=$!
 
@@ -105,12 +109,24 @@ sleep 1.5
 # `--port sim`. Everything else (echo, timing tolerance, the line's class) the harness
 # finds out about a pseudo-terminal itself.
 waited_before=$(qemu_waited_ms)
-set +e
 "$hiperface" certify slave --port "$pty" --profile "$profile" \
   --allow-writes --allow-counter-change --allow-adjustment \
-  --report "$out" "$@"
-status=$?
-set -e
+  --report "$out" "$@" &
+harness=$!
+# While it runs: Ctrl-C on a terminal reaches the harness itself (it is in this
+# script's process group), and SIGTERM to this script is passed on to it. Either way
+# the harness stops, restores what a case changed and writes its partial report
+# (exit 3, or 1 after a FAIL); the script waits for that, then QEMU is stopped. A
+# second signal to the harness would end it at once, so Ctrl-C is not passed on.
+trap : INT
+trap 'kill -TERM "$harness" 2>/dev/null || true' TERM
+status=0
+wait "$harness" || status=$?
+# A trapped signal ends `wait` early: wait again until the harness has exited.
+while kill -0 "$harness" 2>/dev/null; do
+  status=0
+  wait "$harness" || status=$?
+done
 waited=$(($(qemu_waited_ms) - waited_before))
 echo "QEMU waited for a processor $waited ms in all during the run (its threads' run delay)" |
   tee -a "$out/firmware.txt"
