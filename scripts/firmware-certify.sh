@@ -130,5 +130,7 @@ done
 waited=$(($(qemu_waited_ms) - waited_before))
 echo "QEMU waited for a processor $waited ms in all during the run (its threads' run delay)" |
   tee -a "$out/firmware.txt"
-echo "report: $out (certificate.md, report.json, junit.xml; firmware.txt, qemu.log, image.elf)"
+if [ -f "$out/certificate.md" ]; then
+  echo "report: $out (certificate.md, report.json, junit.xml; firmware.txt, qemu.log, image.elf)"
+fi
 exit $status
