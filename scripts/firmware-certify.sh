@@ -1,0 +1,151 @@
+#!/usr/bin/env bash
+# Certify the encoder firmware image (firmware/encoder-rs) without hardware: build it,
+# boot it in QEMU's mps2-an385 with its UART on a pseudo-terminal, and run the whole
+# slave catalogue through that pseudo-terminal (docs/src/firmware.md).
+#
+#   scripts/firmware-certify.sh                      the clean image
+#   scripts/firmware-certify.sh --features defect-timeout-x4
+#                                                    the image with a planted defect
+#                                                    (a cargo feature of the image)
+#   scripts/firmware-certify.sh --cases 'timing.*' --tolerance-ms 0
+#                                                    any further arguments go to
+#                                                    `hiperface certify slave`
+#
+# Prints the image's sha256, the board and `qemu-system-arm --version` (also written to
+# firmware.txt beside the report: the harness has no field for device notes), then the
+# harness's console; the reports go to target/firmware/<clean|feature>/. Exits as the
+# harness does (FIRMWARE_REPORT=DIR puts them elsewhere; 0 PASSED, 1 FAILED, 3 INCOMPLETE, 2 could not start). QEMU is stopped
+# on every exit path.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$PWD
+feature=
+if [ "${1:-}" = --features ]; then
+  feature=${2:?--features needs a feature of firmware/encoder-rs}
+  shift 2
+fi
+name=${feature:-clean}
+board=mps2-an385
+profile=SRS50
+out=${FIRMWARE_REPORT:-$root/target/firmware/$name}
+mkdir -p "$out"
+
+command -v qemu-system-arm >/dev/null || {
+  echo "qemu-system-arm not found: apt-get install -y qemu-system-arm" >&2
+  exit 2
+}
+
+# One cargo build at a time: the image (thumbv7m-none-eabi, its own workspace and
+# lock file), then the harness.
+(
+  cd firmware/encoder-rs
+  cargo build -q --release --locked ${feature:+--features "$feature"}
+)
+image=$root/firmware/encoder-rs/target/thumbv7m-none-eabi/release/hiperface-encoder-fw
+cp "$image" "$out/image.elf"
+cargo build -q --release -p hiperface-conformance
+hiperface=$root/target/release/hiperface
+
+sha=$(sha256sum "$image" | cut -d' ' -f1)
+qemu_version=$(qemu-system-arm --version | head -1)
+{
+  echo "image: firmware/encoder-rs ${feature:+(feature $feature)} sha256 $sha"
+  echo "board: $board (QEMU: Cortex-M3, CMSDK APB UART0 on -serial pty, CMSDK APB TIMER0/TIMER1)"
+  echo "qemu: $qemu_version"
+  echo "revision: $(git rev-parse HEAD)$(git diff --quiet HEAD -- firmware model || echo ' (modified)')"
+  echo "profile: $profile; stored settings in RAM (simulated EEPROM, lost when QEMU stops)"
+} | tee "$out/firmware.txt"
+
+qemu_log=$out/qemu.log
+qemu_pid=
+cleanup() {
+  if [ -n "$qemu_pid" ] && kill -0 "$qemu_pid" 2>/dev/null; then
+    kill "$qemu_pid" 2>/dev/null || true
+    wait "$qemu_pid" 2>/dev/null || true
+  fi
+}
+trap cleanup EXIT
+# Until the harness runs, an interrupt ends the script (and the EXIT trap stops QEMU).
+trap 'exit 130' INT
+trap 'exit 143' TERM
+
+# -serial pty: QEMU opens a pseudo-terminal for UART0 and says which on stderr.
+# -monitor none, -display none: nothing else reads or writes the terminal.
+# setsid: a session of its own, so that a Ctrl-C on the terminal reaches the harness
+# (which then restores the device through the port) and not QEMU; the EXIT trap stops
+# it by its pid.
+# chrt: a device has a processor of its own, and the host's load is not the device's.
+# The emulator is that processor, and it stamps characters with the host's clock: held
+# back for a timeout (5.73 ms at 9600 Bd, 000:2.2.2) between two characters of a
+# request, it splits the request in two (measured: a Set Position answered 0Ah on a
+# shared machine, load 4.6 on 2 cores). So QEMU runs at a real-time priority where
+# permitted, as the harness's own simulator does (conformance/src/sched.rs); the guest
+# sleeps (WFI) whenever it has nothing to do, so it takes a processor only for its work.
+rt=()
+if chrt --fifo 50 true 2>/dev/null; then
+  rt=(chrt --fifo 50)
+  qemu_priority="SCHED_FIFO 50"
+else
+  qemu_priority="normal (a real-time priority was not permitted: a busy host can split requests)"
+fi
+echo "QEMU priority: $qemu_priority" | tee -a "$out/firmware.txt"
+setsid "${rt[@]}" qemu-system-arm -M "$board" -display none -monitor none -serial pty -kernel "$image" \
+  >"$qemu_log" 2>&1 &
+qemu_pid=$!
+
+pty=
+for _ in $(seq 100); do
+  pty=$(sed -n 's|^char device redirected to \(/dev/pts/[0-9]*\).*|\1|p' "$qemu_log" | head -1)
+  [ -n "$pty" ] && break
+  kill -0 "$qemu_pid" 2>/dev/null || break
+  sleep 0.1
+done
+if [ -z "$pty" ]; then
+  echo "QEMU did not open a pseudo-terminal:" >&2
+  cat "$qemu_log" >&2
+  exit 2
+fi
+echo "QEMU pid $qemu_pid, UART0 on $pty"
+
+# How long QEMU's threads have waited for a processor, ms (the kernel's run delay,
+# /proc/PID/task/*/schedstat, second field): the emulator is the device's processor,
+# and time it waits is charged to the device's replies, which the harness cannot
+# measure (it measures its own lateness and the pseudo-terminal's delivery).
+qemu_waited_ms() {
+  cat /proc/"$qemu_pid"/task/*/schedstat 2>/dev/null | awk '{ns += $2} END {printf "%d", ns / 1e6}'
+}
+
+# The image powers on with QEMU: initialization, the default window, then the stored
+# settings from 1100 ms (000:T9). Start once that is over, as after a real power-on.
+sleep 1.5
+
+# Pseudo-terminal flags: the image's EEPROM is RAM, so writes, counter changes and
+# Sensor Adjustment (which only the model's bookkeeping sees) are allowed, as for
+# `--port sim`. Everything else (echo, timing tolerance, the line's class) the harness
+# finds out about a pseudo-terminal itself.
+waited_before=$(qemu_waited_ms)
+"$hiperface" certify slave --port "$pty" --profile "$profile" \
+  --allow-writes --allow-counter-change --allow-adjustment \
+  --report "$out" "$@" &
+harness=$!
+# While it runs: Ctrl-C on a terminal reaches the harness itself (it is in this
+# script's process group), and SIGTERM to this script is passed on to it. Either way
+# the harness stops, restores what a case changed and writes its partial report
+# (exit 3, or 1 after a FAIL); the script waits for that, then QEMU is stopped. A
+# second signal to the harness would end it at once, so Ctrl-C is not passed on.
+trap : INT
+trap 'kill -TERM "$harness" 2>/dev/null || true' TERM
+status=0
+wait "$harness" || status=$?
+# A trapped signal ends `wait` early: wait again until the harness has exited.
+while kill -0 "$harness" 2>/dev/null; do
+  status=0
+  wait "$harness" || status=$?
+done
+waited=$(($(qemu_waited_ms) - waited_before))
+echo "QEMU waited for a processor $waited ms in all during the run (its threads' run delay)" |
+  tee -a "$out/firmware.txt"
+if [ -f "$out/certificate.md" ]; then
+  echo "report: $out (certificate.md, report.json, junit.xml; firmware.txt, qemu.log, image.elf)"
+fi
+exit $status
