@@ -478,6 +478,16 @@ impl Ctx<'_> {
         self.master.facts().can_change_settings
     }
 
+    /// Whether the line carries a data rate, so that a device at another one than the
+    /// harness is heard garbled; `Err` says why not (a pseudo-terminal passes bytes
+    /// whatever the rate either end set).
+    pub fn line_carries_data_rate(&self) -> Result<(), &'static str> {
+        match self.master.facts().kind {
+            crate::line::LineKind::PseudoTerminal => Err("a pseudo-terminal carries no data rate"),
+            _ => Ok(()),
+        }
+    }
+
     /// Whether a parity error can be sent on the line; `Err` says why not.
     pub fn line_carries_parity(&self) -> Result<(), crate::exchange::NoParity> {
         self.master.facts().carries_parity

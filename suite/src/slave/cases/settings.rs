@@ -41,6 +41,18 @@ fn with_other_rate(p: &Profile) -> Option<&'static str> {
         .or_else(|| other_baud(p).is_none().then_some("the profile supports a single data rate"))
 }
 
+/// On a line without a data rate, what the case cannot see said as such: the replies
+/// are graded, but that the device listens and answers at the other rate (000:T4) is
+/// not observed, and a device that never changed its rate would be heard the same.
+fn unobserved_rate(c: &mut crate::slave::Ctx<'_>) {
+    if let Err(why) = c.line_carries_data_rate() {
+        c.push(Finding::not_applicable(format!(
+            "{why}: that the device listens and answers at the other data rate (000:T4) is not observed here, only \
+             its replies"
+        )));
+    }
+}
+
 pub const STORED: Case = case!(
     "settings.stored",
     "Set Serial Interface: the old settings until Encoder Reset, the new ones after it; restored",
@@ -59,6 +71,7 @@ pub const STORED: Case = case!(
             c.push(Finding::not_applicable(why));
             return Ok(());
         }
+        unobserved_rate(c);
         let set = |s: UartSettings| Request::SetSerialInterface { settings: s.byte(), code0 };
         c.request(set(other))?;
         // The guard talks as the model says the device listens: in the old settings
@@ -115,6 +128,7 @@ pub const TEMPORARY: Case = case!(
             c.push(Finding::not_applicable(why));
             return Ok(());
         }
+        unobserved_rate(c);
         let temporarily = |settings| Request::TemporarilySetSerialInterface { settings };
         c.request(temporarily(0xE7))?; // data rate 111: 0Dh
         c.request(temporarily(other.byte()))?;
