@@ -66,39 +66,27 @@ fn read_world(w: &Bound<'_, PyDict>) -> PyResult<World> {
             return Err(PyValueError::new_err(format!("world: unknown key `{key}` (known: {})", KEYS.join(", "))));
         }
     }
-    let mut inputs = PhysicalInputs::default();
-    let mut given = false;
-    if let Some(v) = w.get_item("position")? {
-        inputs.position = v.extract()?;
-        given = true;
-    }
-    if let Some(v) = w.get_item("speed")? {
-        inputs.speed = v.extract()?;
-        given = true;
-    }
-    if let Some(v) = w.get_item("temperature_c")? {
-        inputs.temperature_c = v.extract()?;
-        given = true;
-    }
-    if let Some(v) = w.get_item("led_current_ma")? {
-        inputs.led_current_ma = v.extract()?;
-        given = true;
-    }
-    let names = |key: &str| -> PyResult<Vec<String>> {
+    // Each key's value where given, else its default; `given`: any input was.
+    fn value<T: for<'py> FromPyObject<'py>>(w: &Bound<'_, PyDict>, key: &str, or: T) -> PyResult<(T, bool)> {
         match w.get_item(key)? {
-            Some(v) => v.extract(),
-            None => Ok(Vec::new()),
+            Some(v) => Ok((v.extract()?, true)),
+            None => Ok((or, false)),
         }
-    };
-    let (init, position) = (names("init_faults")?, names("position_faults")?);
-    let i2c_fault = match w.get_item("i2c_fault")? {
-        Some(v) => v.extract()?,
-        None => false,
-    };
+    }
+    let d = PhysicalInputs::default();
+    let (position, p) = value(w, "position", d.position)?;
+    let (speed, s) = value(w, "speed", d.speed)?;
+    let (temperature_c, t) = value(w, "temperature_c", d.temperature_c)?;
+    let (led_current_ma, l) = value(w, "led_current_ma", d.led_current_ma)?;
+    let inputs = PhysicalInputs { position, speed, temperature_c, led_current_ma };
+    let given = p || s || t || l;
+    let (init, _): (Vec<String>, _) = value(w, "init_faults", Vec::new())?;
+    let (position_faults, _): (Vec<String>, _) = value(w, "position_faults", Vec::new())?;
+    let (i2c_fault, _) = value(w, "i2c_fault", false)?;
     World::from_names(
         given.then_some(inputs),
         init.iter().map(String::as_str),
-        position.iter().map(String::as_str),
+        position_faults.iter().map(String::as_str),
         i2c_fault,
     )
     .map_err(|e| PyValueError::new_err(format!("world: {e}")))
