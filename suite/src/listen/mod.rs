@@ -78,6 +78,30 @@ impl Assembly {
     fn deadline(&self, timeout_us: u64) -> Option<u64> {
         self.last_us.map(|last| datalink::complete_at(last, timeout_us))
     }
+
+    /// Take `ch`, sent by `role` and heard `late_us` late, into the frame (a buffer
+    /// from `spare` for its first); when the frame is complete now.
+    fn file(
+        &mut self,
+        ch: RxChar,
+        late_us: u64,
+        role: Option<Role>,
+        spare: &mut Spare,
+        timeout_us: u64,
+    ) -> Option<u64> {
+        self.role = role;
+        // `advance` to this instant closed the frame this character comes too late for:
+        // it belongs to the frame being assembled.
+        self.last_us = Some(self.last_us.map_or(ch.at_us, |last| last.max(ch.at_us)));
+        if self.heard.chars.capacity() == 0 {
+            self.heard = Heard::in_buffer(spare.chars());
+        }
+        // A frame longer than any valid one is cut: memory stays bounded.
+        if self.heard.len() < MAX_HEARD {
+            self.heard.push(ch, late_us);
+        }
+        self.deadline(timeout_us)
+    }
 }
 
 /// A reply as heard: its characters, their bytes, and what they decode to for the
@@ -180,19 +204,8 @@ impl Listener {
             }
         };
         let Some(a) = self.frames.get_mut(at) else { return };
-        a.role = role;
         let ch = RxChar { byte, at_us: e.at_us, fault };
-        // `advance` to this instant closed the frame this character comes too late for:
-        // it belongs to the frame being assembled.
-        a.last_us = Some(a.last_us.map_or(e.at_us, |last| last.max(e.at_us)));
-        if a.heard.chars.capacity() == 0 {
-            a.heard = Heard::in_buffer(self.spare.chars());
-        }
-        // A frame longer than any valid one is cut: memory stays bounded.
-        if a.heard.len() < MAX_HEARD {
-            a.heard.push(ch, e.late_us);
-        }
-        if let Some(complete) = a.deadline(self.timeout_us) {
+        if let Some(complete) = a.file(ch, e.late_us, role, &mut self.spare, self.timeout_us) {
             self.due_us = self.due_us.min(complete);
         }
     }
@@ -219,15 +232,8 @@ impl Listener {
                     at_us = next_us;
                     self.now_us = self.now_us.max(at_us);
                     self.summary.characters += 1;
-                    a.role = role;
-                    a.last_us = Some(a.last_us.map_or(at_us, |last| last.max(at_us)));
-                    if a.heard.chars.capacity() == 0 {
-                        a.heard = Heard::in_buffer(self.spare.chars());
-                    }
-                    if a.heard.len() < MAX_HEARD {
-                        a.heard.push(RxChar { byte, at_us, fault: None }, run.first.late_us);
-                    }
-                    if let Some(complete) = a.deadline(self.timeout_us) {
+                    let ch = RxChar { byte, at_us, fault: None };
+                    if let Some(complete) = a.file(ch, run.first.late_us, role, &mut self.spare, self.timeout_us) {
                         self.due_us = self.due_us.min(complete);
                     }
                 }
