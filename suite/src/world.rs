@@ -39,27 +39,26 @@ impl World {
         position_faults: impl IntoIterator<Item = &'a str>,
         i2c_fault: bool,
     ) -> Result<World, UnknownFault> {
-        fn named<'a, F: Copy>(
+        /// Each name read by its kind's own `from_name`; the kind's names for the error.
+        fn named<'a, F>(
             names: impl IntoIterator<Item = &'a str>,
             kind: &'static str,
-            all: &[F],
-            name: fn(F) -> &'static str,
+            from_name: fn(&str) -> Option<F>,
+            known: &[&str],
         ) -> Result<Vec<F>, UnknownFault> {
             names
                 .into_iter()
                 .map(|n| {
-                    all.iter().copied().find(|f| name(*f) == n).ok_or_else(|| UnknownFault {
-                        kind,
-                        name: n.to_string(),
-                        known: all.iter().map(|f| name(*f)).collect::<Vec<_>>().join(", "),
-                    })
+                    from_name(n).ok_or_else(|| UnknownFault { kind, name: n.to_string(), known: known.join(", ") })
                 })
                 .collect()
         }
+        let init_names = InitFault::ALL.map(InitFault::name);
+        let position_names = PositionFault::ALL.map(PositionFault::name);
         Ok(World {
             inputs,
-            init_faults: named(init_faults, "start-up fault", &InitFault::ALL, InitFault::name)?,
-            position_faults: named(position_faults, "position fault", &PositionFault::ALL, PositionFault::name)?,
+            init_faults: named(init_faults, "start-up fault", InitFault::from_name, &init_names)?,
+            position_faults: named(position_faults, "position fault", PositionFault::from_name, &position_names)?,
             i2c_fault,
         })
     }
