@@ -376,10 +376,17 @@ fn next_line_within(
     if bytes.is_empty() {
         return Ok(false);
     }
-    while matches!(bytes.last(), Some(b'\n' | b'\r')) {
-        bytes.pop();
-    }
+    let kept = without_line_end(bytes).len();
+    bytes.truncate(kept);
     Ok(true)
+}
+
+/// A line without its end: the newlines and carriage returns it ends with.
+pub(crate) fn without_line_end(mut line: &[u8]) -> &[u8] {
+    while let [rest @ .., b'\n' | b'\r'] = line {
+        line = rest;
+    }
+    line
 }
 
 /// A hex digit's value by its character; 0xFF for any other character.

@@ -246,10 +246,7 @@ impl<'a> Reader<'a> {
                     }
                 };
                 let common = memchr::memchr(b'\n', available).filter(|n| *n < super::MAX_LINE).and_then(|newline| {
-                    let mut l = available.get(..newline)?;
-                    while let [rest @ .., b'\r'] = l {
-                        l = rest;
-                    }
+                    let l = super::without_line_end(available.get(..newline)?);
                     Some((parse_common(l, &mut into.bytes)?, newline))
                 });
                 if let Some(((t_us, role), newline)) = common {
