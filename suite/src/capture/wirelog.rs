@@ -530,6 +530,20 @@ mod tests {
         assert!(parse_line("10.5 ms M> 0x40").is_some(), "the general form reads what the common one leaves");
     }
 
+    /// A line of valid bytes longer than the bound is refused as any long line is,
+    /// whether it lies in the reader's buffer or not: memory stays bounded.
+    #[test]
+    fn a_line_of_valid_bytes_beyond_the_bound_is_an_error() {
+        let long = format!("10.000 ms  M>{}\n", " 40".repeat(crate::capture::MAX_LINE / 3 + 1));
+        for capacity in [8 * 1024, 256 * 1024] {
+            let reader = std::io::BufReader::with_capacity(capacity, long.as_bytes());
+            let options = crate::capture::ReadOptions { baud: 9600, samplerate_hz: None };
+            let err = Reader::new(Box::new(reader), options).unwrap().find_map(Result::err).unwrap();
+            assert!(err.message.contains("bytes or more"), "{err}");
+            assert_eq!(err.line, 1);
+        }
+    }
+
     #[test]
     fn odd_times_are_read_or_refused() {
         assert_eq!(ms_as_us("1.2345"), Some(1235));
