@@ -7,10 +7,11 @@ use super::{CaseError, CaseResult, CaseVerdict, Finding, Identity, Options, Wire
 use crate::exchange::{sealed, Bus, Exchange, Listen, LATE_REPLY_GRACE_MS};
 use hiperface_model::address::AddressByte;
 use hiperface_model::clause::{self, Normative};
+use hiperface_model::command::ResponseLimit;
 use hiperface_model::request::{Request, RequestFrame};
 use hiperface_model::response::ResponseFrame;
 use hiperface_model::slave::powerup::CommState;
-use hiperface_model::{CommandId, Grading, Hex, Oracle, Profile, Reply, Slave};
+use hiperface_model::{CommandId, Edition, Grading, Hex, Oracle, Outcome, Profile, Reply, Slave};
 use std::collections::BTreeMap;
 use std::sync::atomic::Ordering;
 
@@ -93,6 +94,77 @@ fn trailing_pause(x: &Exchange) -> Option<TrailingPause> {
 /// The frame of `request` to the address byte `address`.
 fn frame(address: u8, request: Request) -> Vec<u8> {
     RequestFrame::new(AddressByte::decode(address), request).encode().as_bytes().to_vec()
+}
+
+/// An exchange as planned before its request goes.
+struct Plan {
+    command: Option<CommandId>,
+    limits: ResponseLimit,
+    /// The model before the request, for the oracle.
+    before: Slave,
+    listen: Listen,
+}
+
+/// An exchange as made: what the line carried, and the model's step on the request.
+struct Taken {
+    x: Exchange,
+    expected: Outcome,
+    /// When the slave took the request.
+    taken_at: u64,
+    /// The request reached the slave across a change of its power-up state.
+    across_change: bool,
+}
+
+/// The model's step on `frame`, sent with the wrong parity or not, taken at `at_us`.
+fn handle(model: &mut Slave, frame: &[u8], wrong_parity: bool, at_us: u64) -> Outcome {
+    if wrong_parity {
+        model.handle_faulty_frame(frame, at_us)
+    } else {
+        model.handle_frame(frame, at_us)
+    }
+}
+
+/// The finding on characters that came after a reply (or in place of one), and
+/// whether the harness's own lateness leaves it untold.
+fn trailing_finding(x: &Exchange, edition: Edition) -> (Finding, bool) {
+    let bytes: Vec<u8> = x.trailing.iter().map(|c| c.byte).collect();
+    if x.reply.is_empty() {
+        let msg = format!("{} characters [{}] arrived after the reply window", bytes.len(), Hex(&bytes));
+        return (Finding::fail(msg, clause::NO_UNSOLICITED, edition), false);
+    }
+    match trailing_pause(x) {
+        Some(TrailingPause::LatenessCouldExplain) => (
+            Finding::unknown(format!(
+                "cannot tell whether the reply had a pause of the timeout inside: {} more characters [{}] came \
+                 after one as read, but the harness and the line may have been up to {:.3} ms late",
+                bytes.len(),
+                Hex(&bytes),
+                x.reply_unseen_late_us() as f64 / 1000.0
+            )),
+            true,
+        ),
+        Some(TrailingPause::WithinOneCharacter) => (
+            Finding::non_strict(
+                format!(
+                    "the reply paused inside for less than the timeout from stop bit to start bit, but for at least \
+                     the timeout between character ends: {} more characters [{}] came after it, which a receiver \
+                     timing from character ends takes for another transmission",
+                    bytes.len(),
+                    Hex(&bytes)
+                ),
+                clause::REPLY_END,
+            ),
+            false,
+        ),
+        _ => {
+            let msg = format!(
+                "the reply went on after a pause of at least the timeout: {} more characters [{}]",
+                bytes.len(),
+                Hex(&bytes)
+            );
+            (Finding::fail(msg, clause::REPLY_END, edition), false)
+        }
+    }
 }
 
 /// A pending restore, released by the case once it has restored by itself.
@@ -270,10 +342,34 @@ impl Ctx<'_> {
         self.transmit(frame, true)
     }
 
+    /// One exchange, in four jobs: plan it, make it (the model in lockstep), keep what
+    /// the run accumulates, grade it.
     fn transmit(&mut self, frame: &[u8], wrong_parity: bool) -> Result<Graded, CaseError> {
         if self.interrupted() {
             return Err(CaseError::Interrupted);
         }
+        let plan = self.plan(frame, wrong_parity)?;
+        let taken = self.exchange(frame, wrong_parity, &plan)?;
+        let observed = taken.x.reply_bytes();
+        self.keep(frame, &plan, &taken, observed.as_deref())?;
+        let (graded, found) = self.grade(frame, &plan, &taken, observed.as_deref());
+        if let (Some(bytes), Some(cmd)) = (&observed, plan.command) {
+            self.learn(cmd, bytes, graded);
+        }
+        // The exchange's verdict is the worst of its findings, as the case's is.
+        let verdict = found.iter().fold(graded, |v, f| v.worst(f.verdict()));
+        for f in found {
+            self.push(f.at(taken.x.request_end.earliest_us));
+        }
+        if let Some(s) = taken.expected.then_settings {
+            self.master.configure(s)?;
+        }
+        Ok(Graded { exchange: taken.x, verdict, reply: observed })
+    }
+
+    /// Before the request goes: the line set to how the slave listens, and how long to
+    /// listen for its answer.
+    fn plan(&mut self, frame: &[u8], wrong_parity: bool) -> Result<Plan, CaseError> {
         // Talk in the settings the slave listens with now (67h, reset, power-up windows),
         // or will listen with next: a request into a silent window (initialization)
         // must not run past its end in the settings before it (seen: 600 Bd stored,
@@ -291,22 +387,20 @@ impl Ctx<'_> {
         let estimate = self.master.now_us()
             + frame.len() as u64 * self.master.settings().char_time_us()
             + self.master.timeout_us();
-        let handle = |s: &mut Slave, at_us| {
-            if wrong_parity {
-                s.handle_faulty_frame(frame, at_us)
-            } else {
-                s.handle_frame(frame, at_us)
-            }
-        };
         let mut after = before.clone();
-        let expects_reply = matches!(handle(&mut after, estimate).reply, Reply::Frame(_));
+        let expects_reply = matches!(handle(&mut after, frame, wrong_parity, estimate).reply, Reply::Frame(_));
         let listen = Listen {
             reply_ms: if expects_reply { timing::reply_awaited_ms(limits) } else { limits.max_ms },
             wrong_parity,
             slave_initializes: after.listening_settings(estimate).is_none(),
             late_grace_ms: if expects_reply { LATE_REPLY_GRACE_MS } else { 0 },
         };
-        let x = self.master.exchange_listening(frame, listen)?;
+        Ok(Plan { command, limits, before, listen })
+    }
+
+    /// The request on the line and the model's step on it, when the slave took it.
+    fn exchange(&mut self, frame: &[u8], wrong_parity: bool, plan: &Plan) -> Result<Taken, CaseError> {
+        let x = self.master.exchange_listening(frame, plan.listen)?;
         // The slave takes a frame when its timeout elapsed, if it listened when the
         // characters arrived; characters that arrive while it does not listen are lost
         // (000:T9). A frame across a change of the power-up state is heard in part: the
@@ -318,30 +412,47 @@ impl Ctx<'_> {
             None => last_char,
             Some(_) => x.complete_us(),
         };
-        let expected = handle(self.model, taken_at);
+        let expected = handle(self.model, frame, wrong_parity, taken_at);
+        Ok(Taken { x, expected, taken_at, across_change })
+    }
+
+    /// What the run keeps of the exchange (the wire log, the tally), or why the run
+    /// cannot go on (the write budget spent, a device that never answered).
+    fn keep(&mut self, frame: &[u8], plan: &Plan, taken: &Taken, observed: Option<&[u8]>) -> Result<(), CaseError> {
         if self.model.eeprom_writes() > self.options.write_budget {
             return Err(CaseError::Budget(self.options.write_budget));
         }
-        let observed = x.reply_bytes();
         self.tally.answered_any |= observed.is_some();
-        if !self.tally.answered_any && matches!(expected.reply, Reply::Frame(_)) {
+        if !self.tally.answered_any && matches!(taken.expected.reply, Reply::Frame(_)) {
             // Never a word from the device: it is not there, not powered, or at another
             // address or data rate. The harness cannot run the case.
             return Err(CaseError::Silent);
         }
-        self.log(frame, &x, observed.as_deref());
+        let x = &taken.x;
+        self.log(frame, x, observed);
         self.tally.harness_late_us = self.tally.harness_late_us.max(x.harness_late_us);
         self.tally.line_late_us = self.tally.line_late_us.max(x.line_late.both_ways_us());
-        self.tally.line_time_us += physical_time_us(&x, limits.max_ms);
-        if let (Some(cmd), Some(t)) = (command, timing::at_most_us(&x)) {
+        self.tally.line_time_us += physical_time_us(x, plan.limits.max_ms);
+        if let (Some(cmd), Some(t)) = (plan.command, timing::at_most_us(x)) {
             self.tally.response_times.entry(cmd.byte()).or_default().push(t);
         }
-        let grade = self.oracle.grade(&before, frame, taken_at, &expected, observed.as_deref());
+        Ok(())
+    }
+
+    /// The oracle's verdict on the answer, and the findings of the exchange: the
+    /// oracle's, characters outside the reply, the reply's end, its timing. Where the
+    /// harness's own timing leaves one untold, the case is marked to run again.
+    fn grade(
+        &mut self,
+        frame: &[u8],
+        plan: &Plan,
+        taken: &Taken,
+        observed: Option<&[u8]>,
+    ) -> (CaseVerdict, Vec<Finding>) {
+        let Taken { x, expected, taken_at, across_change } = taken;
+        let grade = self.oracle.grade(&plan.before, frame, *taken_at, expected, observed);
         let graded = CaseVerdict::from(grade.verdict());
-        if let (Some(bytes), Some(cmd)) = (&observed, command) {
-            self.learn(cmd, bytes, graded);
-        }
-        let mut found: Vec<Finding> = if across_change {
+        let mut found: Vec<Finding> = if *across_change {
             // The harness's own timing put the request there (a case never plans it):
             // not the device's; run the case again.
             self.disturbed = true;
@@ -360,60 +471,18 @@ impl Ctx<'_> {
             found.push(Finding::fail(msg, clause::NO_UNSOLICITED, edition));
         }
         if !x.trailing.is_empty() {
-            let bytes: Vec<u8> = x.trailing.iter().map(|c| c.byte).collect();
-            found.push(if x.reply.is_empty() {
-                let msg = format!("{} characters [{}] arrived after the reply window", bytes.len(), Hex(&bytes));
-                Finding::fail(msg, clause::NO_UNSOLICITED, edition)
-            } else {
-                match trailing_pause(&x) {
-                    Some(TrailingPause::LatenessCouldExplain) => {
-                        self.disturbed = true;
-                        Finding::unknown(format!(
-                            "cannot tell whether the reply had a pause of the timeout inside: {} more characters \
-                             [{}] came after one as read, but the harness and the line may have been up to {:.3} \
-                             ms late",
-                            bytes.len(),
-                            Hex(&bytes),
-                            x.reply_unseen_late_us() as f64 / 1000.0
-                        ))
-                    }
-                    Some(TrailingPause::WithinOneCharacter) => Finding::non_strict(
-                        format!(
-                            "the reply paused inside for less than the timeout from stop bit to start bit, but for \
-                             at least the timeout between character ends: {} more characters [{}] came after it, \
-                             which a receiver timing from character ends takes for another transmission",
-                            bytes.len(),
-                            Hex(&bytes)
-                        ),
-                        clause::REPLY_END,
-                    ),
-                    _ => {
-                        let msg = format!(
-                            "the reply went on after a pause of at least the timeout: {} more characters [{}]",
-                            bytes.len(),
-                            Hex(&bytes)
-                        );
-                        Finding::fail(msg, clause::REPLY_END, edition)
-                    }
-                }
-            });
+            let (finding, disturbed) = trailing_finding(x, edition);
+            self.disturbed |= disturbed;
+            found.push(finding);
         }
         if matches!(expected.reply, Reply::Frame(_)) && !across_change {
             let tol = self.master.facts().tolerance_us;
-            let timing = timing::grade(&x, limits, tol, self.options.timing, edition);
+            let timing = timing::grade(x, plan.limits, tol, self.options.timing, edition);
             // Timing is UNKNOWN only where the harness's lateness could explain it.
             self.disturbed |= timing.iter().any(|f| f.verdict() == CaseVerdict::Unknown);
             found.extend(timing);
         }
-        // The exchange's verdict is the worst of its findings, as the case's is.
-        let verdict = found.iter().fold(graded, |v, f| v.worst(f.verdict()));
-        for f in found {
-            self.push(f.at(x.request_end.earliest_us));
-        }
-        if let Some(s) = expected.then_settings {
-            self.master.configure(s)?;
-        }
-        Ok(Graded { exchange: x, verdict, reply: observed })
+        (graded, found)
     }
 
     fn log(&mut self, frame: &[u8], x: &Exchange, observed: Option<&[u8]>) {
