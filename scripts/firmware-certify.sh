@@ -1,30 +1,50 @@
 #!/usr/bin/env bash
-# Certify the encoder firmware image (firmware/encoder-rs) without hardware: build it,
-# boot it in QEMU's mps2-an385 with its UART on a pseudo-terminal, and run the whole
-# slave catalogue through that pseudo-terminal (docs/src/firmware.md).
+# Certify an encoder firmware image without hardware: build it, boot it in QEMU's
+# mps2-an385 with its UART on a pseudo-terminal, and run the whole slave catalogue
+# through that pseudo-terminal (docs/src/firmware.md). Two images: Rust
+# (firmware/encoder-rs, the model crate) and C (firmware/encoder-c, the C library
+# libhiperface.a for the target, arm-none-eabi-gcc).
 #
-#   scripts/firmware-certify.sh                      the clean image
+#   scripts/firmware-certify.sh                      the clean Rust image
 #   scripts/firmware-certify.sh --features defect-timeout-x4
-#                                                    the image with a planted defect
+#                                                    the Rust image with a planted defect
 #                                                    (a cargo feature of the image)
+#   scripts/firmware-certify.sh --c                  the clean C image
+#   scripts/firmware-certify.sh --c --defect TX_LOSES_LAST
+#                                                    the C image with a planted defect
+#                                                    (firmware/encoder-c/main.c lists them)
 #   scripts/firmware-certify.sh --cases 'timing.*' --tolerance-ms 0
 #                                                    any further arguments go to
 #                                                    `hiperface certify slave`
 #
 # Prints the image's sha256, the board and `qemu-system-arm --version` (also written to
 # firmware.txt beside the report: the harness has no field for device notes), then the
-# harness's console; the reports go to target/firmware/<clean|feature>/. Exits as the
-# harness does (FIRMWARE_REPORT=DIR puts them elsewhere; 0 PASSED, 1 FAILED, 3 INCOMPLETE, 2 could not start). QEMU is stopped
-# on every exit path.
+# harness's console; the reports go to target/firmware/<clean|feature>/ (Rust) and
+# target/firmware/c-<clean|defect>/ (C). Exits as the harness does
+# (FIRMWARE_REPORT=DIR puts them elsewhere; 0 PASSED, 1 FAILED, 3 INCOMPLETE, 2 could
+# not start). QEMU is stopped on every exit path.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
+variant=rust
 feature=
-if [ "${1:-}" = --features ]; then
+defect=
+if [ "${1:-}" = --c ]; then
+  variant=c
+  shift
+  if [ "${1:-}" = --defect ]; then
+    defect=${2:?--defect needs a defect of firmware/encoder-c/main.c}
+    shift 2
+  fi
+elif [ "${1:-}" = --features ]; then
   feature=${2:?--features needs a feature of firmware/encoder-rs}
   shift 2
 fi
-name=${feature:-clean}
+if [ "$variant" = c ]; then
+  name=c-${defect:-clean}
+else
+  name=${feature:-clean}
+fi
 board=mps2-an385
 profile=SRS50
 out=${FIRMWARE_REPORT:-$root/target/firmware/$name}
@@ -35,13 +55,28 @@ command -v qemu-system-arm >/dev/null || {
   exit 2
 }
 
-# One cargo build at a time: the image (thumbv7m-none-eabi, its own workspace and
-# lock file), then the harness.
-(
-  cd firmware/encoder-rs
-  cargo build -q --release --locked ${feature:+--features "$feature"}
-)
-image=$root/firmware/encoder-rs/target/thumbv7m-none-eabi/release/hiperface-encoder-fw
+# One build at a time: the image (for thumbv7m-none-eabi), then the harness.
+if [ "$variant" = c ]; then
+  command -v arm-none-eabi-gcc >/dev/null || {
+    echo "arm-none-eabi-gcc not found: apt-get install -y gcc-arm-none-eabi" >&2
+    exit 2
+  }
+  # The C library as firmware links it: no `std` (the caller gives the slave's
+  # storage), optimised for size (the c-release profile).
+  cargo rustc -q -p hiperface-ffi --no-default-features --target thumbv7m-none-eabi --profile c-release \
+    --crate-type staticlib
+  make -s -C firmware/encoder-c OUT="$out/build" ${defect:+DEFECT="$defect"} \
+    LIB="$root/target/thumbv7m-none-eabi/c-release/libhiperface.a"
+  image=$out/build/encoder-c.elf
+  image_name="firmware/encoder-c${defect:+ (DEFECT_$defect)}"
+else
+  (
+    cd firmware/encoder-rs
+    cargo build -q --release --locked ${feature:+--features "$feature"}
+  )
+  image=$root/firmware/encoder-rs/target/thumbv7m-none-eabi/release/hiperface-encoder-fw
+  image_name="firmware/encoder-rs${feature:+ (feature $feature)}"
+fi
 cp "$image" "$out/image.elf"
 cargo build -q --release -p hiperface-conformance
 hiperface=$root/target/release/hiperface
@@ -49,10 +84,10 @@ hiperface=$root/target/release/hiperface
 sha=$(sha256sum "$image" | cut -d' ' -f1)
 qemu_version=$(qemu-system-arm --version | head -1)
 {
-  echo "image: firmware/encoder-rs ${feature:+(feature $feature)} sha256 $sha"
+  echo "image: $image_name sha256 $sha"
   echo "board: $board (QEMU: Cortex-M3, CMSDK APB UART0 on -serial pty, CMSDK APB TIMER0/TIMER1)"
   echo "qemu: $qemu_version"
-  echo "revision: $(git rev-parse HEAD)$(git diff --quiet HEAD -- firmware model || echo ' (modified)')"
+  echo "revision: $(git rev-parse HEAD)$(git diff --quiet HEAD -- firmware model ffi || echo ' (modified)')"
   echo "profile: $profile; stored settings in RAM (simulated EEPROM, lost when QEMU stops)"
 } | tee "$out/firmware.txt"
 

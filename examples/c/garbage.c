@@ -67,6 +67,11 @@ int main(void) {
     CHECK(hf_slave_init(NULL, 1 << 16, "SRS50", &s) == HF_STATUS_NULL);
     CHECK(hf_slave_receive(NULL, 0x40, 0, HF_FAULT_NONE) == HF_STATUS_NULL);
     CHECK(hf_slave_poll(NULL, 0, &tx) == HF_STATUS_NULL);
+    uint64_t due;
+    HfUartSettings settings;
+    CHECK(hf_slave_power_on(NULL, 0) == HF_STATUS_NULL);
+    CHECK(hf_slave_next_deadline(NULL, 0, &due) == HF_STATUS_NULL);
+    CHECK(hf_slave_listening(NULL, 0, &settings) == HF_STATUS_NULL);
     CHECK(hf_oracle_grade(NULL, buf, 3, 0, NULL, 0, false, false, &g) == HF_STATUS_NULL);
     HfInputs in = {0};
     CHECK(hf_slave_inputs(NULL, &in) == HF_STATUS_NULL);
@@ -84,6 +89,8 @@ int main(void) {
     CHECK(hf_slave_init(storage, hf_slave_size(), "SRS50", &s) == HF_STATUS_OK);
     CHECK(hf_slave_receive(s, 0x40, 0, 99) == HF_STATUS_INVALID);
     CHECK(hf_slave_poll(s, 0, NULL) == HF_STATUS_NULL);
+    CHECK(hf_slave_next_deadline(s, 0, NULL) == HF_STATUS_NULL);
+    CHECK(hf_slave_listening(s, 0, NULL) == HF_STATUS_NULL);
     CHECK(hf_slave_inputs(s, NULL) == HF_STATUS_NULL);
     CHECK(hf_slave_set_inputs(s, NULL) == HF_STATUS_NULL);
     CHECK(hf_oracle_grade(s, buf, 3, 0, NULL, 0, false, false, NULL) == HF_STATUS_NULL);
@@ -109,6 +116,13 @@ int main(void) {
         HfStatus p = hf_slave_poll(s, t, &tx);
         CHECK(p == HF_STATUS_OK || p == HF_STATUS_NOTHING);
         CHECK(p != HF_STATUS_OK || tx.len <= HF_MAX_FRAME);
+        /* Now and then a power-on at any time: the deadline and the settings after it
+         * are answered, never anything else. */
+        if (rand() % 50 == 0) CHECK(hf_slave_power_on(s, t) == HF_STATUS_OK);
+        HfStatus n = hf_slave_next_deadline(s, t, &due);
+        CHECK(n == HF_STATUS_NOTHING || (n == HF_STATUS_OK && due >= t));
+        HfStatus l = hf_slave_listening(s, t, &settings);
+        CHECK(l == HF_STATUS_NOTHING || (l == HF_STATUS_OK && settings.bits_per_second >= 600));
         size_t reply_len = (size_t)(rand() % 12);
         CHECK(hf_oracle_grade(s, buf, len, t, rand() % 4 ? buf + 1 : NULL, reply_len, rand() % 2, rand() % 2, &g) == HF_STATUS_OK);
         CHECK(g.verdict <= HF_VERDICT_FAIL && memchr(g.clause, 0, sizeof g.clause) && memchr(g.reason, 0, sizeof g.reason));

@@ -237,6 +237,15 @@ typedef struct HfRequest {
 } HfRequest;
 
 /**
+ * UART settings: the settings byte of 000:T28 (as 57h and 67h carry it) and its data
+ * rate in bit/s.
+ */
+typedef struct HfUartSettings {
+  uint8_t byte;
+  uint32_t bits_per_second;
+} HfUartSettings;
+
+/**
  * What the slave sends, and when.
  */
 typedef struct HfTransmission {
@@ -251,6 +260,11 @@ typedef struct HfTransmission {
    * ...and must start by the command's maximum response time. // 000:T8
    */
   uint64_t latest_start_us;
+  /**
+   * The settings it goes out in: those the request came in, a 67h reply's too
+   * (000:T33).
+   */
+  struct HfUartSettings settings;
 } HfTransmission;
 
 /**
@@ -735,6 +749,40 @@ enum HfStatus hf_slave_receive(struct HfSlave *slave,
  * `slave` is null or a slave from `hf_slave_init`/`hf_slave_new`; `out` is writable.
  */
 enum HfStatus hf_slave_poll(struct HfSlave *slave, uint64_t now_us, struct HfTransmission *out);
+
+/**
+ * Power the slave on at `at_us` (µs on the caller's clock): it goes through its
+ * power-up sequence (000:T9: initialization without listening, the default window,
+ * then its stored settings), its stored data kept. A slave from [`hf_slave_init`] is
+ * operational, powered long ago; a firmware calls this once as it boots.
+ *
+ * # Safety
+ * `slave` is null or a slave from `hf_slave_init`/`hf_slave_new`.
+ */
+enum HfStatus hf_slave_power_on(struct HfSlave *slave, uint64_t at_us);
+
+/**
+ * When, after `now_us`, the slave next needs [`hf_slave_poll`] though nothing was
+ * received: a frame's timeout (000:2.2.2), a power-up state's end (000:T9). `out_us`
+ * gets it with `HF_STATUS_OK`; `HF_STATUS_NOTHING` when nothing is due. A firmware
+ * arms its timer for it.
+ *
+ * # Safety
+ * `slave` is null or a slave from `hf_slave_init`/`hf_slave_new`; `out_us` is writable.
+ */
+enum HfStatus hf_slave_next_deadline(struct HfSlave *slave, uint64_t now_us, uint64_t *out_us);
+
+/**
+ * The settings the slave listens with at `now_us` into `out` (000:T28; the default
+ * ones in the power-up window, 000:T9); `HF_STATUS_NOTHING` while it does not listen
+ * (its initialization). A firmware sets its UART to them whenever it is not sending.
+ *
+ * # Safety
+ * `slave` is null or a slave from `hf_slave_init`/`hf_slave_new`; `out` is writable.
+ */
+enum HfStatus hf_slave_listening(struct HfSlave *slave,
+                                 uint64_t now_us,
+                                 struct HfUartSettings *out);
 
 /**
  * The slave's physical inputs into `out`.

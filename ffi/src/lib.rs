@@ -110,6 +110,24 @@ pub struct HfTransmission {
     pub earliest_start_us: u64,
     /// ...and must start by the command's maximum response time. // 000:T8
     pub latest_start_us: u64,
+    /// The settings it goes out in: those the request came in, a 67h reply's too
+    /// (000:T33).
+    pub settings: HfUartSettings,
+}
+
+/// UART settings: the settings byte of 000:T28 (as 57h and 67h carry it) and its data
+/// rate in bit/s.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct HfUartSettings {
+    pub byte: u8,
+    pub bits_per_second: u32,
+}
+
+impl From<hiperface_model::UartSettings> for HfUartSettings {
+    fn from(s: hiperface_model::UartSettings) -> HfUartSettings {
+        HfUartSettings { byte: s.byte(), bits_per_second: s.baud.bits_per_second() }
+    }
 }
 
 /// A grade: the verdict, the clause it rests on, and the reason.
@@ -462,6 +480,7 @@ fn transmission(step: &Step) -> Option<HfTransmission> {
         len: bytes.len(),
         earliest_start_us: tx.earliest_start_us,
         latest_start_us: tx.latest_start_us,
+        settings: tx.settings.into(),
     };
     t.frame.get_mut(..bytes.len())?.copy_from_slice(bytes);
     Some(t)
@@ -507,6 +526,71 @@ pub unsafe extern "C" fn hf_slave_poll(slave: *mut HfSlave, now_us: u64, out: *m
         Some(t) => {
             // SAFETY: not null, writable by the caller's promise.
             unsafe { *out = t };
+            HfStatus::Ok
+        }
+        None => HfStatus::Nothing,
+    }
+}
+
+/// Power the slave on at `at_us` (µs on the caller's clock): it goes through its
+/// power-up sequence (000:T9: initialization without listening, the default window,
+/// then its stored settings), its stored data kept. A slave from [`hf_slave_init`] is
+/// operational, powered long ago; a firmware calls this once as it boots.
+///
+/// # Safety
+/// `slave` is null or a slave from `hf_slave_init`/`hf_slave_new`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_slave_power_on(slave: *mut HfSlave, at_us: u64) -> HfStatus {
+    // SAFETY: the caller's promise.
+    let Some(s) = (unsafe { slave_mut(slave) }) else { return HfStatus::Null };
+    s.pending = None;
+    s.slave.power_cycle(at_us);
+    HfStatus::Ok
+}
+
+/// When, after `now_us`, the slave next needs [`hf_slave_poll`] though nothing was
+/// received: a frame's timeout (000:2.2.2), a power-up state's end (000:T9). `out_us`
+/// gets it with `HF_STATUS_OK`; `HF_STATUS_NOTHING` when nothing is due. A firmware
+/// arms its timer for it.
+///
+/// # Safety
+/// `slave` is null or a slave from `hf_slave_init`/`hf_slave_new`; `out_us` is writable.
+#[no_mangle]
+pub unsafe extern "C" fn hf_slave_next_deadline(slave: *mut HfSlave, now_us: u64, out_us: *mut u64) -> HfStatus {
+    // SAFETY: the caller's promise.
+    let Some(s) = (unsafe { slave_mut(slave) }) else { return HfStatus::Null };
+    if out_us.is_null() {
+        return HfStatus::Null;
+    }
+    // A frame closed by a character and not yet polled is due at once.
+    let next = if s.pending.is_some() { Some(now_us) } else { s.slave.next_deadline(now_us) };
+    match next {
+        Some(at) => {
+            // SAFETY: not null, writable by the caller's promise.
+            unsafe { *out_us = at };
+            HfStatus::Ok
+        }
+        None => HfStatus::Nothing,
+    }
+}
+
+/// The settings the slave listens with at `now_us` into `out` (000:T28; the default
+/// ones in the power-up window, 000:T9); `HF_STATUS_NOTHING` while it does not listen
+/// (its initialization). A firmware sets its UART to them whenever it is not sending.
+///
+/// # Safety
+/// `slave` is null or a slave from `hf_slave_init`/`hf_slave_new`; `out` is writable.
+#[no_mangle]
+pub unsafe extern "C" fn hf_slave_listening(slave: *mut HfSlave, now_us: u64, out: *mut HfUartSettings) -> HfStatus {
+    // SAFETY: the caller's promise.
+    let Some(s) = (unsafe { slave_mut(slave) }) else { return HfStatus::Null };
+    if out.is_null() {
+        return HfStatus::Null;
+    }
+    match s.slave.listening_settings(now_us) {
+        Some(settings) => {
+            // SAFETY: not null, writable by the caller's promise.
+            unsafe { *out = settings.into() };
             HfStatus::Ok
         }
         None => HfStatus::Nothing,

@@ -48,7 +48,13 @@ proptest! {
             let uart = [None, Some(hiperface_model::UartFault::Parity), Some(hiperface_model::UartFault::Framing),
                         Some(hiperface_model::UartFault::Noise), Some(hiperface_model::UartFault::Overrun)][fault as usize];
             let mut expected = model.receive(RxChar { byte, at_us: t, fault: uart });
-            let mut tx = HfTransmission { frame: [0; HF_MAX_FRAME], len: 0, earliest_start_us: 0, latest_start_us: 0 };
+            let mut tx = HfTransmission {
+                frame: [0; HF_MAX_FRAME],
+                len: 0,
+                earliest_start_us: 0,
+                latest_start_us: 0,
+                settings: HfUartSettings { byte: 0, bits_per_second: 0 },
+            };
             let got = unsafe { hf_slave_poll(s, t, &mut tx) };
             if expected.is_none() {
                 expected = model.poll(t);
@@ -58,8 +64,66 @@ proptest! {
                     prop_assert_eq!(got, HfStatus::Ok);
                     prop_assert_eq!(&tx.frame[..tx.len], e.frame.as_bytes());
                     prop_assert_eq!((tx.earliest_start_us, tx.latest_start_us), (e.earliest_start_us, e.latest_start_us));
+                    prop_assert_eq!((tx.settings.byte, tx.settings.bits_per_second),
+                                    (e.settings.byte(), e.settings.baud.bits_per_second()));
                 }
                 None => prop_assert_eq!(got, HfStatus::Nothing),
+            }
+        }
+        unsafe { hf_slave_free(s) };
+    }
+
+    /// Powered on through the API, the slave keeps the model's power-up sequence
+    /// (000:T9): it listens when and how the model listens, its next deadline is the
+    /// model's, and it answers as the model does, at any instant a firmware asks.
+    #[test]
+    fn a_slave_powered_on_keeps_the_model_s_power_up_sequence(
+        on_us in 0u64..1_000_000,
+        chars in proptest::collection::vec((any::<u8>(), 0u64..400_000), 0..30),
+        profile in proptest::sample::select(vec!["SRS50", "SEK37", "Legacy-SRS"]),
+    ) {
+        let s = new_slave(profile);
+        let p = hiperface_model::profiles::builtin(profile).unwrap();
+        let mut model = Slave::new(p);
+        model.power_cycle(on_us);
+        prop_assert_eq!(unsafe { hf_slave_power_on(s, on_us) }, HfStatus::Ok);
+        let mut t = on_us;
+        for (byte, gap) in chars {
+            t += gap;
+            // Before the character: the model's settings and deadline at this instant.
+            let mut settings = HfUartSettings { byte: 0, bits_per_second: 0 };
+            let listening = unsafe { hf_slave_listening(s, t, &mut settings) };
+            match model.listening_settings(t) {
+                Some(m) => prop_assert_eq!((listening, settings), (HfStatus::Ok, m.into())),
+                None => prop_assert_eq!(listening, HfStatus::Nothing),
+            }
+            let mut due = 0u64;
+            let got = unsafe { hf_slave_next_deadline(s, t, &mut due) };
+            match model.next_deadline(t) {
+                Some(m) => prop_assert_eq!((got, due), (HfStatus::Ok, m)),
+                None => prop_assert_eq!(got, HfStatus::Nothing),
+            }
+            prop_assert_eq!(unsafe { hf_slave_receive(s, byte, t, 0) }, HfStatus::Ok);
+            let expected = model.receive(RxChar { byte, at_us: t, fault: None });
+            // A character that closed a frame makes the slave due at once.
+            if expected.is_some() {
+                prop_assert_eq!(unsafe { hf_slave_next_deadline(s, t, &mut due) }, HfStatus::Ok);
+                prop_assert_eq!(due, t);
+            }
+            let mut tx = HfTransmission {
+                frame: [0; HF_MAX_FRAME],
+                len: 0,
+                earliest_start_us: 0,
+                latest_start_us: 0,
+                settings: HfUartSettings { byte: 0, bits_per_second: 0 },
+            };
+            let polled = unsafe { hf_slave_poll(s, t, &mut tx) };
+            match expected.or_else(|| model.poll(t)).and_then(|e| e.transmission) {
+                Some(e) => {
+                    prop_assert_eq!(polled, HfStatus::Ok);
+                    prop_assert_eq!(&tx.frame[..tx.len], e.frame.as_bytes());
+                }
+                None => prop_assert_eq!(polled, HfStatus::Nothing),
             }
         }
         unsafe { hf_slave_free(s) };
@@ -123,7 +187,13 @@ fn a_slave_in_the_callers_storage() {
     assert_eq!(unsafe { hf_slave_init(odd, hf_slave_size(), name.as_ptr(), &mut s) }, HfStatus::ShortBuffer);
     assert_eq!(unsafe { hf_slave_init(base, hf_slave_size(), c"nope".as_ptr(), &mut s) }, HfStatus::UnknownProfile);
     assert_eq!(unsafe { hf_slave_init(base, hf_slave_size(), name.as_ptr(), &mut s) }, HfStatus::Ok);
-    let mut tx = HfTransmission { frame: [0; HF_MAX_FRAME], len: 0, earliest_start_us: 0, latest_start_us: 0 };
+    let mut tx = HfTransmission {
+        frame: [0; HF_MAX_FRAME],
+        len: 0,
+        earliest_start_us: 0,
+        latest_start_us: 0,
+        settings: HfUartSettings { byte: 0, bits_per_second: 0 },
+    };
     for (i, b) in [0x40u8, 0x50, 0x10].into_iter().enumerate() {
         assert_eq!(unsafe { hf_slave_receive(s, b, 1_000 + i as u64 * 1_146, 0) }, HfStatus::Ok);
     }
@@ -162,7 +232,13 @@ fn answers(s: *mut HfSlave) -> Vec<Vec<u8>> {
             assert_eq!(unsafe { hf_slave_receive(s, b, t, 0) }, HfStatus::Ok);
         }
         t += 1_000_000;
-        let mut tx = HfTransmission { frame: [0; HF_MAX_FRAME], len: 0, earliest_start_us: 0, latest_start_us: 0 };
+        let mut tx = HfTransmission {
+            frame: [0; HF_MAX_FRAME],
+            len: 0,
+            earliest_start_us: 0,
+            latest_start_us: 0,
+            settings: HfUartSettings { byte: 0, bits_per_second: 0 },
+        };
         let got = unsafe { hf_slave_poll(s, t, &mut tx) };
         out.push(if got == HfStatus::Ok { tx.frame[..tx.len].to_vec() } else { Vec::new() });
     }
