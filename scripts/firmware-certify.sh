@@ -13,6 +13,11 @@
 #   scripts/firmware-certify.sh --c --defect TX_LOSES_LAST
 #                                                    the C image with a planted defect
 #                                                    (firmware/encoder-c/main.c lists them)
+#   scripts/firmware-certify.sh --master             the drive master image (Rust), with
+#                                                    `certify master`, QEMU started for
+#                                                    each scenario (a power-on each)
+#   scripts/firmware-certify.sh --master --features defect-master-no-pause
+#                                                    the master image with a planted defect
 #   scripts/firmware-certify.sh --cases 'timing.*' --tolerance-ms 0
 #                                                    any further arguments go to
 #                                                    `hiperface certify slave`
@@ -29,6 +34,10 @@ root=$PWD
 variant=rust
 feature=
 defect=
+if [ "${1:-}" = --master ]; then
+  variant=master
+  shift
+fi
 if [ "${1:-}" = --c ]; then
   variant=c
   shift
@@ -42,6 +51,8 @@ elif [ "${1:-}" = --features ]; then
 fi
 if [ "$variant" = c ]; then
   name=c-${defect:-clean}
+elif [ "$variant" = master ]; then
+  name=master-${feature:-clean}
 else
   name=${feature:-clean}
 fi
@@ -74,8 +85,10 @@ else
     cd firmware/encoder-rs
     cargo build -q --release --locked ${feature:+--features "$feature"}
   )
-  image=$root/firmware/encoder-rs/target/thumbv7m-none-eabi/release/hiperface-encoder-fw
-  image_name="firmware/encoder-rs${feature:+ (feature $feature)}"
+  bin=hiperface-encoder-fw
+  [ "$variant" = master ] && bin=hiperface-master-fw
+  image=$root/firmware/encoder-rs/target/thumbv7m-none-eabi/release/$bin
+  image_name="firmware/encoder-rs $bin${feature:+ (feature $feature)}"
 fi
 cp "$image" "$out/image.elf"
 cargo build -q --release -p hiperface-conformance
@@ -88,7 +101,11 @@ qemu_version=$(qemu-system-arm --version | head -1)
   echo "board: $board (QEMU: Cortex-M3, CMSDK APB UART0 on -serial pty, CMSDK APB TIMER0/TIMER1)"
   echo "qemu: $qemu_version"
   echo "revision: $(git rev-parse HEAD)$(git diff --quiet HEAD -- firmware model ffi || echo ' (modified)')"
-  echo "profile: $profile; stored settings in RAM (simulated EEPROM, lost when QEMU stops)"
+  if [ "$variant" = master ]; then
+    echo "profile: $profile (the encoder the master expects; the harness serves it)"
+  else
+    echo "profile: $profile; stored settings in RAM (simulated EEPROM, lost when QEMU stops)"
+  fi
 } | tee "$out/firmware.txt"
 
 qemu_log=$out/qemu.log
@@ -138,6 +155,17 @@ else
   wakeups="not held (/dev/cpu_dma_latency not writable: idle processors may wake late and split requests)"
 fi
 echo "processor wake-up latency: $wakeups" | tee -a "$out/firmware.txt"
+if [ "$variant" = master ]; then
+  # The harness serves the encoder and starts the master for each scenario with its
+  # pseudo-terminal as {port}: QEMU takes it as the board's UART0 (a host serial
+  # device), and each start is a power-on of the drive (the start-up scenarios).
+  status=0
+  "$hiperface" certify master --profile "$profile" \
+    --exec "${rt[*]} qemu-system-arm -M $board -display none -monitor none -serial {port} -kernel $image" \
+    --report "$out" "$@" 9>&- || status=$?
+  echo "report: $out (certificate.md, report.json, junit.xml; firmware.txt, image.elf)"
+  exit $status
+fi
 setsid "${rt[@]}" qemu-system-arm -M "$board" -display none -monitor none -serial pty -kernel "$image" \
   >"$qemu_log" 2>&1 9>&- &
 qemu_pid=$!
