@@ -24,7 +24,11 @@
  * - DEFECT_REQUEST_LOG_ON_STACK: every received character is logged into a 16-byte
  *   buffer on the receive interrupt's stack without a bound: a request longer than 16
  *   characters (a long Store Data) overwrites the interrupt's return and the image
- *   faults, silent from then on. */
+ *   faults, silent from then on.
+ * - DEFECT_RX_DEAF_AFTER_REPLY: the receiver, switched off while the image transmits
+ *   (an RS-485 half-duplex habit against hearing its own echo), is switched back on
+ *   10 ms after a reply's last character instead of at once: the first characters of
+ *   a request that follows the reply after the timeout (000:2.2.2) are lost. */
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -55,6 +59,10 @@ static size_t written;
 static bool is_sending;
 /* The data rate the UART is set to, bit/s (0: not yet set). */
 static uint32_t uart_bps;
+#ifdef DEFECT_RX_DEAF_AFTER_REPLY
+/* When the last reply's last character was written. */
+static uint64_t reply_end_us;
+#endif
 /* TIMER0's wraps (2^32 ticks each, 171.8 s at 25 MHz): the clock's upper bits. */
 static uint32_t wraps;
 
@@ -209,6 +217,12 @@ void UART0_RX_Handler(void) {
         /* The defect: no bound on the log's index. */
         log[logged++] = byte;
 #endif
+#ifdef DEFECT_RX_DEAF_AFTER_REPLY
+        /* The defect: a character within 10 ms of a reply's end is never heard. */
+        if (reply_end_us != 0 && at < reply_end_us + 10000) {
+            continue;
+        }
+#endif
         hf_slave_receive(slave, byte, at, fault);
         take(at);
     }
@@ -232,6 +246,9 @@ void UART0_TX_Handler(void) {
         return;
     }
     is_sending = false;
+#ifdef DEFECT_RX_DEAF_AFTER_REPLY
+    reply_end_us = now;
+#endif
     service(now);
 }
 
