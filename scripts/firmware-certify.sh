@@ -22,8 +22,8 @@
 #                                                    any further arguments go to
 #                                                    `hiperface certify slave`
 #
-# Prints the image's sha256, the board and `qemu-system-arm --version` (also written to
-# firmware.txt beside the report: the harness has no field for device notes), then the
+# Prints the image's sha256, the board and `qemu-system-arm --version` (on the
+# certificate as its `device` rows, and in firmware.txt beside the report), then the
 # harness's console; the reports go to target/firmware/<clean|feature>/ (Rust) and
 # target/firmware/c-<clean|defect>/ (C). Exits as the harness does
 # (FIRMWARE_REPORT=DIR puts them elsewhere; 0 PASSED, 1 FAILED, 3 INCOMPLETE, 2 could
@@ -96,6 +96,9 @@ hiperface=$root/target/release/hiperface
 
 sha=$(sha256sum "$image" | cut -d' ' -f1)
 qemu_version=$(qemu-system-arm --version | head -1)
+# What was certified, on the certificate (`--device`: rows of it, in report.json).
+device=(--device "image: $image_name sha256 $sha" --device "board: $board (QEMU: Cortex-M3)"
+  --device "qemu: $qemu_version")
 {
   echo "image: $image_name sha256 $sha"
   echo "board: $board (QEMU: Cortex-M3, CMSDK APB UART0 on -serial pty, CMSDK APB TIMER0/TIMER1)"
@@ -160,7 +163,7 @@ if [ "$variant" = master ]; then
   # pseudo-terminal as {port}: QEMU takes it as the board's UART0 (a host serial
   # device), and each start is a power-on of the drive (the start-up scenarios).
   status=0
-  "$hiperface" certify master --profile "$profile" \
+  "$hiperface" certify master --profile "$profile" "${device[@]}" \
     --exec "${rt[*]} qemu-system-arm -M $board -display none -monitor none -serial {port} -kernel $image" \
     --report "$out" "$@" 9>&- || status=$?
   echo "report: $out (certificate.md, report.json, junit.xml; firmware.txt, image.elf)"
@@ -201,7 +204,7 @@ sleep 1.5
 # `--port sim`. Everything else (echo, timing tolerance, the line's class) the harness
 # finds out about a pseudo-terminal itself.
 waited_before=$(qemu_waited_ms)
-"$hiperface" certify slave --port "$pty" --profile "$profile" \
+"$hiperface" certify slave --port "$pty" --profile "$profile" "${device[@]}" \
   --allow-writes --allow-counter-change --allow-adjustment \
   --report "$out" "$@" &
 harness=$!

@@ -225,6 +225,10 @@ fn cli_certifies_the_simulator_and_writes_every_report() {
             "25",
             "--cases",
             "identity.*,protocol.*,position.read",
+            "--device",
+            "image: encoder.elf sha256 0123abcd",
+            "--device",
+            "board: <the bench's> & \"its\" cable",
             "--report",
         ])
         .arg(&dir)
@@ -249,8 +253,13 @@ fn cli_certifies_the_simulator_and_writes_every_report() {
         command.contains("certify slave --port sim") && command.contains("'identity.*,protocol.*,position.read'"),
         "{command}"
     );
+    // What was certified, as the operator said it: on the certificate, in the record.
+    assert!(md.contains("| device | image: encoder.elf sha256 0123abcd |"), "{md}");
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    assert_eq!(json["run_info"]["device"][1], "board: <the bench's> & \"its\" cable");
+    let html = std::fs::read_to_string(dir.join("certificate.html")).unwrap();
+    assert!(html.contains("board: &lt;the bench's&gt; &amp; \"its\" cable"), "{html}");
     let started = json["run_info"]["started_utc"].as_str().unwrap();
     assert!(started.len() == 20 && started.ends_with('Z'), "{started}");
     assert!(std::fs::read_to_string(dir.join("certificate.html")).unwrap().contains("run started (UTC)"));

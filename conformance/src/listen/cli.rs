@@ -147,7 +147,7 @@ pub fn decode(args: &DecodeArgs) -> Result<Ended, CommandError> {
     if let Some(dir) = &args.listening.report {
         crate::report::prepare_dir(dir)?;
     }
-    let run_info = crate::report::run_info(&profile);
+    let run_info = crate::report::run_info(&profile, &[]);
     let options = DecodeOptions {
         profile,
         baud: args.listening.baud,

@@ -181,7 +181,7 @@ pub fn monitor(args: &MonitorArgs, stop: &AtomicBool) -> Result<Ended, CommandEr
         assumptions.push(format!("every character heard is in {}", c.path.display()));
     }
     let source = Source { capture: tap.name.clone(), format: "live".into(), channels: vec!["bus".into()], assumptions };
-    let run_info = crate::report::run_info(&options.profile);
+    let run_info = crate::report::run_info(&options.profile, &[]);
     conclude(report(listener, source, &options), run_info, args.listening.report.as_deref())
 }
 

@@ -50,6 +50,10 @@ pub struct CertifyMasterArgs {
     /// Write report.json, junit.xml, certificate.md and certificate.html here.
     #[arg(long)]
     pub report: Option<PathBuf>,
+    /// What is certified, for the certificate (repeatable): a model and serial number,
+    /// a firmware image and its digest. Recorded in report.json, signed with it.
+    #[arg(long, value_name = "TEXT")]
+    pub device: Vec<String>,
     /// Sign the reports with this Ed25519 private key (PKCS#8 PEM, made by `hiperface
     /// keygen`): report.sig beside them, which `decode report.json --verify PUBKEY` checks.
     #[arg(long, value_name = "KEY", requires = "report")]
@@ -117,7 +121,7 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<Ended, CommandError> {
     if let Some(dir) = &args.report {
         crate::report::prepare_dir(dir)?;
     }
-    let run_info = crate::report::run_info(&profile);
+    let run_info = crate::report::run_info(&profile, &args.device);
     eprintln!("certifying {} against an encoder of profile {}", options.attach, profile.name);
     // On a terminal a bar with the scenario under way and its re-runs as they happen (a
     // scenario takes seconds of real time, a whole run a minute or two); in logs the

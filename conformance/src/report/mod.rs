@@ -126,8 +126,9 @@ fn move_earlier_run_aside(dir: &Path) -> std::io::Result<Option<std::path::PathB
 pub const REVISION: &str = env!("HIPERFACE_REVISION");
 
 /// What a certificate says of its run, collected as it starts: now (UTC), this host,
-/// the command line as given, the tool's revision, the profile's digest.
-pub fn run_info(profile: &hiperface_model::Profile) -> RunInfo {
+/// the command line as given, the tool's revision, the profile's digest, and what the
+/// operator said was certified (`--device`, none where the command has no such option).
+pub fn run_info(profile: &hiperface_model::Profile, device: &[String]) -> RunInfo {
     let now = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs());
     let host = std::fs::read_to_string("/proc/sys/kernel/hostname")
         .map(|h| h.trim().to_string())
@@ -146,6 +147,7 @@ pub fn run_info(profile: &hiperface_model::Profile) -> RunInfo {
         command_line: std::env::args().map(quote).collect::<Vec<_>>().join(" "),
         revision: REVISION.to_string(),
         profile_digest: profile_digest(profile),
+        device: device.to_vec(),
     }
 }
 

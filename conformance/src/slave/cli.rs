@@ -53,6 +53,10 @@ pub struct CertifySlaveArgs {
     /// Write report.json, junit.xml, certificate.md and certificate.html here.
     #[arg(long)]
     pub report: Option<PathBuf>,
+    /// What is certified, for the certificate (repeatable): a model and serial number,
+    /// a firmware image and its digest. Recorded in report.json, signed with it.
+    #[arg(long, value_name = "TEXT")]
+    pub device: Vec<String>,
     /// Sign the reports with this Ed25519 private key (PKCS#8 PEM, made by `hiperface
     /// keygen`): report.sig beside them, which `decode report.json --verify PUBKEY` checks.
     #[arg(long, value_name = "KEY", requires = "report")]
@@ -120,6 +124,7 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
         write_budget,
         cases,
         report: dir,
+        device,
         sign,
         grading,
         tolerance_ms,
@@ -141,7 +146,7 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
     let Some(port) = port else { return Err(CommandError::Usage("give the device with --port".into())) };
     let profile = profile_file::resolve(&profile)?;
     let signer = sign.as_deref().map(report::signature::Signer::load).transpose()?;
-    let run_info = report::run_info(&profile);
+    let run_info = report::run_info(&profile, &device);
     if let Some(dir) = &dir {
         report::prepare_dir(dir)?;
     }

@@ -28,6 +28,10 @@ pub struct RunInfo {
     /// The profile as TOML, digested (FNV-1a, 64 bits): two certificates of the same
     /// data sheet show the same digest.
     pub profile_digest: String,
+    /// What was certified, as the operator said it (`--device`): a model and serial
+    /// number, a firmware image and its digest. Signed with the report.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub device: Vec<String>,
 }
 
 impl RunInfo {
@@ -41,13 +45,16 @@ impl RunInfo {
 
     /// The certificate's rows.
     pub fn rows(&self) -> Vec<(&'static str, String)> {
-        vec![
-            ("run started (UTC)", self.started_utc.clone()),
-            ("host", self.host.clone()),
-            ("command line", self.command_line.clone()),
-            ("tool revision", self.revision.clone()),
-            ("profile digest", self.profile_digest.clone()),
-        ]
+        let device = self.device.iter().map(|d| ("device", d.clone()));
+        device
+            .chain([
+                ("run started (UTC)", self.started_utc.clone()),
+                ("host", self.host.clone()),
+                ("command line", self.command_line.clone()),
+                ("tool revision", self.revision.clone()),
+                ("profile digest", self.profile_digest.clone()),
+            ])
+            .collect()
     }
 }
 
