@@ -5,6 +5,9 @@
 # (firmware/encoder-rs, the model crate) and C (firmware/encoder-c, the C library
 # libhiperface.a for the target, arm-none-eabi-gcc).
 #
+#   scripts/firmware-certify.sh --all                the three clean images in turn: the
+#                                                    Rust and the C encoder, the master;
+#                                                    exits 0 only if each PASSED
 #   scripts/firmware-certify.sh                      the clean Rust image
 #   scripts/firmware-certify.sh --features defect-timeout-x4
 #                                                    the Rust image with a planted defect
@@ -31,6 +34,17 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
+if [ "${1:-}" = --all ]; then
+  shift
+  status=0
+  for variant in "" --c --master; do
+    # shellcheck disable=SC2086 # the option is a word or none
+    "$0" $variant "$@" || status=$?
+    echo "== ${variant:---rust}: exit $status"
+    [ "$status" = 0 ] || exit "$status"
+  done
+  exit 0
+fi
 variant=rust
 feature=
 defect=
