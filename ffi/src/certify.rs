@@ -112,29 +112,47 @@ pub struct HfWorld {
     pub i2c_fault: bool,
 }
 
+/// Why the world a caller gave cannot be read.
+#[derive(Debug)]
+enum WorldError {
+    /// A list of fault names is not UTF-8; `what` names the list.
+    NotUtf8 { what: &'static str },
+    /// A name no fault of its kind has.
+    Unknown(hiperface_suite::world::UnknownFault),
+}
+
+impl core::fmt::Display for WorldError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            WorldError::NotUtf8 { what } => write!(f, "the world's {what} are not UTF-8"),
+            WorldError::Unknown(e) => e.fmt(f),
+        }
+    }
+}
+
 /// The world `w` points to, read; why not in the error.
 ///
 /// # Safety
 /// `w` is null or points to a valid [`HfWorld`] whose pointers are null or valid
 /// (`inputs` readable, the strings NUL-terminated).
-unsafe fn read_world(w: *const HfWorld) -> Result<World, String> {
+unsafe fn read_world(w: *const HfWorld) -> Result<World, WorldError> {
     // SAFETY: the caller's promise.
     let Some(w) = (unsafe { w.as_ref() }) else { return Ok(World::default()) };
     // SAFETY: the caller's promise.
     let inputs = unsafe { w.inputs.as_ref() }.map(|i| (*i).into());
     // SAFETY: null or NUL-terminated by the caller's promise.
-    let names = |p: *const c_char, what: &str| -> Result<Vec<String>, String> {
+    let names = |p: *const c_char, what: &'static str| -> Result<Vec<String>, WorldError> {
         if p.is_null() {
             return Ok(Vec::new());
         }
         // SAFETY: not null, NUL-terminated by the caller's promise.
-        let text = unsafe { CStr::from_ptr(p) }.to_str().map_err(|_| format!("the world's {what} are not UTF-8"))?;
+        let text = unsafe { CStr::from_ptr(p) }.to_str().map_err(|_| WorldError::NotUtf8 { what })?;
         Ok(text.split(',').map(str::trim).filter(|n| !n.is_empty()).map(str::to_string).collect())
     };
     let init = names(w.init_faults, "start-up faults")?;
     let position = names(w.position_faults, "position faults")?;
     World::from_names(inputs, init.iter().map(String::as_str), position.iter().map(String::as_str), w.i2c_fault)
-        .map_err(|e| e.to_string())
+        .map_err(WorldError::Unknown)
 }
 
 /// What a whole run adds up to.
