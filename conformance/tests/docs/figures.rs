@@ -9,7 +9,7 @@ pub(super) const NOT_THE_PROGRAMS: &[(&str, &str)] = &[
     // A development run's history: the legacy settings that failed part of the catalogue.
     ("docs/src/design.md", "failed 25 cases of the reference's own catalogue"),
     // A measurement's history: the scenarios in which HX-M's first request was read late.
-    ("docs/src/design.md", "late by the kernel in 18 scenarios while its interpreter started"),
+    ("docs/src/design-log.md", "late by the kernel in 18 scenarios while its interpreter started"),
     // The benchmark's generated input, a parameter of the benchmark.
     ("docs/src/watching-a-live-bus.md", "a generated wire log of 100 000 exchanges"),
 ];
