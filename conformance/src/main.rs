@@ -2,6 +2,9 @@
 //! three front ends and their run policy are in the library, where tests reach them
 //! (`slave::cli`, `master::cli`, `listen::cli`, `listen::monitor`), the flags they
 //! share in `args`; the small commands (profiles, vectors, clauses) are here.
+//!
+//! Long because: it is the command's table of subcommands, an arm each; the front ends'
+//! own arguments are in their cli.rs already, the shared flags in args.rs.
 
 use clap::{CommandFactory, Parser, Subcommand, ValueEnum};
 use hiperface_conformance::args::WorldArgs;

@@ -1,5 +1,8 @@
 //! The catalogue against deliberately defective slaves, built here around the
 //! reference model: each defect makes the right cases FAIL.
+//!
+//! Long because: each test is a defect and the cases it must fail, over the one set of
+//! defective slaves built here; the defects are compared with one another.
 
 mod common;
 

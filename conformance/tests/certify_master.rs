@@ -3,6 +3,9 @@
 //! text) pass every scenario with nothing to remark; each of HX-M's defect switches is
 //! caught in the scenario it breaks, with its clause, and leaves a scenario it does not
 //! touch clean. Real time: each scenario runs its full duration.
+//!
+//! Long because: every test runs a master's process on pseudo-terminals through the
+//! same helpers, and HX-M's defect switches are checked switch by switch as one table.
 
 mod common;
 

@@ -1,6 +1,9 @@
 //! `hiperface decode`, end to end: wire logs, CSV, and the round trip through a VCD
 //! waveform and the real sigrok-cli's UART decoder (Debian's package; ignored where
 //! it is not installed, required in CI: see `conformance/build.rs`).
+//!
+//! Long because: the tests run the one command end to end, a capture format each, over
+//! fixtures written here and shared.
 
 mod common;
 

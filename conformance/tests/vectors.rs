@@ -1,6 +1,9 @@
 //! Golden vectors: every file replays through the model; the generated set is
 //! snapshotted (insta), so any change of behaviour shows up as a reviewed diff; bad
 //! files are rejected with the file and the vector id.
+//!
+//! Long because: the tests share the vector files, the generated set's snapshot and the
+//! helpers that corrupt a file, and each bad file is a few lines.
 
 use hiperface_conformance::vectors::{self, export, Expected};
 use rstest::rstest;

@@ -2,6 +2,10 @@
 //! implementations live: a firmware's unit tests feed their frames to the oracle, a
 //! host-side test asks the model what a conformant encoder answers.
 //!
+//! Long because: it is the C API without std itself (frame helpers, the slave, the
+//! oracle), each function a few lines of checks around a model call; what needs std is
+//! in names.rs, vectors.rs, profile_toml.rs and certify/.
+//!
 //! - frame helpers: the checksum (000:2.3.3), sealing a frame, decoding a request;
 //! - the slave model: fed the characters a master sends (with their time and UART
 //!   faults), it says what to send and when (000:2.2.2, 000:T8);

@@ -428,7 +428,7 @@ pub unsafe extern "C" fn hf_table_evaluate(
     let buf = unsafe { core::slice::from_raw_parts_mut(out, capacity) };
     let (status, answer) = match tables::evaluate(table, input) {
         Ok(a) => (HfStatus::Ok, a),
-        Err(why) => (HfStatus::Invalid, why.0),
+        Err(why) => (HfStatus::Invalid, why.to_string()),
     };
     match c_text(buf, answer) {
         true => status,

@@ -1,7 +1,7 @@
 //! The command byte and the command table. // 000:T6, 000:T8, 000:T10, 002 command overview
 //!
-//! Past 400 lines for a reason: the command table is one table, a row per command, read
-//! as the spec's Table 10 is (under 400 without its tests).
+//! Long because: the command table is one table, a row per command, read
+//! as the spec's Table 10 is (under 450 without its tests).
 
 use crate::clause::{self, Normative};
 use crate::fault::FaultCode::{self, *};

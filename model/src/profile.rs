@@ -1,8 +1,8 @@
 //! A device data sheet as a plain value. Loading profiles from files lives in the
 //! harness crate; the model takes this struct.
 //!
-//! Past 400 lines for a reason: the data sheet is one value, and its fields, what each
-//! means and the limits derived from them are read together (under 400 without its
+//! Long because: the data sheet is one value, and its fields, what each
+//! means and the limits derived from them are read together (under 420 without its
 //! tests).
 
 use crate::address::SlaveAddress;

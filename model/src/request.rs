@@ -1,6 +1,6 @@
 //! Typed master requests: encode and decode. // 000:T12-T36, 002:63h
 //!
-//! Past 400 lines for a reason: under 350 of them are code; the rest are the round-trip
+//! Long because: under 360 of them are code; the rest are the round-trip
 //! tests kept beside the encoder and decoder they check.
 
 use crate::address::AddressByte;

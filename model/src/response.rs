@@ -1,6 +1,6 @@
 //! Typed slave responses: encode and decode. // 000:T12-T36, 000:2.3.4
 //!
-//! Past 400 lines for a reason: under 350 of them are code; the rest are the round-trip
+//! Long because: under 350 of them are code; the rest are the round-trip
 //! tests kept beside the encoder and decoder they check.
 
 use crate::checksum;

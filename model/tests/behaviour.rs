@@ -1,5 +1,9 @@
 //! Slave behaviour beyond single commands: addressing, the check order, warning bit
 //! and error stack, faults and locks, data fields and access codes, positions.
+//!
+//! Long because: each test is a short scenario through the same slave, grouped by the
+//! behaviour of 000 chapter 2 it checks; split, the groups would lose the one fixture
+//! they share.
 
 mod common;
 use common::*;

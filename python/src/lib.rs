@@ -1,6 +1,9 @@
 //! `hiperface._hiperface`: the model and its oracle for Python test benches. The
 //! package `hiperface` (python/hiperface) re-exports it with typing stubs and adds the
 //! certification report reader.
+//!
+//! Long because: a PyO3 module is one file of bindings, each class or function a thin
+//! wrapper of the model; the certification is in certify.rs.
 
 use hiperface_model::checksum::{is_valid as xor_is_zero, xor};
 use hiperface_model::{Grading, Oracle as ModelOracle, RequestFrame, RxChar, Step, UartFault};

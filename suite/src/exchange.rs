@@ -1,6 +1,10 @@
 //! The harness as HIPERFACE master: one exchange is a request, the pause the
 //! protocol mandates, and the reply framed by the inter-character timeout exactly as
 //! the model's data link frames it. Every read is bounded in time.
+//!
+//! Long because: the request, the mandated pause and the reply framed by the data
+//! link's timeout are one bounded loop, read together; under 390 lines without its
+//! tests.
 
 use crate::line::{Line, LineError, Window};
 use hiperface_model::datalink::{DataLink, RxChar};

@@ -1,5 +1,9 @@
 //! `decode` of a certify report that holds the record of its wire: the record played
 //! back to the catalogue (`slave::record`), the verdicts compared with the report's.
+//!
+//! Long because: a report is read once (bounded, its kind probed, its signature
+//! checked) and then decoded as a slave's or a master's; both decodes share that
+//! reading and how they state their verdict.
 
 use crate::command::{CommandError, Ended};
 use crate::report::signature;

@@ -5,6 +5,10 @@
 //! or virtual line) or in a model checker (proofs/src/master_fixpoint.rs), and tells it
 //! what each one gave ([`Done`]). What it tells the operator comes out as [`Event`]s.
 //!
+//! Long because: the start-up flow, the cyclic reads and the fault reaction are one
+//! state machine whose stages hand over to each other, read as Figure 17 is; under 550
+//! lines without its tests.
+//!
 //! The flow, as the harness's reference master has always run it:
 //!
 //! - start-up: wait for the initialization (000:T9) and a margin, read the status

@@ -1,6 +1,10 @@
 //! The oracle: grade a device's answer against the model, knowing where the documents
 //! leave latitude. PASS is the preferred answer, NON-STRICT an acceptable one (with
 //! the reason), FAIL one the specification does not allow.
+//!
+//! Long because: grading walks the model's outcome and the device's reply side by side,
+//! a verdict per difference, in one order; the deviations are in deviation.rs (under
+//! 430 lines without its tests).
 
 use crate::clause::{self, Clause, Normative};
 use crate::command::CommandId;

@@ -1,5 +1,9 @@
 //! Data fields in user memory. // 000:2.4.2 data field specification, 000:T21-T25, DESIGN:fields
 //!
+//! Long because: the field table and its accounting in blocks are one invariant (back
+//! to back, only the last field changes size, 000:2.4.2); under 470 lines without its
+//! tests.
+//!
 //! Fields are stored back to back in the order of their numbers, so only the last one
 //! can grow, shrink or be deleted, and memory is accounted in 16-byte blocks.
 

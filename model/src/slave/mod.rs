@@ -1,5 +1,9 @@
 //! The slave: the executable specification of a HIPERFACE encoder, sans-IO.
 //!
+//! Long because: the slave's state and its entry points (receive, poll, handle_frame)
+//! are one state machine over the same fields; the check order, the commands, the
+//! fields, the stack and the power-up are files of their own.
+//!
 //! Characters go in with their receive time ([`Slave::receive`]); time advances with
 //! [`Slave::poll`]; when a frame is complete the slave answers with a [`Step`] saying
 //! what it received, what it decided and, if it replies, what to send, in which

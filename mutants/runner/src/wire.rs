@@ -7,6 +7,9 @@
 //! power-up window off by about a character, settings taken up a request early or
 //! late.
 //!
+//! Long because: the defects (Op) and the device that applies them are read together,
+//! each defect's effect a branch of the device's reply.
+//!
 //! The device frames requests with its own data link (the model's, so that its
 //! timeout can be changed) and hands each frame to the model ([`Slave::process`]).
 

@@ -3,6 +3,10 @@
 //! memory constant in the capture's length) and rejects malformed input with the line
 //! number and what was expected.
 //!
+//! Long because: what every reader shares (the timed character, the options, the line-
+//! numbered error, the format's detection) is one interface; the readers are files of
+//! their own (under 430 lines without its tests).
+//!
 //! Every reader turns its format's notion of time into the one the model uses: the
 //! end of a character's stop bit (000:2.2.2, see `hiperface_model::datalink`), in µs
 //! from the capture's start. What a format does not carry (the character time, the

@@ -1,6 +1,10 @@
 //! The project's own wire logs: the text of `simulate --log` and of a certificate
 //! (`   171.465 ms  M> 40 42 02`), and `certify --report`'s report.json.
 //!
+//! Long because: the text form, its fast path for the common line and report.json's
+//! record are one reader of the project's own logs; its tests are the format's edge
+//! cases.
+//!
 //! A line holds a whole frame with one time: for a request (`M>`) the end of its last
 //! character's stop bit, for a reply (`S<`) the start of its first start bit. The
 //! characters between are taken as sent back to back at the bus's rate: the log does

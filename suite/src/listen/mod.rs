@@ -2,6 +2,10 @@
 //! bus tapped by a third transceiver, or a logic-analyzer capture). Sans-IO: it is
 //! fed [`Event`]s in time order and reports each exchange as it closes.
 //!
+//! Long because: framing per channel and telling requests from replies share the
+//! listener's state and one order of events; heard.rs, grade.rs and summary.rs hold the
+//! rest (under 480 lines without its tests).
+//!
 //! - Framing by the inter-character timeout at the bus's settings (000:2.2.2), per
 //!   channel.
 //! - Requests and replies are told apart by the capture's direction where it has one

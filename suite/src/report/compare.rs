@@ -2,6 +2,10 @@
 //! scenarios) of any number of certify reports in one matrix, and against a baseline
 //! what a CI gate acts on. Sans-IO: the harness reads the files and writes the forms.
 //!
+//! Long because: the matrix and the regressions against a baseline are one comparison
+//! of the same units, and a gate reads them together; under 610 lines without its
+//! tests.
+//!
 //! Against a baseline, a report's regressions are, per unit:
 //! - **no longer run**: the baseline ran it (any verdict but NOT-APPLICABLE) and the
 //!   report does not (the unit is absent, or NOT-APPLICABLE);

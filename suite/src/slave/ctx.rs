@@ -1,6 +1,10 @@
 //! What a case sees: the master on the line, the model in lockstep, the oracle, and
 //! the case's findings. Every exchange goes through [`Ctx::send_frame`], which grades
 //! the answer, its timing and anything unsolicited.
+//!
+//! Long because: the line, the model in lockstep and the findings are the one context
+//! every case uses; its transmit path is split into its jobs already (under 580 lines
+//! without its tests).
 
 use super::timing;
 use super::{CaseError, CaseResult, CaseVerdict, Finding, Identity, Options, WireEntry};

@@ -1,6 +1,9 @@
 //! The record of the wire: what the harness saw of a slave certification, kept in
 //! report.json so that `decode` grades the run again and gets what the run got.
 //!
+//! Long because: the record's types, the Recorder that writes them and the Replay that
+//! plays them back must agree field for field; in one file they are kept in step.
+//!
 //! A verdict must rest on what the device did on the wire and on nothing else. The
 //! record holds exactly that: every exchange as the line delivered it (the request and
 //! the window in which its last character ended, each reply character with its stamp,

@@ -276,20 +276,31 @@ pub fn load(path: &Path) -> Result<VectorFile, LoadError> {
     }
     let json: serde_json::Value = serde_json::from_str(&text).map_err(|e| invalid(format!("not JSON: {e}")))?;
     #[cfg(feature = "schema")]
-    check_schema(&json).map_err(invalid)?;
+    check_schema(&json).map_err(|e| invalid(e.to_string()))?;
     serde_json::from_value(json).map_err(|e| invalid(e.to_string()))
+}
+
+/// Why a file does not pass [`SCHEMA`].
+#[cfg(feature = "schema")]
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+enum SchemaError {
+    /// The schema itself does not read (the build's copy of vectors/schema.json).
+    #[error("schema: {0}")]
+    Schema(String),
+    /// The file's first departure from the schema, with the vector it lies in.
+    #[error("{}at {pointer}: {message}", vector.as_ref().map_or(String::new(), |i| format!("vector `{i}` ")))]
+    Departure { vector: Option<String>, pointer: String, message: String },
 }
 
 /// The file against [`SCHEMA`]: the first error, naming the vector where there is one.
 #[cfg(feature = "schema")]
-fn check_schema(json: &serde_json::Value) -> Result<(), String> {
-    let schema: serde_json::Value = serde_json::from_str(SCHEMA).map_err(|e| format!("schema: {e}"))?;
-    let validator = jsonschema::validator_for(&schema).map_err(|e| format!("schema: {e}"))?;
+fn check_schema(json: &serde_json::Value) -> Result<(), SchemaError> {
+    let schema: serde_json::Value = serde_json::from_str(SCHEMA).map_err(|e| SchemaError::Schema(e.to_string()))?;
+    let validator = jsonschema::validator_for(&schema).map_err(|e| SchemaError::Schema(e.to_string()))?;
     let first = validator.iter_errors(json).next().map(|e| (e.instance_path.to_string(), e.to_string()));
     match first {
-        Some((pointer, e)) => {
-            let id = vector_id_at(json, &pointer);
-            Err(format!("{}at {pointer}: {e}", id.map_or(String::new(), |i| format!("vector `{i}` "))))
+        Some((pointer, message)) => {
+            Err(SchemaError::Departure { vector: vector_id_at(json, &pointer), pointer, message })
         }
         None => Ok(()),
     }

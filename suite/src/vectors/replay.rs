@@ -27,9 +27,9 @@ pub enum VectorError {
     #[error("`{0}` is no settings byte (000:T28)")]
     Settings(String),
     #[error("step {step}: {reason}")]
-    Timing { step: usize, reason: String },
+    Timing { step: usize, reason: ReceiveError },
     #[error("table row `{table}` / `{input}`: {reason}")]
-    TableRow { table: String, input: String, reason: String },
+    TableRow { table: String, input: String, reason: tables::RowError },
     #[error("no steps, checksum example or table case")]
     Empty,
     #[error("XOR of {frame} is {computed:02X}h, not {printed}")]
@@ -101,7 +101,7 @@ pub fn replay(v: &Vector) -> Result<(), Mismatch> {
     }
     if let Some(t) = &v.table_case {
         let row = |reason| VectorError::TableRow { table: t.table.clone(), input: t.input.clone(), reason };
-        let got = tables::evaluate(&t.table, &t.input).map_err(|reason| fail(row(reason.0)))?;
+        let got = tables::evaluate(&t.table, &t.input).map_err(|reason| fail(row(reason)))?;
         return if got == t.output {
             Ok(())
         } else {
@@ -168,6 +168,20 @@ pub fn replay(v: &Vector) -> Result<(), Mismatch> {
     Ok(())
 }
 
+/// Where a step's characters, given at their times, and the model's data link part
+/// (000:2.2.2).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ReceiveError {
+    #[error("{times} character times for a request of {bytes} bytes")]
+    CharacterTimes { times: usize, bytes: usize },
+    #[error("the model took {0} frames of these characters, the vector one")]
+    Frames(usize),
+    #[error("the model framed [{}]", hex(.0))]
+    Framed(Vec<u8>),
+    #[error("the model took the request at {model_us} µs, the vector says {vector_us} µs")]
+    TakenAt { model_us: u64, vector_us: u64 },
+}
+
 /// The request's characters through the slave's data link at their times: it must
 /// take them as one frame at `at_us` (the timeout after the last, 000:2.2.2), and its
 /// outcome is the step's. `Err` says where the vector and the model part.
@@ -176,9 +190,9 @@ pub fn receive(
     request: &[u8],
     chars_at_us: &[u64],
     at_us: u64,
-) -> Result<hiperface_model::Outcome, String> {
+) -> Result<hiperface_model::Outcome, ReceiveError> {
     if chars_at_us.len() != request.len() {
-        return Err(format!("{} character times for a request of {} bytes", chars_at_us.len(), request.len()));
+        return Err(ReceiveError::CharacterTimes { times: chars_at_us.len(), bytes: request.len() });
     }
     let mut steps = Vec::new();
     for (b, t) in request.iter().zip(chars_at_us) {
@@ -192,16 +206,13 @@ pub fn receive(
         // Characters that arrive while the slave does not listen are lost (000:T9):
         // nothing is taken, and the vector says so with the last character's time.
         [] if at_us == last => return Ok(slave.handle_frame(request, last)),
-        _ => return Err(format!("the model took {} frames of these characters, the vector one", steps.len())),
+        _ => return Err(ReceiveError::Frames(steps.len())),
     };
     if step.received.bytes.as_bytes() != request {
-        return Err(format!("the model framed [{}]", hex(step.received.bytes.as_bytes())));
+        return Err(ReceiveError::Framed(step.received.bytes.as_bytes().to_vec()));
     }
     if step.received.complete_us != at_us {
-        return Err(format!(
-            "the model took the request at {} µs, the vector says {at_us} µs",
-            step.received.complete_us
-        ));
+        return Err(ReceiveError::TakenAt { model_us: step.received.complete_us, vector_us: at_us });
     }
     Ok(step.outcome)
 }

@@ -11,18 +11,34 @@ use hiperface_model::master::sync::{self, Correction};
 use std::ops::Neg;
 
 /// A row the table cannot take (an unknown table, or an input not in its words), and
-/// why.
+/// why: each word names what the printed table has in its place.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("{0}")]
-pub struct RowError(pub String);
+pub enum RowError {
+    #[error("unknown table row `{table}` / `{input}`")]
+    UnknownRow { table: String, input: String },
+    #[error("fault-reaction input `{0}`: expected `CODEh [+ CODEh | [linear]] GROUP`")]
+    FaultReactionInput(String),
+    /// A signal level of the quadrature table (000:T72).
+    #[error("`{0}`: expected 0 or 1")]
+    Bit(String),
+    /// A two-bit counter value of the synchronisation table (000:3.2.5).
+    #[error("`{0}`: expected two bits")]
+    TwoBits(String),
+    /// A comparison of the octant table (000:3.2.4).
+    #[error("`{0}`: expected True or False")]
+    Truth(String),
+    #[error("`{0}`: expected an octant 0...7")]
+    Octant(String),
+    /// A fault code as the fault reaction table prints it (000:T73).
+    #[error("`{0}`: expected a code like 06h")]
+    HexCode(String),
+    #[error("`{0}`: not a fault group of 000:T37")]
+    FaultGroup(String),
+}
 
 /// Evaluate a table row's input against the model; the answer in the printed table's
 /// vocabulary.
 pub fn evaluate(table: &str, input: &str) -> Result<String, RowError> {
-    answer(table, input).map_err(RowError)
-}
-
-fn answer(table: &str, input: &str) -> Result<String, String> {
     let words: Vec<&str> = input.split_whitespace().collect();
     match (table, words.as_slice()) {
         ("quadrature", [a1, b1, a, b]) => {
@@ -69,9 +85,7 @@ fn answer(table: &str, input: &str) -> Result<String, String> {
                 ["[linear]", group] => (Variant::Linear, *group),
                 [group] => (Variant::Any, *group),
                 [] => (Variant::Any, ""),
-                _ => {
-                    return Err(format!("fault-reaction input `{input}`: expected `CODEh [+ CODEh | [linear]] GROUP`"))
-                }
+                _ => return Err(RowError::FaultReactionInput(input.to_string())),
             };
             let group = match group {
                 "" => None,
@@ -86,7 +100,7 @@ fn answer(table: &str, input: &str) -> Result<String, String> {
             }
             Ok(format!("{:?}: {}", r.severity, r.response.unwrap_or("-")))
         }
-        _ => Err(format!("unknown table row `{table}` / `{input}`")),
+        _ => Err(RowError::UnknownRow { table: table.to_string(), input: input.to_string() }),
     }
 }
 
@@ -117,44 +131,44 @@ impl std::fmt::Display for Signal {
     }
 }
 
-fn bit(w: &str) -> Result<bool, String> {
+fn bit(w: &str) -> Result<bool, RowError> {
     match w {
         "0" => Ok(false),
         "1" => Ok(true),
-        _ => Err(format!("`{w}`: expected 0 or 1")),
+        _ => Err(RowError::Bit(w.to_string())),
     }
 }
 
-fn two_bits(w: &str) -> Result<u8, String> {
+fn two_bits(w: &str) -> Result<u8, RowError> {
     match w.as_bytes() {
         [h, l] => Ok((bit(&(*h as char).to_string())? as u8) << 1 | bit(&(*l as char).to_string())? as u8),
-        _ => Err(format!("`{w}`: expected two bits")),
+        _ => Err(RowError::TwoBits(w.to_string())),
     }
 }
 
-fn truth(w: &str) -> Result<bool, String> {
+fn truth(w: &str) -> Result<bool, RowError> {
     match w {
         "True" => Ok(true),
         "False" => Ok(false),
-        _ => Err(format!("`{w}`: expected True or False")),
+        _ => Err(RowError::Truth(w.to_string())),
     }
 }
 
-fn octant(w: &str) -> Result<u8, String> {
-    w.parse::<u8>().ok().filter(|o| *o < 8).ok_or(format!("`{w}`: expected an octant 0...7"))
+fn octant(w: &str) -> Result<u8, RowError> {
+    w.parse::<u8>().ok().filter(|o| *o < 8).ok_or_else(|| RowError::Octant(w.to_string()))
 }
 
-fn hex_code(w: &str) -> Result<u8, String> {
-    w.strip_suffix('h').and_then(|h| u8::from_str_radix(h, 16).ok()).ok_or(format!("`{w}`: expected a code like 06h"))
+fn hex_code(w: &str) -> Result<u8, RowError> {
+    w.strip_suffix('h').and_then(|h| u8::from_str_radix(h, 16).ok()).ok_or_else(|| RowError::HexCode(w.to_string()))
 }
 
-fn fault_group(w: &str) -> Result<FaultGroup, String> {
+fn fault_group(w: &str) -> Result<FaultGroup, RowError> {
     Ok(match w {
         "Initialization" => FaultGroup::Initialization,
         "Protocol" => FaultGroup::Protocol,
         "Data" => FaultGroup::Data,
         "Position" => FaultGroup::Position,
         "Others" => FaultGroup::Others,
-        _ => return Err(format!("`{w}`: not a fault group of 000:T37")),
+        _ => return Err(RowError::FaultGroup(w.to_string())),
     })
 }

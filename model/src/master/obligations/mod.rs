@@ -2,6 +2,10 @@
 //! for certifying a drive. // 000:2.2, 000:2.2.2, 000:2.3, 000:T9, 000:T30, 000:3.3.1,
 //! 000:3.3.4
 //!
+//! Long because: the observer's state and the timing rules checked where a frame begins
+//! are one piece; framing, the rules and the reactions are files of their own already
+//! (under 440 lines without its tests).
+//!
 //! The [`Observer`] is told what the encoder does (power-on, each reply it sends) and
 //! sees every character the master sends, stamped at the end of its stop bit. It
 //! frames the master's characters by the pause the master leaves on the line

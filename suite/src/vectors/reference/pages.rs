@@ -3,7 +3,8 @@
 //! own figure or the model's reply), and the master-side tables as the vectors hold them
 //! with the model's answer beside each row.
 
-use super::{chapter_file, md, GENERATED};
+use super::chapter::chapter_file;
+use super::{md, GENERATED};
 use crate::report::escape;
 use crate::vectors::{tables, VectorFile};
 use hiperface_model::clause;
