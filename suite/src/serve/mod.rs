@@ -1,10 +1,14 @@
 //! An encoder served on a line: what the serving loop does besides the model, as
 //! hooks (see each character the master sends, change or withhold a reply, learn what
-//! was sent), and the reply it plans. The loop itself is the harness's (in real time on
-//! a port or pseudo-terminal: `hiperface-conformance`'s `simulate::serve_with`); the
-//! master certification's encoder ([`crate::master::encoder::DriveEncoder`]) is these
-//! hooks, and its record ([`crate::master::record`]) is the calls into them, taken in
-//! again without any line.
+//! was sent), the reply it plans, and the session ([`Session`]) that calls the hooks in
+//! their order for whoever has the line (in real time on a port or pseudo-terminal:
+//! `hiperface-conformance`'s `simulate::serve_with`). The master certification's
+//! encoder ([`crate::master::encoder::DriveEncoder`]) is these hooks, and its record
+//! ([`crate::master::record`]) is the calls into them, taken in again without any line.
+
+mod session;
+
+pub use session::{NoReply, Session};
 
 use hiperface_model::datalink::RxChar;
 use hiperface_model::{Slave, Step, UartSettings};
