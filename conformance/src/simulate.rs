@@ -8,7 +8,7 @@ use crate::world::World;
 use hiperface_model::datalink::RxChar;
 use hiperface_model::{Hex, Profile, Slave, Step};
 pub use hiperface_suite::serve::{
-    disturbed_from_us, planned_reply, Hooks, Plain, Planned, Session, READ_US, REPLY_DELAY_US,
+    disturbed_from_us, planned_reply, Hooks, Plain, Planned, Serving, Session, READ_US, REPLY_DELAY_US,
 };
 use serialport::SerialPort;
 use std::io::{ErrorKind, Write};
@@ -32,7 +32,7 @@ pub fn serve(
     let mut slave = Slave::operational(profile);
     world.apply(&mut slave);
     let mut session = Session::new(slave, Logger { log });
-    serve_with(port, &mut session, Instant::now(), &stop, None)
+    serve_with(port, &mut session, Serving::MODEL, Instant::now(), &stop, None)
 }
 
 /// The simulator behind `--port sim`: the model as it is, telling the harness how
@@ -52,18 +52,6 @@ impl Hooks for Punctuality {
         if late_us >= UNWATCHED_US {
             self.late_us.fetch_max(late_us, Ordering::SeqCst);
         }
-    }
-}
-
-/// The line's settings are the other end's (see [`Hooks::follows_line_settings`]).
-struct FollowLine;
-
-impl Hooks for FollowLine {
-    fn sets_port(&self) -> bool {
-        false
-    }
-    fn follows_line_settings(&self) -> bool {
-        true
     }
 }
 
@@ -87,13 +75,14 @@ impl Hooks for Logger<'_> {
 }
 
 /// Serve `session` (the model and its hooks) on `port` in real time from `epoch` (its
-/// power-on) until `stop` is set or the port goes away: the port's reads, writes and
-/// pacing here, the rest the session's. `delivery`: a probe of the pseudo-terminal's
+/// power-on) until `stop` is set or the port goes away, the port used as `serving`
+/// says: the port's reads, writes and pacing here, the rest the session's. `delivery`: a probe of the pseudo-terminal's
 /// own delivery beside the line, where there is one: what it measures counts as the
 /// line unwatched (see `line::delivery`).
 pub fn serve_with<H: Hooks>(
     mut port: Box<dyn SerialPort>,
     session: &mut Session<H>,
+    serving: Serving,
     epoch: Instant,
     stop: &AtomicBool,
     delivery: Option<std::sync::Arc<crate::line::delivery::DeliveryProbe>>,
@@ -108,14 +97,14 @@ pub fn serve_with<H: Hooks>(
     // What the master sent while a reply went out, as it was read.
     let mut heard: Vec<Chunk> = Vec::new();
     // The kernel's marks of UART faults, taken back across reads.
-    let (marking, mut marks) = (session.hooks().marks_errors(), crate::capture::parmrk::Marks::default());
+    let (marking, mut marks) = (serving.marks_errors, crate::capture::parmrk::Marks::default());
     // The master's characters, off the line and its echo, in the order they came.
     let mut master_chars: Vec<RxChar> = Vec::new();
     while !stop.load(Ordering::Relaxed) && !session.wants_stop() {
         // Follow the slave's listening settings (67h, reset, power-up windows) on the
         // port; a pseudo-terminal accepts and ignores them.
         let listening = session.listening_settings(now(epoch));
-        if session.hooks().sets_port() && listening.is_some() && listening != port_settings {
+        if serving.sets_port && listening.is_some() && listening != port_settings {
             if let Some(s) = listening {
                 crate::line::serial::apply_settings(port.as_mut(), s).map_err(std::io::Error::from)?;
             }
@@ -126,7 +115,7 @@ pub fn serve_with<H: Hooks>(
         let chunks = if heard.is_empty() {
             // Sleep in the read until the next thing due (or a character).
             let at = now(epoch);
-            let idle = session.hooks().idle_read_us().max(READ_US);
+            let idle = serving.idle_read_us.max(READ_US);
             let wait_us = session.poll_timeout(at).map_or(idle, |d| d.saturating_sub(at).clamp(READ_US, idle));
             match watch(port.as_mut(), epoch, &mut watched, &mut buf, wait_us)? {
                 Some(chunk) => vec![chunk],
@@ -135,7 +124,7 @@ pub fn serve_with<H: Hooks>(
         } else {
             std::mem::take(&mut heard)
         };
-        let line_bps = line_rate(port.as_ref(), session.hooks());
+        let line_bps = line_rate(port.as_ref(), serving);
         // How far the line has been watched: a read that came back at `t` after the
         // harness was unwatched for a while saw what had come by `t - unwatched`, no
         // later (what came meanwhile may wait in the kernel for the next read).
@@ -144,7 +133,7 @@ pub fn serve_with<H: Hooks>(
             watched_through_us = Some(t.saturating_sub(unwatched_us));
             session.handle_read(unwatched_us);
             let listening = session.listening_settings(t);
-            let arrived = if session.hooks().stamps_as_early_as_unwatched() {
+            let arrived = if serving.stamps_as_early_as_unwatched {
                 let timeout = listening.unwrap_or_default().timeout_us(session.slave().profile().edition);
                 let framed_through_us = session.framed_through_us();
                 let in_progress = (rx_clock.last_us() > framed_through_us).then_some(rx_clock.last_us());
@@ -179,7 +168,7 @@ pub fn serve_with<H: Hooks>(
         session.receive_all(master_chars.drain(..), None);
         session.handle_timeout(now(epoch));
         while let Some(mut p) = session.poll_transmit() {
-            if line_rate(port.as_ref(), session.hooks()).is_some_and(|bps| bps != p.settings.baud.bits_per_second()) {
+            if line_rate(port.as_ref(), serving).is_some_and(|bps| bps != p.settings.baud.bits_per_second()) {
                 continue; // sent at a rate the line is not at: nobody hears it
             }
             let ct = p.settings.char_time_us();
@@ -280,10 +269,10 @@ fn unmarked(
 }
 
 /// The line's data rate, where the other end sets it (RFC 2217 through ser2net, see
-/// [`Hooks::follows_line_settings`]); `None` where the port's own settings are not
+/// [`Serving::follows_line_settings`]); `None` where the port's own settings are not
 /// the line's. Read when it is needed: the other end may change it at any time.
-fn line_rate(port: &dyn SerialPort, hooks: &dyn Hooks) -> Option<u32> {
-    hooks.follows_line_settings().then(|| port.baud_rate().ok()).flatten()
+fn line_rate(port: &dyn SerialPort, serving: Serving) -> Option<u32> {
+    serving.follows_line_settings.then(|| port.baud_rate().ok()).flatten()
 }
 
 /// The characters one read returned.
@@ -381,11 +370,19 @@ impl PtySimulator {
 
     /// Start, the data rate of the line being whatever the other end of the
     /// pseudo-terminal sets (a serial device server that takes settings through RFC
-    /// 2217): see [`Hooks::follows_line_settings`].
+    /// 2217): see [`Serving::follows_line_settings`].
     pub fn start_following_line_settings(profile: Profile) -> Result<(PtySimulator, Box<dyn SerialPort>), String> {
         PtySimulator::serving(Arc::default(), move |port, stop| {
-            let mut session = Session::new(Slave::operational(profile), FollowLine);
-            serve_with(port, &mut session, Instant::now(), &stop, None)
+            // The line's settings are the other end's.
+            let serving = Serving { sets_port: false, follows_line_settings: true, ..Serving::MODEL };
+            serve_with(
+                port,
+                &mut Session::new(Slave::operational(profile), Plain),
+                serving,
+                Instant::now(),
+                &stop,
+                None,
+            )
         })
     }
 
@@ -396,7 +393,7 @@ impl PtySimulator {
         PtySimulator::serving(late_us, move |port, stop| {
             let mut slave = Slave::operational(profile);
             world.apply(&mut slave);
-            serve_with(port, &mut Session::new(slave, hooks), Instant::now(), &stop, None)
+            serve_with(port, &mut Session::new(slave, hooks), Serving::MODEL, Instant::now(), &stop, None)
         })
     }
 

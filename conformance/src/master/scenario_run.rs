@@ -317,8 +317,9 @@ fn serve_until(
     mut done: impl FnMut() -> bool,
 ) -> Result<std::io::Result<()>, ()> {
     let stop = AtomicBool::new(false);
+    let serving = session.hooks().serving();
     std::thread::scope(|scope| {
-        let server = scope.spawn(|| serve_with(port, session, epoch, &stop, delivery));
+        let server = scope.spawn(|| serve_with(port, session, serving, epoch, &stop, delivery));
         while Instant::now() < deadline() && !server.is_finished() && !done() {
             std::thread::sleep(Duration::from_millis(5));
         }
