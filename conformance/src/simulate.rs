@@ -7,7 +7,9 @@
 use crate::world::World;
 use hiperface_model::datalink::RxChar;
 use hiperface_model::{Hex, Profile, Slave, Step};
-pub use hiperface_suite::serve::{disturbed_from_us, planned_reply, Hooks, Plain, Planned, READ_US, REPLY_DELAY_US};
+pub use hiperface_suite::serve::{
+    disturbed_from_us, planned_reply, Hooks, Plain, Planned, Serving, Session, READ_US, REPLY_DELAY_US,
+};
 use serialport::SerialPort;
 use std::io::{ErrorKind, Write};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -29,8 +31,8 @@ pub fn serve(
 ) -> std::io::Result<()> {
     let mut slave = Slave::operational(profile);
     world.apply(&mut slave);
-    let mut logger = Logger { log };
-    serve_with(port, &mut slave, Instant::now(), &stop, &mut logger, None)
+    let mut session = Session::new(slave, Logger { log });
+    serve_with(port, &mut session, Serving::MODEL, Instant::now(), &stop, None)
 }
 
 /// The simulator behind `--port sim`: the model as it is, telling the harness how
@@ -53,18 +55,6 @@ impl Hooks for Punctuality {
     }
 }
 
-/// The line's settings are the other end's (see [`Hooks::follows_line_settings`]).
-struct FollowLine;
-
-impl Hooks for FollowLine {
-    fn sets_port(&self) -> bool {
-        false
-    }
-    fn follows_line_settings(&self) -> bool {
-        true
-    }
-}
-
 /// Logs frames for `hiperface simulate --log`.
 struct Logger<'a> {
     log: Option<&'a mut (dyn Write + 'a)>,
@@ -84,20 +74,21 @@ impl Hooks for Logger<'_> {
     }
 }
 
-/// Serve `slave` on `port` in real time from `epoch` (its power-on) until `stop` is
-/// set or the port goes away, with `hooks` watching and injecting. `delivery`: a probe
-/// of the pseudo-terminal's own delivery beside the line, where there is one: what it
-/// measures counts as the line unwatched (see `line::delivery`).
-pub fn serve_with(
+/// Serve `session` (the model and its hooks) on `port` in real time from `epoch` (its
+/// power-on) until `stop` is set or the port goes away, the port used as `serving`
+/// says: the port's reads, writes and pacing here, the rest the session's. `delivery`: a probe of the pseudo-terminal's
+/// own delivery beside the line, where there is one: what it measures counts as the
+/// line unwatched (see `line::delivery`).
+pub fn serve_with<H: Hooks>(
     mut port: Box<dyn SerialPort>,
-    slave: &mut Slave,
+    session: &mut Session<H>,
+    serving: Serving,
     epoch: Instant,
     stop: &AtomicBool,
-    hooks: &mut dyn Hooks,
     delivery: Option<std::sync::Arc<crate::line::delivery::DeliveryProbe>>,
 ) -> std::io::Result<()> {
     // A device's UART keeps time whatever the host does: be as punctual as permitted.
-    hooks.real_time(crate::sched::real_time_priority());
+    session.real_time(crate::sched::real_time_priority());
     let now = |e: Instant| e.elapsed().as_micros() as u64;
     let mut buf = [0u8; 64];
     let mut rx_clock = crate::line::RxClock::default();
@@ -106,29 +97,26 @@ pub fn serve_with(
     // What the master sent while a reply went out, as it was read.
     let mut heard: Vec<Chunk> = Vec::new();
     // The kernel's marks of UART faults, taken back across reads.
-    let (marking, mut marks) = (hooks.marks_errors(), crate::capture::parmrk::Marks::default());
+    let (marking, mut marks) = (serving.marks_errors, crate::capture::parmrk::Marks::default());
     // The master's characters, off the line and its echo, in the order they came.
     let mut master_chars: Vec<RxChar> = Vec::new();
-    // The end of the last character of the last frame the model took, µs.
-    let mut framed_through_us = 0;
-    while !stop.load(Ordering::Relaxed) && !hooks.wants_stop() {
+    while !stop.load(Ordering::Relaxed) && !session.wants_stop() {
         // Follow the slave's listening settings (67h, reset, power-up windows) on the
         // port; a pseudo-terminal accepts and ignores them.
-        let listening = slave.listening_settings(now(epoch));
-        if hooks.sets_port() && listening.is_some() && listening != port_settings {
+        let listening = session.listening_settings(now(epoch));
+        if serving.sets_port && listening.is_some() && listening != port_settings {
             if let Some(s) = listening {
                 crate::line::serial::apply_settings(port.as_mut(), s).map_err(std::io::Error::from)?;
             }
             port_settings = listening;
         }
-        let mut steps = Vec::new();
         // Characters that came while a reply went out were read then; otherwise read
         // the line.
         let chunks = if heard.is_empty() {
             // Sleep in the read until the next thing due (or a character).
             let at = now(epoch);
-            let idle = hooks.idle_read_us().max(READ_US);
-            let wait_us = slave.next_deadline(at).map_or(idle, |d| d.saturating_sub(at).clamp(READ_US, idle));
+            let idle = serving.idle_read_us.max(READ_US);
+            let wait_us = session.poll_timeout(at).map_or(idle, |d| d.saturating_sub(at).clamp(READ_US, idle));
             match watch(port.as_mut(), epoch, &mut watched, &mut buf, wait_us)? {
                 Some(chunk) => vec![chunk],
                 None => return Ok(()),
@@ -136,17 +124,18 @@ pub fn serve_with(
         } else {
             std::mem::take(&mut heard)
         };
-        let line_bps = line_rate(port.as_ref(), hooks);
+        let line_bps = line_rate(port.as_ref(), serving);
         // How far the line has been watched: a read that came back at `t` after the
         // harness was unwatched for a while saw what had come by `t - unwatched`, no
         // later (what came meanwhile may wait in the kernel for the next read).
         let mut watched_through_us = None;
         for Chunk { bytes, at_us: t, unwatched_us } in chunks {
             watched_through_us = Some(t.saturating_sub(unwatched_us));
-            hooks.read(unwatched_us);
-            let listening = slave.listening_settings(t);
-            let arrived = if hooks.stamps_as_early_as_unwatched() {
-                let timeout = listening.unwrap_or_default().timeout_us(slave.profile().edition);
+            session.handle_read(unwatched_us);
+            let listening = session.listening_settings(t);
+            let arrived = if serving.stamps_as_early_as_unwatched {
+                let timeout = listening.unwrap_or_default().timeout_us(session.slave().profile().edition);
+                let framed_through_us = session.framed_through_us();
                 let in_progress = (rx_clock.last_us() > framed_through_us).then_some(rx_clock.last_us());
                 continued_arrival_us(t, unwatched_us, in_progress, timeout)
             } else {
@@ -160,32 +149,26 @@ pub fn serve_with(
                         ch.fault = Some(hiperface_model::UartFault::Framing);
                     }
                 }
-                match hooks.reply_echo() {
+                match session.hooks_mut().reply_echo() {
                     Some(echo) => echo.take(ch, &mut master_chars),
                     None => master_chars.push(ch),
                 }
             }
-            feed(slave, hooks, &mut master_chars, Some(t), &mut steps);
+            // The master's characters in the order they came, at the settings the
+            // model listened at when they were read.
+            session.receive_all(master_chars.drain(..), Some(t));
         }
         // An echo is given up only for time the line was watched: one the harness did
         // not read for its own lateness may still be in the kernel, and is the echo, not
         // the master's.
-        if let (Some(echo), Some(through)) = (hooks.reply_echo(), watched_through_us) {
+        if let (Some(echo), Some(through)) = (session.hooks_mut().reply_echo(), watched_through_us) {
             echo.idle(through, &mut master_chars);
         }
-        feed(slave, hooks, &mut master_chars, None, &mut steps);
-        // One instant for the model and the hooks: a record of the hooks' inputs
-        // (`master::record`) then holds when the model was polled too.
-        let t = now(epoch);
-        steps.extend(slave.poll(t));
-        hooks.idle(t);
-        for step in steps {
-            framed_through_us = framed_through_us.max(step.received.last_us);
-            hooks.frame(slave, &step);
-            let Some(tx) = step.transmission else { continue };
-            let planned = planned_reply(&tx);
-            let Some(mut p) = hooks.reply(slave, &step, planned) else { continue };
-            if line_rate(port.as_ref(), hooks).is_some_and(|bps| bps != p.settings.baud.bits_per_second()) {
+        // Those the echo held, at the settings the model listened at when they came.
+        session.receive_all(master_chars.drain(..), None);
+        session.handle_timeout(now(epoch));
+        while let Some(mut p) = session.poll_transmit() {
+            if line_rate(port.as_ref(), serving).is_some_and(|bps| bps != p.settings.baud.bits_per_second()) {
                 continue; // sent at a rate the line is not at: nobody hears it
             }
             let ct = p.settings.char_time_us();
@@ -197,7 +180,7 @@ pub fn serve_with(
             let mut start = p.start_us;
             let mut first = true;
             let mut index = 0;
-            let timeout = p.settings.timeout_us(slave.profile().edition);
+            let timeout = p.settings.timeout_us(session.slave().profile().edition);
             for (part, pause) in [(&p.frame[..split], p.gap.map_or(0, |(_, g)| g)), (&p.frame[split..], 0)] {
                 if part.is_empty() {
                     start += pause;
@@ -206,7 +189,7 @@ pub fn serve_with(
                 let runs: Vec<&[u8]> = if p.paced { part.chunks(1).collect() } else { vec![part] };
                 for run in runs {
                     watch_until(port.as_mut(), epoch, start + ct, &mut watched, &mut buf, &mut heard)?;
-                    hooks.writing(now(epoch).saturating_sub(start + ct));
+                    session.hooks_mut().writing(now(epoch).saturating_sub(start + ct));
                     port.write_all(run)?;
                     port.flush()?;
                     // The run is complete as written: its characters began `ct` each before.
@@ -232,8 +215,8 @@ pub fn serve_with(
                 watch_until(port.as_mut(), epoch, start, &mut watched, &mut buf, &mut heard)?;
                 start += pause;
             }
-            hooks.sent(&p, start);
-            if let Some(echo) = hooks.reply_echo() {
+            session.on_sent(&p, start);
+            if let Some(echo) = session.hooks_mut().reply_echo() {
                 // Characters it held that were the master's after all come first at
                 // the next turn.
                 echo.sent(&p.frame, start, &mut master_chars);
@@ -243,7 +226,7 @@ pub fn serve_with(
     // Stopped: what was read while the last reply went out holds part of its echo,
     // which the echo takes off, so that whoever serves the port next (the next
     // scenario) does not await the part it already had.
-    if let Some(echo) = hooks.reply_echo() {
+    if let Some(echo) = session.hooks_mut().reply_echo() {
         for Chunk { bytes, at_us, .. } in heard {
             for (byte, fault) in unmarked(&bytes, marking.then_some(&mut marks)) {
                 echo.take(RxChar { byte, at_us, fault }, &mut Vec::new());
@@ -285,28 +268,11 @@ fn unmarked(
     out
 }
 
-/// Give the master's characters to the hooks and the model, in the order they came:
-/// with the settings the slave listens at when they were read (`read_us`), or, for
-/// characters the echo held, when they were stamped.
-fn feed(
-    slave: &mut Slave,
-    hooks: &mut dyn Hooks,
-    chars: &mut Vec<RxChar>,
-    read_us: Option<u64>,
-    steps: &mut Vec<Step>,
-) {
-    for ch in chars.drain(..) {
-        let listening = slave.listening_settings(read_us.unwrap_or(ch.at_us));
-        hooks.received(ch, listening);
-        steps.extend(slave.receive(ch));
-    }
-}
-
 /// The line's data rate, where the other end sets it (RFC 2217 through ser2net, see
-/// [`Hooks::follows_line_settings`]); `None` where the port's own settings are not
+/// [`Serving::follows_line_settings`]); `None` where the port's own settings are not
 /// the line's. Read when it is needed: the other end may change it at any time.
-fn line_rate(port: &dyn SerialPort, hooks: &dyn Hooks) -> Option<u32> {
-    hooks.follows_line_settings().then(|| port.baud_rate().ok()).flatten()
+fn line_rate(port: &dyn SerialPort, serving: Serving) -> Option<u32> {
+    serving.follows_line_settings.then(|| port.baud_rate().ok()).flatten()
 }
 
 /// The characters one read returned.
@@ -404,22 +370,30 @@ impl PtySimulator {
 
     /// Start, the data rate of the line being whatever the other end of the
     /// pseudo-terminal sets (a serial device server that takes settings through RFC
-    /// 2217): see [`Hooks::follows_line_settings`].
+    /// 2217): see [`Serving::follows_line_settings`].
     pub fn start_following_line_settings(profile: Profile) -> Result<(PtySimulator, Box<dyn SerialPort>), String> {
         PtySimulator::serving(Arc::default(), move |port, stop| {
-            let mut slave = Slave::operational(profile);
-            serve_with(port, &mut slave, Instant::now(), &stop, &mut FollowLine, None)
+            // The line's settings are the other end's.
+            let serving = Serving { sets_port: false, follows_line_settings: true, ..Serving::MODEL };
+            serve_with(
+                port,
+                &mut Session::new(Slave::operational(profile), Plain),
+                serving,
+                Instant::now(),
+                &stop,
+                None,
+            )
         })
     }
 
     /// Start in a given world (inputs, start-up faults).
     pub fn start_in(profile: Profile, world: World) -> Result<(PtySimulator, Box<dyn SerialPort>), String> {
         let late_us = Arc::new(AtomicU64::new(0));
-        let mut hooks = Punctuality { late_us: late_us.clone() };
+        let hooks = Punctuality { late_us: late_us.clone() };
         PtySimulator::serving(late_us, move |port, stop| {
             let mut slave = Slave::operational(profile);
             world.apply(&mut slave);
-            serve_with(port, &mut slave, Instant::now(), &stop, &mut hooks, None)
+            serve_with(port, &mut Session::new(slave, hooks), Serving::MODEL, Instant::now(), &stop, None)
         })
     }
 

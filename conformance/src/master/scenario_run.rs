@@ -9,7 +9,7 @@ use super::scenarios::Scenario;
 use super::{Operator, PowerOn};
 use crate::line::reply_echo::ReplyEcho;
 use crate::process::MasterProcess;
-use crate::simulate::serve_with;
+use crate::simulate::{serve_with, Session};
 use crate::verdict::{CaseResult, Finding};
 use hiperface_model::{CommandId, Profile, Slave};
 use serialport::SerialPort;
@@ -140,7 +140,7 @@ pub(super) fn on_port(
         }
     };
     let world = (scenario.world)(&profile);
-    let mut slave = match power_on {
+    let slave = match power_on {
         PowerOn::Prompt => {
             operator.switch_off(scenario.id);
             // Whatever the drive sent while going off is not this scenario's.
@@ -169,13 +169,15 @@ pub(super) fn on_port(
         .declared_not_used(not_used);
     hooks.set_polling_period_ms(polling_period_ms);
     let arisen = hooks.arisen();
+    let mut session = Session::new(slave, hooks);
     let epoch = Instant::now();
     if power_on == PowerOn::Prompt {
         operator.switch_on(scenario.id);
     }
     let deadline = || epoch + Duration::from_millis(end_ms(scenario, &arisen, polling_period_ms));
-    let served = serve_until(port, &mut slave, &mut hooks, None, epoch, deadline, interrupted);
+    let served = serve_until(port, &mut session, None, epoch, deadline, interrupted);
     let cut_short = interrupted();
+    let mut hooks = session.into_hooks();
     hooks.finish(epoch.elapsed().as_micros() as u64);
     if let Some(p) = hooks.port() {
         *echo = p.echo.clone();
@@ -236,6 +238,7 @@ pub(super) fn run_scenario(
     let mut hooks = DriveEncoder::new(profile, scenario, true, peer).declared_not_used(not_used);
     hooks.set_polling_period_ms(polling_period_ms);
     let arisen = hooks.arisen();
+    let mut session = Session::new(slave, hooks);
     // Power-on is the master's start.
     let epoch = Instant::now();
     let mut master = match MasterProcess::start(exec, &path) {
@@ -250,13 +253,14 @@ pub(super) fn run_scenario(
     // How long the master's process has waited for a processor, every 5 ms: what a
     // busy machine did to its timing.
     let mut waited = Vec::new();
-    let served = serve_until(Box::new(encoder_end), &mut slave, &mut hooks, delivery, epoch, deadline, || {
+    let served = serve_until(Box::new(encoder_end), &mut session, delivery, epoch, deadline, || {
         if let Some(us) = crate::sched::process_run_delay_us(master.id()) {
             waited.push((epoch.elapsed().as_micros() as u64, us));
         }
         exited = master.exited();
         exited.is_some() || interrupted()
     });
+    let mut hooks = session.into_hooks();
     hooks.timeline.master_waited = waited;
     let cut_short = interrupted();
     let (status, output) = master.stop();
@@ -299,23 +303,23 @@ fn end_ms(scenario: &Scenario, arisen: &AtomicU64, polling_period_ms: u32) -> u6
     scenario.end_ms((at_us != u64::MAX).then_some(at_us / 1000), polling_period_ms)
 }
 
-/// Serve `slave` on `port` with `hooks` (time 0 at `epoch`) until `deadline()` (which
+/// Serve `session` on `port` (time 0 at `epoch`) until `deadline()` (which
 /// may move later as the scenario's situation arises), the port goes, or `done()`
 /// (asked every 5 ms) says so; then stop the encoder. `delivery`: the probe of the
 /// pseudo-terminal's delivery, where the master is on one. `Err(())` if the serving thread
 /// panicked.
 fn serve_until(
     port: Box<dyn SerialPort>,
-    slave: &mut Slave,
-    hooks: &mut DriveEncoder,
+    session: &mut Session<DriveEncoder>,
     delivery: Option<std::sync::Arc<crate::line::delivery::DeliveryProbe>>,
     epoch: Instant,
     deadline: impl Fn() -> Instant,
     mut done: impl FnMut() -> bool,
 ) -> Result<std::io::Result<()>, ()> {
     let stop = AtomicBool::new(false);
+    let serving = session.hooks().serving();
     std::thread::scope(|scope| {
-        let server = scope.spawn(|| serve_with(port, slave, epoch, &stop, hooks, delivery));
+        let server = scope.spawn(|| serve_with(port, session, serving, epoch, &stop, delivery));
         while Instant::now() < deadline() && !server.is_finished() && !done() {
             std::thread::sleep(Duration::from_millis(5));
         }

@@ -7,7 +7,7 @@
 
 use super::scenarios::{Injection, Scenario, Situation};
 use crate::line::reply_echo::ReplyEcho;
-use crate::serve::{Hooks, Planned};
+use crate::serve::{Hooks, Planned, Serving};
 use crate::verdict::WireEntry;
 use hiperface_model::datalink::{RxChar, UartFault};
 use hiperface_model::master::obligations::{Observation, Observer, Rule};
@@ -434,6 +434,22 @@ impl DriveEncoder {
     pub fn profile(&self) -> &Profile {
         &self.profile
     }
+
+    /// How the encoder is served: the port set only where its settings are not the
+    /// master's; characters as read (a pause in a request is graded, and what a late
+    /// read could hide is marked unproven, `Timeline::unproven`, not closed up); UART
+    /// faults marked on a drive's port; the line watched every 500 µs, also when
+    /// nothing is due, since when a request begins is graded (pauses, windows,
+    /// initialization).
+    pub fn serving(&self) -> Serving {
+        Serving {
+            sets_port: !self.reads_peer(),
+            follows_line_settings: false,
+            stamps_as_early_as_unwatched: false,
+            marks_errors: self.port.is_some(),
+            idle_read_us: crate::serve::READ_US,
+        }
+    }
 }
 
 impl Hooks for DriveEncoder {
@@ -474,26 +490,12 @@ impl Hooks for DriveEncoder {
         self.observer.master_char(ch, &mut |o| seen.push(o));
     }
 
-    fn marks_errors(&self) -> bool {
-        self.port.is_some()
-    }
-
     fn wants_stop(&self) -> bool {
         self.timeline.characters >= MAX_CHARACTERS
     }
 
-    /// Characters as read: a pause in a request is graded, and what a late read could
-    /// hide is marked unproven (`Timeline::unproven`), not closed up.
-    fn stamps_as_early_as_unwatched(&self) -> bool {
-        false
-    }
-
     fn reply_echo(&mut self) -> Option<&mut ReplyEcho> {
         self.port.as_mut().map(|p| &mut p.echo)
-    }
-
-    fn sets_port(&self) -> bool {
-        !self.reads_peer()
     }
 
     fn read(&mut self, unwatched_us: u64) {
@@ -657,12 +659,6 @@ impl Hooks for DriveEncoder {
     fn real_time(&mut self, granted: bool) {
         self.log.push(super::inputs::Input::RealTime { granted });
         self.timeline.real_time = granted;
-    }
-
-    /// When a request begins is graded (pauses, windows, initialization): the line is
-    /// watched every 500 µs, also when nothing is due.
-    fn idle_read_us(&self) -> u64 {
-        crate::serve::READ_US
     }
 }
 
@@ -845,7 +841,7 @@ mod tests {
         let scenario = crate::master::scenarios::catalogue().into_iter().next().unwrap();
         let echo = ReplyEcho::new(EchoMode::Auto, Echo::Quiet, 0);
         let mut encoder = DriveEncoder::new(p, &scenario, false, None).on_port(OnPort { echo });
-        assert!(encoder.marks_errors());
+        assert!(encoder.serving().marks_errors);
         let mut slave = Slave::operational(p);
         let ct = UartSettings::DEFAULT.char_time_us();
         let mut steps = Vec::new();

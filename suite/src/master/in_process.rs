@@ -4,16 +4,16 @@
 //! pseudo-terminal, no process and no clock: what the master sends is on the line
 //! exactly when it says, each reply character reaches it exactly when it ends.
 //!
-//! The serving loop here calls the encoder's hooks ([`crate::serve::Hooks`]) in the
-//! order the harness's real-time loop does (a read's characters, then the model polled
-//! and the hooks told the time, then each frame and its reply), so that the record it
-//! writes is taken in again by [`super::record::replay`] as a real run's is.
+//! The line here drives the same session as the harness's real-time loop and the
+//! replay of a record ([`crate::serve::Session`]: a read's characters, then the time,
+//! then each reply), so that the record it writes is taken in again by
+//! [`super::record::replay`] as a real run's is.
 
 use super::encoder::{DriveEncoder, MasterSettings};
 use super::record::{compact, Fact, ScenarioRecord, Start};
 use super::scenario::Scenario;
 use super::{grade, scenarios, DriveReport};
-use crate::serve::{planned_reply, Hooks, READ_US};
+use crate::serve::{Session, READ_US};
 use crate::verdict::{CaseResult, Finding};
 use hiperface_model::datalink::RxChar;
 use hiperface_model::master::obligations::POLLING_PERIOD_MS;
@@ -149,6 +149,7 @@ fn run_scenario(
     let mut hooks =
         DriveEncoder::new(profile, scenario, true, Some(Box::new(rate.clone()))).declared_not_used(&options.not_used);
     hooks.set_polling_period_ms(polling_period_ms);
+    let mut session = Session::new(slave, hooks);
     master.power_on();
     let mut line = Line::default();
     let mut now = 0u64;
@@ -163,7 +164,8 @@ fn run_scenario(
             // A wake in the past is now: the loop still moves on.
             line.wake_us = Some(w.max(now + 1));
         }
-        let end_us = scenario.end_ms(hooks.timeline.situation_us.map(|t| t / 1000), polling_period_ms) * 1000;
+        let situation_ms = session.hooks().timeline.situation_us.map(|t| t / 1000);
+        let end_us = scenario.end_ms(situation_ms, polling_period_ms) * 1000;
         // The next moment anything happens: a character ends either way, the model's
         // deadline, the master's wake, or the serving loop's read (every 500 µs, as the
         // harness watches a master's line).
@@ -171,7 +173,7 @@ fn run_scenario(
             line.to_encoder.front().map(|c| c.at_us),
             line.to_master.front().map(|c| c.at_us),
             line.wake_us,
-            slave.next_deadline(now),
+            session.poll_timeout(now),
             Some((now / READ_US + 1) * READ_US),
         ]
         .into_iter()
@@ -185,19 +187,15 @@ fn run_scenario(
         }
         now = next;
         // The master's characters that have ended: one read.
-        hooks.read(0);
-        let mut steps = Vec::new();
+        session.handle_read(0);
+        let mut ended = Vec::new();
         while let Some(ch) = line.to_encoder.front().copied().filter(|c| c.at_us <= now) {
             line.to_encoder.pop_front();
-            hooks.received(ch, slave.listening_settings(ch.at_us));
-            steps.extend(slave.receive(ch));
+            ended.push(ch);
         }
-        steps.extend(slave.poll(now));
-        hooks.idle(now);
-        for step in steps {
-            hooks.frame(&mut slave, &step);
-            let Some(tx) = step.transmission else { continue };
-            let Some(mut p) = hooks.reply(&mut slave, &step, planned_reply(&tx)) else { continue };
+        session.receive_all(ended, None);
+        session.handle_timeout(now);
+        while let Some(mut p) = session.poll_transmit() {
             // The encoder's line is free once its last reply is out.
             p.start_us = p.start_us.max(now).max(line.encoder_free_us);
             let ct = p.settings.char_time_us();
@@ -210,7 +208,7 @@ fn run_scenario(
                 line.to_master.push_back(RxChar { byte, at_us: end, fault: None });
             }
             line.encoder_free_us = end;
-            hooks.sent(&p, end);
+            session.on_sent(&p, end);
         }
         // What reached the master, or its wake: it acts.
         let mut heard = Vec::new();
@@ -225,10 +223,11 @@ fn run_scenario(
         if woken || !heard.is_empty() {
             action = master.step(now, &heard);
         }
-        if hooks.wants_stop() {
+        if session.wants_stop() {
             break; // a flood: the encoder has taken in all it will
         }
     }
+    let mut hooks = session.into_hooks();
     hooks.finish(now);
     if flooded {
         result.push(Finding::unknown(format!(

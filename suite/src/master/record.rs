@@ -13,9 +13,9 @@
 use super::encoder::DriveEncoder;
 pub use super::inputs::{settings_hex, Input};
 use super::scenarios::Scenario;
-use crate::serve::{Hooks, Planned};
+use crate::serve::{Planned, Session};
 use crate::verdict::{CaseResult, Finding};
-use hiperface_model::{CommandId, Hex, Profile, Slave, Step, UartSettings};
+use hiperface_model::{CommandId, Hex, Profile, Slave, UartSettings};
 use serde::{Deserialize, Serialize};
 use std::collections::VecDeque;
 
@@ -221,7 +221,7 @@ pub fn replay_scenario(
         return Ok((result, None));
     }
     let world = (scenario.world)(&profile);
-    let mut slave = match r.start {
+    let slave = match r.start {
         Start::Operational => {
             let mut s = Slave::operational(profile);
             world.apply(&mut s);
@@ -245,13 +245,12 @@ pub fn replay_scenario(
         .replaying(rates)
         .declared_not_used(not_used);
     hooks.set_polling_period_ms(polling_period_ms);
-    let mut pending: VecDeque<Step> = VecDeque::new();
-    let mut current: Option<Step> = None;
+    let mut session = Session::new(slave, hooks);
     let mut reply: Option<Planned> = None;
     for (n, input) in inputs.iter().enumerate() {
         match input {
-            Input::RealTime { granted } => hooks.real_time(*granted),
-            Input::Read { unwatched_us } => hooks.read(*unwatched_us),
+            Input::RealTime { granted } => session.real_time(*granted),
+            Input::Read { unwatched_us } => session.handle_read(*unwatched_us),
             Input::Received { ch, listening } => {
                 let listening = match listening {
                     Some(hex) => {
@@ -260,25 +259,15 @@ pub fn replay_scenario(
                     }
                     None => None,
                 };
-                let ch = (*ch).into();
-                hooks.received(ch, listening);
-                pending.extend(slave.receive(ch));
+                session.receive((*ch).into(), listening);
             }
-            Input::Idle { now_us } => {
-                pending.extend(slave.poll(*now_us));
-                hooks.idle(*now_us);
-            }
+            Input::Idle { now_us } => session.handle_timeout(*now_us),
             Input::Frame => {
-                let step = pending.pop_front().ok_or_else(|| departs(format!("input {n}: no frame of the model")))?;
-                hooks.frame(&mut slave, &step);
-                current = Some(step);
+                if !session.next_frame() {
+                    return Err(departs(format!("input {n}: no frame of the model")));
+                }
             }
-            Input::Reply => {
-                let step = current.as_ref().ok_or_else(|| departs(format!("input {n}: a reply to no frame")))?;
-                let tx = step.transmission.ok_or_else(|| departs(format!("input {n}: the model has no reply")))?;
-                let planned = crate::serve::planned_reply(&tx);
-                reply = hooks.reply(&mut slave, step, planned);
-            }
+            Input::Reply => reply = session.plan_reply().map_err(|why| departs(format!("input {n}: {why}")))?,
             Input::Sent { frame, start_us, end_us, gap, disturbed_us, split_by_harness } => {
                 let mut p =
                     reply.take().ok_or_else(|| departs(format!("input {n}: a reply sent that was not planned")))?;
@@ -292,11 +281,12 @@ pub fn replay_scenario(
                 p.gap = *gap;
                 p.disturbed_us = *disturbed_us;
                 p.split_by_harness = *split_by_harness;
-                hooks.sent(&p, *end_us);
+                session.on_sent(&p, *end_us);
             }
             Input::PeerRate { .. } | Input::Quiet { .. } => {}
         }
     }
+    let mut hooks = session.into_hooks();
     hooks.finish(r.end_us);
     hooks.timeline.line_faults.extend(r.line_faults.iter().cloned());
     let by_operator = r.start == Start::PowerOnByOperator;

@@ -1,10 +1,14 @@
 //! An encoder served on a line: what the serving loop does besides the model, as
 //! hooks (see each character the master sends, change or withhold a reply, learn what
-//! was sent), and the reply it plans. The loop itself is the harness's (in real time on
-//! a port or pseudo-terminal: `hiperface-conformance`'s `simulate::serve_with`); the
-//! master certification's encoder ([`crate::master::encoder::DriveEncoder`]) is these
-//! hooks, and its record ([`crate::master::record`]) is the calls into them, taken in
-//! again without any line.
+//! was sent), the reply it plans, and the session ([`Session`]) that calls the hooks in
+//! their order for whoever has the line (in real time on a port or pseudo-terminal:
+//! `hiperface-conformance`'s `simulate::serve_with`). The master certification's
+//! encoder ([`crate::master::encoder::DriveEncoder`]) is these hooks, and its record
+//! ([`crate::master::record`]) is the calls into them, taken in again without any line.
+
+mod session;
+
+pub use session::{NoReply, Session};
 
 use hiperface_model::datalink::RxChar;
 use hiperface_model::{Slave, Step, UartSettings};
@@ -15,32 +19,20 @@ pub const REPLY_DELAY_US: u64 = 300;
 /// While anything is due, reads return at least every 500 µs.
 pub const READ_US: u64 = 500;
 
-/// What an encoder served on a line does besides the model: see each character the
-/// master sends, change or withhold a reply (fault injection), learn what was sent.
-/// The default hooks serve the model as it is.
-pub trait Hooks {
-    /// A character from the master, stamped at the end of its stop bit, and the
-    /// settings the slave listens at then (`None` while it does not listen).
-    fn received(&mut self, _ch: RxChar, _listening: Option<UartSettings>) {}
+/// How an encoder is served on a line, beside what it does: what the one who has the
+/// line does with its port for it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Serving {
     /// Whether the port follows the slave's listening settings. Not where the port's
     /// settings are the peer's: on a pseudo-terminal, setting one end sets the other
     /// (Linux), and the master under test owns them.
-    fn sets_port(&self) -> bool {
-        true
-    }
+    pub sets_port: bool,
     /// Whether the port's own data rate is the line's, set by whoever serves the other
     /// end (a serial device server that takes settings through RFC 2217, writing them
     /// to the pseudo-terminal): a character heard at another rate than the slave
     /// listens at arrives with a framing error, and a reply sent at another rate than
     /// the line's is not heard (a UART at the wrong rate finds no characters).
-    fn follows_line_settings(&self) -> bool {
-        false
-    }
-    /// The characters of one read follow (`received` for each): the line had not been
-    /// read for `unwatched_us` before it (0 when it was watched; the harness was busy
-    /// writing a reply, or not scheduled). They may have come any time in that
-    /// stretch; they are stamped when read.
-    fn read(&mut self, _unwatched_us: u64) {}
+    pub follows_line_settings: bool,
     /// Whether the characters of a read that came `unwatched_us` late are stamped as
     /// early as that allows (never before the one before them ended), not when read. A
     /// device's UART stamps a character when it arrives: a simulator that was not
@@ -49,9 +41,42 @@ pub trait Hooks {
     /// busy machine, 0Ch to a valid request). Not for the encoder that grades a master
     /// (it says so): it grades pauses, and marks what a late read could hide as
     /// unproven instead.
-    fn stamps_as_early_as_unwatched(&self) -> bool {
-        true
-    }
+    pub stamps_as_early_as_unwatched: bool,
+    /// Whether the port marks UART faults in what it delivers (`PARMRK`: see the
+    /// harness's marking port): a master's character with a parity or framing error
+    /// reaches the model as one.
+    pub marks_errors: bool,
+    /// How long one read may wait while the model has nothing due (no frame in
+    /// progress, no state change), µs: 50 ms for the model as it is, so that an idle
+    /// simulator sleeps. The first character after such a stretch is stamped when the
+    /// thread wakes; a harness that grades when requests begin watches closer.
+    pub idle_read_us: u64,
+}
+
+impl Serving {
+    /// The model as a simulator serves it on its own port.
+    pub const MODEL: Serving = Serving {
+        sets_port: true,
+        follows_line_settings: false,
+        stamps_as_early_as_unwatched: true,
+        marks_errors: false,
+        idle_read_us: 50_000,
+    };
+}
+
+/// What an encoder served on a line does besides the model: see each character the
+/// master sends, change or withhold a reply (fault injection), learn what was sent.
+/// The session ([`Session`]) calls them in their order; the default hooks serve the
+/// model as it is.
+pub trait Hooks {
+    /// A character from the master, stamped at the end of its stop bit, and the
+    /// settings the slave listens at then (`None` while it does not listen).
+    fn received(&mut self, _ch: RxChar, _listening: Option<UartSettings>) {}
+    /// The characters of one read follow (`received` for each): the line had not been
+    /// read for `unwatched_us` before it (0 when it was watched; the harness was busy
+    /// writing a reply, or not scheduled). They may have come any time in that
+    /// stretch; they are stamped when read.
+    fn read(&mut self, _unwatched_us: u64) {}
     /// Time passes with nothing received; the model was polled at `now_us` just before.
     fn idle(&mut self, _now_us: u64) {}
     /// The model processed a frame (whether it replies or not).
@@ -65,12 +90,6 @@ pub trait Hooks {
     fn writing(&mut self, _late_us: u64) {}
     /// A reply went out as planned, its last character ending at `end_us`.
     fn sent(&mut self, _planned: &Planned, _end_us: u64) {}
-    /// Whether the port marks UART faults in what it delivers (`PARMRK`: see
-    /// the harness's marking port): a master's character with a parity or
-    /// framing error reaches the model as one.
-    fn marks_errors(&self) -> bool {
-        false
-    }
     /// The echo of the replies, where the line may echo (a drive on a port): what it
     /// takes off the line never reaches the model or [`Hooks::received`].
     fn reply_echo(&mut self) -> Option<&mut crate::line::reply_echo::ReplyEcho> {
@@ -83,13 +102,6 @@ pub trait Hooks {
     }
     /// Whether the serving thread got the real-time priority it asked for.
     fn real_time(&mut self, _granted: bool) {}
-    /// How long one read may wait while the model has nothing due (no frame in
-    /// progress, no state change): 50 ms by default, so that an idle simulator sleeps.
-    /// The first character after such a stretch is stamped when the thread wakes; a
-    /// harness that grades when requests begin watches closer.
-    fn idle_read_us(&self) -> u64 {
-        50_000
-    }
 }
 
 /// A reply as it will go on the wire.
