@@ -837,6 +837,14 @@ pub const PROPERTIES: &[Property] = &[
         run: || field_memory_from_any(Just(2u8), 1),
     },
     Property {
+        name: "field_memory_any_write_block",
+        claim: "the same for a write at a block boundary where a field starts (DESIGN:fields, 000:T22)",
+        domain: "any memory state (any contents, any bitmap of known bytes), 0 to 8 bytes written at the second block (byte 16), any byte probed",
+        exhaustive: false,
+        harness: Some("field_memory_any_write_block"),
+        run: || field_memory_from_any_at(Just(contents::WRITE), 1, Some(contents::FREE_BLOCK), 8),
+    },
+    Property {
         name: "field_memory_any_free_block",
         claim: "the same for a free from a block boundary where a field starts, read back (DESIGN:fields, 000:T24)",
         domain: "any memory state (any contents, any bitmap of known bytes), a free from the second block (byte 16) to any end, any byte probed",
