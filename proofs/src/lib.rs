@@ -4,6 +4,7 @@
 //! proptest). Also: explicit-state model checking of the slave (`model_check`) and
 //! the fuzz target bodies (`targets`), whose corpus a stable `cargo test` replays.
 
+pub mod contents;
 #[cfg(test)]
 mod documented;
 pub mod fixpoint;
@@ -333,6 +334,133 @@ mod harnesses {
         assert!(crate::inductive::field_memory_frees_without_panic(kani::any(), kani::any()));
     }
 
+    /// Domain: any memory state (any contents, any bitmap of known bytes), a read of any count at any position, any byte probed.
+    /// Unwind 9 (no loop: the read is compared in length and at one symbolic byte). The
+    /// 4 591 bytes of the state are one symbolic array each (contents, bitmap), not a
+    /// window: no loop runs over them.
+    #[kani::proof]
+    #[kani::unwind(9)]
+    fn field_memory_any_read() {
+        let op = crate::contents::MemoryOp { kind: crate::contents::READ, ..kani::any() };
+        assert!(crate::contents::memory_ops_from_any(&kani::any(), &[op], kani::any(), true));
+    }
+
+    /// Domain: any memory state (any contents, any bitmap of known bytes), 0 to 8 bytes written at any position, any byte probed.
+    /// Unwind 9: the write's loop over the bytes it writes (at most 8, +1). Its answer
+    /// and no panic (a byte at `at % 8 == 7` known already, written again, is where
+    /// `+=` for `|=` overflows); what it writes, read back, had no verdict in 420 s
+    /// (2026-11-28): sampled by the twin.
+    #[kani::proof]
+    #[kani::unwind(9)]
+    fn field_memory_any_write() {
+        let op = crate::contents::MemoryOp { kind: crate::contents::WRITE, ..kani::any() };
+        kani::assume(op.len <= 8);
+        assert!(crate::contents::memory_ops_from_any(&kani::any(), &[op], kani::any(), false));
+    }
+
+    /// Domain: any memory state (any contents, any bitmap of known bytes), 0 to 8 bytes written at the second block (byte 16), any byte probed.
+    /// Unwind 9: the write's loop (at most 8, +1). At a start it knows, each store and
+    /// each bitmap byte it reads is one CBMC knows; at any start (`field_memory_any_write`)
+    /// `+=` for `|=` had no verdict in 300 s, here it FAILs (overflow).
+    #[kani::proof]
+    #[kani::unwind(9)]
+    fn field_memory_any_write_block() {
+        let op =
+            crate::contents::MemoryOp { kind: crate::contents::WRITE, at: crate::contents::FREE_BLOCK, ..kani::any() };
+        kani::assume(op.len <= 8);
+        assert!(crate::contents::memory_ops_from_any(&kani::any(), &[op], kani::any(), false));
+    }
+
+    /// Domain: any memory state (any contents, any bitmap of known bytes), any range freed, any byte probed.
+    /// Unwind 129: `free`'s loop over the bytes of its 8 blocks (128, +1). Its answer
+    /// (none) and no panic; what it does to the bytes is `field_memory_any_free_block`'s
+    /// (read back after a free at a position the harness does not know: no verdict in
+    /// 300 s, 2026-11-28).
+    #[kani::proof]
+    #[kani::unwind(129)]
+    fn field_memory_any_free() {
+        let op = crate::contents::MemoryOp { kind: 2, ..kani::any() };
+        assert!(crate::contents::memory_ops_from_any(&kani::any(), &[op], kani::any(), false));
+    }
+
+    /// Domain: any memory state (any contents, any bitmap of known bytes), a free from the second block (byte 16) to any end, any byte probed.
+    /// Unwind 129: `free`'s loop (128, +1). Read back: every byte and bit afterwards as
+    /// the reference has it. One start, where a field after the first begins: at a
+    /// start the harness does not know each of the 256 stores is one into the whole
+    /// memory (no verdict in 300 s); the bytes' fate depends on the start only through
+    /// `at - from`, `at / 8` and `at % 8` (docs/src/verification.md).
+    #[kani::proof]
+    #[kani::unwind(129)]
+    fn field_memory_any_free_block() {
+        let op = crate::contents::MemoryOp { kind: 2, at: crate::contents::FREE_BLOCK, ..kani::any() };
+        assert!(crate::contents::memory_ops_from_any(&kani::any(), &[op], kani::any(), true));
+    }
+
+    /// Domain: any memory state (any contents, any bitmap of known bytes), two operations in a row (each a read or a write of 0 to 2 bytes, at any position), any byte probed.
+    /// Unwind 3: the write's loop over at most 2 bytes (+1). No free: with one at a
+    /// position the harness does not know, no verdict in 300 s (2026-11-28). Answers
+    /// and no panic, as `field_memory_any_write`.
+    #[kani::proof]
+    #[kani::unwind(3)]
+    fn field_memory_any_two() {
+        let ops: [crate::contents::MemoryOp; 2] = kani::any();
+        kani::assume(ops[0].len <= 2 && ops[1].len <= 2 && ops[0].kind % 3 != 2 && ops[1].kind % 3 != 2);
+        assert!(crate::contents::memory_ops_from_any(&kani::any(), &ops, kani::any(), false));
+    }
+
+    /// One frame of `command` from every state of a SEK37 satisfying the invariant, as
+    /// [`inductive_command_where`], on two memories in any states (contents and bitmap
+    /// symbolic, independent), the field memory's operations real (no stub): the same
+    /// state afterwards but the contents, the same reply but Read Data's data bytes
+    /// (`contents::step_blind_to_contents`).
+    fn contents_blind_command<const N: usize>(command: u8, admit: fn(&[u8; N]) -> bool) {
+        let parts: crate::inductive::Parts = kani::any();
+        let (state, holds) = parts.state(hiperface_model::profiles::sek37());
+        kani::assume(holds);
+        let mut frame: [u8; N] = kani::any();
+        if let Some(c) = frame.get_mut(1) {
+            *c = command;
+        }
+        crate::inductive::count_store_data(&mut frame);
+        kani::assume(admit(&frame));
+        let (first, second): (crate::contents::MemoryState, crate::contents::MemoryState) = (kani::any(), kani::any());
+        assert!(crate::contents::step_blind_to_contents(
+            &state,
+            first.memory(),
+            second.memory(),
+            &frame,
+            kani::any(),
+            kani::any()
+        ));
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields) on two memories in any states, every frame of Read Data (4Ah) asking for 0 to 16 or more than 128 bytes at any time, with and without a UART fault.
+    /// Unwind 23, as `inductive_read_data` (a reply of up to 22 bytes).
+    #[kani::proof]
+    #[kani::unwind(23)]
+    #[kani::solver(cadical)]
+    fn contents_blind_read_data() {
+        contents_blind_command::<7>(0x4A, |f| crate::inductive::read_data_counted_short(f));
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields) on two memories in any states, every frame of Store Data (4Bh) with 1 data byte at any time, with and without a UART fault.
+    /// Unwind 10, as `inductive_store_data_one_byte`.
+    #[kani::proof]
+    #[kani::unwind(10)]
+    #[kani::solver(cadical)]
+    fn contents_blind_store_data_one_byte() {
+        contents_blind_command::<8>(0x4B, |_| true);
+    }
+
+    /// Domain: every state of SEK37 satisfying the invariant (at most 3 data fields) on two memories in any states, every frame of Create Data Field (4Dh) at any time, with and without a UART fault.
+    /// Unwind 129: `free`'s loop over the 8 blocks a field gives up (128, +1).
+    #[kani::proof]
+    #[kani::unwind(129)]
+    #[kani::solver(cadical)]
+    fn contents_blind_create_data_field() {
+        contents_blind_command::<6>(0x4D, |_| true);
+    }
+
     /// The field memory's operations as the whole-step harnesses of the data field
     /// commands take them (`#[kani::stub]`): they answer as the real ones do on the
     /// memory the parts build (erased) and change nothing. Sound for what those
@@ -625,7 +753,7 @@ mod tests {
     use super::*;
 
     /// The Kani harnesses in this file (`scripts/kani.sh` runs each).
-    const HARNESSES: usize = 43;
+    const HARNESSES: usize = 52;
 
     /// Every Kani harness has its `cargo test` twin in the registry, and every twin
     /// names a harness that exists: the two lists are one.

@@ -2,7 +2,7 @@
 //! with the domain `cargo test` checks (exhausted or sampled with proptest); the Kani
 //! harnesses in `lib.rs` call the same functions on symbolic inputs.
 
-use crate::{inductive, targets};
+use crate::{contents, inductive, targets};
 use hiperface_model::command::CommandByte;
 use hiperface_model::slave::stack::{ErrorStack, STACK_DEPTH};
 use hiperface_model::{profile::StackOrder, profiles, FaultCode, RequestFrame, Slave};
@@ -512,6 +512,120 @@ fn field_memory_contents() -> Result<u64, String> {
     })
 }
 
+/// Memory states of the field memory from any state: contents from a seed (xorshift,
+/// so that a case costs microseconds, not 4 591 draws of proptest), and a bitmap of
+/// known bytes all clear, all set, any, or byte by byte one of the three.
+fn memory_state() -> impl Strategy<Value = contents::MemoryState> {
+    (any::<u64>(), 0u8..4).prop_map(|(seed, bitmap)| {
+        let mut x = seed | 1;
+        let mut next = move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x as u8
+        };
+        let bytes = core::array::from_fn(|_| next());
+        let known = core::array::from_fn(|_| match (bitmap, next() % 3) {
+            (0, _) | (3, 0) => 0,
+            (1, _) | (3, 1) => 0xFF,
+            _ => next(),
+        });
+        contents::MemoryState { bytes, known }
+    })
+}
+
+/// An operation of `kind` at any position (mostly a block boundary, as fields start),
+/// a read's count or a free's end mostly near its start, else anywhere.
+fn memory_op(kind: impl Strategy<Value = u8>) -> impl Strategy<Value = contents::MemoryOp> {
+    let extent = (prop_oneof![3 => Just(true), 1 => Just(false)], 0usize..=160, memory_position());
+    (kind, free_start(), extent, any::<[u8; 8]>(), 0usize..=8).prop_map(
+        |(kind, at, (near, small, anywhere), data, len)| {
+            let extent = match (near, kind % 3) {
+                (false, _) => anywhere,
+                (true, contents::READ) | (true, contents::WRITE) => small,
+                (true, _) => at.saturating_add(small),
+            };
+            contents::MemoryOp { kind, at, extent, data, len }
+        },
+    )
+}
+
+/// `ops` operations of `kind` from sampled memory states, the byte probed mostly near
+/// an operation's start (before or in it), else anywhere.
+fn field_memory_from_any(kind: impl Strategy<Value = u8> + Clone, ops: usize) -> Result<u64, String> {
+    field_memory_from_any_at(kind, ops, None, 8)
+}
+
+/// [`field_memory_from_any`], every operation at `at` where given, a write of at most
+/// `max_len` bytes.
+fn field_memory_from_any_at(
+    kind: impl Strategy<Value = u8> + Clone,
+    ops: usize,
+    at: Option<usize>,
+    max_len: usize,
+) -> Result<u64, String> {
+    let probe = (0usize..2, 0usize..140, memory_position());
+    let strategy = (
+        memory_state(),
+        prop::collection::vec(memory_op(kind), ops),
+        prop_oneof![3 => Just(true), 1 => Just(false)],
+        probe,
+    );
+    sample(strategy, 20_000, |(state, ops, near, (which, delta, anywhere))| {
+        let mut ops = ops.clone();
+        for op in ops.iter_mut() {
+            op.at = at.unwrap_or(op.at);
+            op.len = op.len.min(max_len);
+        }
+        let probe = match ops.get(*which % ops.len().max(1)) {
+            Some(op) if *near => op.at.saturating_add(*delta).saturating_sub(4),
+            _ => *anywhere,
+        };
+        contents::memory_ops_from_any(state, &ops, probe, true)
+    })
+}
+
+/// One frame of `command` from a sampled state of SEK37 (`parts_strategy`) on two
+/// sampled memories; a sampled twin of the `contents_blind_*` harnesses (most frames
+/// to the own address with the checksum right and the field number mostly 0 to 3, so
+/// that the command's own code runs on a field). Fails if fewer than half the samples
+/// build a state.
+pub fn contents_blind_sampled(family: &[(u8, usize)], cases: u32, shape: fn(&mut [u8])) -> Result<u64, String> {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    let built = AtomicU64::new(0);
+    let frame = any::<[u8; inductive::MAX_FAMILY_FRAME]>();
+    let memories = (memory_state(), memory_state(), 0u8..4);
+    let strategy = (
+        parts_strategy(),
+        frame,
+        any::<bool>(),
+        memories,
+        0u64..3_000_000,
+        prop_oneof![4 => Just(false), 1 => Just(true)],
+    );
+    let n = sample(strategy, cases, |(parts, frame, sealed, (first, second, field), now, fault)| {
+        let Some(state) = parts.build(profiles::sek37()) else { return true };
+        built.fetch_add(1, Ordering::Relaxed);
+        family.iter().all(|&(command, data)| {
+            let mut frame = inductive::request_of(frame, command, data);
+            frame[0] = state.nonvolatile().address.byte();
+            frame[2] = *field;
+            let frame = &mut frame[..3 + data];
+            shape(frame);
+            if *sealed || *field < 2 {
+                let (sum, body) = frame.split_last_mut().expect("3 bytes or more");
+                *sum = hiperface_model::checksum::xor(body);
+            }
+            contents::step_blind_to_contents(&state, first.memory(), second.memory(), frame, *now, *fault)
+        })
+    })?;
+    let built = built.load(Ordering::Relaxed);
+    if built * 2 < n {
+        return Err(format!("only {built} of {n} samples built a state satisfying the invariant"));
+    }
+    Ok(built)
+}
+
 /// The claim of each whole-step harness, one command each (its domain names it).
 const ONE_COMMAND_CLAIM: &str = "the invariant is inductive for one command: from any state satisfying it, one frame of it keeps it and the frame rules hold (000:2.3.4, 000:T9, 000:T27, 000:2.4.2)";
 
@@ -697,6 +811,89 @@ pub const PROPERTIES: &[Property] = &[
         exhaustive: false,
         harness: None,
         run: field_memory_contents,
+    },
+    Property {
+        name: "field_memory_any_read",
+        claim: "from any memory state a read answers exactly when its bytes lie in the memory, with the memory's own bytes and, up to 128 bytes, the stub's length; it changes nothing; no panic (DESIGN:fields, 000:T21)",
+        domain: "any memory state (any contents, any bitmap of known bytes), a read of any count at any position, any byte probed",
+        exhaustive: false,
+        harness: Some("field_memory_any_read"),
+        run: || field_memory_from_any(Just(contents::READ), 1),
+    },
+    Property {
+        name: "field_memory_any_write",
+        claim: "from any memory state a write answers whether its bytes lie in the memory; a byte written holds its value and is known, every other byte and bit stays; no panic (DESIGN:fields, 000:T22)",
+        domain: "any memory state (any contents, any bitmap of known bytes), 0 to 8 bytes written at any position, any byte probed",
+        exhaustive: false,
+        harness: Some("field_memory_any_write"),
+        run: || field_memory_from_any(Just(contents::WRITE), 1),
+    },
+    Property {
+        name: "field_memory_any_free",
+        claim: "from any memory state freeing erases and forgets the bytes freed (at most 8 blocks from its start, below its end), every other byte and bit stays; no panic (DESIGN:fields, 000:T24)",
+        domain: "any memory state (any contents, any bitmap of known bytes), any range freed, any byte probed",
+        exhaustive: false,
+        harness: Some("field_memory_any_free"),
+        run: || field_memory_from_any(Just(2u8), 1),
+    },
+    Property {
+        name: "field_memory_any_write_block",
+        claim: "the same for a write at a block boundary where a field starts (DESIGN:fields, 000:T22)",
+        domain: "any memory state (any contents, any bitmap of known bytes), 0 to 8 bytes written at the second block (byte 16), any byte probed",
+        exhaustive: false,
+        harness: Some("field_memory_any_write_block"),
+        run: || field_memory_from_any_at(Just(contents::WRITE), 1, Some(contents::FREE_BLOCK), 8),
+    },
+    Property {
+        name: "field_memory_any_free_block",
+        claim: "the same for a free from a block boundary where a field starts, read back (DESIGN:fields, 000:T24)",
+        domain: "any memory state (any contents, any bitmap of known bytes), a free from the second block (byte 16) to any end, any byte probed",
+        exhaustive: false,
+        harness: Some("field_memory_any_free_block"),
+        run: || field_memory_from_any_at(Just(2u8), 1, Some(contents::FREE_BLOCK), 8),
+    },
+    Property {
+        name: "field_memory_any_two",
+        claim: "the same for two operations in a row, each a read or a write (DESIGN:fields)",
+        domain: "any memory state (any contents, any bitmap of known bytes), two operations in a row (each a read or a write of 0 to 2 bytes, at any position), any byte probed",
+        exhaustive: false,
+        harness: Some("field_memory_any_two"),
+        run: || field_memory_from_any_at(0u8..2, 2, None, 2),
+    },
+    Property {
+        name: "contents_blind_read_data",
+        claim: "no control flow of Read Data depends on the field memory's contents or bitmap: on two memories one frame leaves the same state but the contents and the same reply but its data bytes (DESIGN:fields, 000:T21)",
+        domain: "every state of SEK37 satisfying the invariant (at most 3 data fields) on two memories in any states, every frame of Read Data (4Ah) asking for 0 to 16 or more than 128 bytes at any time, with and without a UART fault",
+        exhaustive: false,
+        harness: Some("contents_blind_read_data"),
+        run: || contents_blind_sampled(&[(0x4A, 4)], 3000, inductive::read_data_short),
+    },
+    Property {
+        name: "contents_blind_store_data_one_byte",
+        claim: "no control flow of Store Data depends on the field memory's contents or bitmap: on two memories one frame leaves the same state but the contents and the same reply (DESIGN:fields, 000:T22)",
+        domain: "every state of SEK37 satisfying the invariant (at most 3 data fields) on two memories in any states, every frame of Store Data (4Bh) with 1 data byte at any time, with and without a UART fault",
+        exhaustive: false,
+        harness: Some("contents_blind_store_data_one_byte"),
+        run: || contents_blind_sampled(&[(0x4B, 5)], 3000, |_| {}),
+    },
+    Property {
+        name: "contents_blind_create_data_field",
+        claim: "no control flow of Create Data Field depends on the field memory's contents or bitmap: on two memories one frame leaves the same state but the contents and the same reply (DESIGN:fields, 000:T24)",
+        domain: "every state of SEK37 satisfying the invariant (at most 3 data fields) on two memories in any states, every frame of Create Data Field (4Dh) at any time, with and without a UART fault",
+        exhaustive: false,
+        harness: Some("contents_blind_create_data_field"),
+        run: || contents_blind_sampled(&[(0x4D, 3)], 3000, |_| {}),
+    },
+    Property {
+        name: "contents_blind",
+        claim: "no control flow of any command depends on the field memory's contents or bitmap but Read Data's reply, which copies them (DESIGN:fields)",
+        domain: "(no harness: the data field commands have theirs) every state of SEK37 satisfying the invariant (at most 3 data fields) on two memories in any states, one frame of every command of the current edition and of Store Data with 1 to 4 data bytes, at any time, with and without a UART fault",
+        exhaustive: false,
+        harness: None,
+        run: || {
+            let families = [inductive::POSITION, inductive::COUNTER, inductive::FIELDS, inductive::STORE_DATA, inductive::SETTINGS, inductive::STATUS];
+            contents_blind_sampled(&families.concat(), 1000, |_| {})
+        },
     },
     Property {
         name: "inductive_read_counter",

@@ -18,6 +18,9 @@ pub const MAX_FIELD_BLOCKS: usize = 8;
 pub const MAX_FIELDS: usize = 255;
 /// Erased EEPROM reads FFh (001 §5.1.4 reads 16 x FFh from a new field).
 pub const ERASED: u8 = 0xFF;
+/// The bytes of [`FieldMemory`]'s bitmap of known bytes: a bit per byte of the memory,
+/// and a last byte whose bits lie past its end (no byte there to know).
+pub const KNOWN_BYTES: usize = MAX_MEMORY / 8 + 1;
 
 /// A data field status byte. // 000:T23
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -215,13 +218,21 @@ impl FieldTable {
 pub struct FieldMemory {
     bytes: [u8; MAX_MEMORY],
     /// One bit per byte of `bytes`: its contents are known.
-    known: [u8; MAX_MEMORY / 8 + 1],
+    known: [u8; KNOWN_BYTES],
 }
 
 impl FieldMemory {
     /// Memory as a new device has it: every byte FFh, none known.
     pub const fn erased() -> FieldMemory {
         FieldMemory { bytes: [ERASED; MAX_MEMORY], known: [0; MAX_MEMORY / 8 + 1] }
+    }
+
+    /// Memory in a state given byte by byte: `bytes`, and `known` a bit per byte (byte
+    /// `i` at bit `i % 8` of `known[i / 8]`), for proofs that start from any contents
+    /// (proofs/src/contents.rs). The bits past the memory's end are the caller's: the
+    /// operations never set them.
+    pub const fn from_contents(bytes: [u8; MAX_MEMORY], known: [u8; KNOWN_BYTES]) -> FieldMemory {
+        FieldMemory { bytes, known }
     }
 
     /// Bytes `start..start + count`; `None` past the memory's end.
@@ -362,6 +373,13 @@ impl DataFields {
     /// shrunk or deleted: at most one field's 8 blocks) need freeing.
     fn free_up_to(&mut self, old_end: usize) {
         self.memory.free(self.table.end(), old_end);
+    }
+
+    /// The contents replaced by `memory` (the table as it is), the old ones returned:
+    /// for proofs that step a slave from any contents and compare what is left
+    /// (proofs/src/contents.rs).
+    pub fn replace_memory(&mut self, memory: FieldMemory) -> FieldMemory {
+        core::mem::replace(&mut self.memory, memory)
     }
 
     /// Whether the memory past the last field reads FFh and is unknown, as
@@ -553,6 +571,25 @@ mod tests {
         m.free(0, 4);
         assert_eq!(m.read(3, 2), Some(&[ERASED, 1][..]));
         assert!(!m.is_known(3) && m.is_known(4) && m.is_known(7));
+    }
+
+    /// A byte written twice stays known, whatever its bit's place in the bitmap: the
+    /// eighth byte of a bitmap byte (`at % 8 == 7`, the top bit) written again, as a
+    /// second Store Data to the same byte does (000:T22). Marking a byte known by
+    /// adding its bit instead of or-ing it overflows there (found by the Kani
+    /// harnesses from any memory state, issue 60).
+    #[test]
+    fn a_byte_written_twice_stays_known() {
+        let mut m = FieldMemory::erased();
+        for at in [7, 15, MAX_MEMORY - 1] {
+            assert!(m.write(at, &[1]) && m.write(at, &[2]), "{at}");
+            assert_eq!(m.read(at, 1), Some(&[2][..]));
+            assert!(m.is_known(at) && !m.is_known(at - 1), "{at}");
+        }
+        // Every bit of one bitmap byte set, then each byte of it written again.
+        assert!(m.write(16, &[3; 8]) && m.write(16, &[4; 8]));
+        assert_eq!(m.read(16, 8), Some(&[4; 8][..]));
+        assert!((16..24).all(|i| m.is_known(i)) && !m.is_known(24) && !m.is_known(14));
     }
 
     #[test]

@@ -259,6 +259,13 @@ impl Slave {
         true
     }
 
+    /// The data fields' contents replaced by `memory`, the old ones returned: for proofs
+    /// that step a slave from any contents and compare what is left
+    /// (proofs/src/contents.rs). Changes nothing else (not an EEPROM write).
+    pub fn replace_field_memory(&mut self, memory: fields::FieldMemory) -> fields::FieldMemory {
+        self.nv.fields.replace_memory(memory)
+    }
+
     /// Adopt data-field bytes a real device returned for bytes the model did not
     /// know (see [`fields::Contents`]). Not an EEPROM write.
     pub fn adopt_field_data(&mut self, number: u8, offset: u8, data: &[u8]) -> bool {
