@@ -7,6 +7,17 @@ use hiperface_model::{profiles, RequestFrame, RxChar, Slave};
 use proptest::prelude::*;
 use std::ptr::{null, null_mut};
 
+/// A transmission to be written by `hf_slave_poll`.
+fn no_transmission() -> HfTransmission {
+    HfTransmission {
+        frame: [0; HF_MAX_FRAME],
+        len: 0,
+        earliest_start_us: 0,
+        latest_start_us: 0,
+        settings: HfUartSettings { byte: 0, bits_per_second: 0 },
+    }
+}
+
 fn new_slave(profile: &str) -> *mut HfSlave {
     let name = std::ffi::CString::new(profile).unwrap();
     let mut s = null_mut();
@@ -48,13 +59,7 @@ proptest! {
             let uart = [None, Some(hiperface_model::UartFault::Parity), Some(hiperface_model::UartFault::Framing),
                         Some(hiperface_model::UartFault::Noise), Some(hiperface_model::UartFault::Overrun)][fault as usize];
             let mut expected = model.receive(RxChar { byte, at_us: t, fault: uart });
-            let mut tx = HfTransmission {
-                frame: [0; HF_MAX_FRAME],
-                len: 0,
-                earliest_start_us: 0,
-                latest_start_us: 0,
-                settings: HfUartSettings { byte: 0, bits_per_second: 0 },
-            };
+            let mut tx = no_transmission();
             let got = unsafe { hf_slave_poll(s, t, &mut tx) };
             if expected.is_none() {
                 expected = model.poll(t);
@@ -110,13 +115,7 @@ proptest! {
                 prop_assert_eq!(unsafe { hf_slave_next_deadline(s, t, &mut due) }, HfStatus::Ok);
                 prop_assert_eq!(due, t);
             }
-            let mut tx = HfTransmission {
-                frame: [0; HF_MAX_FRAME],
-                len: 0,
-                earliest_start_us: 0,
-                latest_start_us: 0,
-                settings: HfUartSettings { byte: 0, bits_per_second: 0 },
-            };
+            let mut tx = no_transmission();
             let polled = unsafe { hf_slave_poll(s, t, &mut tx) };
             match expected.or_else(|| model.poll(t)).and_then(|e| e.transmission) {
                 Some(e) => {
@@ -187,13 +186,7 @@ fn a_slave_in_the_callers_storage() {
     assert_eq!(unsafe { hf_slave_init(odd, hf_slave_size(), name.as_ptr(), &mut s) }, HfStatus::ShortBuffer);
     assert_eq!(unsafe { hf_slave_init(base, hf_slave_size(), c"nope".as_ptr(), &mut s) }, HfStatus::UnknownProfile);
     assert_eq!(unsafe { hf_slave_init(base, hf_slave_size(), name.as_ptr(), &mut s) }, HfStatus::Ok);
-    let mut tx = HfTransmission {
-        frame: [0; HF_MAX_FRAME],
-        len: 0,
-        earliest_start_us: 0,
-        latest_start_us: 0,
-        settings: HfUartSettings { byte: 0, bits_per_second: 0 },
-    };
+    let mut tx = no_transmission();
     for (i, b) in [0x40u8, 0x50, 0x10].into_iter().enumerate() {
         assert_eq!(unsafe { hf_slave_receive(s, b, 1_000 + i as u64 * 1_146, 0) }, HfStatus::Ok);
     }
@@ -232,13 +225,7 @@ fn answers(s: *mut HfSlave) -> Vec<Vec<u8>> {
             assert_eq!(unsafe { hf_slave_receive(s, b, t, 0) }, HfStatus::Ok);
         }
         t += 1_000_000;
-        let mut tx = HfTransmission {
-            frame: [0; HF_MAX_FRAME],
-            len: 0,
-            earliest_start_us: 0,
-            latest_start_us: 0,
-            settings: HfUartSettings { byte: 0, bits_per_second: 0 },
-        };
+        let mut tx = no_transmission();
         let got = unsafe { hf_slave_poll(s, t, &mut tx) };
         out.push(if got == HfStatus::Ok { tx.frame[..tx.len].to_vec() } else { Vec::new() });
     }
