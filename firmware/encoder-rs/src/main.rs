@@ -19,15 +19,16 @@
 #![no_main]
 #![deny(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
+mod board;
 mod regs;
 
-use core::cell::{Cell, RefCell};
-use core::panic::PanicInfo;
+use board::{clock_start, now_us};
+use core::cell::RefCell;
 use cortex_m::interrupt::{free, CriticalSection, Mutex};
 use cortex_m::peripheral::NVIC;
 use cortex_m_rt::entry;
 use hiperface_model::{profiles, RxChar, Slave, Transmission, UartFault, UartSettings};
-use regs::{uart, Irq, ALARM_TIMER, CLOCK_TIMER, TICKS_PER_US, TIMER_EN, TIMER_IRQEN};
+use regs::{uart, Irq};
 
 /// The encoder's state: the model and what is on its way out.
 struct Encoder {
@@ -43,8 +44,6 @@ struct Encoder {
 }
 
 static ENCODER: Mutex<RefCell<Option<Encoder>>> = Mutex::new(RefCell::new(None));
-/// TIMER0's wraps (2^32 ticks each, 171.8 s at 25 MHz): the clock's upper bits.
-static WRAPS: Mutex<Cell<u32>> = Mutex::new(Cell::new(0));
 
 /// The profile the harness is run with (`--profile SRS50`).
 fn profile() -> hiperface_model::Profile {
@@ -79,35 +78,7 @@ fn main() -> ! {
     }
 }
 
-// ---- The clock (TIMER0) and the alarm (TIMER1) ----
-
-fn clock_start() {
-    CLOCK_TIMER.ctrl().write(0);
-    // Writing RELOAD sets the count too; the counter wraps every 2^32 ticks.
-    CLOCK_TIMER.reload().write(u32::MAX);
-    CLOCK_TIMER.intstatus().write(1);
-    CLOCK_TIMER.ctrl().write(TIMER_EN | TIMER_IRQEN);
-    ALARM_TIMER.ctrl().write(0);
-    ALARM_TIMER.intstatus().write(1);
-}
-
-/// The time since boot in µs, from TIMER0 and its wraps. Inside a critical section
-/// the wrap interrupt cannot run: a wrap it has not counted yet shows as its pending
-/// bit, read on both sides of the count so that count and wrap agree.
-fn now_us(cs: &CriticalSection) -> u64 {
-    let wraps = WRAPS.borrow(cs).get() as u64;
-    let (pending, value) = loop {
-        let before = CLOCK_TIMER.intstatus().read() & 1;
-        let value = CLOCK_TIMER.value().read();
-        let after = CLOCK_TIMER.intstatus().read() & 1;
-        if before == after {
-            break (before as u64, value);
-        }
-    };
-    // A down-counter: the ticks into this period are 2^32 - value (0 just as it wraps).
-    let ticks = ((wraps + pending) << 32) + 0u32.wrapping_sub(value) as u64;
-    ticks / TICKS_PER_US
-}
+// ---- The alarm (TIMER1; board.rs has the clock) ----
 
 /// How much longer than asked the alarm waits: 1 in the clean image.
 const DEFECT_FACTOR: u64 = if cfg!(feature = "defect-timeout-x4") {
@@ -118,22 +89,13 @@ const DEFECT_FACTOR: u64 = if cfg!(feature = "defect-timeout-x4") {
     1
 };
 
-/// Arm TIMER1 to interrupt at `at_us` (a clock reading), or disarm it.
+/// Arm the alarm for `at_us`, or disarm it. The planted defect (features
+/// `defect-timeout-x2`, `defect-timeout-x4`): the alarm waits twice (four times) the
+/// delay, so a request's character timeout (000:2.2.2) is taken as over late and the
+/// reply starts late (000:T10).
 fn alarm(at_us: Option<u64>, now_us: u64) {
-    ALARM_TIMER.ctrl().write(0);
-    ALARM_TIMER.intstatus().write(1);
-    let Some(at) = at_us else { return };
-    let delay_us = at.saturating_sub(now_us);
-    // The planted defect (features `defect-timeout-x2`, `defect-timeout-x4`): the
-    // alarm waits twice (four times) the delay, so a request's character timeout
-    // (000:2.2.2) is taken as over late and the reply starts late (000:T10).
-    let delay_us = delay_us.saturating_mul(DEFECT_FACTOR);
-    // Rounded up to a tick so that the alarm never comes before the deadline; a
-    // deadline beyond one count (171 s) interrupts early and is armed again.
-    let ticks = delay_us.saturating_mul(TICKS_PER_US).clamp(1, u32::MAX as u64) as u32;
-    // Writing RELOAD sets the count too.
-    ALARM_TIMER.reload().write(ticks);
-    ALARM_TIMER.ctrl().write(TIMER_EN | TIMER_IRQEN);
+    let late = at_us.map(|at| now_us.saturating_add(at.saturating_sub(now_us).saturating_mul(DEFECT_FACTOR)));
+    board::alarm(late, now_us);
 }
 
 // ---- The UART ----
@@ -287,33 +249,11 @@ extern "C" fn UART0_TX() {
     });
 }
 
-/// TIMER0 wrapped: count it (the clock's upper bits).
-#[no_mangle]
-extern "C" fn TIMER0() {
-    free(|cs| {
-        CLOCK_TIMER.intstatus().write(1);
-        let w = WRAPS.borrow(cs);
-        w.set(w.get().wrapping_add(1));
-    });
-}
-
 /// TIMER1: a deadline is due.
 #[no_mangle]
 extern "C" fn TIMER1() {
     with_encoder(|enc, now, _| {
-        ALARM_TIMER.ctrl().write(0);
-        ALARM_TIMER.intstatus().write(1);
+        board::alarm_off();
         enc.service(now);
     });
-}
-
-#[panic_handler]
-fn panic(_: &PanicInfo) -> ! {
-    // Nothing in the image panics on what it receives (the model denies panics);
-    // were it to, the encoder falls silent, as a watchdog-less device would, and the
-    // harness reports a silent device.
-    cortex_m::interrupt::disable();
-    loop {
-        cortex_m::asm::wfi();
-    }
 }

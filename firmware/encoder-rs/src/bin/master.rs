@@ -19,18 +19,20 @@
 #![no_main]
 #![deny(clippy::unwrap_used, clippy::expect_used, clippy::panic, clippy::indexing_slicing)]
 
+#[path = "../board.rs"]
+mod board;
 #[path = "../regs.rs"]
 mod regs;
 
-use core::cell::{Cell, RefCell};
-use core::panic::PanicInfo;
+use board::{alarm, alarm_off, clock_start, now_us};
+use core::cell::RefCell;
 use cortex_m::interrupt::{free, CriticalSection, Mutex};
 use cortex_m::peripheral::NVIC;
 use cortex_m_rt::entry;
 use hiperface_model::frame::Frame;
 use hiperface_model::master::reference::{Action, Done, Options, ReferenceMaster};
 use hiperface_model::{profiles, UartSettings};
-use regs::{uart, Irq, ALARM_TIMER, CLOCK_TIMER, TICKS_PER_US, TIMER_EN, TIMER_IRQEN};
+use regs::{uart, Irq};
 
 /// The line's settings: the encoder's default (000:T4); the reference master never
 /// changes them.
@@ -67,8 +69,6 @@ struct Drive {
 }
 
 static DRIVE: Mutex<RefCell<Option<Drive>>> = Mutex::new(RefCell::new(None));
-/// TIMER0's wraps: the clock's upper bits.
-static WRAPS: Mutex<Cell<u32>> = Mutex::new(Cell::new(0));
 
 #[entry]
 fn main() -> ! {
@@ -106,39 +106,6 @@ fn main() -> ! {
     }
 }
 
-fn clock_start() {
-    CLOCK_TIMER.ctrl().write(0);
-    CLOCK_TIMER.reload().write(u32::MAX);
-    CLOCK_TIMER.intstatus().write(1);
-    CLOCK_TIMER.ctrl().write(TIMER_EN | TIMER_IRQEN);
-    ALARM_TIMER.ctrl().write(0);
-    ALARM_TIMER.intstatus().write(1);
-}
-
-/// The time since boot in µs (as the encoder image reads it).
-fn now_us(cs: &CriticalSection) -> u64 {
-    let wraps = WRAPS.borrow(cs).get() as u64;
-    let (pending, value) = loop {
-        let before = CLOCK_TIMER.intstatus().read() & 1;
-        let value = CLOCK_TIMER.value().read();
-        let after = CLOCK_TIMER.intstatus().read() & 1;
-        if before == after {
-            break (before as u64, value);
-        }
-    };
-    let ticks = ((wraps + pending) << 32) + 0u32.wrapping_sub(value) as u64;
-    ticks / TICKS_PER_US
-}
-
-/// Arm TIMER1 for `at_us`, rounded up to a tick (never before it).
-fn alarm(at_us: u64, now_us: u64) {
-    ALARM_TIMER.ctrl().write(0);
-    ALARM_TIMER.intstatus().write(1);
-    let ticks = at_us.saturating_sub(now_us).saturating_mul(TICKS_PER_US).clamp(1, u32::MAX as u64) as u32;
-    ALARM_TIMER.reload().write(ticks);
-    ALARM_TIMER.ctrl().write(TIMER_EN | TIMER_IRQEN);
-}
-
 impl Drive {
     /// Do what the model says.
     fn act(&mut self, action: Action, now: u64, cs: &CriticalSection) {
@@ -157,13 +124,13 @@ impl Drive {
                 let action = self.machine.next(Done::Waited { now_us: now }, &mut |_| {});
                 self.act(action, now_us(cs), cs)
             }
-            State::Waiting { until_us } => alarm(*until_us, now),
+            State::Waiting { until_us } => alarm(Some(*until_us), now),
             // 000:2.2.2: a transmission ends with a pause of the timeout; the request
             // waits for it after whatever was last on the line.
             State::Ready { request, listen_ms } => {
                 let free_at = self.idle_since_us + self.timeout_us;
                 if now < free_at {
-                    return alarm(free_at, now);
+                    return alarm(Some(free_at), now);
                 }
                 let (request, listen_ms) = (*request, *listen_ms);
                 let mut written = 0;
@@ -182,7 +149,7 @@ impl Drive {
                     _ => self.idle_since_us + self.timeout_us,
                 };
                 if now < due {
-                    return alarm(due, now);
+                    return alarm(Some(due), now);
                 }
                 let (request_end_us, reply) = (*request_end_us, *reply);
                 let done = Done::Exchanged {
@@ -263,27 +230,9 @@ extern "C" fn UART0_TX() {
 }
 
 #[no_mangle]
-extern "C" fn TIMER0() {
-    free(|cs| {
-        CLOCK_TIMER.intstatus().write(1);
-        let w = WRAPS.borrow(cs);
-        w.set(w.get().wrapping_add(1));
-    });
-}
-
-#[no_mangle]
 extern "C" fn TIMER1() {
     with_drive(|drive, now, cs| {
-        ALARM_TIMER.ctrl().write(0);
-        ALARM_TIMER.intstatus().write(1);
+        alarm_off();
         drive.service(now, cs);
     });
-}
-
-#[panic_handler]
-fn panic(_: &PanicInfo) -> ! {
-    cortex_m::interrupt::disable();
-    loop {
-        cortex_m::asm::wfi();
-    }
 }
