@@ -4,8 +4,9 @@
 
 mod common;
 
+use common::faithfully;
 use common::hx1::{self, Hx1};
-use common::line_emulator::{faithfully, Behaviour, LineEmulator};
+use common::line_emulator::{Behaviour, LineEmulator};
 use hiperface_conformance::line::echo::{Echo, EchoLine, EchoMode};
 use hiperface_conformance::line::serial::SerialLine;
 use hiperface_conformance::master;
@@ -86,7 +87,8 @@ fn an_echoing_line_is_found_and_its_echo_taken_off_against_hx1() {
         let hx1 = Hx1::start(&[]);
         let emulator = LineEmulator::open(&hx1.path, Behaviour { echo: true, ..Behaviour::default() });
         let r = certify_through(&emulator, hx1::profile(), EchoMode::Auto, &options);
-        (emulator.was_faithful(), r)
+        // HX-1's lateness spoils only an outcome it could have made (see Hx1::kept_time).
+        (emulator.was_faithful() && (failed(&r).is_empty() || hx1.kept_time()), r)
     });
     assert_eq!(failed(&r), Vec::<String>::new());
     assert!(r.outcome().passed(), "{:?} {:?}", r.summary, r.aborted);

@@ -28,6 +28,8 @@ pub fn legacy_profile(settings: u8) -> Profile {
 pub struct Hx1 {
     child: Child,
     pub path: String,
+    /// Where HX-1 notes each reply the machine made it late with (`--late-log`).
+    late_log: Option<tempfile::NamedTempFile>,
 }
 
 impl Hx1 {
@@ -37,7 +39,31 @@ impl Hx1 {
     /// the harness rightly FAILs (seen: late-reply's and store-read-only's replies 14 to
     /// 16 ms late in 1 of 3 runs with three busy loops on the two cores).
     pub fn start(args: &[&str]) -> Hx1 {
-        Hx1::start_program("hx1_slave.py", args, Duration::from_millis(250))
+        let late_log = tempfile::NamedTempFile::new().expect("a file for HX-1's lateness");
+        let log = late_log.path().to_str().expect("a UTF-8 temporary path").to_string();
+        let args: Vec<&str> = args.iter().copied().chain(["--late-log", log.as_str()]).collect();
+        let mut hx1 = Hx1::start_program("hx1_slave.py", &args, Duration::from_millis(250));
+        hx1.late_log = Some(late_log);
+        hx1
+    }
+
+    /// The replies the machine made HX-1 late with (its own clock's word, more than
+    /// 3 ms: woken after a reply's time or held off a processor), empty where it kept
+    /// time. A run with any is no sample of HX-1's behaviour: a device has a processor
+    /// of its own. Always empty for HX-L, which does not keep the log.
+    pub fn late_replies(&self) -> Vec<String> {
+        let Some(log) = &self.late_log else { return Vec::new() };
+        std::fs::read_to_string(log.path()).unwrap_or_default().lines().map(str::to_string).collect()
+    }
+
+    /// Whether HX-1 kept time throughout (see [`Hx1::late_replies`]); says so on
+    /// standard error where it did not.
+    pub fn kept_time(&self) -> bool {
+        let late = self.late_replies();
+        if !late.is_empty() {
+            eprintln!("HX-1 was made late by the machine ({} replies): {late:?}; the run is taken again", late.len());
+        }
+        late.is_empty()
     }
 
     /// Start HX-L, the legacy-edition slave, past its power-up: 002 keeps the default
@@ -71,7 +97,7 @@ impl Hx1 {
         // and its window of default settings it is operational, as the harness
         // expects a device under test to be.
         std::thread::sleep(power_up);
-        Hx1 { child, path }
+        Hx1 { child, path, late_log: None }
     }
 }
 

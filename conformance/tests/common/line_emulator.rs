@@ -121,17 +121,6 @@ impl LineEmulator {
     }
 }
 
-/// Run `attempt` through a fresh emulator until one was faithful (at most 5 times).
-pub fn faithfully<T>(mut attempt: impl FnMut() -> (bool, T)) -> T {
-    for _ in 0..5 {
-        let (faithful, result) = attempt();
-        if faithful {
-            return result;
-        }
-    }
-    panic!("the line emulator was never on time: the machine is too busy for a real-time test");
-}
-
 impl Drop for LineEmulator {
     fn drop(&mut self) {
         self.stop.store(true, Ordering::Relaxed);
