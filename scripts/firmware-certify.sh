@@ -28,9 +28,11 @@
 # Prints the image's sha256, the board and `qemu-system-arm --version` (on the
 # certificate as its `device` rows, and in firmware.txt beside the report), then the
 # harness's console; the reports go to target/firmware/<clean|feature>/ (Rust) and
-# target/firmware/c-<clean|defect>/ (C). Exits as the harness does
-# (FIRMWARE_REPORT=DIR puts them elsewhere; 0 PASSED, 1 FAILED, 3 INCOMPLETE, 2 could
-# not start). QEMU is stopped on every exit path.
+# target/firmware/c-<clean|defect>/ (C). Each report is then played back with
+# `hiperface decode` (decode.txt), which must give the run's outcome. Exits as the
+# harness does (FIRMWARE_REPORT=DIR puts them elsewhere; 0 PASSED, 1 FAILED,
+# 3 INCOMPLETE, 2 could not start; 4 when decode gives another outcome than the run).
+# QEMU is stopped on every exit path.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -125,6 +127,21 @@ device=(--device "image: $image_name sha256 $sha" --device "board: $board (QEMU:
   fi
 } | tee "$out/firmware.txt"
 
+# The run's report played back from the record of its wire (`decode`): the same
+# verdicts, or the report is no evidence of them (exit 4). Its exit is the outcome, as
+# the certification's was.
+decoded() {
+  local certified=$1 status=0
+  [ -f "$out/report.json" ] || return 0
+  "$hiperface" decode "$out/report.json" --quiet >"$out/decode.txt" 2>&1 9>&- || status=$?
+  echo "decode of report.json: exit $status ($(head -1 "$out/decode.txt"))" | tee -a "$out/firmware.txt"
+  if [ "$status" != "$certified" ]; then
+    echo "decode of the report gives exit $status where the run gave $certified:" >&2
+    cat "$out/decode.txt" >&2
+    exit 4
+  fi
+}
+
 qemu_log=$out/qemu.log
 qemu_pid=
 cleanup() {
@@ -180,7 +197,8 @@ if [ "$variant" = master ]; then
   "$hiperface" certify master --profile "$profile" "${device[@]}" \
     --exec "${rt[*]} qemu-system-arm -M $board -display none -monitor none -serial {port} -kernel $image" \
     --report "$out" "$@" 9>&- || status=$?
-  echo "report: $out (certificate.md, report.json, junit.xml; firmware.txt, image.elf)"
+  decoded "$status"
+  echo "report: $out (certificate.md, report.json, junit.xml; firmware.txt, decode.txt, image.elf)"
   exit $status
 fi
 setsid "${rt[@]}" qemu-system-arm -M "$board" -display none -monitor none -serial pty -kernel "$image" \
@@ -239,7 +257,9 @@ done
 waited=$(($(qemu_waited_ms) - waited_before))
 echo "QEMU waited for a processor $waited ms in all during the run (its threads' run delay)" |
   tee -a "$out/firmware.txt"
+cleanup
+decoded "$status"
 if [ -f "$out/certificate.md" ]; then
-  echo "report: $out (certificate.md, report.json, junit.xml; firmware.txt, qemu.log, image.elf)"
+  echo "report: $out (certificate.md, report.json, junit.xml; firmware.txt, decode.txt, qemu.log, image.elf)"
 fi
 exit $status

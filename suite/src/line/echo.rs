@@ -61,6 +61,10 @@ pub fn describe(state: Option<(Echo, EchoMode)>, what: &str) -> String {
     }
 }
 
+/// How long past its deadline an echo known to come is still waited for, µs: as long
+/// as the exchanges wait for a late reply (`exchange::LATE_REPLY_GRACE_MS`).
+const LATE_ECHO_GRACE_US: u64 = 1_000_000;
+
 /// A line with its echo handled.
 pub struct EchoLine<L: Line> {
     inner: L,
@@ -135,7 +139,14 @@ impl<L: Line> Line for EchoLine<L> {
         if self.echo == Echo::Quiet {
             return Ok(sent);
         }
-        let until = self.echo_deadline(&sent);
+        // An echo is on its way however late the machine delivers it (seen: none back
+        // by the deadline with three busy loops on a pseudo-terminal), and it comes
+        // before anything the device sends, which is on the wire after it; so it is
+        // waited for as a late reply is. What is read meanwhile decides as it comes,
+        // as it did by the deadline (a reply is told from the echo where the two
+        // differ); only a line that lost its echo, or a device silent at the first
+        // request, pays the whole wait.
+        let until = self.echo_deadline(&sent) + LATE_ECHO_GRACE_US;
         if self.mode == EchoMode::Off && self.echo == Echo::Echoes {
             // Found echoing under --echo off: whatever comes back now (the echo, or a
             // reply to an earlier request still on its way on a slow machine) is not
@@ -258,6 +269,17 @@ mod tests {
         line: VirtualLine<Slave>,
         corrupt: bool,
         back: VecDeque<RxChar>,
+        /// The machine's delivery delay: everything the harness reads (echo and
+        /// reply alike, in the order they were on the wire) reaches it this late, µs.
+        delay_us: u64,
+    }
+
+    impl Echoing {
+        /// The device's next character due by `until_us` as delivered.
+        fn device_char(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError> {
+            let d = self.delay_us;
+            Ok(self.line.recv(until_us.saturating_sub(d))?.map(|c| RxChar { at_us: c.at_us + d, ..c }))
+        }
     }
 
     impl Line for Echoing {
@@ -280,7 +302,7 @@ mod tests {
                 } else {
                     *b
                 };
-                self.back.push_back(RxChar::ok(byte, start + (i as u64 + 1) * ct));
+                self.back.push_back(RxChar::ok(byte, start + (i as u64 + 1) * ct + self.delay_us));
             }
             Ok(sent)
         }
@@ -288,11 +310,11 @@ mod tests {
         /// come first.
         fn recv(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError> {
             match self.back.front().map(|c| c.at_us) {
-                Some(at) if at <= until_us => match self.line.recv(at.saturating_sub(1))? {
+                Some(at) if at <= until_us => match self.device_char(at.saturating_sub(1))? {
                     Some(c) => Ok(Some(c)),
                     None => Ok(self.back.pop_front()),
                 },
-                _ => self.line.recv(until_us),
+                _ => self.device_char(until_us),
             }
         }
         fn start_of(&self, ch: &RxChar) -> Window {
@@ -319,7 +341,12 @@ mod tests {
     }
 
     fn echoing(corrupt: bool) -> Echoing {
-        Echoing { line: VirtualLine::new(Slave::operational(profiles::srs50())), corrupt, back: VecDeque::new() }
+        Echoing {
+            line: VirtualLine::new(Slave::operational(profiles::srs50())),
+            corrupt,
+            back: VecDeque::new(),
+            delay_us: 0,
+        }
     }
 
     fn read_all(line: &mut impl Line, until_us: u64) -> Vec<u8> {
@@ -363,6 +390,27 @@ mod tests {
         // An unparsed request is answered in the form of Read Encoder Status, 09h.
         assert_eq!(reply.get(..3), Some(&[0x40, 0x50, 0x09][..]), "{reply:02X?}");
         assert!(hiperface_model::checksum::is_valid(&reply));
+    }
+
+    /// A line known to echo, delivering 30 ms late (a busy machine's pseudo-terminal):
+    /// the echo is waited for past its deadline and taken off, the reply read after it
+    /// (was "the echo of [..] came back as []", a line fault, with three busy loops).
+    #[test]
+    fn a_late_echo_of_a_line_known_to_echo_is_waited_for() {
+        let mut line = EchoLine::new(Echoing { delay_us: 30_000, ..echoing(false) }, EchoMode::On);
+        let sent = line.send(&REQUEST).unwrap();
+        let reply = read_all(&mut line, sent.end.latest_us + 100_000);
+        assert_eq!(&reply[..2], &[0x40, 0x52], "the device's reply, without the echo: {reply:02X?}");
+        assert!(hiperface_model::checksum::is_valid(&reply));
+    }
+
+    /// `--echo on` over a line that does not echo: the reply read for the echo is a
+    /// line fault, after the wait, never the device's.
+    #[test]
+    fn echo_on_over_a_quiet_line_is_a_line_fault() {
+        let mut line = EchoLine::new(VirtualLine::new(Slave::operational(profiles::srs50())), EchoMode::On);
+        let e = line.send(&REQUEST).unwrap_err();
+        assert!(e.to_string().contains("not the device's"), "{e}");
     }
 
     #[test]
