@@ -18,8 +18,9 @@ mod common;
 
 use common::hx1::{legacy_profile, profile, Hx1};
 use hiperface_conformance::port::{self, PortSpec};
-use hiperface_conformance::slave::{self, CaseVerdict, Options, Report};
 use hiperface_model::Grading;
+use hiperface_suite::slave::{self, Options, Report};
+use hiperface_suite::verdict::CaseVerdict;
 
 /// What a user runs: every case, writes and counter allowed, a black box.
 fn options() -> Options {

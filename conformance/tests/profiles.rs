@@ -1,8 +1,8 @@
 //! Profiles as TOML: the shipped files equal the built-in profiles, and malformed
 //! files are rejected with the file, the line and the field.
 
-use hiperface_conformance::profile_file::{self, ProfileLoadError};
 use hiperface_model::profiles;
+use hiperface_suite::profile_file::{self, ProfileLoadError};
 use rstest::rstest;
 use std::path::{Path, PathBuf};
 

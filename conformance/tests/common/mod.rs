@@ -163,12 +163,13 @@ pub fn reference_drive(
     port: Box<dyn serialport::SerialPort>,
     profile: hiperface_model::Profile,
 ) -> std::thread::JoinHandle<()> {
-    use hiperface_conformance::{exchange::BusMaster, line::serial::SerialLine, master};
+    use hiperface_conformance::{line::serial::SerialLine, master};
+    use hiperface_suite::exchange::BusMaster;
     std::thread::spawn(move || {
         hiperface_conformance::sched::real_time_priority();
         let line = SerialLine::from_port(port, "drive".into(), profile.settings, true);
         let mut master = BusMaster::new(line, profile.edition);
-        let options = master::reference::Options { polling_period_ms: 20, duration_ms: Some(120_000) };
+        let options = hiperface_model::master::reference::Options { polling_period_ms: 20, duration_ms: Some(120_000) };
         let _ = master::reference::run(&mut master, profile, options, &mut |_: &str| {});
     })
 }
