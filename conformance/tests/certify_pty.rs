@@ -24,7 +24,7 @@ fn the_whole_catalogue_passes_against_the_simulator_over_a_pty() {
     profile.commands = hiperface_model::command::CommandSet::all_for(false);
     let (sim, port) = PtySimulator::start(profile).unwrap();
     // Real time on a shared CI machine: generous timing bounds (exact timing is
-    // checked in virtual time, tests/certify_defects.rs).
+    // checked in virtual time, suite/tests/certify_defects.rs).
     let line = SerialLine::from_port(port, sim.path.clone(), profile.settings, true).with_tolerance(GENEROUS_US);
     let report = slave::run(Box::new(line), profile, &Options::all_allowed(), |_, _, _| {});
     let failed: Vec<_> =

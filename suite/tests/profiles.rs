@@ -7,7 +7,7 @@ use rstest::rstest;
 use std::path::{Path, PathBuf};
 
 fn shipped(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("profiles").join(format!("{}.toml", name.to_lowercase()))
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../conformance/profiles").join(format!("{}.toml", name.to_lowercase()))
 }
 
 #[test]
