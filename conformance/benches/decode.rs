@@ -6,8 +6,8 @@
 //! profile in docs/src/watching-a-live-bus.md). Memory does not grow with the capture.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use hiperface_conformance::capture::Format;
-use hiperface_conformance::listen::listen_to;
+use hiperface_suite::capture::Format;
+use hiperface_suite::listen::listen_to;
 
 #[path = "support/decode_log.rs"]
 mod decode_log;
@@ -19,7 +19,7 @@ fn decode(c: &mut Criterion) {
     // The session is clean: every exchange must pass, or the figure means nothing.
     let summary = listen_to(text.as_bytes(), Some(Format::Wirelog), read, options.clone()).unwrap();
     assert_eq!(summary.exchanges, EXCHANGES as u64);
-    assert_eq!(summary.count(hiperface_conformance::verdict::CaseVerdict::Pass), EXCHANGES as u64);
+    assert_eq!(summary.count(hiperface_suite::verdict::CaseVerdict::Pass), EXCHANGES as u64);
     let mut g = c.benchmark_group("decode");
     g.sample_size(10);
     g.throughput(Throughput::Elements(2 * EXCHANGES as u64));

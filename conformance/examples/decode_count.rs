@@ -10,8 +10,8 @@
 //!
 //! (instructions are repeatable whatever else the machine does; time is the bench's).
 
-use hiperface_conformance::capture::Format;
-use hiperface_conformance::listen::listen_to;
+use hiperface_suite::capture::Format;
+use hiperface_suite::listen::listen_to;
 
 #[path = "../benches/support/decode_log.rs"]
 mod decode_log;
@@ -45,7 +45,7 @@ fn main() -> std::process::ExitCode {
     let (read, options) = decode_log::heard_as();
     match listen_to(&text, Some(Format::Wirelog), read, options) {
         // Every exchange of the clean log passes, or the count means nothing.
-        Ok(s) if s.exchanges > 0 && s.count(hiperface_conformance::verdict::CaseVerdict::Pass) == s.exchanges => {
+        Ok(s) if s.exchanges > 0 && s.count(hiperface_suite::verdict::CaseVerdict::Pass) == s.exchanges => {
             println!("{} exchanges, every one PASS", s.exchanges);
             std::process::ExitCode::SUCCESS
         }

@@ -2,7 +2,7 @@
 //! into `fuzz/corpus/{request,response,datalink,slave,observer}/`.
 //! Run: `cargo run -p hiperface-conformance --example fuzz_seeds`.
 
-use hiperface_conformance::vectors;
+use hiperface_suite::vectors;
 use std::path::Path;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

@@ -1,8 +1,8 @@
 //! Print the Markdown certificate of the reference model in virtual time.
-use hiperface_conformance::line::virtual_line::VirtualLine;
-use hiperface_conformance::report::Reports;
-use hiperface_conformance::slave::{self, Options};
 use hiperface_model::{profiles, Slave};
+use hiperface_suite::line::virtual_line::VirtualLine;
+use hiperface_suite::report::Reports;
+use hiperface_suite::slave::{self, Options};
 
 fn main() {
     let profile = profiles::builtin(&std::env::args().nth(1).unwrap_or_else(|| "SRS50".into())).expect("profile");

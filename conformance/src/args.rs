@@ -8,8 +8,8 @@
 //! release (docs/src/command-line.md): `master --poll-ms` (now `--polling-period-ms`) and
 //! `monitor --duration-s` (now `--duration-ms`).
 
-use crate::world::World;
 use hiperface_model::slave::inputs::{InitFault, PhysicalInputs};
+use hiperface_suite::world::World;
 
 /// A duration or a tolerance in milliseconds: a finite decimal, not negative.
 pub fn parse_ms(s: &str) -> Result<f64, String> {
@@ -24,8 +24,6 @@ pub fn parse_ms(s: &str) -> Result<f64, String> {
     }
     Ok(ms)
 }
-
-pub use hiperface_suite::time::ms_to_us;
 
 /// The simulated encoder's physical inputs and start-up faults.
 #[derive(clap::Args, Debug, Clone, Default)]
@@ -70,6 +68,7 @@ pub fn parse_command(s: &str) -> Result<hiperface_model::CommandId, hiperface_su
 #[cfg(test)]
 mod tests {
     use super::*;
+    use hiperface_suite::time::ms_to_us;
 
     #[test]
     fn milliseconds_are_finite_and_not_negative() {

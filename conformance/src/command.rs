@@ -3,11 +3,11 @@
 //! the documented exit codes (0 PASSED or done, 1 FAILED, 2 could not run, 3
 //! INCOMPLETE; `verdict::EXIT_USAGE`, `verdict::EXIT_INCOMPLETE`).
 
-use crate::verdict::{Outcome, EXIT_USAGE};
 use hiperface_suite::listen::decode::DecodeError;
 use hiperface_suite::master::record::ReplayError;
 use hiperface_suite::profile_file::ProfileLoadError;
 use hiperface_suite::slave::NoCaseMatches;
+use hiperface_suite::verdict::{Outcome, EXIT_USAGE};
 use std::path::PathBuf;
 
 /// What a command did.

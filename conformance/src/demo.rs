@@ -1,10 +1,10 @@
 //! A demonstration of the model: a master session against the reference slave in
 //! virtual time, through the sans-IO data link, with every frame timestamped.
 
-use crate::exchange::sealed;
 use hiperface_model::datalink::RxChar;
 use hiperface_model::slave::inputs::PhysicalInputs;
 use hiperface_model::{Hex, Profile, Reply, Slave, UartSettings};
+use hiperface_suite::exchange::sealed;
 use std::fmt::Write as _;
 
 /// The master's side of one exchange as the demo prints it.

@@ -11,9 +11,10 @@ use hiperface_conformance::args::WorldArgs;
 use hiperface_conformance::command::{CommandError, Ended};
 use hiperface_conformance::port::PortSpec;
 use hiperface_conformance::say;
-use hiperface_conformance::world::World;
-use hiperface_conformance::{demo, line, master, profile_file, simulate, slave};
+use hiperface_conformance::{demo, line, master, simulate, slave};
 use hiperface_model::command::{DataLength, COMMAND_TABLE};
+use hiperface_suite::profile_file;
+use hiperface_suite::world::World;
 use serialport::SerialPort as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -308,9 +309,9 @@ fn run_simulator(port: &PortSpec, profile: &str, log: bool, world: &World) -> Re
 /// The vector files of `dir`, or those built into the command.
 fn vector_files(
     dir: Option<&std::path::Path>,
-) -> Result<Vec<(String, hiperface_conformance::vectors::VectorFile)>, CommandError> {
+) -> Result<Vec<(String, hiperface_suite::vectors::VectorFile)>, CommandError> {
     match dir {
-        Some(d) => hiperface_conformance::vectors::load_named(d)
+        Some(d) => hiperface_suite::vectors::load_named(d)
             .map_err(|e| CommandError::Usage(format!("--dir {}: {e}", d.display()))),
         None => Ok(hiperface_conformance::clauses::builtin_vector_files()?),
     }
@@ -326,7 +327,7 @@ fn print_all(text: &str) -> Result<(), CommandError> {
 }
 
 fn vectors_command(what: VectorsCommand) -> Result<Ended, CommandError> {
-    use hiperface_conformance::vectors;
+    use hiperface_suite::vectors;
     match what {
         VectorsCommand::Generate { dir } => {
             // documents.json and master-tables.json are written from the documents, by hand.

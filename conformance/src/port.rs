@@ -4,12 +4,12 @@
 use crate::line::adapter::STRICT_LIMIT_US;
 use crate::line::serial::SerialLine;
 use crate::line::tcp::TcpLine;
-use crate::line::virtual_line::VirtualLine;
-use crate::line::{Line, LineError};
 use crate::simulate::PtySimulator;
-use crate::verdict::timing::TimingMode;
-use crate::world::World;
 use hiperface_model::{Profile, UartSettings};
+use hiperface_suite::line::virtual_line::VirtualLine;
+use hiperface_suite::line::{Line, LineError};
+use hiperface_suite::verdict::timing::TimingMode;
+use hiperface_suite::world::World;
 use std::fmt;
 use std::str::FromStr;
 

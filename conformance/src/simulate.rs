@@ -4,12 +4,10 @@
 //! are clocked one character time apart, and a reply is written whole when its first
 //! character would be complete.
 
-use crate::world::World;
 use hiperface_model::datalink::RxChar;
 use hiperface_model::{Hex, Profile, Slave, Step};
-pub use hiperface_suite::serve::{
-    disturbed_from_us, planned_reply, Hooks, Plain, Planned, Serving, Session, READ_US, REPLY_DELAY_US,
-};
+use hiperface_suite::serve::{disturbed_from_us, Hooks, Plain, Planned, Serving, Session, READ_US};
+use hiperface_suite::world::World;
 use serialport::SerialPort;
 use std::io::{ErrorKind, Write};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -91,13 +89,13 @@ pub fn serve_with<H: Hooks>(
     session.real_time(crate::sched::real_time_priority());
     let now = |e: Instant| e.elapsed().as_micros() as u64;
     let mut buf = [0u8; 64];
-    let mut rx_clock = crate::line::RxClock::default();
+    let mut rx_clock = crate::line::clock::RxClock::default();
     let mut port_settings = None;
     let mut watched = Watched { read_us: now(epoch), run_delay: crate::sched::RunDelay::of_this_thread(), delivery };
     // What the master sent while a reply went out, as it was read.
     let mut heard: Vec<Chunk> = Vec::new();
     // The kernel's marks of UART faults, taken back across reads.
-    let (marking, mut marks) = (serving.marks_errors, crate::capture::parmrk::Marks::default());
+    let (marking, mut marks) = (serving.marks_errors, hiperface_suite::capture::parmrk::Marks::default());
     // The master's characters, off the line and its echo, in the order they came.
     let mut master_chars: Vec<RxChar> = Vec::new();
     while !stop.load(Ordering::Relaxed) && !session.wants_stop() {
@@ -254,7 +252,7 @@ fn continued_arrival_us(read_us: u64, unwatched_us: u64, in_progress: Option<u64
 /// marks where the port marks faults (`marks`, kept across reads).
 fn unmarked(
     bytes: &[u8],
-    marks: Option<&mut crate::capture::parmrk::Marks>,
+    marks: Option<&mut hiperface_suite::capture::parmrk::Marks>,
 ) -> Vec<(u8, Option<hiperface_model::UartFault>)> {
     let mut out = Vec::with_capacity(bytes.len());
     match marks {

@@ -9,11 +9,12 @@
 
 mod common;
 
-use hiperface_conformance::line::echo::{Echo, EchoMode};
-use hiperface_conformance::master::{self, Attach, DriveReport, Options, PowerOn};
-use hiperface_conformance::slave::{CaseResult, CaseVerdict};
-use hiperface_conformance::verdict::Outcome;
+use hiperface_conformance::master::{self, Attach, Options, PowerOn};
 use hiperface_model::{profiles, Profile};
+use hiperface_suite::line::echo::{Echo, EchoMode};
+use hiperface_suite::master::DriveReport;
+use hiperface_suite::verdict::Outcome;
+use hiperface_suite::verdict::{CaseResult, CaseVerdict};
 use std::path::Path;
 
 /// HX-M's command line (the tests that use it are ignored where python3 is missing).
@@ -30,7 +31,7 @@ fn certify(profile: Profile, exec: &str, scenarios: Option<&str>) -> DriveReport
     let options = Options {
         attach: Attach::Exec(exec.into()),
         scenarios: scenarios.map(str::to_string),
-        polling_period_ms: master::POLLING_PERIOD_MS,
+        polling_period_ms: hiperface_model::master::obligations::POLLING_PERIOD_MS,
         not_used: Vec::new(),
         interrupt: None,
     };
@@ -44,7 +45,7 @@ fn certify(profile: Profile, exec: &str, scenarios: Option<&str>) -> DriveReport
 fn assert_clean(report: &DriveReport) {
     let remarks: Vec<&CaseResult> = report.scenarios.iter().filter(|s| s.verdict != CaseVerdict::Pass).collect();
     assert!(remarks.is_empty(), "{remarks:#?}\n{:#?}", report.output);
-    assert_eq!(report.scenarios.len(), master::scenarios::catalogue().len());
+    assert_eq!(report.scenarios.len(), hiperface_suite::master::scenarios::catalogue().len());
     // The catalogue took about as long as its scenarios need (nothing hung).
     assert!(report.wall_time_ms - report.rerun_ms < report.needed_ms * 1.2 + 2000.0, "{} ms", report.wall_time_ms);
 }
@@ -257,15 +258,15 @@ const DEFECTS: &[Defect] = &[
 #[test]
 #[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
 fn a_master_that_declares_it_never_reads_data_fields_is_passed_on_that_declaration() {
-    use hiperface_conformance::report::Reports;
     use hiperface_model::CommandId;
+    use hiperface_suite::report::Reports;
     let _one = common::one_at_a_time();
     let exec = hx_master(Some("ignores-extended-type-label"));
     let scenarios = "startup.default,startup.extended-type-label,fault.data-field";
     let options = Options {
         attach: Attach::Exec(exec.clone()),
         scenarios: Some(scenarios.into()),
-        polling_period_ms: master::POLLING_PERIOD_MS,
+        polling_period_ms: hiperface_model::master::obligations::POLLING_PERIOD_MS,
         not_used: vec![CommandId::ReadData],
         interrupt: None,
     };
@@ -279,7 +280,7 @@ fn a_master_that_declares_it_never_reads_data_fields_is_passed_on_that_declarati
     }
     assert_eq!(declared.not_used, vec!["4Ah Read Data".to_string()]);
     let profile = profiles::srs50();
-    let certificate = master::report::MasterCertificate { report: &declared, profile: &profile };
+    let certificate = hiperface_suite::master::report::MasterCertificate { report: &declared, profile: &profile };
     assert!(certificate.markdown().contains("| declared not used | 4Ah Read Data"), "{}", certificate.markdown());
     assert!(certificate.html().contains("declared not used"));
     // Undeclared: what the run never saw is not a pass.
@@ -525,7 +526,7 @@ fn a_drive_on_a_port_is_certified_without_seeing_its_power_on() {
         attach: Attach::Port { path, power_on: PowerOn::Unseen, echo: EchoMode::Auto },
         // Not 22h: the drive stops reading the position for good after it, as it should.
         scenarios: Some("startup.default,protocol.checksum-error,protocol.parity,reply.corrupt".into()),
-        polling_period_ms: master::POLLING_PERIOD_MS,
+        polling_period_ms: hiperface_model::master::obligations::POLLING_PERIOD_MS,
         not_used: Vec::new(),
         interrupt: None,
     };
@@ -567,8 +568,8 @@ impl master::Operator for ScriptedOperator {
     }
 
     fn switch_on(&mut self, _scenario: &str) {
-        use hiperface_conformance::exchange::BusMaster;
         use hiperface_conformance::line::serial::SerialLine;
+        use hiperface_suite::exchange::BusMaster;
         use std::io::Write as _;
         self.switched_on += 1;
         let mut port = self.drive_end.try_clone_native().unwrap();
@@ -583,7 +584,8 @@ impl master::Operator for ScriptedOperator {
             let line = SerialLine::from_port(Box::new(port), "drive".into(), profile.settings, true);
             let mut master = BusMaster::new(line, profile.edition);
             // Off before the scenario's 1500 ms end: the next switch_off finds it off.
-            let options = master::reference::Options { polling_period_ms: 20, duration_ms: Some(1_300) };
+            let options =
+                hiperface_model::master::reference::Options { polling_period_ms: 20, duration_ms: Some(1_300) };
             let _ = master::reference::run(&mut master, profile, options, &mut |_: &str| {});
         }));
     }
@@ -606,7 +608,7 @@ fn with_an_operator_the_start_up_of_a_drive_on_a_port_is_graded() {
         let options = Options {
             attach: Attach::Port { path, power_on: PowerOn::Prompt, echo: EchoMode::Auto },
             scenarios: Some(scenarios.into()),
-            polling_period_ms: master::POLLING_PERIOD_MS,
+            polling_period_ms: hiperface_model::master::obligations::POLLING_PERIOD_MS,
             not_used: Vec::new(),
             interrupt: None,
         };

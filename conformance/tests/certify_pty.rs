@@ -4,10 +4,11 @@
 mod common;
 
 use hiperface_conformance::line::serial::SerialLine;
-use hiperface_conformance::line::LineError;
 use hiperface_conformance::simulate::PtySimulator;
-use hiperface_conformance::slave::{self, CaseVerdict, Options};
 use hiperface_model::{profiles, UartSettings};
+use hiperface_suite::line::LineError;
+use hiperface_suite::slave::{self, Options};
+use hiperface_suite::verdict::CaseVerdict;
 use serialport::SerialPort;
 use std::io::Write;
 use std::process::Command;
@@ -23,7 +24,7 @@ fn the_whole_catalogue_passes_against_the_simulator_over_a_pty() {
     profile.commands = hiperface_model::command::CommandSet::all_for(false);
     let (sim, port) = PtySimulator::start(profile).unwrap();
     // Real time on a shared CI machine: generous timing bounds (exact timing is
-    // checked in virtual time, tests/certify_defects.rs).
+    // checked in virtual time, suite/tests/certify_defects.rs).
     let line = SerialLine::from_port(port, sim.path.clone(), profile.settings, true).with_tolerance(GENEROUS_US);
     let report = slave::run(Box::new(line), profile, &Options::all_allowed(), |_, _, _| {});
     let failed: Vec<_> =
@@ -60,7 +61,7 @@ fn a_silent_device_stops_the_run_quickly_with_an_error() {
     let report = slave::run(Box::new(line), profiles::srs50(), &Options::all_allowed(), |_, _, _| {});
     assert!(started.elapsed() < Duration::from_secs(10), "must not hang");
     // Nothing was observed: INCOMPLETE, not a verdict on the device.
-    assert_eq!(report.outcome(), hiperface_conformance::verdict::Outcome::Incomplete);
+    assert_eq!(report.outcome(), hiperface_suite::verdict::Outcome::Incomplete);
     assert!(report.aborted.as_deref().is_some_and(|a| a.contains("has not answered")), "{:?}", report.aborted);
     assert_eq!(report.cases[0].verdict, CaseVerdict::Error);
     assert!(
@@ -145,7 +146,7 @@ fn an_interrupt_in_a_power_up_window_stops_at_once_and_reads_the_device_back() {
     let case = &report.cases[0];
     assert_eq!(case.verdict, CaseVerdict::NotExercised, "{:#?}", case.findings);
     assert!(case.findings.iter().any(|f| f.message().contains("cut short")), "{:#?}", case.findings);
-    assert_eq!(report.outcome(), hiperface_conformance::verdict::Outcome::Incomplete);
+    assert_eq!(report.outcome(), hiperface_suite::verdict::Outcome::Incomplete);
     assert!(report.safety.restored(), "{:#?}", report.safety);
     assert_eq!(report.safety.verified.len(), 4, "{:#?}", report.safety);
 }

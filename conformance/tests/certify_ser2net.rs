@@ -3,11 +3,12 @@
 
 mod common;
 
-use hiperface_conformance::line::Line;
 use hiperface_conformance::port::{self, PortSpec};
 use hiperface_conformance::simulate::PtySimulator;
-use hiperface_conformance::slave::{self, CaseVerdict, Options};
 use hiperface_model::profiles;
+use hiperface_suite::line::Line;
+use hiperface_suite::slave::{self, Options};
+use hiperface_suite::verdict::CaseVerdict;
 
 #[test]
 #[cfg_attr(not(has_ser2net), ignore = "ser2net is not installed (apt-get install ser2net)")]

@@ -10,10 +10,10 @@
 mod common;
 
 use common::hx1::{profile, Hx1};
-use hiperface_conformance::exchange::{sealed, BusMaster};
 use hiperface_conformance::line::serial::SerialLine;
 use hiperface_model::oracle::Verdict;
 use hiperface_model::{Grading, Hex, Oracle, Reply, Slave, UartSettings};
+use hiperface_suite::exchange::{sealed, BusMaster};
 use proptest::prelude::*;
 use std::time::Duration;
 

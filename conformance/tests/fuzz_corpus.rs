@@ -2,9 +2,9 @@
 //! local corpus under fuzz/corpus, and the recorded regressions under fuzz/regressions.
 
 use arbitrary::{Arbitrary, Unstructured};
-use hiperface_conformance::capture::Format;
-use hiperface_conformance::{listen, vectors};
 use hiperface_proofs::targets::{self, MasterEvent, SlaveInput, TimedChar};
+use hiperface_suite::capture::Format;
+use hiperface_suite::{listen, vectors};
 use std::path::Path;
 
 fn run_all(bytes: &[u8]) {

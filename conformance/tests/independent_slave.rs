@@ -4,6 +4,10 @@
 //! write, timeout measured from the last byte that arrived, its own memory, error
 //! stack and state machine). Real time, real pseudo-terminals, a real ser2net.
 //!
+//! Long because: every test certifies the one HX-1 (or HX-L) process, conformant or
+//! with a defect switch, over the same pseudo-terminal and ser2net helpers here, and
+//! each defect is held against the cases it must fail.
+//!
 //! - the conformant HX-1 gets no FAIL on the whole catalogue, over a pseudo-terminal
 //!   and through ser2net, also with a warning pending and with new fields cleared to 00h;
 //! - each defect switch FAILs the case that exercises it, citing the clause it breaks;
@@ -14,8 +18,9 @@ mod common;
 
 use common::hx1::{legacy_profile, profile, Hx1};
 use hiperface_conformance::port::{self, PortSpec};
-use hiperface_conformance::slave::{self, CaseVerdict, Options, Report};
 use hiperface_model::Grading;
+use hiperface_suite::slave::{self, Options, Report};
+use hiperface_suite::verdict::CaseVerdict;
 
 /// What a user runs: every case, writes and counter allowed, a black box.
 fn options() -> Options {

@@ -7,12 +7,13 @@ mod common;
 use common::faithfully;
 use common::hx1::{self, Hx1};
 use common::line_emulator::{Behaviour, LineEmulator};
-use hiperface_conformance::line::echo::{Echo, EchoLine, EchoMode};
 use hiperface_conformance::line::serial::SerialLine;
 use hiperface_conformance::master;
 use hiperface_conformance::simulate::PtySimulator;
-use hiperface_conformance::slave::{self, CaseVerdict, Options, Report};
 use hiperface_model::{profiles, Grading, Profile, UartSettings};
+use hiperface_suite::line::echo::{Echo, EchoLine, EchoMode};
+use hiperface_suite::slave::{self, Options, Report};
+use hiperface_suite::verdict::CaseVerdict;
 
 /// Real time on a shared machine: the pseudo-terminal tests' generous bound.
 const GENEROUS_US: u64 = 25_000;
@@ -27,7 +28,7 @@ fn certify_through_noting(
     profile: Profile,
     echo: EchoMode,
     options: &Options,
-    progress: impl FnMut(usize, usize, &slave::CaseResult),
+    progress: impl FnMut(usize, usize, &hiperface_suite::verdict::CaseResult),
 ) -> Report {
     let line = SerialLine::open(&emulator.path, UartSettings::DEFAULT).unwrap_or_else(|e| panic!("{e}"));
     let line = EchoLine::new(line.with_tolerance(GENEROUS_US), echo);
@@ -179,7 +180,7 @@ fn a_gap_before_each_character_is_no_fail() {
         let (_sim, device) = PtySimulator::start(profile).unwrap();
         let emulator = LineEmulator::start(device, behaviour);
         let mut ends = vec![Instant::now()];
-        let note_end = |_: usize, _: usize, _: &slave::CaseResult| ends.push(Instant::now());
+        let note_end = |_: usize, _: usize, _: &hiperface_suite::verdict::CaseResult| ends.push(Instant::now());
         // The emulator passes characters on 0.3 ms apart at 9600 Bd whatever the data
         // rate: at SRS50's 38400 Bd that is more than the timeout, and every request of
         // settings.stored (stored settings taken up after a reset) would be split by the
@@ -221,7 +222,7 @@ fn a_gap_before_each_character_is_no_fail() {
 
 /// A drive (the reference master) behind the emulator behaving as `behaviour`,
 /// certified through it with `echo` (the drive's power-on unseen).
-fn drive_through(behaviour: Behaviour, echo: EchoMode) -> master::DriveReport {
+fn drive_through(behaviour: Behaviour, echo: EchoMode) -> hiperface_suite::master::DriveReport {
     use serialport::SerialPort as _;
     let profile = profiles::srs50();
     faithfully(|| {
@@ -232,7 +233,7 @@ fn drive_through(behaviour: Behaviour, echo: EchoMode) -> master::DriveReport {
         let options = master::Options {
             attach: master::Attach::Port { path: emulator.path.clone(), power_on: master::PowerOn::Unseen, echo },
             scenarios: Some("protocol.checksum-error,protocol.parity,reply.corrupt".into()),
-            polling_period_ms: master::POLLING_PERIOD_MS,
+            polling_period_ms: hiperface_model::master::obligations::POLLING_PERIOD_MS,
             not_used: Vec::new(),
             interrupt: None,
         };
@@ -247,7 +248,7 @@ fn drive_through(behaviour: Behaviour, echo: EchoMode) -> master::DriveReport {
 }
 
 /// The start of a scenario's timeline, for a failed assertion's message.
-fn timeline(s: &hiperface_conformance::slave::CaseResult) -> String {
+fn timeline(s: &hiperface_suite::verdict::CaseResult) -> String {
     s.wire.iter().take(40).map(|w| format!("{:>12} {} {}\n", w.t_us, w.direction, w.bytes)).collect()
 }
 

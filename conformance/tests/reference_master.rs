@@ -5,13 +5,13 @@
 //! in the model (`hiperface_model::master::reference`) and its driver here: a change of
 //! what it does, or when, shows in the snapshot and is reviewed with it.
 
-use hiperface_conformance::exchange::BusMaster;
-use hiperface_conformance::line::virtual_line::{SlaveDevice, VirtualLine};
-use hiperface_conformance::line::{Line, LineError, LineKind, Sent, Window};
 use hiperface_conformance::master;
 use hiperface_model::datalink::RxChar;
 use hiperface_model::slave::act::{Acted, ActedReply};
 use hiperface_model::{profiles, Edition, Profile, Slave, Transmission, UartSettings};
+use hiperface_suite::exchange::BusMaster;
+use hiperface_suite::line::virtual_line::{SlaveDevice, VirtualLine};
+use hiperface_suite::line::{Line, LineError, LineKind, Sent, Window};
 use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::fmt::Write;
@@ -21,7 +21,7 @@ use std::rc::Rc;
 /// (`suite::master::encoder`): the `nth` request of a command gets the act.
 struct Scripted {
     slave: Slave,
-    plan: &'static [master::scenarios::Injection],
+    plan: &'static [hiperface_suite::master::scenarios::Injection],
     /// The plan's injections that have taken place (each once).
     fired: std::collections::BTreeSet<usize>,
     seen: BTreeMap<u8, u32>,
@@ -138,7 +138,7 @@ impl<L: Line> Line for Recording<L> {
 /// its plan, for `duration_ms` of line time.
 fn transcript(profile: Profile, polling_period_ms: u64, duration_ms: u64) -> String {
     let mut all = String::new();
-    for scenario in master::scenarios::catalogue() {
+    for scenario in hiperface_suite::master::scenarios::catalogue() {
         let encoder = scenario.encoder.map_or(profile, |make| make(profile));
         let mut slave = Slave::new(encoder);
         (scenario.world)(&encoder).apply_at_power_on(&mut slave);
@@ -147,7 +147,7 @@ fn transcript(profile: Profile, polling_period_ms: u64, duration_ms: u64) -> Str
         let out = Rc::new(RefCell::new(String::new()));
         let line = Recording { line: VirtualLine::new(device), out: out.clone() };
         let mut bus = BusMaster::new(line, encoder.edition);
-        let options = master::reference::Options { polling_period_ms, duration_ms: Some(duration_ms) };
+        let options = hiperface_model::master::reference::Options { polling_period_ms, duration_ms: Some(duration_ms) };
         let console = out.clone();
         let result = master::reference::run(&mut bus, encoder, options, &mut |text: &str| {
             let _ = writeln!(console.borrow_mut(), "          | {text}");
@@ -193,7 +193,8 @@ fn the_exploration_times_the_reference_master_as_the_harness_does() {
             .collect();
         // The driver's loop (conformance/src/master/reference.rs), each decision noted.
         let mut bus = BusMaster::new(VirtualLine::new(Slave::new(profile)), profile.edition);
-        let options = master::reference::Options { polling_period_ms: mf::POLLING_PERIOD_MS, duration_ms: None };
+        let options =
+            hiperface_model::master::reference::Options { polling_period_ms: mf::POLLING_PERIOD_MS, duration_ms: None };
         let mut machine = ReferenceMaster::new(profile, options);
         let mut action = machine.power_on();
         let mut harness = Vec::new();
@@ -230,7 +231,7 @@ fn the_exploration_covers_the_catalogues_acts_and_worlds() {
     let profile = profiles::sek37();
     let acts = mf::acts();
     let worlds = mf::worlds(profile);
-    for scenario in master::scenarios::catalogue() {
+    for scenario in hiperface_suite::master::scenarios::catalogue() {
         for inj in scenario.plan {
             let act = Some(inj.act);
             assert!(acts.contains(&act), "{}: {act:?} not explored", scenario.id);

@@ -5,7 +5,7 @@
 //! Long because: the tests share the vector files, the generated set's snapshot and the
 //! helpers that corrupt a file, and each bad file is a few lines.
 
-use hiperface_conformance::vectors::{self, export, Expected};
+use hiperface_suite::vectors::{self, export, Expected};
 use rstest::rstest;
 use std::path::{Path, PathBuf};
 use std::process::Command;

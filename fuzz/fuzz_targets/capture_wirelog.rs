@@ -1,10 +1,10 @@
 //! Any bytes as a wirelog capture: its reader and the passive listener must not panic,
-//! hang or grow without bound (see `hiperface_conformance::listen::fuzz_capture`).
+//! hang or grow without bound (see `hiperface_suite::listen::fuzz_capture`).
 #![no_main]
 
-use hiperface_conformance::capture::Format;
+use hiperface_suite::capture::Format;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    hiperface_conformance::listen::fuzz_capture(Format::Wirelog, data);
+    hiperface_suite::listen::fuzz_capture(Format::Wirelog, data);
 });

@@ -18,7 +18,7 @@ pub mod report;
 pub mod serve;
 pub mod slave;
 pub mod time;
-pub mod timing_diagrams;
+pub(crate) mod timing_diagrams;
 pub mod vectors;
 pub mod verdict;
 pub mod world;

@@ -2,9 +2,9 @@
 //! (benches/decode.rs) and the program that counts its instructions
 //! (examples/decode_count.rs), so that both measure the same work.
 
-use hiperface_conformance::capture::ReadOptions;
-use hiperface_conformance::listen::Options;
 use hiperface_model::{profiles, UartSettings};
+use hiperface_suite::capture::ReadOptions;
+use hiperface_suite::listen::Options;
 
 /// Read Type Label, Read Encoder Status, Read Position, over and over.
 const CYCLE: [(&str, &str); 3] =

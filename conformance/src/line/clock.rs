@@ -10,8 +10,8 @@
 //! a character (a program writing its whole reply at once) or as its end (a program
 //! playing the UART).
 
-use super::{LineError, Window};
 use hiperface_model::datalink::RxChar;
+use hiperface_suite::line::{LineError, Window};
 
 /// Receive stamps. A UART stamps a character when it arrives. A pseudo-terminal or
 /// TCP has no baud rate: a UART would deliver the bytes at least one character time
@@ -47,8 +47,9 @@ impl RxClock {
     }
 }
 
-/// The [`super::Line`] methods of a line in real time, answered by its [`RealTime`]
-/// field: sleeping until a time, the jitter graded with, and the harness's lateness.
+/// The [`hiperface_suite::line::Line`] methods of a line in real time, answered by its
+/// [`RealTime`] field: sleeping until a time, the jitter graded with, and the harness's
+/// lateness.
 macro_rules! real_time_methods {
     ($field:ident) => {
         fn wait_until(&mut self, t_us: u64) -> Result<(), LineError> {

@@ -19,7 +19,7 @@
 //! run again, never a FAIL. A device late by more than the line could explain still
 //! FAILs.
 
-pub use hiperface_suite::line::delivery::{DeliveryStats, LineLate};
+use hiperface_suite::line::delivery::{DeliveryStats, LineLate};
 
 use std::collections::VecDeque;
 use std::io::{Read, Write};

@@ -1,5 +1,5 @@
-//! The harness's lines: the core's [`Line`] (`hiperface_suite::line`, re-exported here
-//! under the same names, with the virtual line and the echo's handling) on real ports
+//! The harness's lines: the core's `Line` (`hiperface_suite::line`, with the virtual
+//! line and the echo's handling) on real ports
 //! and pseudo-terminals ([`serial::SerialLine`]) and serial device servers
 //! ([`tcp::TcpLine`], [`rfc2217`]), in real time (see [`clock`]): the clock, sleeping,
 //! receive stamps, and what a pseudo-terminal delays ([`delivery`]).
@@ -11,9 +11,6 @@ pub mod rfc2217;
 pub mod rs485;
 pub mod serial;
 pub mod tcp;
-
-pub use clock::{read_until, RealTime, RxClock};
-pub use hiperface_suite::line::{echo, reply_echo, virtual_line, Line, LineError, LineKind, Sent, Window};
 
 /// A pseudo-terminal pair (its controlling side, its `/dev/pts/N` side) whose
 /// descriptors are close-on-exec: a master under test started by the harness

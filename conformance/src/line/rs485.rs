@@ -5,7 +5,7 @@
 //! has no RS-485 mode (a pseudo-terminal, most USB adapters) is refused with a clear
 //! message rather than run in a mode it is not in.
 
-use super::LineError;
+use hiperface_suite::line::LineError;
 use serial2::rs4xx::{Rs485Config, TransceiverMode};
 use std::time::Duration;
 

@@ -11,10 +11,11 @@
 //! received characters at least a character time apart, as a UART delivers them.
 
 use super::adapter::Adapter;
-use super::{clock, Line, LineError, LineKind, Sent, Window};
+use super::clock;
 use hiperface_model::datalink::RxChar;
 use hiperface_model::settings::Parity as HfParity;
 use hiperface_model::UartSettings;
+use hiperface_suite::line::{Line, LineError, LineKind, Sent, Window};
 use serialport::{DataBits, FlowControl, Parity, SerialPort, StopBits};
 use std::io::{ErrorKind, Read, Write};
 use std::time::Duration;
@@ -365,12 +366,12 @@ impl Line for SerialLine {
         }
     }
 
-    fn delivery_late(&mut self, from_us: u64, to_us: u64) -> super::delivery::LineLate {
+    fn delivery_late(&mut self, from_us: u64, to_us: u64) -> hiperface_suite::line::delivery::LineLate {
         let Some(probe) = &self.delivery else { return Default::default() };
         probe.late_both_ways(from_us, to_us, self.time.now_us())
     }
 
-    fn delivery_stats(&self) -> Option<super::delivery::DeliveryStats> {
+    fn delivery_stats(&self) -> Option<hiperface_suite::line::delivery::DeliveryStats> {
         self.delivery.as_ref().map(|p| p.stats())
     }
 
@@ -457,7 +458,7 @@ mod tests {
         let path = near.name().expect("a path");
         let mut port = open_marking_port(&path, UartSettings::DEFAULT).expect("opened");
         let unmark = |raw: &[u8]| {
-            let (mut marks, mut out) = (crate::capture::parmrk::Marks::default(), Vec::new());
+            let (mut marks, mut out) = (hiperface_suite::capture::parmrk::Marks::default(), Vec::new());
             for b in raw {
                 marks.push(*b, &mut |m| out.push(m.as_received()));
             }

@@ -4,10 +4,11 @@
 //! no baud rate: the harness writes a request at once and knows its end as a window,
 //! and stamps received bytes like on a pseudo-terminal (see [`super::clock`]).
 
+use super::clock;
 use super::rfc2217::{self, Event, Telnet};
-use super::{clock, Line, LineError, LineKind, Sent, Window};
 use hiperface_model::datalink::RxChar;
 use hiperface_model::UartSettings;
+use hiperface_suite::line::{Line, LineError, LineKind, Sent, Window};
 use std::io::{ErrorKind, Read, Write};
 use std::net::{TcpStream, ToSocketAddrs};
 use std::time::Duration;

@@ -1,15 +1,14 @@
 //! `hiperface decode`: the listener over a capture file, with a live line per
 //! exchange, a summary, and reports.
 
-use super::decode::settings_at;
-pub use super::decode::{grade_capture, report, DecodeError, DecodeOptions, Source};
-use super::{HeardExchange, ListeningReport};
 use crate::args::parse_ms;
-use crate::capture::{self, Format, ReadOptions};
 use crate::command::{CommandError, Ended};
-use crate::profile_file;
-use crate::verdict::CaseVerdict;
 use hiperface_model::UartSettings;
+use hiperface_suite::capture::{self, Format, ReadOptions};
+use hiperface_suite::listen::decode::{grade_capture, settings_at, DecodeOptions};
+use hiperface_suite::listen::{HeardExchange, ListeningReport};
+use hiperface_suite::profile_file;
+use hiperface_suite::verdict::CaseVerdict;
 use std::io::{BufReader, Write};
 use std::path::PathBuf;
 
@@ -167,7 +166,7 @@ pub fn decode(args: &DecodeArgs) -> Result<Ended, CommandError> {
 /// reports, and the exit code of the run's outcome (0 PASSED, 1 FAILED, 3 INCOMPLETE).
 pub fn conclude(
     mut report: ListeningReport,
-    run_info: crate::report::RunInfo,
+    run_info: hiperface_suite::report::RunInfo,
     report_dir: Option<&std::path::Path>,
 ) -> Result<Ended, CommandError> {
     report.run_info = Some(run_info);

@@ -1,9 +1,7 @@
 //! Listening to a bus: the listener, its grades and the decoding of capture files are
-//! the suite's core (`hiperface_suite::listen`, re-exported here under the same names);
-//! the harness adds the live tap on a port ([`tap`]), `monitor` ([`monitor`]) and the
-//! command lines of `decode` and `monitor` ([`cli`]).
-
-pub use hiperface_suite::listen::*;
+//! the suite's core (`hiperface_suite::listen`); the harness adds the live tap on a
+//! port ([`tap`]), `monitor` ([`monitor`]) and the command lines of `decode` and
+//! `monitor` ([`cli`]).
 
 pub mod cli;
 pub mod monitor;

@@ -2,14 +2,16 @@
 //! ([`super::tap`]). A line per exchange as it closes, a summary when the run ends
 //! (Ctrl-C, `--duration-ms`, or the port closing), and the reports.
 
-use super::cli::{conclude, report, ListeningArgs, LiveView, Source};
+use super::cli::{conclude, ListeningArgs, LiveView};
 use super::tap::{Got, Stamps, Tap};
-use super::{Listener, Options};
-use crate::args::{ms_to_us, parse_ms};
-use crate::capture::parmrk::Marks;
-use crate::capture::{Event, Mark};
+use crate::args::parse_ms;
 use crate::command::{CommandError, Ended};
 use crate::port::PortSpec;
+use hiperface_suite::capture::parmrk::Marks;
+use hiperface_suite::capture::{Event, Mark};
+use hiperface_suite::listen::decode::{report, Source};
+use hiperface_suite::listen::{Listener, Options};
+use hiperface_suite::time::ms_to_us;
 use std::io::Write;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -72,7 +74,7 @@ pub fn monitor(args: &MonitorArgs, stop: &AtomicBool) -> Result<Ended, CommandEr
     eprintln!("listening on {} at {settings} (read-only); Ctrl-C ends the run with a summary", tap.name);
     let mut listener = Listener::new(options.clone());
     let mut view = LiveView::new(args.listening.quiet, true);
-    let mut print = |h: &super::HeardExchange| view.print(h);
+    let mut print = |h: &hiperface_suite::listen::HeardExchange| view.print(h);
     let epoch = Instant::now();
     let now_us = || epoch.elapsed().as_micros() as u64;
     let until_us = args.duration_ms.or(args.duration_s.map(|s| s * 1000.0)).map(ms_to_us);
@@ -247,7 +249,7 @@ impl CaptureFile {
             }
         })?;
         let mut out = std::io::BufWriter::new(f);
-        writeln!(out, "{} tolerance_us={tolerance_us}", crate::capture::csv::MONITOR_CAPTURE)
+        writeln!(out, "{} tolerance_us={tolerance_us}", hiperface_suite::capture::csv::MONITOR_CAPTURE)
             .and_then(|()| writeln!(out, "Time [s],Value,Parity Error,Framing Error,Read Late [s]"))
             .map_err(CommandError::file(path))?;
         Ok(CaptureFile { path: path.to_path_buf(), out, char_us })

@@ -3,12 +3,12 @@
 
 use super::{reference, Attach, Options, PowerOn, Progress};
 use crate::command::{CommandError, Ended};
-use crate::exchange::BusMaster;
-use crate::line::echo::EchoMode;
 use crate::port::{self, PortSpec};
-use crate::profile_file;
-use crate::verdict::CaseVerdict;
-use crate::world::World;
+use hiperface_suite::exchange::BusMaster;
+use hiperface_suite::line::echo::EchoMode;
+use hiperface_suite::profile_file;
+use hiperface_suite::verdict::CaseVerdict;
+use hiperface_suite::world::World;
 use std::path::PathBuf;
 
 /// `hiperface certify master`.
@@ -170,7 +170,7 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<Ended, CommandError> {
     for n in &report.notes {
         say!("note: {n}");
     }
-    for line in crate::report::NotRun::lines(&report.not_run()) {
+    for line in hiperface_suite::report::NotRun::lines(&report.not_run()) {
         say!("{line}");
     }
     for n in &report.notes_per_scenario {
@@ -200,8 +200,10 @@ pub fn reference_master(args: &MasterArgs) -> Result<Ended, CommandError> {
         .map_err(|e| CommandError::Line(e.to_string()))?;
     let _simulator = opened.simulator;
     let mut master = BusMaster::new(opened.line, profile.edition);
-    let options =
-        reference::Options { polling_period_ms: u64::from(args.polling_period_ms), duration_ms: args.duration_ms };
+    let options = hiperface_model::master::reference::Options {
+        polling_period_ms: u64::from(args.polling_period_ms),
+        duration_ms: args.duration_ms,
+    };
     // A drive's master runs on a processor of its own: be as punctual as permitted (a
     // starved master talks over replies it was too late to hear). Timing does not
     // depend on it.

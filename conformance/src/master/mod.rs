@@ -10,16 +10,14 @@ pub mod reference;
 mod scenario_run;
 
 // The scenarios, the encoder's hooks that observe the master, their grades, the record
-// and the report are the core's (hiperface-suite); the harness serves them on lines.
-pub use hiperface_suite::master::{
-    encoder, grade, in_process, inputs, record, report, scenario, scenarios, timeline, DriveReport,
-};
+// and the report are the core's (`hiperface_suite::master`); the harness serves them on
+// lines.
+use hiperface_suite::master::{encoder, grade, record, report, scenarios, DriveReport};
 
-use crate::line::echo::{Echo, EchoMode};
-use crate::line::reply_echo::ReplyEcho;
-use crate::verdict::{CaseResult, Finding, END_BUDGET, MAX_ATTEMPTS};
-pub use hiperface_model::master::obligations::POLLING_PERIOD_MS;
 use hiperface_model::Profile;
+use hiperface_suite::line::echo::{Echo, EchoMode};
+use hiperface_suite::line::reply_echo::ReplyEcho;
+use hiperface_suite::verdict::{CaseResult, Finding, END_BUDGET, MAX_ATTEMPTS};
 use scenario_run::{echo_slack_us, on_port, open_port, run_scenario, Drive, ScenarioRun};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;

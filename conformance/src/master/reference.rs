@@ -6,12 +6,12 @@
 //! encoder it prints the identity and the position. The decisions are the model's;
 //! this driver only does what they say on the line.
 
-use crate::exchange::BusMaster;
-use crate::line::{Line, LineError};
 use hiperface_model::master::reference::{Action, Done, Event, ReferenceMaster};
 use hiperface_model::Profile;
+use hiperface_suite::exchange::BusMaster;
+use hiperface_suite::line::{Line, LineError};
 
-pub use hiperface_model::master::reference::Options;
+use hiperface_model::master::reference::Options;
 
 /// What the master did, for the operator.
 pub trait Console {

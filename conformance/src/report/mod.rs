@@ -1,16 +1,14 @@
 //! The reports of every front end, written one way: `report.json` for programs,
 //! `junit.xml` for CI, and a certificate for people as Markdown and HTML. The forms
-//! and each front end's report are the suite's core (`hiperface_suite::report`,
-//! re-exported here, and `slave::report`, `master::report`, `listen::report`); the
+//! and each front end's report are the suite's core (`hiperface_suite::report`, and
+//! `slave::report`, `master::report`, `listen::report` there); the
 //! files, their names and the checks before a run are here, and `recorded.rs`: `decode`
 //! of a report that holds the record of its wire.
 
 use crate::command::CommandError;
 use std::path::Path;
 
-pub use hiperface_suite::report::{
-    escape, junit_suite, page_head, profile_digest, Attention, NotRun, Reports, RunInfo,
-};
+use hiperface_suite::report::{profile_digest, Attention, Reports, RunInfo};
 
 pub mod compare;
 pub mod recorded;

@@ -8,8 +8,9 @@
 use crate::command::{CommandError, Ended};
 use crate::report::signature;
 use hiperface_suite::master::record::{self as master_record, MasterRecord};
+use hiperface_suite::slave;
 use hiperface_suite::slave::record::{self as slave_record, Record};
-use hiperface_suite::slave::{self, CaseVerdict};
+use hiperface_suite::verdict::CaseVerdict;
 use std::path::Path;
 
 /// The largest report `decode` reads, bytes: 35 times the largest this tool writes in
@@ -356,7 +357,7 @@ pub fn decode_master(recorded: MasterRecorded, quiet: bool) -> Result<Ended, Com
     let (profile, again, notes) =
         master_record::replay(&record).map_err(|source| CommandError::Replay { name: name.clone(), source })?;
     let n = again.len();
-    let outcome = crate::verdict::Outcome::of(again.iter().map(|r| r.verdict), !record.interrupted);
+    let outcome = hiperface_suite::verdict::Outcome::of(again.iter().map(|r| r.verdict), !record.interrupted);
     let mut given = Stated { outcome: outcome.label().to_string(), ..Stated::default() };
     for r in &again {
         given.units.push((r.id.to_string(), r.verdict.label().to_string()));

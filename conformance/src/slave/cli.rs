@@ -1,19 +1,21 @@
 //! The command line of slave certification: `hiperface certify slave`.
 
-use crate::args::{ms_to_us, parse_ms, WorldArgs};
+use crate::args::{parse_ms, WorldArgs};
 use crate::command::{CommandError, Ended};
-use crate::line::echo::{EchoLine, EchoMode};
 use crate::line::rs485::{Rs485Mode, Rs485Settings};
-use crate::line::{Line, LineKind};
 use crate::port::{self, PortSpec};
-use crate::verdict::timing::TimingMode;
-use crate::verdict::CaseVerdict;
-use crate::world::World;
-use crate::{profile_file, report};
+use crate::report;
 use hiperface_model::{Grading, Profile};
+use hiperface_suite::line::echo::{EchoLine, EchoMode};
+use hiperface_suite::line::{Line, LineKind};
+use hiperface_suite::profile_file;
+use hiperface_suite::time::ms_to_us;
+use hiperface_suite::verdict::timing::TimingMode;
+use hiperface_suite::verdict::CaseVerdict;
+use hiperface_suite::world::World;
 use std::path::PathBuf;
 
-use super::Options;
+use hiperface_suite::slave::Options;
 
 /// `hiperface certify slave`: act as master against a slave (encoder).
 #[derive(clap::Args, Debug, Clone)]
@@ -152,7 +154,7 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
     }
     // Nothing selected is nothing graded: refused before the port is touched.
     if let Some(globs) = &cases {
-        super::check_selection(globs)?;
+        hiperface_suite::slave::check_selection(globs)?;
     }
     let sim = port.is_model();
     let grading = grading.unwrap_or(if sim { Grading::Exact } else { Grading::Range });
@@ -179,8 +181,12 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
         Err(e) => {
             if let Some(dir) = &dir {
                 let options = Options { grading, timing: timing.unwrap_or(TimingMode::Strict), ..Options::default() };
-                let mut partial =
-                    super::Report::aborted_before_start(&profile, &port.to_string(), &options, &e.to_string());
+                let mut partial = hiperface_suite::slave::Report::aborted_before_start(
+                    &profile,
+                    &port.to_string(),
+                    &options,
+                    &e.to_string(),
+                );
                 partial.run_info = Some(run_info.clone());
                 if report::write_all(&partial, dir, signer.as_ref()).is_ok() {
                     eprintln!("partial report written to {}", dir.display());
@@ -215,7 +221,7 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
     eprintln!("certifying {} on {}", profile.name, line.describe());
     // A progress bar on a terminal; plain lines in logs.
     let bar = std::io::IsTerminal::is_terminal(&std::io::stderr()).then(|| {
-        let b = indicatif::ProgressBar::new(super::cases::catalogue().len() as u64);
+        let b = indicatif::ProgressBar::new(hiperface_suite::slave::cases::catalogue().len() as u64);
         if let Ok(style) = indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}") {
             b.set_style(style);
         }
@@ -223,7 +229,7 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
     });
     // A reason the run gives every case after it was aborted is said once, not per case.
     let mut said_before: Vec<String> = Vec::new();
-    let mut report = super::run(line, profile, &options, |i, n, r| {
+    let mut report = hiperface_suite::slave::run(line, profile, &options, |i, n, r| {
         let mut text = format!("[{i:>2}/{n}] {:<16} {}", r.verdict.label(), r.id);
         if r.attempts > 1 {
             text.push_str(&format!(" ({} runs: the harness was disturbed)", r.attempts));
@@ -268,7 +274,7 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
     Ok(Ended::Graded(report.outcome()))
 }
 
-fn summarize(report: &super::Report, profile: &Profile) {
+fn summarize(report: &hiperface_suite::slave::Report, profile: &Profile) {
     let summary: Vec<String> = report.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
     say!("{}: {}", profile.name, summary.join(", "));
     if report.line_kind == Some(LineKind::Virtual) {
@@ -297,7 +303,7 @@ fn summarize(report: &super::Report, profile: &Profile) {
     } else {
         say!("wall time {:.0} ms; nothing was exchanged", report.wall_time_ms);
     }
-    for line in crate::report::NotRun::lines(&report.not_run) {
+    for line in hiperface_suite::report::NotRun::lines(&report.not_run) {
         say!("{line}");
     }
     for c in report.rerun_cases() {

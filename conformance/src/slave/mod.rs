@@ -1,7 +1,5 @@
 //! Certify a slave: the catalogue, its runner and its report are the suite's core
-//! (`hiperface_suite::slave`, re-exported here under the same names); the harness
-//! adds the command line ([`cli`]): the port, the options, Ctrl-C, progress and files.
+//! (`hiperface_suite::slave`); the harness adds the command line ([`cli`]): the port,
+//! the options, Ctrl-C, progress and files.
 
 pub mod cli;
-
-pub use hiperface_suite::slave::*;

@@ -2,8 +2,8 @@
 //! profiles: HX-1 (`tests/independent/hx1_slave.py`, written from 000) and HX-L
 //! (`hxl_slave.py`, a legacy-edition slave written from 002).
 
-use hiperface_conformance::profile_file;
 use hiperface_model::Profile;
+use hiperface_suite::profile_file;
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};

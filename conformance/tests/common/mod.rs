@@ -5,6 +5,9 @@
 
 pub mod hx1;
 pub mod line_emulator;
+// The record played back is the core's (`hiperface_suite`); its check is the suite's
+// tests' own, shared with the harness's tests from there.
+#[path = "../../../suite/tests/common/replay.rs"]
 pub mod replay;
 pub mod session;
 
@@ -163,12 +166,13 @@ pub fn reference_drive(
     port: Box<dyn serialport::SerialPort>,
     profile: hiperface_model::Profile,
 ) -> std::thread::JoinHandle<()> {
-    use hiperface_conformance::{exchange::BusMaster, line::serial::SerialLine, master};
+    use hiperface_conformance::{line::serial::SerialLine, master};
+    use hiperface_suite::exchange::BusMaster;
     std::thread::spawn(move || {
         hiperface_conformance::sched::real_time_priority();
         let line = SerialLine::from_port(port, "drive".into(), profile.settings, true);
         let mut master = BusMaster::new(line, profile.edition);
-        let options = master::reference::Options { polling_period_ms: 20, duration_ms: Some(120_000) };
+        let options = hiperface_model::master::reference::Options { polling_period_ms: 20, duration_ms: Some(120_000) };
         let _ = master::reference::run(&mut master, profile, options, &mut |_: &str| {});
     })
 }

@@ -1,6 +1,11 @@
-//! What the suite's integration tests share.
+//! What the suite's integration tests share (the harness's tests use `replay` too).
 
-use hiperface_suite::slave::{CaseVerdict, Report};
+#![allow(dead_code)]
+
+pub mod replay;
+
+use hiperface_suite::slave::Report;
+use hiperface_suite::verdict::CaseVerdict;
 
 /// The FAILs of a run as "case clause".
 pub fn failing(r: &Report) -> Vec<String> {

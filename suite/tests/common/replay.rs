@@ -1,9 +1,10 @@
 //! The record of the wire played back: `decode` of a certify report must give the
 //! verdicts the run gave, unit by unit and finding by finding.
 
-use hiperface_conformance::master::record::{self, MasterRecord};
-use hiperface_conformance::master::DriveReport;
-use hiperface_conformance::slave::{self, CaseResult, Report};
+use hiperface_suite::master::record::{self, MasterRecord};
+use hiperface_suite::master::DriveReport;
+use hiperface_suite::slave::{self, Report};
+use hiperface_suite::verdict::CaseResult;
 
 /// Every unit's (case's, scenario's) id, verdict, runs and findings (verdict, clause,
 /// message): what a certificate says.

@@ -1,13 +1,13 @@
 //! Profiles as TOML: the shipped files equal the built-in profiles, and malformed
 //! files are rejected with the file, the line and the field.
 
-use hiperface_conformance::profile_file::{self, ProfileLoadError};
 use hiperface_model::profiles;
+use hiperface_suite::profile_file::{self, ProfileLoadError};
 use rstest::rstest;
 use std::path::{Path, PathBuf};
 
 fn shipped(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("profiles").join(format!("{}.toml", name.to_lowercase()))
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../conformance/profiles").join(format!("{}.toml", name.to_lowercase()))
 }
 
 #[test]

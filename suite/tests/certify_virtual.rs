@@ -2,9 +2,10 @@
 
 mod common;
 
-use hiperface_conformance::line::virtual_line::VirtualLine;
-use hiperface_conformance::slave::{self, CaseVerdict, Options};
 use hiperface_model::{profiles, Slave};
+use hiperface_suite::line::virtual_line::VirtualLine;
+use hiperface_suite::slave::{self, Options};
+use hiperface_suite::verdict::CaseVerdict;
 
 #[test]
 fn the_reference_model_passes_every_case_in_virtual_time() {
@@ -112,7 +113,7 @@ fn a_record_played_back_gives_the_runs_verdicts() {
 /// the catalogue is refused where it departs.
 #[test]
 fn a_changed_record_is_graded_as_it_is() {
-    use hiperface_conformance::slave::record::Event;
+    use hiperface_suite::slave::record::Event;
     let p = profiles::srs50();
     let live = slave::run(Box::new(VirtualLine::new(Slave::operational(p))), p, &Options::all_allowed(), |_, _, _| {});
     let record = live.record.clone().expect("a record");

@@ -3,10 +3,10 @@
 //! by the model. A listed code no request can draw is in `fixtures::UNPRODUCIBLE` with
 //! the reason.
 
-use hiperface_conformance::vectors::fixtures::{self, Provocation};
-use hiperface_conformance::vectors::{self, Setup};
 use hiperface_model::command::{CommandSet, COMMAND_TABLE};
 use hiperface_model::{profiles, CommandId, FaultCode, Profile, Reply, Response, ResponseFrame, Slave};
+use hiperface_suite::vectors::fixtures::{self, Provocation};
+use hiperface_suite::vectors::{self, Setup};
 
 /// A profile with every command of its edition.
 fn full(legacy: bool) -> Profile {
@@ -29,7 +29,7 @@ fn every_command_succeeds_in_both_editions() {
         let profile = full(legacy);
         for spec in COMMAND_TABLE.iter().filter(|s| profile.commands.contains(s.id)) {
             let mut s = vectors::start(profile, &fixtures::with_field_0()).unwrap();
-            let request = hiperface_conformance::exchange::sealed(&fixtures::valid_request(&profile, spec.id));
+            let request = hiperface_suite::exchange::sealed(&fixtures::valid_request(&profile, spec.id));
             let reply = answer(&mut s, &request, false);
             if spec.id == CommandId::EncoderReset {
                 assert_eq!(reply, None, "000:T29: no response");
@@ -63,7 +63,7 @@ fn every_listed_error_code_is_produced() {
                     lacking.commands.remove(spec.id);
                     let request = fixtures::valid_request(&lacking, spec.id);
                     let s = vectors::start(lacking, &Setup::default()).unwrap();
-                    (s, hiperface_conformance::exchange::sealed(&request), false)
+                    (s, hiperface_suite::exchange::sealed(&request), false)
                 } else {
                     let Provocation { setup, frame, uart_fault } = fixtures::provoke(&profile, spec.id, code)
                         .unwrap_or_else(|| panic!("no provocation of {code} for {}", spec.id));

@@ -6,13 +6,14 @@
 
 mod common;
 
-use hiperface_conformance::line::virtual_line::{SlaveDevice, VirtualLine};
-use hiperface_conformance::line::{Line, LineError, LineKind, Sent, Window};
-use hiperface_conformance::slave::{self, CaseVerdict, Options, Report};
 use hiperface_model::datalink::RxChar;
 use hiperface_model::{
     checksum, profiles, Edition, Frame, Response, ResponseFrame, Slave, Step, Transmission, UartSettings,
 };
+use hiperface_suite::line::virtual_line::{SlaveDevice, VirtualLine};
+use hiperface_suite::line::{Line, LineError, LineKind, Sent, Window};
+use hiperface_suite::slave::{self, Options, Report};
+use hiperface_suite::verdict::CaseVerdict;
 
 /// A defect: a function that may rewrite a step's transmission, plus timing quirks.
 struct Defective {
@@ -280,8 +281,8 @@ fn an_interruption_after_a_change_still_restores_the_device() {
 
 #[test]
 fn stack_not_deduplicated() {
-    use hiperface_conformance::slave::World;
     use hiperface_model::slave::inputs::InitFault;
+    use hiperface_suite::world::World;
     // The device found two start-up faults, each stored "along with the internal
     // checksum error" (000:T40, T41): a conforming stack holds 06h once (000:T27).
     let world = World { init_faults: vec![InitFault::AngularOffset, InitFault::PartitionTable], ..World::default() };
@@ -406,7 +407,7 @@ fn a_case_the_harness_was_too_late_to_judge_is_run_again() {
     let once = case(once);
     assert_eq!((once.verdict, once.attempts), (CaseVerdict::Fail, 2), "{once:#?}");
     // The same findings, but for where on the wire: the second run is later.
-    let said = |c: &hiperface_conformance::verdict::CaseResult| -> Vec<_> {
+    let said = |c: &hiperface_suite::verdict::CaseResult| -> Vec<_> {
         c.findings.iter().map(|f| (f.verdict(), f.message().to_string(), f.clause_id(), f.figure())).collect()
     };
     assert_eq!(said(&once), said(&idle));
@@ -440,7 +441,7 @@ fn a_case_undecided_after_its_runs_is_run_again_at_the_end() {
     let r = run(3 * idle.exchanges);
     let spell = find(&r);
     assert_eq!((spell.verdict, spell.attempts), (CaseVerdict::Fail, 4), "{spell:#?} {:?}", r.notes);
-    assert_eq!(r.outcome(), hiperface_conformance::verdict::Outcome::Failed);
+    assert_eq!(r.outcome(), hiperface_suite::verdict::Outcome::Failed);
     // The other cases keep their verdicts and their place in the report.
     let ids =
         |r: &Report| -> Vec<String> { r.cases.iter().map(|c| format!("{} {}", c.id, c.verdict.label())).collect() };
