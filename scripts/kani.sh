@@ -70,7 +70,7 @@ CBMC_ARGS=(--max-field-sensitivity-array-size 136)
 # `request_round_trip_store_data` in 300 s (MiniSat 234).
 #
 # `-Z stubbing`: the whole-step harnesses of the data field commands replace the field
-# memory's operations by stubs (`#[kani::stub]`; proofs/src/lib.rs, `field_memory_*`
+# memory's operations by stubs (`#[kani::stub]`; proofs/src/harnesses.rs, `field_memory_*`
 # prove what the stubs assume). Harnesses without a stub are compiled as before.
 #
 # The codegen and every run take the same compile flags (KANI_ARGS, `-Z

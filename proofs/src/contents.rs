@@ -1,5 +1,5 @@
 //! The field memory from any memory state (issue 60). The whole-step proofs build
-//! erased memory and take the field memory's operations as stubs (proofs/src/lib.rs);
+//! erased memory and take the field memory's operations as stubs (proofs/src/harnesses.rs);
 //! what that rests on is proved here from any contents and any bitmap of known bytes:
 //!
 //! - the operations themselves ([`memory_ops_from_any`]): `read`, `write` and `free`,

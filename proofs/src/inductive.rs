@@ -165,7 +165,7 @@ pub const READ_DATA_COUNT: usize = 4;
 /// (128 bytes). It takes 0 to 16, and more than 128 (refused: no field is larger), so
 /// that the reply is at most 22 bytes; longer replies need an unwind bound past 130,
 /// to which every loop over a count CBMC does not know is then unrolled
-/// (proofs/src/lib.rs).
+/// (proofs/src/harnesses.rs).
 pub const READ_DATA_LONG: core::ops::RangeInclusive<u8> = 17..=MAX_FIELD_BYTES as u8;
 
 /// Whether a Read Data request is one the harness `inductive_read_data` takes.
@@ -227,7 +227,7 @@ pub fn step_keeps_invariant(state: &Slave, frame: &[u8], now_us: u64, uart_fault
 
 /// Whether `len` bytes from `start` all lie in the field memory: what
 /// [`FieldMemory::write`] answers. The whole-step harnesses of the data field commands
-/// take the field memory's operations as stubs (proofs/src/lib.rs;
+/// take the field memory's operations as stubs (proofs/src/harnesses.rs;
 /// docs/src/verification.md, "The contents of the field memory"), which answer from
 /// this; [`field_memory_writes_as_stubbed`] and its siblings prove the real ones answer
 /// the same.
