@@ -62,8 +62,9 @@ pub fn describe(state: Option<(Echo, EchoMode)>, what: &str) -> String {
 }
 
 /// How long past its deadline an echo known to come is still waited for, µs: as long
-/// as the exchanges wait for a late reply (`exchange::LATE_REPLY_GRACE_MS`).
-const LATE_ECHO_GRACE_US: u64 = 1_000_000;
+/// as the exchanges wait for a late reply (`exchange::LATE_REPLY_GRACE_MS`). The echo
+/// of a request here, of a reply in `reply_echo`.
+pub(crate) const LATE_ECHO_GRACE_US: u64 = 1_000_000;
 
 /// A line with its echo handled.
 pub struct EchoLine<L: Line> {
