@@ -311,29 +311,24 @@ fn defect_problems(d: &Defect, r: &Report) -> Vec<String> {
 fn temporary_settings_through_rfc2217_pass_and_their_defect_fails() {
     use hiperface_conformance::port::open_for_slave;
     let _one = common::one_at_a_time();
-    let run_once = |args: &[&str]| {
-        let hx1 = Hx1::start(args);
-        let server = common::Ser2net::bridge_rfc2217(&hx1.path, "hx1rfc2217");
-        let spec: PortSpec = format!("rfc2217://{}", server.address()).parse().unwrap();
-        let started = std::time::Instant::now();
-        let opened = loop {
-            match open_for_slave(&spec, profile(), &Default::default(), Default::default()) {
-                Ok(o) => break o,
-                Err(_) if started.elapsed() < std::time::Duration::from_secs(10) => {
-                    std::thread::sleep(std::time::Duration::from_millis(100))
-                }
-                Err(e) => panic!("{e}"),
-            }
-        };
-        let options = Options { timing: opened.default_timing.0, ..options() };
-        let r = slave::run(opened.line, profile(), &options, |_, _, _| {});
-        let kept_time = hx1.kept_time();
-        (r, kept_time)
-    };
     let run = |args: &[&str], expected: &[&str]| {
         common::faithfully(|| {
-            let (r, kept_time) = run_once(args);
-            (with_verdict(&r, CaseVerdict::Fail) == expected || kept_time, r)
+            let hx1 = Hx1::start(args);
+            let server = common::Ser2net::bridge_rfc2217(&hx1.path, "hx1rfc2217");
+            let spec: PortSpec = format!("rfc2217://{}", server.address()).parse().unwrap();
+            let started = std::time::Instant::now();
+            let opened = loop {
+                match open_for_slave(&spec, profile(), &Default::default(), Default::default()) {
+                    Ok(o) => break o,
+                    Err(_) if started.elapsed() < std::time::Duration::from_secs(10) => {
+                        std::thread::sleep(std::time::Duration::from_millis(100))
+                    }
+                    Err(e) => panic!("{e}"),
+                }
+            };
+            let options = Options { timing: opened.default_timing.0, ..options() };
+            let r = slave::run(opened.line, profile(), &options, |_, _, _| {});
+            (with_verdict(&r, CaseVerdict::Fail) == expected || hx1.kept_time(), r)
         })
     };
     let good = run(&["--follow-line"], &[]);

@@ -51,7 +51,7 @@ impl Hx1 {
     /// 3 ms: woken after a reply's time or held off a processor), empty where it kept
     /// time. A run with any is no sample of HX-1's behaviour: a device has a processor
     /// of its own. Always empty for HX-L, which does not keep the log.
-    pub fn late_replies(&self) -> Vec<String> {
+    fn late_replies(&self) -> Vec<String> {
         let Some(log) = &self.late_log else { return Vec::new() };
         std::fs::read_to_string(log.path()).unwrap_or_default().lines().map(str::to_string).collect()
     }

@@ -44,7 +44,6 @@ pub struct Ser2net {
     _config: tempfile::TempDir,
 }
 
-/// Whether a process may be started at a real-time priority here (`chrt -f`).
 /// Run `attempt` with a fresh test rig (a device or a line of the test's own, on this
 /// machine) until the rig kept time throughout, at most 5 times: a device has a
 /// processor of its own, and a run in which the test machine made the rig late is no
@@ -60,6 +59,7 @@ pub fn faithfully<T>(mut attempt: impl FnMut() -> (bool, T)) -> T {
     panic!("the test's device or line was never on time: the machine is too busy for a real-time test");
 }
 
+/// Whether a process may be started at a real-time priority here (`chrt -f`).
 pub fn real_time_permitted() -> bool {
     Command::new("chrt").args(["-f", "1", "true"]).status().is_ok_and(|s| s.success())
 }
