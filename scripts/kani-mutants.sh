@@ -55,7 +55,9 @@ for i in "${!NAMES[@]}"; do
         continue
     fi
     out=$(cd "$WORK/tree" && CARGO_TARGET_DIR="$ROOT/$WORK/target" scripts/kani.sh "$@" 2>&1)
-    results=$(grep -E '^\| [a-z_0-9]+ +\| ' <<<"$out" | awk -F'|' '{gsub(/ +/, " "); printf "%s:%s,", $2, $3}')
+    # The harnesses' rows of kani.sh's table (not its heading): name, result, seconds.
+    results=$(grep -E '^\| [a-z_0-9]+ +\| ' <<<"$out" | grep -v '^| harness ' |
+        awk -F'|' '{gsub(/ +/, " "); printf "%s:%s in%ss,", $2, $3, $5}')
     if grep -qE '^\| [a-z_0-9]+ +\| FAILED ' <<<"$out"; then
         verdict=caught
     else

@@ -130,7 +130,8 @@ pub fn open_for_slave(
             let (sim, port) = PtySimulator::start_in(profile, world.clone())
                 .map_err(|reason| LineError::Open { port: "sim".into(), reason })?;
             let name = format!("{} to the built-in reference encoder", sim.path);
-            let mut line = SerialLine::from_port(port, name, profile.settings, true).with_peer_lateness(sim.lateness());
+            let mut line = SerialLine::from_port(port, name, profile.settings, true)
+                .with_peer_lateness(sim.lateness(), sim.heard());
             if let Some(t) = tolerance_us {
                 line = line.with_tolerance(t);
             }

@@ -245,8 +245,15 @@ impl SerialLine {
 
     /// The far end is the harness's own simulator, which reports how late it was
     /// ([`crate::simulate::PtySimulator::lateness`]): its lateness is the harness's.
-    pub fn with_peer_lateness(mut self, lateness: std::sync::Arc<std::sync::atomic::AtomicU64>) -> SerialLine {
+    /// Where it says when it received each character (`heard`), how long after the
+    /// harness wrote it is the harness's lateness too.
+    pub fn with_peer_lateness(
+        mut self,
+        lateness: std::sync::Arc<std::sync::atomic::AtomicU64>,
+        heard: Option<super::clock::PeerHeard>,
+    ) -> SerialLine {
         self.time.peer_lateness = Some(lateness);
+        self.time.peer_heard = heard;
         self
     }
 
@@ -328,6 +335,9 @@ impl Line for SerialLine {
             }
         })?;
         let clocked = self.pseudo_terminal.then(|| self.settings.char_time_us());
+        if let Some((_, arrival)) = got {
+            self.time.read_at(arrival);
+        }
         Ok(got.map(|(byte, arrival)| self.time.rx.stamp(byte, arrival, clocked)))
     }
 

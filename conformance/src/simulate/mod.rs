@@ -6,13 +6,16 @@
 
 use hiperface_model::datalink::RxChar;
 use hiperface_model::{Hex, Profile, Slave, Step};
-use hiperface_suite::serve::{disturbed_from_us, Hooks, Plain, Planned, Serving, Session, READ_US};
+use hiperface_suite::serve::{disturbed_from_us, Hooks, Planned, Serving, Session, READ_US};
 use hiperface_suite::world::World;
 use serialport::SerialPort;
 use std::io::{ErrorKind, Write};
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
+
+mod builtin;
+pub use builtin::PtySimulator;
 
 /// A read that returns this much later than its own timeout allowed is reported to
 /// the hooks with the characters that end it, as time the line was not watched.
@@ -31,26 +34,6 @@ pub fn serve(
     world.apply(&mut slave);
     let mut session = Session::new(slave, Logger { log });
     serve_with(port, &mut session, Serving::MODEL, Instant::now(), &stop, None)
-}
-
-/// The simulator behind `--port sim`: the model as it is, telling the harness how
-/// late it was (a read of the line overdue, a reply written after it was due), the
-/// largest since the harness last took it. The harness adds it to its own lateness:
-/// what a busy machine did to its own encoder is never the encoder's (a late reply
-/// that lateness explains is UNKNOWN, and its case is run again).
-struct Punctuality {
-    late_us: Arc<AtomicU64>,
-}
-
-impl Hooks for Punctuality {
-    fn read(&mut self, unwatched_us: u64) {
-        self.late_us.fetch_max(unwatched_us, Ordering::SeqCst);
-    }
-    fn writing(&mut self, late_us: u64) {
-        if late_us >= UNWATCHED_US {
-            self.late_us.fetch_max(late_us, Ordering::SeqCst);
-        }
-    }
 }
 
 /// Logs frames for `hiperface simulate --log`.
@@ -345,85 +328,6 @@ fn watch_until(
         }
         if let Some(chunk) = watch(port, epoch, watched, buf, READ_US)?.filter(|c| !c.bytes.is_empty()) {
             heard.push(chunk);
-        }
-    }
-}
-
-/// A pseudo-terminal pair with the simulator on one end, served by a thread until
-/// dropped.
-pub struct PtySimulator {
-    pub path: String,
-    stop: Arc<AtomicBool>,
-    thread: Option<std::thread::JoinHandle<std::io::Result<()>>>,
-    /// How late the simulator was since the harness last took it, µs (see
-    /// [`PtySimulator::lateness`]).
-    late_us: Arc<AtomicU64>,
-}
-
-impl PtySimulator {
-    /// Start; returns the simulator and the other end of the pair, for the harness.
-    pub fn start(profile: Profile) -> Result<(PtySimulator, Box<dyn SerialPort>), String> {
-        PtySimulator::start_in(profile, World::default())
-    }
-
-    /// Start, the data rate of the line being whatever the other end of the
-    /// pseudo-terminal sets (a serial device server that takes settings through RFC
-    /// 2217): see [`Serving::follows_line_settings`].
-    pub fn start_following_line_settings(profile: Profile) -> Result<(PtySimulator, Box<dyn SerialPort>), String> {
-        PtySimulator::serving(Arc::default(), move |port, stop| {
-            // The line's settings are the other end's.
-            let serving = Serving { sets_port: false, follows_line_settings: true, ..Serving::MODEL };
-            serve_with(
-                port,
-                &mut Session::new(Slave::operational(profile), Plain),
-                serving,
-                Instant::now(),
-                &stop,
-                None,
-            )
-        })
-    }
-
-    /// Start in a given world (inputs, start-up faults).
-    pub fn start_in(profile: Profile, world: World) -> Result<(PtySimulator, Box<dyn SerialPort>), String> {
-        let late_us = Arc::new(AtomicU64::new(0));
-        let hooks = Punctuality { late_us: late_us.clone() };
-        PtySimulator::serving(late_us, move |port, stop| {
-            let mut slave = Slave::operational(profile);
-            world.apply(&mut slave);
-            serve_with(port, &mut Session::new(slave, hooks), Serving::MODEL, Instant::now(), &stop, None)
-        })
-    }
-
-    /// How late the simulator was (a read of the line overdue, a reply written after
-    /// it was due), the largest since it was last taken: a line to it adds this to the
-    /// harness's own lateness ([`crate::line::serial::SerialLine::with_peer_lateness`]).
-    pub fn lateness(&self) -> Arc<AtomicU64> {
-        self.late_us.clone()
-    }
-
-    /// A pseudo-terminal pair, `serve` run on one end by a thread until the stop flag it
-    /// is given is set; the other end for the harness. `late_us`: where `serve` reports
-    /// how late it was (see [`PtySimulator::lateness`]).
-    fn serving(
-        late_us: Arc<AtomicU64>,
-        serve: impl FnOnce(Box<dyn SerialPort>, Arc<AtomicBool>) -> std::io::Result<()> + Send + 'static,
-    ) -> Result<(PtySimulator, Box<dyn SerialPort>), String> {
-        let (sim_end, harness_end) =
-            crate::line::pty_pair().map_err(|e| format!("cannot create a pseudo-terminal pair: {e}"))?;
-        let path = harness_end.name().unwrap_or_else(|| "pty".into());
-        let stop = Arc::new(AtomicBool::new(false));
-        let flag = stop.clone();
-        let thread = std::thread::spawn(move || serve(Box::new(sim_end), flag));
-        Ok((PtySimulator { path, stop, thread: Some(thread), late_us }, Box::new(harness_end)))
-    }
-}
-
-impl Drop for PtySimulator {
-    fn drop(&mut self) {
-        self.stop.store(true, Ordering::Relaxed);
-        if let Some(t) = self.thread.take() {
-            let _ = t.join();
         }
     }
 }
