@@ -21,7 +21,8 @@ use hiperface_model::slave::inputs::{InitFault, PhysicalInputs};
 use hiperface_model::slave::{Reply, Silence};
 use hiperface_model::{checksum, profiles, Frame, Profile, Slave};
 use hiperface_suite::line::frame_encoder::Answer;
-use hiperface_suite::slave::{self, CaseVerdict, Options, Outcome, Report};
+use hiperface_suite::slave::{self, Options, Report};
+use hiperface_suite::verdict::{CaseVerdict, Outcome};
 use hiperface_suite::world::World;
 
 /// What the defective encoder does differently.

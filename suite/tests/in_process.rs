@@ -12,7 +12,8 @@ use hiperface_model::datalink::{ReceivedFrame, RxChar};
 use hiperface_model::slave::{Reply, Silence};
 use hiperface_model::{checksum, profiles, Frame, Profile, Slave, UartSettings};
 use hiperface_suite::line::frame_encoder::Answer;
-use hiperface_suite::slave::{self, Options, Outcome, Report};
+use hiperface_suite::slave::{self, Options, Report};
+use hiperface_suite::verdict::Outcome;
 
 /// The reference model as an encoder given frame by frame: the frame's characters are
 /// fed to it a character time apart, ending when the frame's last one was received.

@@ -81,7 +81,8 @@ pub struct RealTime {
     /// how late it was since the last call, which is the harness's too (the model on
     /// a busy machine is late, not wrong).
     pub peer_lateness: Option<std::sync::Arc<std::sync::atomic::AtomicU64>>,
-    /// The same device's clock and when it received the latest character.
+    /// The same device's clock, when it received the latest character and when it
+    /// wrote its latest reply.
     pub peer_heard: Option<PeerHeard>,
     /// When the latest write to a pseudo-terminal ended, at the latest (its last
     /// character as a UART would have clocked it out), µs; 0 before any.
@@ -103,8 +104,8 @@ pub struct RealTime {
 pub struct PeerHeard {
     pub epoch: std::time::Instant,
     pub last_us: std::sync::Arc<std::sync::atomic::AtomicU64>,
-    /// When the first run of characters of its latest reply was written (the write
-    /// returned), µs; 0 before any.
+    /// When the first run of characters of its latest reply was written (taken just
+    /// before the write: it went out no earlier), µs; 0 before any.
     pub wrote_us: std::sync::Arc<std::sync::atomic::AtomicU64>,
 }
 

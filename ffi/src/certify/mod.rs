@@ -78,7 +78,7 @@ mod tests {
     use core::ffi::c_int;
     use hiperface_model::UartFault;
     use hiperface_model::Verdict;
-    use hiperface_suite::slave::{CaseVerdict, Outcome};
+    use hiperface_suite::verdict::{CaseVerdict, Outcome};
     use std::collections::BTreeSet;
 
     fn text(p: *const c_char) -> String {

@@ -8,7 +8,8 @@ use hiperface_model::Profile;
 use hiperface_suite::master::report::MasterCertificate;
 use hiperface_suite::master::DriveReport;
 use hiperface_suite::report::Reports;
-use hiperface_suite::slave::{CaseResult, CaseVerdict, Outcome, Report};
+use hiperface_suite::slave::Report;
+use hiperface_suite::verdict::{CaseResult, CaseVerdict, Outcome};
 use std::ffi::CString;
 
 /// What a whole run adds up to.

@@ -3,7 +3,8 @@
 //! tells it from a conformant device.
 
 use hiperface_suite::line::virtual_line::{SlaveDevice, VirtualLine};
-use hiperface_suite::slave::{self, CaseVerdict, Options, Report};
+use hiperface_suite::slave::{self, Options, Report};
+use hiperface_suite::verdict::CaseVerdict;
 use hiperface_suite::verdict::{CaseResult, Finding};
 use serde::{Deserialize, Serialize};
 

@@ -55,8 +55,8 @@ impl Baselines {
                             .filter(|x| {
                                 !matches!(
                                     x.verdict,
-                                    hiperface_suite::slave::CaseVerdict::Pass
-                                        | hiperface_suite::slave::CaseVerdict::NotApplicable
+                                    hiperface_suite::verdict::CaseVerdict::Pass
+                                        | hiperface_suite::verdict::CaseVerdict::NotApplicable
                                 )
                             })
                             .flat_map(|x| {

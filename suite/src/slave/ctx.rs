@@ -6,9 +6,10 @@
 //! every case uses; its transmit path is split into its jobs already (under 580 lines
 //! without its tests).
 
-use super::timing;
-use super::{CaseError, CaseResult, CaseVerdict, Finding, Identity, Options, WireEntry};
+use super::{CaseError, Identity, Options};
 use crate::exchange::{sealed, Bus, Exchange, Listen, LATE_REPLY_GRACE_MS};
+use crate::verdict::timing;
+use crate::verdict::{CaseResult, CaseVerdict, Finding, WireEntry};
 use hiperface_model::address::AddressByte;
 use hiperface_model::clause::{self, Normative};
 use hiperface_model::command::ResponseLimit;

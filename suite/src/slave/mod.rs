@@ -17,15 +17,14 @@ pub mod report;
 pub mod run;
 pub mod safety;
 
-pub use crate::verdict::timing::{self, TimingMode};
-pub use crate::verdict::{glob_match, CaseResult, CaseVerdict, Finding, Outcome, WireEntry};
-pub use crate::world::World;
 pub use case::{Case, CaseError};
 pub use ctx::{Ctx, Graded, Guard};
 pub use identity::Identity;
 pub use run::{check_selection, in_process, replay, run, select, NoCaseMatches, Report, TimingStats};
 pub use safety::Safety;
 
+use crate::verdict::timing::TimingMode;
+use crate::world::World;
 use hiperface_model::Grading;
 use serde::Serialize;
 use std::sync::atomic::AtomicBool;

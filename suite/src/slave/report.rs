@@ -2,9 +2,10 @@
 //! how), the cases with their clauses and findings, the wire log of every failing
 //! case, the safety section and the response times.
 
-use super::{Report, TimingMode};
+use super::Report;
 use crate::report::wire::{self, UnderTest};
 use crate::report::{escape, junit_suite, page_head, NotRun, Reports};
+use crate::verdict::timing::TimingMode;
 use crate::verdict::CaseVerdict;
 use std::fmt::Write as _;
 

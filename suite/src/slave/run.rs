@@ -4,12 +4,13 @@
 use super::ctx::Tally;
 use super::record::{Record, RecordError, Recorder, Replay};
 use super::safety::Snapshot;
-use super::{cases, glob_match, Case, CaseError, CaseResult, Ctx, Finding, Identity, Needs, Options, Outcome};
-use super::{Safety, TimingMode};
+use super::{cases, Case, CaseError, Ctx, Identity, Needs, Options, Safety};
 use crate::exchange::{Bus, BusMaster};
 use crate::line::frame_encoder::{FrameEncoder, FramedEncoder};
 use crate::line::virtual_line::VirtualLine;
 use crate::line::{Line, LineError, LineKind};
+use crate::verdict::timing::TimingMode;
+use crate::verdict::{glob_match, CaseResult, Finding, Outcome};
 use crate::verdict::{END_BUDGET, MAX_ATTEMPTS};
 use hiperface_model::{CommandId, Grading, Profile, Slave};
 use serde::Serialize;

@@ -76,7 +76,7 @@ impl Snapshot {
             let grace = first || tally.answered_any;
             first = false;
             let listen = Listen {
-                reply_ms: super::timing::reply_awaited_ms(limits),
+                reply_ms: crate::verdict::timing::reply_awaited_ms(limits),
                 late_grace_ms: if grace { LATE_REPLY_GRACE_MS } else { 0 },
                 ..Listen::default()
             };

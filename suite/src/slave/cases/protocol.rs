@@ -1,7 +1,8 @@
 //! Protocol errors: checksum, unknown command, length, argument. // 000:2.4.2, 000:T47-T50
 
 use super::{always, case, errors_not_stacked};
-use crate::slave::{Case, Finding};
+use crate::slave::Case;
+use crate::verdict::Finding;
 use hiperface_model::{CommandId, Request};
 
 pub const CHECKSUM: Case = case!(

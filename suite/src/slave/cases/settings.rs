@@ -2,7 +2,8 @@
 //! // 000:T32, 000:T33
 
 use super::{always, case, code0, decoded, lacks, other_baud, wait_until};
-use crate::slave::{Case, Finding};
+use crate::slave::Case;
+use crate::verdict::Finding;
 use hiperface_model::slave::powerup::CommState;
 use hiperface_model::{CommandId, FaultCode, Profile, Request, Response, UartSettings};
 
