@@ -21,7 +21,7 @@ use std::rc::Rc;
 /// (`suite::master::encoder`): the `nth` request of a command gets the act.
 struct Scripted {
     slave: Slave,
-    plan: &'static [hiperface_suite::master::scenarios::Injection],
+    plan: &'static [hiperface_suite::master::scenario::Injection],
     /// The plan's injections that have taken place (each once).
     fired: std::collections::BTreeSet<usize>,
     seen: BTreeMap<u8, u32>,

@@ -5,12 +5,12 @@
 use super::encoder::{DriveEncoder, MasterSettings, OnPort};
 use super::grade::finish;
 use super::record::{Fact, ScenarioRecord, Start};
-use super::scenarios::Scenario;
 use super::{Operator, PowerOn};
 use crate::process::MasterProcess;
 use crate::simulate::serve_with;
 use hiperface_model::{CommandId, Profile, Slave};
 use hiperface_suite::line::reply_echo::ReplyEcho;
+use hiperface_suite::master::scenario::Scenario;
 use hiperface_suite::serve::Session;
 use hiperface_suite::verdict::{CaseResult, Finding};
 use serialport::SerialPort;

@@ -5,7 +5,7 @@
 //! Past 400 lines for a reason: the serving hooks and the observer they feed are one
 //! loop, read together; its tests are kept beside it.
 
-use super::scenarios::{Injection, Scenario, Situation};
+use super::scenario::{Injection, Scenario, Situation};
 use crate::line::reply_echo::ReplyEcho;
 use crate::serve::{Hooks, Planned, Serving};
 use crate::verdict::WireEntry;

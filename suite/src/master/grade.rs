@@ -3,7 +3,7 @@
 //! kept from a FAIL.
 
 use super::encoder::{self, DriveEncoder, Timeline};
-use super::scenarios::Scenario;
+use super::scenario::Scenario;
 use crate::verdict::{CaseResult, Finding};
 use hiperface_model::master::obligations::{Observation, Rule};
 use hiperface_model::UartSettings;

@@ -12,7 +12,7 @@
 
 use super::encoder::DriveEncoder;
 pub use super::inputs::{settings_hex, Input};
-use super::scenarios::Scenario;
+use super::scenario::Scenario;
 use crate::serve::{Planned, Session};
 use crate::verdict::{CaseResult, Finding};
 use hiperface_model::{CommandId, Hex, Profile, Slave, UartSettings};
@@ -382,7 +382,7 @@ mod tests {
     fn runs_again_at_the_end_are_the_scenario_s_own() {
         let catalogue = super::super::scenarios::catalogue();
         let (a, b) = (&catalogue[0], &catalogue[1]);
-        let early = |s: &super::super::scenarios::Scenario, attempt, why: &str| {
+        let early = |s: &super::super::scenario::Scenario, attempt, why: &str| {
             let mut result = CaseResult::named(s.id, s.title, s.clauses);
             result.push(crate::verdict::Finding::error(why.to_string()));
             ScenarioRecord { attempt, ..ScenarioRecord::early_of(&result) }

@@ -2,7 +2,7 @@
 //! Every scenario is graded by the master's obligations (`model::master::obligations`);
 //! its plan makes one situation happen so that the master's reaction can be seen.
 
-pub use super::scenario::*;
+use super::scenario::*;
 use crate::world::World;
 use hiperface_model::clause;
 use hiperface_model::settings::Baud;
