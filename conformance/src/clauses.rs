@@ -7,7 +7,7 @@
 use hiperface_model::clause::{Clause, Force, CLAUSES};
 use hiperface_model::master::obligations::Rule;
 use hiperface_model::oracle::REPLY_FORM;
-use hiperface_suite::slave::ctx::EVERY_EXCHANGE;
+use hiperface_suite::slave::EVERY_EXCHANGE;
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -29,7 +29,7 @@ pub struct ClauseCoverage {
     pub master_scenarios: Vec<&'static str>,
     pub master_rules: Vec<&'static str>,
     /// Checked on every exchange of every slave case: by the harness
-    /// (`slave::ctx::EVERY_EXCHANGE`) or the oracle's check of a reply's form
+    /// (`slave::EVERY_EXCHANGE`) or the oracle's check of a reply's form
     /// (`oracle::REPLY_FORM`).
     pub every_exchange: bool,
     /// How many vectors cite it, per file.

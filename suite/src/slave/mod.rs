@@ -10,15 +10,15 @@
 
 mod case;
 pub mod cases;
-pub mod ctx;
-pub mod identity;
+mod ctx;
+mod identity;
 pub mod record;
 pub mod report;
-pub mod run;
-pub mod safety;
+mod run;
+pub(crate) mod safety;
 
 pub use case::{Case, CaseError};
-pub use ctx::{Ctx, Graded, Guard};
+pub use ctx::{Ctx, Graded, Guard, EVERY_EXCHANGE};
 pub use identity::Identity;
 pub use run::{check_selection, in_process, replay, run, select, NoCaseMatches, Report, TimingStats};
 pub use safety::Safety;
