@@ -411,21 +411,33 @@ fn every_legacy_defect_switch_fails_its_own_case() {
 #[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
 fn a_failed_certificate_puts_its_failures_first_in_every_form() {
     let _one = common::one_at_a_time();
-    let hx1 = Hx1::start(&["--defect", "reply-checksum", "--defect", "late-reply"]);
     let tmp = tempfile::tempdir().unwrap();
-    let dir = tmp.path().join("report");
     let profile = common::hx1::dir().join("hx1.toml");
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_hiperface"))
-        .args(["certify", "slave", "--port", &hx1.path, "--allow-writes", "--allow-counter-change"])
-        .args(["--cases", "identity.version,counter.read,position.read"])
-        .arg("--profile")
-        .arg(&profile)
-        .arg("--report")
-        .arg(&dir)
-        .output()
-        .unwrap();
-    drop(hx1);
-    let stdout = String::from_utf8_lossy(&out.stdout);
+    let mut attempt = 0;
+    // Taken again where the late reply was left UNKNOWN (the harness's own lateness on
+    // a busy machine could explain it: seen with three busy loops and a build, 2026-11-29)
+    // or HX-1 was made late; a run that decided it stands, whatever it decided.
+    let (out, stdout, dir) = common::faithfully(|| {
+        attempt += 1;
+        let hx1 = Hx1::start(&["--defect", "reply-checksum", "--defect", "late-reply"]);
+        let dir = tmp.path().join(format!("report-{attempt}"));
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_hiperface"))
+            .args(["certify", "slave", "--port", &hx1.path, "--allow-writes", "--allow-counter-change"])
+            .args(["--cases", "identity.version,counter.read,position.read"])
+            .arg("--profile")
+            .arg(&profile)
+            .arg("--report")
+            .arg(&dir)
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+        let undecided = stdout.lines().any(|l| l.contains("UNKNOWN") && l.contains("counter.read"));
+        let faithful = !undecided && hx1.kept_time();
+        if !faithful {
+            eprintln!("attempt {attempt}: counter.read undecided or HX-1 late; taken again:\n{stdout}");
+        }
+        (faithful, (out, stdout, dir))
+    });
     assert_eq!(out.status.code(), Some(1), "FAILED: {stdout}\n{}", String::from_utf8_lossy(&out.stderr));
     // What each form must say of the two failures.
     let checksum = ["identity.version", "000:2.3.3", "XOR operation on all frame bytes", "56h Read Version"];
