@@ -110,27 +110,23 @@ pub struct PeerHeard {
 }
 
 impl PeerHeard {
+    /// A time kept on its clock (`kept`, µs) as an instant; `None` while it is 0.
+    fn at(&self, kept: &std::sync::atomic::AtomicU64) -> Option<std::time::Instant> {
+        let us = kept.load(std::sync::atomic::Ordering::SeqCst);
+        (us > 0).then(|| self.epoch + std::time::Duration::from_micros(us))
+    }
+
     /// How long after the device wrote its latest reply the harness read its first
     /// character (`read_at`), µs: 0 where it was not after, or nothing was written.
     pub fn read_late(&self, read_at: std::time::Instant) -> u64 {
-        let wrote = self.wrote_us.load(std::sync::atomic::Ordering::SeqCst);
-        if wrote == 0 {
-            return 0;
-        }
-        let wrote_at = self.epoch + std::time::Duration::from_micros(wrote);
-        read_at.saturating_duration_since(wrote_at).as_micros() as u64
+        self.at(&self.wrote_us).map_or(0, |wrote| read_at.saturating_duration_since(wrote).as_micros() as u64)
     }
 
     /// How long after `sent_at` (the end of the harness's latest write, clocked as a
     /// UART would) the device received its latest character, µs: 0 where it was not
     /// after, or it has received nothing since.
     pub fn late_after(&self, sent_at: std::time::Instant) -> u64 {
-        let last = self.last_us.load(std::sync::atomic::Ordering::SeqCst);
-        if last == 0 {
-            return 0;
-        }
-        let heard_at = self.epoch + std::time::Duration::from_micros(last);
-        heard_at.saturating_duration_since(sent_at).as_micros() as u64
+        self.at(&self.last_us).map_or(0, |heard| heard.saturating_duration_since(sent_at).as_micros() as u64)
     }
 }
 
