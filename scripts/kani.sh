@@ -33,8 +33,8 @@
 # harness of the crate at each run (0.7 to 1.4 s each, 53 harnesses), whichever it
 # verifies, so a run per harness cost 36 to 75 s of linking each (CI, 2026-11-29: the
 # trivial harnesses took 44 to 53 s, and the whole set no longer fitted CI's time).
-# Harnesses are grouped by limit and solver, one run per group; Kani's own
-# `--harness-timeout` stops a CBMC at its limit, `ulimit -v` bounds each CBMC's
+# Harnesses are grouped by solver, one run per group; Kani's own
+# `--harness-timeout` stops a CBMC at the group's limit, `ulimit -v` bounds each CBMC's
 # address space, and each harness's peak memory is sampled from /proc every 0.2 s (a
 # harness done sooner shows "-"). The first run builds the crate (its time is the whole
 # run's, not a harness's: the seconds are CBMC's own, as Kani measures them).
@@ -48,6 +48,7 @@
 # (a frame, 135 bytes), and no more: the slave's data field table (255 statuses, 4080
 # bytes of memory) stays one array, as field-by-field it multiplies the work of every
 # copy of the slave. docs/src/design.md, "Kani" has the minimal reproduction.
+set -uo pipefail
 cd "$(dirname "$0")/.."
 FALSE_ASSERTION=
 CI=

@@ -297,14 +297,21 @@ mod tests {
         assert_eq!(stamps, vec![1_000, 1_500, 2_000, 2_500]);
     }
 
+    /// A clock whose far end is the harness's own simulator, which says when it
+    /// received and wrote.
+    fn clock_with_simulator() -> (RealTime, PeerHeard) {
+        let mut clock = RealTime::new(0);
+        let heard = PeerHeard { epoch: clock.epoch(), last_us: Default::default(), wrote_us: Default::default() };
+        clock.peer_heard = Some(heard.clone());
+        (clock, heard)
+    }
+
     /// The simulator took the request 8 ms after the harness wrote it (an idle
     /// processor woke it late): that is the harness's lateness; taken at once, it is
     /// not.
     #[test]
     fn a_request_the_simulator_took_late_is_the_harness_lateness() {
-        let mut clock = RealTime::new(0);
-        let heard = PeerHeard { epoch: clock.epoch(), last_us: Default::default(), wrote_us: Default::default() };
-        clock.peer_heard = Some(heard.clone());
+        let (clock, heard) = clock_with_simulator();
         let end = write_whole(&clock, 1_000, &[0x40, 0x50, 0x10], |_| Ok(())).unwrap();
         assert!(clock.take_lateness_us() < 8_000, "nothing received yet: not late");
         heard.last_us.store(end.latest_us + 8_000, std::sync::atomic::Ordering::SeqCst);
@@ -317,9 +324,7 @@ mod tests {
     /// idle processor woke the harness late): the harness's lateness; read at once, not.
     #[test]
     fn a_reply_the_harness_read_late_is_the_harness_lateness() {
-        let mut clock = RealTime::new(0);
-        let heard = PeerHeard { epoch: clock.epoch(), last_us: Default::default(), wrote_us: Default::default() };
-        clock.peer_heard = Some(heard.clone());
+        let (clock, heard) = clock_with_simulator();
         let end = write_whole(&clock, 1_000, &[0x40, 0x50, 0x10], |_| Ok(())).unwrap();
         heard.wrote_us.store(end.latest_us + 6_000, std::sync::atomic::Ordering::SeqCst);
         clock.read_at(end.latest_us + 14_000);

@@ -60,7 +60,8 @@ pub struct PtySimulator {
     /// How late the simulator was since the harness last took it, µs (see
     /// [`PtySimulator::lateness`]).
     late_us: Arc<AtomicU64>,
-    /// When it received the latest character (see [`PtySimulator::heard`]).
+    /// When it received the latest character and wrote its latest reply, where it
+    /// says so (see [`PtySimulator::heard`]).
     heard: Option<PeerHeard>,
 }
 
@@ -74,7 +75,7 @@ impl PtySimulator {
     /// pseudo-terminal sets (a serial device server that takes settings through RFC
     /// 2217): see [`Serving::follows_line_settings`].
     pub fn start_following_line_settings(profile: Profile) -> Result<(PtySimulator, Box<dyn SerialPort>), String> {
-        PtySimulator::serving(Arc::default(), move |port, stop| {
+        PtySimulator::serving(Arc::default(), None, move |port, stop| {
             // The line's settings are the other end's.
             let serving = Serving { sets_port: false, follows_line_settings: true, ..Serving::MODEL };
             serve_with(
@@ -94,13 +95,11 @@ impl PtySimulator {
         let heard = PeerHeard { epoch: Instant::now(), last_us: Arc::default(), wrote_us: Arc::default() };
         let hooks = Punctuality { late_us: late_us.clone(), heard: heard.clone(), writing_reply: false };
         let epoch = heard.epoch;
-        let (mut sim, port) = PtySimulator::serving(late_us, move |port, stop| {
+        PtySimulator::serving(late_us, Some(heard), move |port, stop| {
             let mut slave = Slave::operational(profile);
             world.apply(&mut slave);
             serve_with(port, &mut Session::new(slave, hooks), Serving::MODEL, epoch, &stop, None)
-        })?;
-        sim.heard = Some(heard);
-        Ok((sim, port))
+        })
     }
 
     /// When the simulator received the latest character, where it says so (the one
@@ -120,9 +119,11 @@ impl PtySimulator {
 
     /// A pseudo-terminal pair, `serve` run on one end by a thread until the stop flag it
     /// is given is set; the other end for the harness. `late_us`: where `serve` reports
-    /// how late it was (see [`PtySimulator::lateness`]).
+    /// how late it was (see [`PtySimulator::lateness`]); `heard`: where it says when it
+    /// received and wrote, if it does (see [`PtySimulator::heard`]).
     fn serving(
         late_us: Arc<AtomicU64>,
+        heard: Option<PeerHeard>,
         serve: impl FnOnce(Box<dyn SerialPort>, Arc<AtomicBool>) -> std::io::Result<()> + Send + 'static,
     ) -> Result<(PtySimulator, Box<dyn SerialPort>), String> {
         let (sim_end, harness_end) =
@@ -131,7 +132,7 @@ impl PtySimulator {
         let stop = Arc::new(AtomicBool::new(false));
         let flag = stop.clone();
         let thread = std::thread::spawn(move || serve(Box::new(sim_end), flag));
-        Ok((PtySimulator { path, stop, thread: Some(thread), late_us, heard: None }, Box::new(harness_end)))
+        Ok((PtySimulator { path, stop, thread: Some(thread), late_us, heard }, Box::new(harness_end)))
     }
 }
 
