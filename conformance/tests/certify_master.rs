@@ -27,6 +27,17 @@ fn hx_master(defect: Option<&str>) -> String {
     format!("{}python3 {} {{port}}{defect}", common::real_time_prefix(), script.display())
 }
 
+/// [`certify`] until no scenario is left UNKNOWN by the harness's own lateness (the
+/// report says so: no verdict on the master), at most 5 times: a run in which the test
+/// machine kept the harness from seeing is no sample of the master. A FAIL or
+/// NON-STRICT is returned at once, for the test to fail on.
+fn certify_seen(profile: Profile, exec: &str, scenarios: Option<&str>) -> DriveReport {
+    common::faithfully(|| {
+        let report = certify(profile, exec, scenarios);
+        (report.scenarios.iter().all(|s| s.verdict != CaseVerdict::Unknown), report)
+    })
+}
+
 fn certify(profile: Profile, exec: &str, scenarios: Option<&str>) -> DriveReport {
     let options = Options {
         attach: Attach::Exec(exec.into()),
@@ -54,7 +65,7 @@ fn assert_clean(report: &DriveReport) {
 fn the_reference_master_passes_every_scenario() {
     let _one = common::one_at_a_time();
     let exec = format!("{} master --port {{port}}", env!("CARGO_BIN_EXE_hiperface"));
-    assert_clean(&certify(profiles::srs50(), &exec, None));
+    assert_clean(&certify_seen(profiles::srs50(), &exec, None));
 }
 
 #[test]
@@ -92,7 +103,7 @@ fn the_reference_master_passes_every_scenario_through_ser2net() {
     )
     .unwrap();
     let exec = format!("sh {} {{port}}", script.display());
-    assert_clean(&certify(profiles::srs50(), &exec, None));
+    assert_clean(&certify_seen(profiles::srs50(), &exec, None));
 }
 
 #[test]
@@ -100,7 +111,7 @@ fn the_reference_master_passes_every_scenario_through_ser2net() {
 fn the_independent_master_passes_every_scenario() {
     let _one = common::one_at_a_time();
     let exec = hx_master(None);
-    assert_clean(&certify(profiles::srs50(), &exec, None));
+    assert_clean(&certify_seen(profiles::srs50(), &exec, None));
 }
 
 #[test]
@@ -110,7 +121,7 @@ fn the_independent_master_set_for_user_settings_passes_the_user_settings_scenari
     // HX-M as a drive configured for 38400 Bd: it waits out the default window and
     // talks at the encoder's stored data rate, as 000:3.3.1 allows.
     let exec = hx_master(None);
-    let report = certify(profiles::srs50(), &format!("{exec} --user-baud 38400"), Some("startup.user-settings"));
+    let report = certify_seen(profiles::srs50(), &format!("{exec} --user-baud 38400"), Some("startup.user-settings"));
     let s = &report.scenarios[0];
     assert_eq!(s.verdict, CaseVerdict::Pass, "{:#?}", s.findings);
     // It did talk at 38400 Bd, after the window: the rate check saw frames to grade.
@@ -308,16 +319,7 @@ fn every_defective_master_is_caught_where_it_breaks_a_rule() {
         // Where the harness's own timing left a verdict untold (UNKNOWN: on a busy
         // machine every re-run of a scenario was disturbed), the defect is certified
         // again: the assertions below are about what the harness saw.
-        let mut tries = 0;
-        let report = loop {
-            tries += 1;
-            let report = certify(profile, &exec, Some(&globs));
-            let untold = report.scenarios.iter().any(|s| s.verdict == CaseVerdict::Unknown);
-            if !untold || tries == 4 {
-                break report;
-            }
-            eprintln!("{}: certified again, the harness could not tell: {:#?}", d.name, report.scenarios);
-        };
+        let report = certify_seen(profile, &exec, Some(&globs));
         let own = report.scenarios.iter().find(|s| s.id == d.scenario).expect("the scenario ran");
         let cited = own.findings.iter().any(|f| f.verdict() == d.verdict && f.clause_id() == d.clause);
         if own.verdict != d.verdict || !cited {

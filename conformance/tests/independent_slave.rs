@@ -350,9 +350,13 @@ fn temporary_settings_through_rfc2217_pass_and_their_defect_fails() {
 fn the_conformant_legacy_slave_passes_with_either_timeout() {
     let _one = common::one_at_a_time();
     for settings in [0xE4, 0xA4] {
-        let hxl = Hx1::start_legacy(&["--settings", &format!("0x{settings:02X}")]);
-        let r = certify_pty_as(&hxl, legacy_profile(settings));
-        drop(hxl);
+        // Taken again where HX-L was made late or the harness left a verdict UNKNOWN
+        // (its own lateness, said so in the report): neither is a sample of HX-L.
+        let r = common::faithfully(|| {
+            let hxl = Hx1::start_legacy(&["--settings", &format!("0x{settings:02X}")]);
+            let r = certify_pty_as(&hxl, legacy_profile(settings));
+            (with_verdict(&r, CaseVerdict::Unknown).is_empty() && (no_fail(&r) || hxl.kept_time()), r)
+        });
         let bad: Vec<_> =
             r.cases.iter().filter(|c| matches!(c.verdict, CaseVerdict::Fail | CaseVerdict::Error)).collect();
         assert!(bad.is_empty(), "{settings:02X}h: {bad:#?}");
