@@ -1,11 +1,12 @@
 //! The command line of master certification and of the reference master:
 //! `hiperface certify master` and `hiperface master`.
 
-use super::{reference, Attach, Options, PowerOn, Progress};
+use super::{reference, Attach, Options, PowerOn};
 use crate::command::{CommandError, Ended};
 use crate::port::{self, PortSpec};
 use hiperface_suite::exchange::BusMaster;
 use hiperface_suite::line::echo::EchoMode;
+use hiperface_suite::master::run::Progress;
 use hiperface_suite::profile_file;
 use hiperface_suite::verdict::CaseVerdict;
 use hiperface_suite::world::World;

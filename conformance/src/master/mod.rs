@@ -12,13 +12,15 @@ mod scenario_run;
 // The scenarios, the encoder's hooks that observe the master, their grades, the record
 // and the report are the core's (`hiperface_suite::master`); the harness serves them on
 // lines.
-use hiperface_suite::master::{encoder, grade, record, report, scenarios, DriveReport};
+use hiperface_suite::master::{encoder, record, report, scenarios, DriveReport};
 
 use hiperface_model::Profile;
 use hiperface_suite::line::echo::{Echo, EchoMode};
 use hiperface_suite::line::reply_echo::ReplyEcho;
+use hiperface_suite::master::run::{run_catalogue, Catalogue, Progress, ScenarioLine, ScenarioRun};
+use hiperface_suite::master::scenario::Scenario;
 use hiperface_suite::verdict::{CaseResult, Finding, END_BUDGET, MAX_ATTEMPTS};
-use scenario_run::{echo_slack_us, on_port, open_port, run_scenario, Drive, ScenarioRun};
+use scenario_run::{echo_slack_us, on_port, open_port, run_scenario, Drive};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
@@ -78,13 +80,6 @@ impl Operator for ConsoleOperator {
     }
 }
 
-/// The time a run may spend on running undecided scenarios again at its end, ms: its
-/// [`END_BUDGET`] share of the time its scenarios took (`needed_ms`), the runs again
-/// during the run included.
-fn end_budget_ms(report: &DriveReport) -> f64 {
-    END_BUDGET * report.needed_ms
-}
-
 /// How a master is run.
 #[derive(Debug, Clone)]
 pub struct Options {
@@ -99,16 +94,6 @@ pub struct Options {
     /// Set by Ctrl-C or SIGTERM: the scenario under way ends (its master stopped with
     /// everything it started), no other starts, and the report says so.
     pub interrupt: Option<Arc<AtomicBool>>,
-}
-
-/// How far a master's run is, as it goes: for a progress bar and the console's lines.
-#[derive(Debug)]
-pub enum Progress<'a> {
-    /// Scenario `index` (1-based) of `total` starts, its `attempt`th run (2 and more: it
-    /// is run again because the harness's timing was disturbed).
-    Starting { index: usize, total: usize, id: &'static str, attempt: u32 },
-    /// Scenario `index` of `total` has its result.
-    Done { index: usize, total: usize, result: &'a CaseResult },
 }
 
 /// Run the catalogue against the master `options.attach`, for an encoder of `profile`;
@@ -160,15 +145,6 @@ pub fn run_with(
         Attach::Exec(_) => {}
     }
     let n = chosen.len();
-    // A drive on a port: the port stays open for the whole run.
-    let port = match &options.attach {
-        Attach::Port { path, .. } => Some(open_port(path)),
-        Attach::Exec(_) => None,
-    };
-    let interrupted = || options.interrupt.as_ref().is_some_and(|f| f.load(Ordering::Relaxed));
-    let mut not_run = 0;
-    // A drive on a port: the echo of the encoder's replies, found once for the run.
-    let mut reply_echo: Option<ReplyEcho> = None;
     // A master on a pseudo-terminal: the kernel's delivery, measured beside the line
     // for the whole run (the reader at the encoder's real-time priority).
     let delivery = match &options.attach {
@@ -181,137 +157,27 @@ pub fn run_with(
         },
         Attach::Port { .. } => None,
     };
-    // A master on a pseudo-terminal: the kernel's workers that deliver its characters
-    // raised for the run, where permitted (put back when `kernel` drops).
-    let mut kernel = match &options.attach {
-        Attach::Exec(_) => crate::sched::KernelDelivery::raise(),
-        Attach::Port { .. } => None,
+    let mut line = HarnessLine {
+        options,
+        // A drive on a port: the port stays open for the whole run.
+        port: match &options.attach {
+            Attach::Port { path, .. } => Some(open_port(path)),
+            Attach::Exec(_) => None,
+        },
+        operator,
+        reply_echo: None,
+        delivery,
+        // A master on a pseudo-terminal: the kernel's workers that deliver its
+        // characters raised for the run, where permitted (put back when dropped).
+        kernel: match &options.attach {
+            Attach::Exec(_) => crate::sched::KernelDelivery::raise(),
+            Attach::Port { .. } => None,
+        },
     };
-    // Each scenario's result, its runs so far and the length of the run it rests on.
-    let mut results: Vec<Option<CaseResult>> = vec![None; n];
-    let mut attempts = vec![0u32; n];
-    let mut rests_on_ms = vec![0u64; n];
-    // The scenarios still undecided after their runs (the harness disturbed each run):
-    // run again once the others are done, when a busy spell may have passed.
-    let mut undecided: Vec<usize> = Vec::new();
-    let mut queue: std::collections::VecDeque<usize> = (0..n).collect();
-    let mut at_end = false;
-    while let Some(i) = queue.pop_front() {
-        let Some(scenario) = chosen.get(i) else { continue };
-        if let Some(k) = kernel.as_mut() {
-            k.refresh();
-        }
-        let profile = scenario.encoder.map_or(profile, |make| make(profile));
-        let declared_out = hiperface_suite::master::declared_out(scenario, &options.not_used);
-        let result = if let Some(result) = declared_out {
-            // Left out by the master's declaration: nothing of it runs.
-            if let Some(r) = report.record.as_mut() {
-                r.runs.push(ScenarioRun::early(result.clone()).record);
-            }
-            result
-        } else if interrupted() && !at_end {
-            // Not run: nothing about the master is known from it.
-            let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
-            result.push(Finding::not_exercised("not run: the run was interrupted"));
-            not_run += 1;
-            if let Some(r) = report.record.as_mut() {
-                r.runs.push(ScenarioRun::early(result.clone()).record);
-            }
-            result
-        } else if at_end && (interrupted() || report.rerun_ms + rests_on_ms[i] as f64 > end_budget_ms(&report)) {
-            // Not run again: its result stays the undecided one.
-            report.notes_per_scenario.push(format!(
-                "{}: not run again at the end: {}",
-                scenario.id,
-                if interrupted() { "the run was interrupted" } else { "the time for runs again was spent" }
-            ));
-            continue;
-        } else {
-            let limit = attempts[i] + MAX_ATTEMPTS;
-            if at_end {
-                // The undecided run is one run again now.
-                report.rerun_ms += rests_on_ms[i] as f64;
-                report.needed_ms -= rests_on_ms[i] as f64;
-            }
-            let run = loop {
-                attempts[i] += 1;
-                let attempt = attempts[i];
-                progress(Progress::Starting { index: i + 1, total: n, id: scenario.id, attempt });
-                let run = match (&options.attach, &port) {
-                    (Attach::Exec(exec), _) => {
-                        let not_used = &options.not_used;
-                        run_scenario(
-                            profile,
-                            scenario,
-                            exec,
-                            options.polling_period_ms,
-                            not_used,
-                            delivery.clone(),
-                            &interrupted,
-                        )
-                    }
-                    (Attach::Port { power_on, echo: mode, path }, Some(Ok(port))) => {
-                        let echo =
-                            reply_echo.get_or_insert_with(|| ReplyEcho::new(*mode, Echo::Unknown, echo_slack_us(path)));
-                        let drive = Drive { port: port.as_ref(), power_on: *power_on, operator: &mut *operator, echo };
-                        let run = on_port(
-                            profile,
-                            scenario,
-                            drive,
-                            options.polling_period_ms,
-                            &options.not_used,
-                            &interrupted,
-                        );
-                        *report.uart_faults.get_or_insert(0) += run.uart_faults;
-                        run
-                    }
-                    (Attach::Port { path, .. }, _) => {
-                        let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
-                        let why = port.as_ref().and_then(|p| p.as_ref().err().cloned()).unwrap_or_default();
-                        result.push(Finding::error(format!("cannot open {path}: {why}")));
-                        ScenarioRun::early(result)
-                    }
-                };
-                if let Some(r) = report.record.as_mut() {
-                    r.runs.push(record::ScenarioRecord { attempt, ..run.record.clone() });
-                }
-                // The harness's own timing was disturbed: run the scenario again, so
-                // that the verdict rests on an undisturbed run where one can be had.
-                match &run.disturbed {
-                    Some(why) if attempt < limit && !interrupted() => {
-                        report.rerun_ms += run.length_ms as f64;
-                        report.notes_per_scenario.push(format!("{}: run again: {why}", scenario.id));
-                    }
-                    Some(_) if !at_end && !interrupted() => {
-                        undecided.push(i);
-                        break run;
-                    }
-                    _ => break run,
-                }
-            };
-            let ScenarioRun { mut result, output, length_ms, real_time, .. } = run;
-            result.attempts = attempts[i];
-            if !at_end {
-                report.real_time_scenarios += usize::from(real_time);
-            }
-            report.needed_ms += length_ms as f64;
-            rests_on_ms[i] = length_ms;
-            report.output.insert(scenario.id.to_string(), output);
-            result
-        };
-        progress(Progress::Done { index: i + 1, total: n, result: &result });
-        if let Some(slot) = results.get_mut(i) {
-            *slot = Some(result);
-        }
-        if queue.is_empty() && !at_end {
-            at_end = true;
-            queue.extend(undecided.drain(..));
-        }
-    }
-    for result in results.into_iter().flatten() {
-        *report.summary.entry(result.verdict.label().to_string()).or_default() += 1;
-        report.scenarios.push(result);
-    }
+    let catalogue = Catalogue { chosen: &chosen, profile, not_used: &options.not_used };
+    let not_run = run_catalogue(&mut report, &catalogue, &mut line, &mut progress);
+    let interrupted = line.interrupted();
+    let HarnessLine { reply_echo, delivery, mut kernel, .. } = line;
     report.echo = reply_echo.map(|e| (e.echo(), e.mode()));
     if let Some(k) = kernel.take() {
         report.notes.push(k.note());
@@ -328,7 +194,7 @@ pub fn run_with(
         ));
     }
     report.wall_time_ms = started.elapsed().as_secs_f64() * 1000.0;
-    if interrupted() {
+    if interrupted {
         let why = format!("interrupted (Ctrl-C or SIGTERM) with {} of {n} scenarios run", n - not_run);
         report.notes.push(format!("The run was {why}: the master was stopped with everything it started."));
         report.cut_short = Some(why);
@@ -350,4 +216,55 @@ pub fn run_with(
         END_BUDGET * 100.0
     ));
     report
+}
+
+/// The master under test as `options.attach` gives it, and what its line keeps from
+/// one scenario to the next.
+struct HarnessLine<'a> {
+    options: &'a Options,
+    /// A drive's port, open for the whole run.
+    port: Option<Result<Box<dyn serialport::SerialPort>, String>>,
+    operator: &'a mut dyn Operator,
+    /// A drive on a port: the echo of the encoder's replies, found once for the run.
+    reply_echo: Option<ReplyEcho>,
+    delivery: Option<Arc<crate::line::delivery::DeliveryProbe>>,
+    kernel: Option<crate::sched::KernelDelivery>,
+}
+
+impl ScenarioLine for HarnessLine<'_> {
+    fn run(&mut self, profile: Profile, scenario: &Scenario) -> ScenarioRun {
+        if let Some(k) = self.kernel.as_mut() {
+            k.refresh();
+        }
+        let options = self.options;
+        let interrupted = || is_set(&options.interrupt);
+        match (&options.attach, &self.port) {
+            (Attach::Exec(exec), _) => {
+                let not_used = &options.not_used;
+                let delivery = self.delivery.clone();
+                run_scenario(profile, scenario, exec, options.polling_period_ms, not_used, delivery, &interrupted)
+            }
+            (Attach::Port { power_on, echo: mode, path }, Some(Ok(port))) => {
+                let echo =
+                    self.reply_echo.get_or_insert_with(|| ReplyEcho::new(*mode, Echo::Unknown, echo_slack_us(path)));
+                let drive = Drive { port: port.as_ref(), power_on: *power_on, operator: &mut *self.operator, echo };
+                on_port(profile, scenario, drive, options.polling_period_ms, &options.not_used, &interrupted)
+            }
+            (Attach::Port { path, .. }, _) => {
+                let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
+                let why = self.port.as_ref().and_then(|p| p.as_ref().err().cloned()).unwrap_or_default();
+                result.push(Finding::error(format!("cannot open {path}: {why}")));
+                ScenarioRun::early(result)
+            }
+        }
+    }
+
+    fn interrupted(&self) -> bool {
+        is_set(&self.options.interrupt)
+    }
+}
+
+/// Whether an interrupt flag is there and set.
+fn is_set(flag: &Option<Arc<AtomicBool>>) -> bool {
+    flag.as_ref().is_some_and(|f| f.load(Ordering::Relaxed))
 }

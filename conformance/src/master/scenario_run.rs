@@ -3,13 +3,13 @@
 //! scenario's end, the master's exit or an interrupt.
 
 use super::encoder::{DriveEncoder, MasterSettings, OnPort};
-use super::grade::finish;
-use super::record::{Fact, ScenarioRecord, Start};
+use super::record::Start;
 use super::{Operator, PowerOn};
 use crate::process::MasterProcess;
 use crate::simulate::serve_with;
 use hiperface_model::{CommandId, Profile, Slave};
 use hiperface_suite::line::reply_echo::ReplyEcho;
+use hiperface_suite::master::run::ScenarioRun;
 use hiperface_suite::master::scenario::Scenario;
 use hiperface_suite::serve::Session;
 use hiperface_suite::verdict::{CaseResult, Finding};
@@ -24,70 +24,6 @@ struct PtySettings(Box<dyn SerialPort>);
 impl MasterSettings for PtySettings {
     fn data_rate(&self) -> Option<u32> {
         self.0.baud_rate().ok()
-    }
-}
-
-/// One run of one scenario.
-pub(super) struct ScenarioRun {
-    pub(super) result: CaseResult,
-    /// What the master printed.
-    pub(super) output: String,
-    /// From power-on to the scenario's end, ms.
-    pub(super) length_ms: u64,
-    /// Why the harness's timing may have decided something in this run.
-    pub(super) disturbed: Option<String>,
-    /// The encoder's thread ran at a real-time priority.
-    pub(super) real_time: bool,
-    /// The master's characters read with a parity or framing error.
-    pub(super) uart_faults: usize,
-    /// The record of the run's wire (`master::record`).
-    pub(super) record: ScenarioRecord,
-}
-
-impl ScenarioRun {
-    /// A run that ended before the encoder served (it could not start).
-    pub(super) fn early(result: CaseResult) -> ScenarioRun {
-        let record = ScenarioRecord::early_of(&result);
-        ScenarioRun {
-            result,
-            output: String::new(),
-            length_ms: 0,
-            disturbed: None,
-            real_time: false,
-            uart_faults: 0,
-            record,
-        }
-    }
-
-    /// A run the encoder served to its end: graded, with what the timeline measured.
-    /// `start`: how its encoder was set up, for the record.
-    #[allow(clippy::too_many_arguments)]
-    fn graded(
-        mut result: CaseResult,
-        mut hooks: DriveEncoder,
-        scenario: &Scenario,
-        started: Instant,
-        start: Start,
-        cut_short: bool,
-        output: String,
-    ) -> ScenarioRun {
-        let record = ScenarioRecord {
-            id: scenario.id.to_string(),
-            attempt: 1,
-            early: false,
-            start,
-            facts: result.findings.iter().map(Fact::of).collect(),
-            inputs: super::record::compact(hooks.take_log()),
-            end_us: hooks.timeline.end_us,
-            cut_short,
-            line_faults: hooks.timeline.line_faults.clone(),
-        };
-        let by_operator = start == Start::PowerOnByOperator;
-        let duration_ms = started.elapsed().as_secs_f64() * 1000.0;
-        let disturbed = finish(&mut result, &mut hooks, scenario, duration_ms, by_operator, cut_short);
-        let (length_ms, real_time) = (hooks.timeline.end_us / 1000, hooks.timeline.real_time);
-        let uart_faults = hooks.timeline.uart_faults;
-        ScenarioRun { result, output, length_ms, disturbed, real_time, uart_faults, record }
     }
 }
 
@@ -187,7 +123,11 @@ pub(super) fn on_port(
         result.push(f);
     }
     let start = if power_on == PowerOn::Prompt { Start::PowerOnByOperator } else { Start::Operational };
-    ScenarioRun::graded(result, hooks, scenario, started, start, cut_short, String::new())
+    let duration_ms = started.elapsed().as_secs_f64() * 1000.0;
+    ScenarioRun {
+        output: Some(String::new()),
+        ..ScenarioRun::graded(result, hooks, scenario, duration_ms, start, cut_short)
+    }
 }
 
 /// Read what arrives until the line has been quiet for `quiet` (at most `limit`: a
@@ -280,7 +220,9 @@ pub(super) fn run_scenario(
         result
             .push(Finding::error(format!("the master exited after {at:.0} ms ({s}) before the scenario ended{said}")));
     }
-    ScenarioRun::graded(result, hooks, scenario, started, Start::PowerOnAtStart, cut_short, output)
+    let duration_ms = started.elapsed().as_secs_f64() * 1000.0;
+    let run = ScenarioRun::graded(result, hooks, scenario, duration_ms, Start::PowerOnAtStart, cut_short);
+    ScenarioRun { output: Some(output), ..run }
 }
 
 /// What ended the encoder's serving, where it was not the scenario's end.

@@ -10,9 +10,10 @@
 //! [`super::record::replay`] as a real run's is.
 
 use super::encoder::{DriveEncoder, MasterSettings};
-use super::record::{compact, Fact, ScenarioRecord, Start};
+use super::record::Start;
+use super::run::{run_catalogue, Catalogue, ScenarioLine, ScenarioRun};
 use super::scenario::Scenario;
-use super::{grade, scenarios, DriveReport};
+use super::{scenarios, DriveReport};
 use crate::serve::{Session, READ_US};
 use crate::verdict::{CaseResult, Finding};
 use hiperface_model::datalink::RxChar;
@@ -115,32 +116,31 @@ pub fn run(master: &mut dyn MasterUnderTest, name: &str, profile: Profile, optio
         ),
     ];
     report.notes.extend(super::declaration_note(&options.not_used));
-    for scenario in &chosen {
-        let encoder = scenario.encoder.map_or(profile, |make| make(profile));
-        let (result, record, length_us) = match super::declared_out(scenario, &options.not_used) {
-            Some(result) => {
-                let record = ScenarioRecord::early_of(&result);
-                (result, record, 0)
-            }
-            None => run_scenario(master, encoder, scenario, options),
-        };
-        report.needed_ms += length_us as f64 / 1000.0;
-        if let Some(r) = report.record.as_mut() {
-            r.runs.push(record);
-        }
-        *report.summary.entry(result.verdict.label().to_string()).or_default() += 1;
-        report.scenarios.push(result);
-    }
+    let catalogue = Catalogue { chosen: &chosen, profile, not_used: &options.not_used };
+    let mut line = VirtualLine { master, options };
+    run_catalogue(&mut report, &catalogue, &mut line, &mut |_| {});
     report
 }
 
-/// One scenario: the graded result, its record, and its length (µs).
+/// The master under test on a line in virtual time.
+struct VirtualLine<'a> {
+    master: &'a mut dyn MasterUnderTest,
+    options: &'a Options,
+}
+
+impl ScenarioLine for VirtualLine<'_> {
+    fn run(&mut self, profile: Profile, scenario: &Scenario) -> ScenarioRun {
+        run_scenario(self.master, profile, scenario, self.options)
+    }
+}
+
+/// One scenario, in virtual time: never disturbed, so never run again.
 fn run_scenario(
     master: &mut dyn MasterUnderTest,
     profile: Profile,
     scenario: &Scenario,
     options: &Options,
-) -> (CaseResult, ScenarioRecord, u64) {
+) -> ScenarioRun {
     let polling_period_ms = options.polling_period_ms;
     let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
     let mut slave = Slave::new(profile);
@@ -234,20 +234,7 @@ fn run_scenario(
             "the master sent more than {MAX_MASTER_CHARACTERS} characters: the rest were not put on the line"
         )));
     }
-    let record = ScenarioRecord {
-        id: scenario.id.to_string(),
-        attempt: 1,
-        early: false,
-        start: Start::PowerOnAtStart,
-        facts: result.findings.iter().map(Fact::of).collect(),
-        inputs: compact(hooks.take_log()),
-        end_us: now,
-        cut_short: false,
-        line_faults: Vec::new(),
-    };
-    // In virtual time nothing of the harness is disturbed: no run again.
-    let _ = grade::finish(&mut result, &mut hooks, scenario, 0.0, false, false);
-    (result, record, now)
+    ScenarioRun::graded(result, hooks, scenario, 0.0, Start::PowerOnAtStart, false)
 }
 
 /// The line between the master and the encoder, in virtual time.

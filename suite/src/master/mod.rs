@@ -1,8 +1,9 @@
 //! Certifying a master (a drive) without I/O: the scenarios, the encoder a master is
 //! certified against as hooks of a serving loop (it observes the master's
 //! obligations, `hiperface_model::master::obligations`, and injects the scenario's
-//! faults), the grade of one scenario run, the record of the wire taken in again, and
-//! the report. A FAIL needs a normative "must" of 000 that binds the profile's edition;
+//! faults), the grade of one scenario run, the scenario loop every line runs the
+//! catalogue with (`run`: in real time, in-process, alike), the record of the wire taken
+//! in again, and the report. A FAIL needs a normative "must" of 000 that binds the profile's edition;
 //! the recommendations of 000 (read the status after power-on, read out the warning's
 //! codes, react to faults as Table 74 says) are NON-STRICT at most. The harness
 //! (`hiperface-conformance`) serves the encoder on a pseudo-terminal or a drive's port
@@ -14,6 +15,7 @@ pub mod in_process;
 pub mod inputs;
 pub mod record;
 pub mod report;
+pub mod run;
 pub mod scenario;
 pub mod scenarios;
 pub mod timeline;
