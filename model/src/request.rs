@@ -296,7 +296,8 @@ impl RequestFrame {
     /// command byte, data length. The address byte is returned as it is; whether it
     /// addresses a slave is the slave's business.
     pub fn decode(bytes: &[u8]) -> Result<RequestFrame, RequestError> {
-        let checks = RequestChecks::of(bytes);
+        // The checks decode the request's data once: that decoding is the request.
+        let (checks, request) = RequestChecks::with_request(bytes);
         let [address, command, data @ .., _checksum] = bytes else {
             return Err(RequestError::TooShort { len: bytes.len() });
         };
@@ -306,7 +307,10 @@ impl RequestFrame {
         let Some(id) = checks.command else {
             return Err(RequestError::UnknownCommand { byte: *command });
         };
-        let request = Request::from_data(id, data)?;
+        let request = match request {
+            Some(request) => request?,
+            None => Request::from_data(id, data)?,
+        };
         Ok(RequestFrame { address: AddressByte::decode(*address), request })
     }
 }
@@ -331,6 +335,14 @@ pub struct RequestChecks {
 
 impl RequestChecks {
     pub fn of(bytes: &[u8]) -> RequestChecks {
+        Self::with_request(bytes).0
+    }
+
+    /// The checks, and the request's data decoded for its command where the command
+    /// byte names one (what `wrong_length` is read from): decoded once for the checks
+    /// and the request.
+    #[inline]
+    pub(crate) fn with_request(bytes: &[u8]) -> (RequestChecks, Option<Result<Request, RequestError>>) {
         let bad_checksum = match bytes {
             [body @ .., last] if bytes.len() >= 2 && !checksum::is_valid(bytes) => Some((checksum::xor(body), *last)),
             _ => None,
@@ -339,11 +351,12 @@ impl RequestChecks {
             Some(CommandByte { id, error_bit: false }) if id.spec().is_some() => Some(id),
             _ => None,
         });
-        let wrong_length = match (command, bytes) {
-            (Some(id), [_, _, data @ .., _]) => Request::from_data(id, data).is_err(),
-            _ => false,
+        let request = match (command, bytes) {
+            (Some(id), [_, _, data @ .., _]) => Some(Request::from_data(id, data)),
+            _ => None,
         };
-        RequestChecks { too_short: bytes.len() < 3, bad_checksum, command, wrong_length }
+        let wrong_length = request.as_ref().is_some_and(Result::is_err);
+        (RequestChecks { too_short: bytes.len() < 3, bad_checksum, command, wrong_length }, request)
     }
 }
 

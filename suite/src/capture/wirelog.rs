@@ -114,6 +114,81 @@ fn parse_common(line: &[u8], bytes: &mut Vec<u8>) -> Option<(u64, Role)> {
     (!bytes.is_empty()).then_some((t_us, role))
 }
 
+/// The common form of a line at the start of `text`, read in one pass up to its
+/// newline: `(t_us, role, where the newline is)`. A line's end must be in `text`; what
+/// this reads, [`parse_common`] reads the same of the line without its end. Anything
+/// else (no newline in `text`, three decimals or more, a byte not of two hex digits)
+/// is left to it: most lines of a log need no search for their newline first.
+fn parse_through_newline(text: &[u8], bytes: &mut Vec<u8>) -> Option<(u64, Role, usize)> {
+    let mut s = skip_blanks(text);
+    // The time: 1 to 12 digits, then optionally a point and up to 3 more.
+    let (mut n, mut digits) = (0u64, 0u32);
+    while let [d @ b'0'..=b'9', rest @ ..] = s {
+        n = n * 10 + u64::from(d - b'0');
+        digits += 1;
+        s = rest;
+    }
+    if digits == 0 || digits > 12 {
+        return None;
+    }
+    let mut scale = 1000;
+    if let [b'.', rest @ ..] = s {
+        s = rest;
+        while let [d @ b'0'..=b'9', rest @ ..] = s {
+            if scale == 1 {
+                return None;
+            }
+            scale /= 10;
+            n = n * 10 + u64::from(d - b'0');
+            s = rest;
+        }
+    }
+    let t_us = n * scale;
+    // `ms`, then `M>` or `S<`, blanks before each.
+    let after = skip_blanks(s);
+    let [b'm', b's', rest @ ..] = after else { return None };
+    if after.len() == s.len() {
+        return None;
+    }
+    let after = skip_blanks(rest);
+    let role = match after {
+        [b'M', b'>', ..] => Role::Master,
+        [b'S', b'<', ..] => Role::Slave,
+        _ => return None,
+    };
+    if after.len() == rest.len() {
+        return None;
+    }
+    s = after.get(2..)?;
+    // The bytes: two hex digits each, blanks before each; blanks, then the newline.
+    bytes.clear();
+    loop {
+        let after = skip_blanks(s);
+        match after {
+            [b'\n', ..] | [b'\r', b'\n', ..] if !bytes.is_empty() => {
+                let newline = text.len() - after.len() + usize::from(after.first() == Some(&b'\r'));
+                return Some((t_us, role, newline));
+            }
+            [h, l, rest @ ..] if after.len() < s.len() => {
+                let (h, l) = (super::HEX_DIGIT[usize::from(*h)], super::HEX_DIGIT[usize::from(*l)]);
+                if (h | l) > 0x0F {
+                    return None;
+                }
+                bytes.push(h << 4 | l);
+                s = rest;
+            }
+            _ => return None,
+        }
+    }
+}
+
+/// `s` without its leading spaces and tabs.
+#[inline]
+fn skip_blanks(s: &[u8]) -> &[u8] {
+    let blanks = s.iter().position(|b| !matches!(b, b' ' | b'\t')).unwrap_or(s.len());
+    s.get(blanks..).unwrap_or_default()
+}
+
 /// Where the spaces and tabs from `at` on end.
 fn after_blanks(line: &[u8], at: usize) -> usize {
     line.get(at..).map_or(at, |rest| at + rest.iter().take_while(|b| matches!(b, b' ' | b'\t')).count())
@@ -249,10 +324,16 @@ impl<'a> Reader<'a> {
                         return Err(ParseError::at(*line, format!("cannot read: {e}")));
                     }
                 };
-                let common = memchr::memchr(b'\n', available).filter(|n| *n < super::MAX_LINE).and_then(|newline| {
-                    let l = super::without_line_end(available.get(..newline)?);
-                    Some((parse_common(l, &mut into.bytes)?, newline))
-                });
+                // Most lines are read through their newline in one pass; the others
+                // after a search for it. A line must end before the bound on its length.
+                let within = available.get(..super::MAX_LINE).unwrap_or(available);
+                let common = match parse_through_newline(within, &mut into.bytes) {
+                    Some((t_us, role, newline)) => Some(((t_us, role), newline)),
+                    None => memchr::memchr(b'\n', within).and_then(|newline| {
+                        let l = super::without_line_end(available.get(..newline)?);
+                        Some((parse_common(l, &mut into.bytes)?, newline))
+                    }),
+                };
                 if let Some(((t_us, role), newline)) = common {
                     *line += 1;
                     input.consume(newline + 1);
@@ -520,10 +601,38 @@ mod tests {
         }
     }
 
+    proptest::proptest! {
+        /// What the reading through the newline reads, the common reading reads the same
+        /// of the line without its end: near-valid lines with any ends, and any bytes.
+        #[test]
+        fn the_reading_through_the_newline_reads_as_the_common_one(
+            line in "[ \t]{0,3}[0-9.]{0,15}[ \t]{0,2}(ms|m)[ \t]{0,2}(M>|S<|M)([ \t]{0,2}[0-9a-fA-FxX\r]{1,3}){0,5}[ \t\r]{0,2}\n?[0-9 ]{0,3}",
+            noise in proptest::collection::vec(proptest::prelude::any::<u8>(), 0..40),
+        ) {
+            for input in [line.as_bytes(), &noise[..]] {
+                let mut fast = Vec::new();
+                if let Some((t_us, role, newline)) = parse_through_newline(input, &mut fast) {
+                    proptest::prop_assert_eq!(input.get(newline), Some(&b'\n'));
+                    let l = crate::capture::without_line_end(&input[..newline]);
+                    let mut common = Vec::new();
+                    proptest::prop_assert_eq!(parse_common(l, &mut common), Some((t_us, role)));
+                    proptest::prop_assert_eq!(fast, common);
+                }
+            }
+        }
+    }
+
     /// The logs' own lines take the fast reading (else the bench measures the slow one).
     #[test]
     fn the_logs_own_lines_are_the_common_form() {
         let mut bytes = Vec::new();
+        for (line, newline) in
+            [(&b"    1234.567 ms  S< 40 52 E4 22 80 00 54\n"[..], 40), (b"12.5 ms  M>  40 42 02\r\n7", 22)]
+        {
+            let read = parse_through_newline(line, &mut bytes).map(|(t_us, role, n)| (t_us, role, n, bytes.clone()));
+            let expected = parse_common(crate::capture::without_line_end(&line[..newline]), &mut bytes);
+            assert_eq!(read.map(|(t, r, n, b)| (Some((t, r)), n, b)), Some((expected, newline, bytes.clone())));
+        }
         let line = b"    1234.567 ms  S< 40 52 E4 22 80 00 54";
         assert_eq!(parse_common(line, &mut bytes), Some((1_234_567, Role::Slave)));
         assert_eq!(bytes, [0x40, 0x52, 0xE4, 0x22, 0x80, 0x00, 0x54]);

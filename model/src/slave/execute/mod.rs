@@ -68,7 +68,7 @@ impl Slave {
         }
 
         let mut c = Checks::default();
-        let request = RequestChecks::of(bytes);
+        let (request, decoded) = RequestChecks::with_request(bytes);
         self.protocol_checks(&mut c, &request, bytes.len(), uart_fault, overflowed);
         let mut then_settings = None;
         // The request is the command the checks found with the data between command
@@ -76,7 +76,8 @@ impl Slave {
         // the bytes: a model checker that knows the command byte but not the checksum
         // then sees one command here, not every command of the table.)
         let data = bytes.get(2..bytes.len().saturating_sub(1)).unwrap_or(&[]);
-        let done = match (c.first, request.command.map(|id| Request::from_data(id, data))) {
+        let decoded = decoded.or_else(|| request.command.map(|id| Request::from_data(id, data)));
+        let done = match (c.first, decoded) {
             (Some((code, clause)), _) => Done::Err(code, clause),
             (None, Some(Ok(request))) => self.command(request, &mut c, &mut then_settings),
             // Unreachable: protocol_checks found no fault the decoder could report.
