@@ -6,7 +6,7 @@
 
 use hiperface_model::datalink::RxChar;
 use hiperface_model::{Hex, Profile, Slave, Step};
-use hiperface_suite::serve::{disturbed_from_us, Hooks, Planned, Serving, Session, READ_US};
+use hiperface_suite::serve::{Hooks, Next, Planned, Sending, Serving, Session, READ_US};
 use hiperface_suite::world::World;
 use serialport::SerialPort;
 use std::io::{ErrorKind, Write};
@@ -148,59 +148,37 @@ pub fn serve_with<H: Hooks>(
         // Those the echo held, at the settings the model listened at when they came.
         session.receive_all(master_chars.drain(..), None);
         session.handle_timeout(now(epoch));
-        while let Some(mut p) = session.poll_transmit() {
+        while let Some(p) = session.poll_transmit() {
             if line_rate(port.as_ref(), serving).is_some_and(|bps| bps != p.settings.baud.bits_per_second()) {
                 continue; // sent at a rate the line is not at: nobody hears it
             }
-            let ct = p.settings.char_time_us();
-            // Write each run of characters whole when its first character would be
+            let timeout = p.settings.timeout_us(session.slave().profile().edition);
+            // Each run of characters written whole when its first character would be
             // complete; the line is busy until the last is out. A harness that writes
             // late (a busy machine) shifts the rest of the reply: what `sent` is told
             // is when the reply really went out.
-            let split = p.gap.map_or(p.frame.len(), |(i, _)| i.min(p.frame.len()));
-            let mut start = p.start_us;
-            let mut first = true;
-            let mut index = 0;
-            let timeout = p.settings.timeout_us(session.slave().profile().edition);
-            for (part, pause) in [(&p.frame[..split], p.gap.map_or(0, |(_, g)| g)), (&p.frame[split..], 0)] {
-                if part.is_empty() {
-                    start += pause;
-                    continue;
-                }
-                let runs: Vec<&[u8]> = if p.paced { part.chunks(1).collect() } else { vec![part] };
-                for run in runs {
-                    watch_until(port.as_mut(), epoch, start + ct, &mut watched, &mut buf, &mut heard)?;
-                    session.hooks_mut().writing(now(epoch).saturating_sub(start + ct));
-                    port.write_all(run)?;
-                    port.flush()?;
-                    // The run is complete as written: its characters began `ct` each before.
-                    let written = now(epoch).saturating_sub(ct).max(start);
-                    if first {
-                        p.start_us = written;
-                        first = false;
-                    } else {
-                        let late = written - start;
-                        if late >= disturbed_from_us(ct) {
-                            p.disturbed_us = p.disturbed_us.max(late);
-                        }
-                        if late >= timeout && p.gap.is_none() {
-                            // Written so late that the reply has a pause of the timeout
-                            // inside: to the master it ended there (000:2.2.2).
-                            p.gap = Some((index, late));
-                            p.split_by_harness = true;
-                        }
+            let mut sending = Sending::new(p, timeout);
+            let end_us = loop {
+                match sending.poll() {
+                    Next::Write { due_us, run } => {
+                        watch_until(port.as_mut(), epoch, due_us, &mut watched, &mut buf, &mut heard)?;
+                        session.hooks_mut().writing(now(epoch).saturating_sub(due_us));
+                        port.write_all(sending.frame().get(run).unwrap_or_default())?;
+                        port.flush()?;
+                        sending.written(now(epoch));
                     }
-                    start = written + run.len() as u64 * ct;
-                    index += run.len();
+                    Next::Wait { until_us } => {
+                        watch_until(port.as_mut(), epoch, until_us, &mut watched, &mut buf, &mut heard)?
+                    }
+                    Next::Done { end_us } => break end_us,
                 }
-                watch_until(port.as_mut(), epoch, start, &mut watched, &mut buf, &mut heard)?;
-                start += pause;
-            }
-            session.on_sent(&p, start);
+            };
+            let p = sending.into_sent();
+            session.on_sent(&p, end_us);
             if let Some(echo) = session.hooks_mut().reply_echo() {
                 // Characters it held that were the master's after all come first at
                 // the next turn.
-                echo.sent(&p.frame, start, &mut master_chars);
+                echo.sent(&p.frame, end_us, &mut master_chars);
             }
         }
     }

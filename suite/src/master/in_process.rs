@@ -14,7 +14,7 @@ use super::record::Start;
 use super::run::{run_catalogue, Catalogue, ScenarioLine, ScenarioRun};
 use super::scenario::Scenario;
 use super::{scenarios, DriveReport};
-use crate::serve::{Session, READ_US};
+use crate::serve::{Next, Sending, Session, READ_US};
 use crate::verdict::{CaseResult, Finding};
 use hiperface_model::datalink::RxChar;
 use hiperface_model::master::obligations::POLLING_PERIOD_MS;
@@ -198,17 +198,25 @@ fn run_scenario(
         while let Some(mut p) = session.poll_transmit() {
             // The encoder's line is free once its last reply is out.
             p.start_us = p.start_us.max(now).max(line.encoder_free_us);
-            let ct = p.settings.char_time_us();
-            let mut end = p.start_us;
-            for (i, &byte) in p.frame.iter().enumerate() {
-                if let Some((_, us)) = p.gap.filter(|(before, _)| *before == i) {
-                    end += us;
+            let (ct, timeout) = (p.settings.char_time_us(), p.settings.timeout_us(profile.edition));
+            // Each character reaches the master as its stop bit ends, every run on time.
+            let mut sending = Sending::new(p, timeout);
+            let end = loop {
+                match sending.poll() {
+                    Next::Write { due_us, run } => {
+                        let mut end = due_us.saturating_sub(ct);
+                        for &byte in sending.frame().get(run).unwrap_or_default() {
+                            end += ct;
+                            line.to_master.push_back(RxChar { byte, at_us: end, fault: None });
+                        }
+                        sending.written(due_us);
+                    }
+                    Next::Wait { .. } => {}
+                    Next::Done { end_us } => break end_us,
                 }
-                end += ct;
-                line.to_master.push_back(RxChar { byte, at_us: end, fault: None });
-            }
+            };
             line.encoder_free_us = end;
-            session.on_sent(&p, end);
+            session.on_sent(sending.sent(), end);
         }
         // What reached the master, or its wake: it acts.
         let mut heard = Vec::new();

@@ -6,8 +6,10 @@
 //! encoder ([`crate::master::encoder::DriveEncoder`]) is these hooks, and its record
 //! ([`crate::master::record`]) is the calls into them, taken in again without any line.
 
+mod sending;
 mod session;
 
+pub use sending::{Next, Sending};
 pub use session::{NoReply, Session};
 
 use hiperface_model::datalink::RxChar;
