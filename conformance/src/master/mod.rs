@@ -238,7 +238,7 @@ impl ScenarioLine for HarnessLine<'_> {
         }
         let options = self.options;
         let interrupted = || is_set(&options.interrupt);
-        match (&options.attach, &self.port) {
+        let mut run = match (&options.attach, &self.port) {
             (Attach::Exec(exec), _) => {
                 let not_used = &options.not_used;
                 let delivery = self.delivery.clone();
@@ -256,7 +256,14 @@ impl ScenarioLine for HarnessLine<'_> {
                 result.push(Finding::error(format!("cannot open {path}: {why}")));
                 ScenarioRun::early(result)
             }
+        };
+        // A master's process prints, if only nothing; a drive's port counts its UART
+        // faults, if only none.
+        run.output.get_or_insert_with(String::new);
+        if matches!(options.attach, Attach::Port { .. }) {
+            run.uart_faults.get_or_insert(0);
         }
+        run
     }
 
     fn interrupted(&self) -> bool {

@@ -124,10 +124,7 @@ pub(super) fn on_port(
     }
     let start = if power_on == PowerOn::Prompt { Start::PowerOnByOperator } else { Start::Operational };
     let duration_ms = started.elapsed().as_secs_f64() * 1000.0;
-    ScenarioRun {
-        output: Some(String::new()),
-        ..ScenarioRun::graded(result, hooks, scenario, duration_ms, start, cut_short)
-    }
+    ScenarioRun::graded(result, hooks, scenario, duration_ms, start, cut_short)
 }
 
 /// Read what arrives until the line has been quiet for `quiet` (at most `limit`: a
