@@ -4,9 +4,8 @@
 //! are clocked one character time apart, and a reply is written whole when its first
 //! character would be complete.
 
-use hiperface_model::datalink::RxChar;
 use hiperface_model::{Hex, Profile, Slave, Step};
-use hiperface_suite::serve::{Hooks, Next, Planned, Sending, Serving, Session, READ_US};
+use hiperface_suite::serve::{Hooks, Next, Planned, Receiving, Sending, Serving, Session, READ_US};
 use hiperface_suite::world::World;
 use serialport::SerialPort;
 use std::io::{ErrorKind, Write};
@@ -72,15 +71,12 @@ pub fn serve_with<H: Hooks>(
     session.real_time(crate::sched::real_time_priority());
     let now = |e: Instant| e.elapsed().as_micros() as u64;
     let mut buf = [0u8; 64];
-    let mut rx_clock = crate::line::clock::RxClock::default();
     let mut port_settings = None;
     let mut watched = Watched { read_us: now(epoch), run_delay: crate::sched::RunDelay::of_this_thread(), delivery };
     // What the master sent while a reply went out, as it was read.
     let mut heard: Vec<Chunk> = Vec::new();
-    // The kernel's marks of UART faults, taken back across reads.
-    let (marking, mut marks) = (serving.marks_errors, hiperface_suite::capture::parmrk::Marks::default());
-    // The master's characters, off the line and its echo, in the order they came.
-    let mut master_chars: Vec<RxChar> = Vec::new();
+    // The master's characters as the encoder's UART received them.
+    let mut receiving = Receiving::new(serving);
     while !stop.load(Ordering::Relaxed) && !session.wants_stop() {
         // Follow the slave's listening settings (67h, reset, power-up windows) on the
         // port; a pseudo-terminal accepts and ignores them.
@@ -106,47 +102,10 @@ pub fn serve_with<H: Hooks>(
             std::mem::take(&mut heard)
         };
         let line_bps = line_rate(port.as_ref(), serving);
-        // How far the line has been watched: a read that came back at `t` after the
-        // harness was unwatched for a while saw what had come by `t - unwatched`, no
-        // later (what came meanwhile may wait in the kernel for the next read).
-        let mut watched_through_us = None;
-        for Chunk { bytes, at_us: t, unwatched_us } in chunks {
-            watched_through_us = Some(t.saturating_sub(unwatched_us));
-            session.handle_read(unwatched_us);
-            let listening = session.listening_settings(t);
-            let arrived = if serving.stamps_as_early_as_unwatched {
-                let timeout = listening.unwrap_or_default().timeout_us(session.slave().profile().edition);
-                let framed_through_us = session.framed_through_us();
-                let in_progress = (rx_clock.last_us() > framed_through_us).then_some(rx_clock.last_us());
-                continued_arrival_us(t, unwatched_us, in_progress, timeout)
-            } else {
-                t
-            };
-            for (byte, fault) in unmarked(&bytes, marking.then_some(&mut marks)) {
-                let mut ch = rx_clock.stamp(byte, arrived, Some(listening.unwrap_or_default().char_time_us()));
-                ch.fault = ch.fault.or(fault);
-                if let (Some(bps), Some(l)) = (line_bps, listening) {
-                    if bps != l.baud.bits_per_second() {
-                        ch.fault = Some(hiperface_model::UartFault::Framing);
-                    }
-                }
-                match session.hooks_mut().reply_echo() {
-                    Some(echo) => echo.take(ch, &mut master_chars),
-                    None => master_chars.push(ch),
-                }
-            }
-            // The master's characters in the order they came, at the settings the
-            // model listened at when they were read.
-            session.receive_all(master_chars.drain(..), Some(t));
+        for Chunk { bytes, at_us, unwatched_us } in chunks {
+            receiving.read(session, &bytes, at_us, unwatched_us, line_bps);
         }
-        // An echo is given up only for time the line was watched: one the harness did
-        // not read for its own lateness may still be in the kernel, and is the echo, not
-        // the master's.
-        if let (Some(echo), Some(through)) = (session.hooks_mut().reply_echo(), watched_through_us) {
-            echo.idle(through, &mut master_chars);
-        }
-        // Those the echo held, at the settings the model listened at when they came.
-        session.receive_all(master_chars.drain(..), None);
+        receiving.turn(session);
         session.handle_timeout(now(epoch));
         while let Some(p) = session.poll_transmit() {
             if line_rate(port.as_ref(), serving).is_some_and(|bps| bps != p.settings.baud.bits_per_second()) {
@@ -175,56 +134,14 @@ pub fn serve_with<H: Hooks>(
             };
             let p = sending.into_sent();
             session.on_sent(&p, end_us);
-            if let Some(echo) = session.hooks_mut().reply_echo() {
-                // Characters it held that were the master's after all come first at
-                // the next turn.
-                echo.sent(&p.frame, end_us, &mut master_chars);
-            }
+            receiving.sent(session, &p.frame, end_us);
         }
     }
-    // Stopped: what was read while the last reply went out holds part of its echo,
-    // which the echo takes off, so that whoever serves the port next (the next
-    // scenario) does not await the part it already had.
-    if let Some(echo) = session.hooks_mut().reply_echo() {
-        for Chunk { bytes, at_us, .. } in heard {
-            for (byte, fault) in unmarked(&bytes, marking.then_some(&mut marks)) {
-                echo.take(RxChar { byte, at_us, fault }, &mut Vec::new());
-            }
-        }
+    // Stopped: what was read while the last reply went out holds part of its echo.
+    for Chunk { bytes, at_us, .. } in heard {
+        receiving.stopped(session, &bytes, at_us);
     }
     Ok(())
-}
-
-/// When characters read at `read_us`, the line unwatched for `unwatched_us` before,
-/// arrived for a simulator that plays the UART: those that may have continued the frame
-/// in progress (its last character ended at `in_progress`; they may have arrived within
-/// `timeout_us` of it) as early as the lateness allows, so that its own lateness never
-/// splits a request; the first of a frame when read (a reply is then planned late,
-/// never before the request ended).
-fn continued_arrival_us(read_us: u64, unwatched_us: u64, in_progress: Option<u64>, timeout_us: u64) -> u64 {
-    let earliest = read_us.saturating_sub(unwatched_us);
-    match in_progress {
-        Some(last_us) if earliest < last_us + timeout_us => earliest,
-        _ => read_us,
-    }
-}
-
-/// The characters of `bytes` as the UART received them: taken back from the kernel's
-/// marks where the port marks faults (`marks`, kept across reads).
-fn unmarked(
-    bytes: &[u8],
-    marks: Option<&mut hiperface_suite::capture::parmrk::Marks>,
-) -> Vec<(u8, Option<hiperface_model::UartFault>)> {
-    let mut out = Vec::with_capacity(bytes.len());
-    match marks {
-        Some(marks) => {
-            for b in bytes {
-                marks.push(*b, &mut |m| out.push(m.as_received()));
-            }
-        }
-        None => out.extend(bytes.iter().map(|b| (*b, None))),
-    }
-    out
 }
 
 /// The line's data rate, where the other end sets it (RFC 2217 through ser2net, see
@@ -307,23 +224,5 @@ fn watch_until(
         if let Some(chunk) = watch(port, epoch, watched, buf, READ_US)?.filter(|c| !c.bytes.is_empty()) {
             heard.push(chunk);
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::continued_arrival_us;
-
-    /// A simulator woken 8 ms late (the timeout at 9600 Bd is 5.73 ms): the rest of a
-    /// request it had begun to receive came as early as 1 ms after the last character,
-    /// and is stamped so (not split); the first character of a frame is stamped when
-    /// read; what came only after the timeout whatever the lateness stays apart.
-    #[test]
-    fn a_simulator_s_own_lateness_does_not_split_a_request() {
-        const TIMEOUT: u64 = 5_730;
-        assert_eq!(continued_arrival_us(20_000, 8_000, Some(11_000), TIMEOUT), 12_000);
-        assert_eq!(continued_arrival_us(20_000, 8_000, None, TIMEOUT), 20_000);
-        assert_eq!(continued_arrival_us(20_000, 2_000, Some(11_000), TIMEOUT), 20_000);
-        assert_eq!(continued_arrival_us(20_000, 0, Some(19_000), TIMEOUT), 20_000);
     }
 }

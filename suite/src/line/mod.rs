@@ -12,6 +12,7 @@ pub mod delivery;
 pub mod echo;
 pub mod frame_encoder;
 pub mod reply_echo;
+pub mod rx_clock;
 pub mod virtual_line;
 
 use hiperface_model::datalink::RxChar;

@@ -6,9 +6,11 @@
 //! encoder ([`crate::master::encoder::DriveEncoder`]) is these hooks, and its record
 //! ([`crate::master::record`]) is the calls into them, taken in again without any line.
 
+mod receiving;
 mod sending;
 mod session;
 
+pub use receiving::Receiving;
 pub use sending::{Next, Sending};
 pub use session::{NoReply, Session};
 
