@@ -9,8 +9,6 @@
 //!     valgrind --tool=callgrind target/release/examples/decode_count /tmp/w20k.log
 //!
 //! (instructions are repeatable whatever else the machine does; time is the bench's).
-//! `--here WIRELOG` reads the log on the listener's thread instead of a thread of its
-//! own, for comparing the two under `perf stat -e task-clock,context-switches`.
 
 use hiperface_suite::capture::Format;
 use hiperface_suite::listen::listen_to;
@@ -21,7 +19,7 @@ mod decode_log;
 fn main() -> std::process::ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let usage = || {
-        eprintln!("usage: decode_count [--here] WIRELOG | decode_count --write EXCHANGES FILE");
+        eprintln!("usage: decode_count WIRELOG | decode_count --write EXCHANGES FILE");
         std::process::ExitCode::from(2)
     };
     let path = match args.as_slice() {
@@ -34,11 +32,9 @@ fn main() -> std::process::ExitCode {
             }
             return std::process::ExitCode::SUCCESS;
         }
-        [path] => (path, false),
-        [here, path] if here == "--here" => (path, true),
+        [path] => path,
         _ => return usage(),
     };
-    let (path, here) = path;
     let text = match std::fs::read(path) {
         Ok(text) => text,
         Err(e) => {
@@ -47,9 +43,7 @@ fn main() -> std::process::ExitCode {
         }
     };
     let (read, options) = decode_log::heard_as();
-    let summary =
-        if here { listen_here(&text, read, options) } else { listen_to(&text, Some(Format::Wirelog), read, options) };
-    match summary {
+    match listen_to(&text, Some(Format::Wirelog), read, options) {
         // Every exchange of the clean log passes, or the count means nothing.
         Ok(s) if s.exchanges > 0 && s.count(hiperface_suite::verdict::CaseVerdict::Pass) == s.exchanges => {
             println!("{} exchanges, every one PASS", s.exchanges);
@@ -64,22 +58,4 @@ fn main() -> std::process::ExitCode {
             std::process::ExitCode::FAILURE
         }
     }
-}
-
-/// What `listen_to` does, the capture read on this thread.
-fn listen_here(
-    text: &[u8],
-    read: hiperface_suite::capture::ReadOptions,
-    options: hiperface_suite::listen::Options,
-) -> Result<hiperface_suite::listen::Summary, hiperface_suite::capture::ParseError> {
-    let (_, mut capture) = hiperface_suite::capture::open(Box::new(text), Some(Format::Wirelog), read)?;
-    let mut listener = hiperface_suite::listen::Listener::new(options);
-    let mut last_us = 0;
-    while let Some(run) = capture.next_run() {
-        let run = run?;
-        last_us = run.last_us();
-        listener.feed_run(&run, &mut |_| {});
-    }
-    listener.finish(last_us, &mut |_| {});
-    Ok(listener.summary)
 }
