@@ -81,7 +81,7 @@ impl ReplyEcho {
     /// awaited.
     fn wait_us(&self) -> u64 {
         match (self.echo, self.mode) {
-            (Echo::Echoes, EchoMode::Auto | EchoMode::On) => self.slack_us + super::echo::LATE_ECHO_GRACE_US,
+            (Echo::Echoes, _) => self.slack_us + super::echo::LATE_ECHO_GRACE_US,
             _ => self.slack_us,
         }
     }
@@ -124,7 +124,7 @@ impl ReplyEcho {
         }
         // Not the echo's next character.
         let Some(a) = self.awaited.take() else { return };
-        if self.echo == Echo::Echoes && self.mode != EchoMode::Off {
+        if self.echo == Echo::Echoes {
             let heard: Vec<u8> = a.matched.iter().map(|c| c.byte).chain([ch.byte]).collect();
             self.faults.push((
                 ch.at_us,
@@ -168,14 +168,16 @@ impl ReplyEcho {
         }
     }
 
-    /// Whatever was awaited and not come back by `now_us`.
+    /// Whatever was awaited and not come back by `now_us`: on a line found to echo
+    /// (whatever `--echo` said) a fault of the line, what came of it the echo's; else
+    /// the line is quiet and what was held the master's.
     fn settle(&mut self, now_us: u64, out: &mut Vec<RxChar>) {
         let Some(a) = self.awaited.as_ref() else { return };
         if now_us <= a.deadline_us {
             return;
         }
         let Some(a) = self.awaited.take() else { return };
-        if self.echo == Echo::Echoes && self.mode != EchoMode::Off {
+        if self.echo == Echo::Echoes {
             self.faults.push((
                 a.deadline_us,
                 format!(
@@ -186,9 +188,10 @@ impl ReplyEcho {
                 ),
             ));
         } else {
+            // Not an echo: the master's characters.
             self.quiet();
+            out.extend(a.matched);
         }
-        out.extend(a.matched);
     }
 }
 
@@ -292,6 +295,23 @@ mod tests {
         // Off on a quiet line: nothing to say.
         let (master, _, faults) = run(EchoMode::Off, Echo::Unknown, &[(0x40, 20_000)]);
         assert_eq!((master, faults), (vec![0x40], Vec::<String>::new()));
+    }
+
+    /// With `--echo off` on a line found to echo, the echo is still the echo: a late
+    /// one is waited for and taken off, a part of one is a fault of the line, never
+    /// the master's characters (real_lines with three busy loops and a test run beside
+    /// them: a split echo read as "a request while the encoder was replying", a FAIL of
+    /// the master for the harness's own reply).
+    #[test]
+    fn echo_off_on_a_line_found_to_echo_never_gives_the_master_its_echo() {
+        let late: Vec<(u8, u64)> = echo_then(&[0x40, 0x42, 0x02]).into_iter().map(|(b, t)| (b, t + 30_000)).collect();
+        let (master, echo, faults) = run(EchoMode::Off, Echo::Echoes, &late);
+        assert_eq!((master, echo), (vec![0x40, 0x42, 0x02], Echo::Echoes));
+        assert!(faults.len() == 1 && faults[0].contains("use --echo auto"), "{faults:?}");
+        let part = [(0x40, 10_500), (0x42, 11_600)];
+        let (master, _, faults) = run(EchoMode::Off, Echo::Echoes, &part);
+        assert_eq!(master, Vec::<u8>::new(), "a part of the echo is not the master's");
+        assert!(faults.len() == 1 && faults[0].contains("did not come back (2 of 4"), "{faults:?}");
     }
 
     #[test]
