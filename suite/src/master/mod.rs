@@ -2,12 +2,12 @@
 //! certified against as hooks of a serving loop (it observes the master's
 //! obligations, `hiperface_model::master::obligations`, and injects the scenario's
 //! faults), the grade of one scenario run, the scenario loop every line runs the
-//! catalogue with (`run`: in real time, in-process, alike), the record of the wire taken
-//! in again, and the report. A FAIL needs a normative "must" of 000 that binds the profile's edition;
-//! the recommendations of 000 (read the status after power-on, read out the warning's
-//! codes, react to faults as Table 74 says) are NON-STRICT at most. The harness
-//! (`hiperface-conformance`) serves the encoder on a pseudo-terminal or a drive's port
-//! in real time and runs the master's process.
+//! catalogue with (`run`: in real time and in-process alike), the record of the wire
+//! taken in again, and the report. A FAIL needs a normative "must" of 000 that binds
+//! the profile's edition; the recommendations of 000 (read the status after power-on,
+//! read out the warning's codes, react to faults as Table 74 says) are NON-STRICT at
+//! most. The harness (`hiperface-conformance`) serves the encoder on a pseudo-terminal
+//! or a drive's port in real time and runs the master's process.
 
 pub mod encoder;
 pub mod grade;
