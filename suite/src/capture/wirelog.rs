@@ -73,55 +73,34 @@ fn exact_ms_as_us(text: &[u8]) -> Option<(u64, usize)> {
     (int_digits > 0).then(|| (n * 10u64.pow(3 - frac_digits), len))
 }
 
-/// Read the common form of a line from its bytes: `<digits>[.<up to 3 digits>] ms M>|S<`
-/// and two-digit hex bytes, separated by spaces or tabs, printable ASCII only. What it
-/// reads, [`parse_line`] reads the same; anything else (`0x40`, `1e3 ms`, a comment, a
-/// character outside ASCII) is left to [`parse_line`], which checks the text is UTF-8.
-/// A capture holds millions of such lines: no allocation, one pass over the words.
+/// Read the common form of a line from its bytes (without its end):
+/// `<digits>[.<up to 3 digits>] ms M>|S<` and two-digit hex bytes, separated by spaces
+/// or tabs, printable ASCII only. What it reads, [`parse_line`] reads the same;
+/// anything else (`0x40`, `1e3 ms`, a comment, a character outside ASCII) is left to
+/// [`parse_line`], which checks the text is UTF-8. A capture holds millions of such
+/// lines: no allocation, one pass over the words.
 fn parse_common(line: &[u8], bytes: &mut Vec<u8>) -> Option<(u64, Role)> {
-    // The time, in the logs' own form.
-    let start = after_blanks(line, 0);
-    let (t_us, len) = exact_ms_as_us(line.get(start..)?)?;
-    let at = start + len;
-    // `ms`, then `M>` or `S<`: two-character words, blanks before each.
-    let word = |at: usize| {
-        let start = after_blanks(line, at);
-        line.get(start..start + 2).filter(|_| start > at).map(|w| (w, start + 2))
-    };
-    let (b"ms", at) = word(at)? else { return None };
-    let (role, mut at) = match word(at)? {
-        (b"M>", at) => (Role::Master, at),
-        (b"S<", at) => (Role::Slave, at),
-        _ => return None,
-    };
-    // The bytes: two hex digits each, a space or a tab before each.
-    bytes.clear();
-    loop {
-        let blanks = after_blanks(line, at);
-        match (line.get(blanks), line.get(blanks + 1), line.get(blanks + 2)) {
-            (None, _, _) => break,
-            (Some(h), Some(l), None | Some(b' ' | b'\t')) if blanks > at => {
-                let (h, l) = (super::HEX_DIGIT[usize::from(*h)], super::HEX_DIGIT[usize::from(*l)]);
-                if (h | l) > 0x0F {
-                    return None;
-                }
-                bytes.push(h << 4 | l);
-                at = blanks + 2;
-            }
-            _ => return None,
-        }
-    }
-    (!bytes.is_empty()).then_some((t_us, role))
+    read_common(line, LineEnd::TextEnd, bytes).map(|(t_us, role, _)| (t_us, role))
 }
 
-/// The common form of a line at the start of `text`, read in one pass up to its
-/// newline: `(t_us, role, where the newline is)`. A line's end must be in `text`; what
-/// this reads, [`parse_common`] reads the same of the line without its end. Anything
-/// else (no newline in `text`, three decimals or more, a byte not of two hex digits)
-/// is left to it: most lines of a log need no search for their newline first.
-fn parse_through_newline(text: &[u8], bytes: &mut Vec<u8>) -> Option<(u64, Role, usize)> {
+/// Where the line [`read_common`] reads ends.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum LineEnd {
+    /// At its newline, which must be in the text (`\r\n` or `\n`).
+    Newline,
+    /// At the end of the text: a line without its end.
+    TextEnd,
+}
+
+/// The common form of a line at the start of `text` (see [`parse_common`]), read in
+/// one pass up to its end: `(t_us, role, where the line ends)` (its newline, or the
+/// text's end). Read up to a newline, a log's lines need no search for their newline
+/// first; a line this does not read so (no newline in `text`, more than one `\r`
+/// before it) is searched for and read again without its end.
+fn read_common(text: &[u8], end: LineEnd, bytes: &mut Vec<u8>) -> Option<(u64, Role, usize)> {
     let mut s = skip_blanks(text);
-    // The time: 1 to 12 digits, then optionally a point and up to 3 more.
+    // The time: 1 to 12 digits, then optionally a point and up to 3 more (as
+    // [`exact_ms_as_us`] reads it, without looking past it first: a hot path).
     let (mut n, mut digits) = (0u64, 0u32);
     while let [d @ b'0'..=b'9', rest @ ..] = s {
         n = n * 10 + u64::from(d - b'0');
@@ -165,10 +144,11 @@ fn parse_through_newline(text: &[u8], bytes: &mut Vec<u8>) -> Option<(u64, Role,
     loop {
         let after = skip_blanks(s);
         match after {
-            [b'\n', ..] | [b'\r', b'\n', ..] if !bytes.is_empty() => {
+            [b'\n', ..] | [b'\r', b'\n', ..] if end == LineEnd::Newline && !bytes.is_empty() => {
                 let newline = text.len() - after.len() + usize::from(after.first() == Some(&b'\r'));
                 return Some((t_us, role, newline));
             }
+            [] if end == LineEnd::TextEnd && !bytes.is_empty() => return Some((t_us, role, text.len())),
             [h, l, rest @ ..] if after.len() < s.len() => {
                 let (h, l) = (super::HEX_DIGIT[usize::from(*h)], super::HEX_DIGIT[usize::from(*l)]);
                 if (h | l) > 0x0F {
@@ -187,11 +167,6 @@ fn parse_through_newline(text: &[u8], bytes: &mut Vec<u8>) -> Option<(u64, Role,
 fn skip_blanks(s: &[u8]) -> &[u8] {
     let blanks = s.iter().position(|b| !matches!(b, b' ' | b'\t')).unwrap_or(s.len());
     s.get(blanks..).unwrap_or_default()
-}
-
-/// Where the spaces and tabs from `at` on end.
-fn after_blanks(line: &[u8], at: usize) -> usize {
-    line.get(at..).map_or(at, |rest| at + rest.iter().take_while(|b| matches!(b, b' ' | b'\t')).count())
 }
 
 /// One frame of the log: its time, who sent it, its bytes (a buffer kept from frame to
@@ -327,7 +302,7 @@ impl<'a> Reader<'a> {
                 // Most lines are read through their newline in one pass; the others
                 // after a search for it. A line must end before the bound on its length.
                 let within = available.get(..super::MAX_LINE).unwrap_or(available);
-                let common = match parse_through_newline(within, &mut into.bytes) {
+                let common = match read_common(within, LineEnd::Newline, &mut into.bytes) {
                     Some((t_us, role, newline)) => Some(((t_us, role), newline)),
                     None => memchr::memchr(b'\n', within).and_then(|newline| {
                         let l = super::without_line_end(available.get(..newline)?);
@@ -611,7 +586,7 @@ mod tests {
         ) {
             for input in [line.as_bytes(), &noise[..]] {
                 let mut fast = Vec::new();
-                if let Some((t_us, role, newline)) = parse_through_newline(input, &mut fast) {
+                if let Some((t_us, role, newline)) = read_common(input, LineEnd::Newline, &mut fast) {
                     proptest::prop_assert_eq!(input.get(newline), Some(&b'\n'));
                     let l = crate::capture::without_line_end(&input[..newline]);
                     let mut common = Vec::new();
@@ -629,7 +604,8 @@ mod tests {
         for (line, newline) in
             [(&b"    1234.567 ms  S< 40 52 E4 22 80 00 54\n"[..], 40), (b"12.5 ms  M>  40 42 02\r\n7", 22)]
         {
-            let read = parse_through_newline(line, &mut bytes).map(|(t_us, role, n)| (t_us, role, n, bytes.clone()));
+            let read =
+                read_common(line, LineEnd::Newline, &mut bytes).map(|(t_us, role, n)| (t_us, role, n, bytes.clone()));
             let expected = parse_common(crate::capture::without_line_end(&line[..newline]), &mut bytes);
             assert_eq!(read.map(|(t, r, n, b)| (Some((t, r)), n, b)), Some((expected, newline, bytes.clone())));
         }
