@@ -28,13 +28,18 @@ fn hx_master(defect: Option<&str>) -> String {
 }
 
 /// [`certify`] until no scenario is left UNKNOWN by the harness's own lateness (the
-/// report says so: no verdict on the master), at most 5 times: a run in which the test
+/// report says so: no verdict on the master), as often as `common::faithfully` tries: a run in which the test
 /// machine kept the harness from seeing is no sample of the master. A FAIL or
 /// NON-STRICT is returned at once, for the test to fail on.
 fn certify_seen(profile: Profile, exec: &str, scenarios: Option<&str>) -> DriveReport {
     common::faithfully(|| {
         let report = certify(profile, exec, scenarios);
-        (report.scenarios.iter().all(|s| s.verdict != CaseVerdict::Unknown), report)
+        let unknown: Vec<&CaseResult> = report.scenarios.iter().filter(|s| s.verdict == CaseVerdict::Unknown).collect();
+        for s in &unknown {
+            // Shown with the test's output if it fails: why each run was taken again.
+            eprintln!("{exec}: {} UNKNOWN, taken again: {:#?}", s.id, s.findings);
+        }
+        (unknown.is_empty(), report)
     })
 }
 

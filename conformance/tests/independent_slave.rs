@@ -42,7 +42,19 @@ fn certify_hx1(args: &[&str], expected: impl Fn(&Report) -> bool) -> Report {
     common::faithfully(|| {
         let hx1 = Hx1::start(args);
         let r = certify_pty(&hx1);
-        (expected(&r) || hx1.kept_time(), r)
+        let expected = expected(&r);
+        if !expected {
+            // Shown with the test's output if it fails: what the run that was not as
+            // expected gave, and whether it is taken again.
+            let remarks: Vec<_> = r
+                .cases
+                .iter()
+                .filter(|c| c.verdict != CaseVerdict::Pass)
+                .map(|c| (c.id, c.verdict, &c.findings))
+                .collect();
+            eprintln!("HX-1 {args:?}: not as expected, kept time: {}: {remarks:#?}", hx1.kept_time());
+        }
+        (expected || hx1.kept_time(), r)
     })
 }
 

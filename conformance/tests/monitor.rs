@@ -57,19 +57,17 @@ fn replay_here(bus: &mut File, exchanges: &[Exchange]) -> u64 {
 /// the monitor heard it punctually enough for the verdicts this test expects (its
 /// reads returned within 4.5 ms: the late reply stays late by more than the tolerance
 /// and the lateness; a monitor that read later says UNKNOWN where it could not tell,
-/// rightly, see `decode.rs`), at most 5 times. `attempt` answers both lateness
+/// rightly, see `decode.rs`), as often as `common::faithfully` tries. `attempt` answers both lateness
 /// figures, µs.
 fn faithfully<T>(mut attempt: impl FnMut() -> ((u64, u64), T)) -> T {
-    for i in 1..=5 {
+    common::faithfully(|| {
         let ((replay_us, monitor_us), result) = attempt();
-        if replay_us <= 3_000 && monitor_us <= 4_500 {
-            return result;
+        let faithful = replay_us <= 3_000 && monitor_us <= 4_500;
+        if !faithful {
+            eprintln!("the replay was {replay_us} µs late, the monitor's reads {monitor_us} µs (a busy machine)");
         }
-        eprintln!(
-            "attempt {i}: the replay was {replay_us} µs late, the monitor's reads {monitor_us} µs (a busy machine): run again"
-        );
-    }
-    panic!("the replay was never on time: the machine is too busy for a real-time test");
+        (faithful, result)
+    })
 }
 
 /// How late the monitor says its reads returned characters at worst, µs.
