@@ -45,9 +45,10 @@ pub struct Ser2net {
 }
 
 /// Run `attempt` with a fresh test rig (a device or a line of the test's own, on this
-/// machine) until the rig kept time throughout: a device has a processor of its own,
-/// and a run in which the test machine made the rig late is no sample of the rig's
-/// behaviour. `attempt` returns whether the rig kept time, and the result.
+/// machine, and the harness) until the rig kept time throughout: a device has a
+/// processor of its own, and a run in which the test machine made the rig late, or
+/// kept the harness from seeing (an UNKNOWN), is no sample of the rig's behaviour.
+/// `attempt` returns whether the run is a sample, and the result.
 ///
 /// At least [`FAITHFUL_ATTEMPTS`] attempts, and more while they have taken less than
 /// [`FAITHFUL_PATIENCE`]: this machine is a virtual one whose host now and then holds
@@ -63,10 +64,10 @@ pub fn faithfully<T>(mut attempt: impl FnMut() -> (bool, T)) -> T {
         if faithful {
             return result;
         }
-        eprintln!("attempt {attempts}: the test's device or line was not on time; taken again");
+        eprintln!("attempt {attempts}: the test's device, line or harness was not on time; taken again");
     }
     panic!(
-        "the test's device or line was never on time in {attempts} attempts over {:.0} s: the machine is too busy \
+        "the test's device, line or harness was never on time in {attempts} attempts over {:.0} s: the machine is too busy \
          for a real-time test",
         started.elapsed().as_secs_f64()
     );
