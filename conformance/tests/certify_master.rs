@@ -494,8 +494,12 @@ fn an_interrupted_run_stops_the_master_and_writes_its_partial_report(#[case] sig
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
+    // The master's own `sleep`s, by their command line's start: the harness's command
+    // line holds the same words (`--exec '… sleep 4321.25 …'`), and on a busy machine
+    // an interrupt sent as soon as the harness was seen came before its first
+    // scenario (which is then rightly "not run", not "cut short").
     let running = || {
-        let out = std::process::Command::new("pgrep").args(["-f", &format!("sleep {marker}")]).output().unwrap();
+        let out = std::process::Command::new("pgrep").args(["-f", &format!("^sleep {marker}")]).output().unwrap();
         !out.stdout.is_empty()
     };
     let started = std::time::Instant::now();
