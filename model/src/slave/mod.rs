@@ -331,7 +331,7 @@ impl Slave {
     /// settings otherwise) becomes one long past ([`PowerUp::settled`], keeping the
     /// default settings where it did), so that slaves that differ only in how long
     /// ago they were powered on become equal: for model checking with a master
-    /// (proofs/src/master_fixpoint.rs). Times before `now_us - to_us` would move to 0.
+    /// (proofs/src/master_fixpoint/joint.rs). Times before `now_us - to_us` would move to 0.
     pub fn rebase(&mut self, now_us: u64, to_us: u64) {
         let moved = |t: u64| t.saturating_add(to_us).saturating_sub(now_us);
         if let Some(since) = self.power.since_us {
