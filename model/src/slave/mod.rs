@@ -94,7 +94,7 @@ impl Slave {
     }
 
     /// A slave in a state given part by part, for proofs that start from any state
-    /// satisfying an invariant the caller assumes (proofs/src/inductive.rs): the data
+    /// satisfying an invariant the caller assumes (proofs/src/inductive/): the data
     /// link empty, the physical inputs and injected faults at their defaults (set them
     /// with [`Slave::set_inputs`] and the `inject_*` functions), no EEPROM write counted.
     pub fn from_parts(
