@@ -128,8 +128,8 @@ impl Joint {
     }
 
     /// The encoder processed a frame at `now_us`: the act on its reply, the reply on
-    /// the line, the observer told (suite/src/master/encoder.rs, `frame`, `reply`,
-    /// `sent`).
+    /// the line, the observer told (suite/src/master/encoder/hooks.rs, `frame`,
+    /// `reply`, `sent`).
     fn encoder_step(&mut self, step: Step, now_us: u64, act: Option<Act>, seen: &mut Seen) {
         let bytes = step.received.bytes.as_bytes();
         let answered = RequestFrame::decode(bytes).ok().map(|r| r.request.command());

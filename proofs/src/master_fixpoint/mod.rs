@@ -17,12 +17,12 @@
 //! `BusMaster` (suite/src/exchange.rs: the request once the line has been quiet for the
 //! timeout, the reply framed by the timeout, the pause after it), and the encoder's
 //! side as the in-process certification serves it (suite/src/master/in_process.rs and
-//! encoder.rs: the reply 300 µs after its earliest start, the act applied to it, the
-//! observer told of it). A character that came while the master was not reading is
-//! read at once, as a real line gives it (conformance/src/line/clock.rs `read_until`);
-//! the harness's virtual line gives it only by its stamp, and there a late reply that
-//! arrives during a wait is taken for the next request's reply (docs/src/
-//! verification.md says what this search found of it). A test of the harness
+//! encoder/hooks.rs: the reply 300 µs after its earliest start, the act applied to
+//! it, the observer told of it). A character that came while the master was not
+//! reading is read at once, as a real line gives it (conformance/src/line/clock.rs
+//! `read_until`); the harness's virtual line gives it only by its stamp, and there a
+//! late reply that arrives during a wait is taken for the next request's reply
+//! (docs/src/verification.md says what this search found of it). A test of the harness
 //! (conformance/tests/reference_master.rs) checks that, the encoder answering, the
 //! master here decides at the instants and asks what it asks on the harness's
 //! `BusMaster` over the virtual line.
