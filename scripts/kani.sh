@@ -20,7 +20,7 @@
 #   scripts/kani.sh --false-assertion inductive_read_counter
 #                                         with a claim every command breaks added to the
 #                                         whole step (`cfg(false_assertion)`, see
-#                                         proofs/src/inductive.rs; the three
+#                                         proofs/src/inductive/; the three
 #                                         `field_memory_*` have claims of their own): each
 #                                         harness named must FAIL on its claim; the exit
 #                                         status says whether all did

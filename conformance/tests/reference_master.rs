@@ -175,7 +175,7 @@ fn the_reference_masters_transcript_when_faults_persist() {
     insta::assert_snapshot!(transcript(profiles::sek37(), 20, 4_000));
 }
 
-/// The joint exploration of the reference master (proofs/src/master_fixpoint.rs) runs
+/// The joint exploration of the reference master (proofs/src/master_fixpoint/) runs
 /// on its own model of the line: with the encoder answering every request, its
 /// master decides at the same instants and asks the same things as the reference
 /// master on the harness's `BusMaster` over the virtual line, both editions.

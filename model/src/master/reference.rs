@@ -2,7 +2,7 @@
 //! (Figure 17), cyclic Read Position, the warning's codes read out (000:2.3.4) and the
 //! fault reaction of Table 74 (000:T74). It decides what to send and how long to wait;
 //! a driver runs its [`Action`]s on a line (the harness's `hiperface master`, on a real
-//! or virtual line) or in a model checker (proofs/src/master_fixpoint.rs), and tells it
+//! or virtual line) or in a model checker (proofs/src/master_fixpoint/), and tells it
 //! what each one gave ([`Done`]). What it tells the operator comes out as [`Event`]s.
 //!
 //! Long because: the start-up flow, the cyclic reads and the fault reaction are one
@@ -246,7 +246,7 @@ impl ReferenceMaster {
     }
 
     /// The state between actions, for a model checker that moves the clock
-    /// (proofs/src/master_fixpoint.rs): [`Flow::now_us`] is the only time it keeps.
+    /// (proofs/src/master_fixpoint/joint.rs): [`Flow::now_us`] is the only time it keeps.
     pub fn flow_mut(&mut self) -> &mut Flow {
         &mut self.flow
     }

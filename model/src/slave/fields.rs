@@ -60,7 +60,7 @@ impl FieldStatus {
 /// size, which together say where each field lies and how much memory is free
 /// (000:2.4.2, 000:T23-T25). The accounting on its own, without the contents: its
 /// part of the slave's invariant is proved on this type alone
-/// (proofs/src/inductive.rs, `inductive_data_fields`), and [`DataFields`] changes it
+/// (proofs/src/inductive/, `inductive_data_fields`), and [`DataFields`] changes it
 /// only through [`FieldTable::create`], [`FieldTable::modify`] and
 /// [`FieldTable::delete_last`].
 #[derive(Clone, PartialEq, Eq, Hash)]
@@ -82,7 +82,7 @@ impl FieldTable {
     }
 
     /// A table as stored, for proofs that start from any table satisfying an invariant
-    /// the caller checks (proofs/src/inductive.rs): the first `count` of `statuses` as
+    /// the caller checks (proofs/src/inductive/): the first `count` of `statuses` as
     /// the fields (each with its exists bit set; as many as there are and the table
     /// holds), no check that they fit. It has no path that refuses: a bounded model
     /// checker would merge the refusing path's table with the built one, and the count

@@ -94,7 +94,7 @@ impl Slave {
     }
 
     /// A slave in a state given part by part, for proofs that start from any state
-    /// satisfying an invariant the caller assumes (proofs/src/inductive.rs): the data
+    /// satisfying an invariant the caller assumes (proofs/src/inductive/): the data
     /// link empty, the physical inputs and injected faults at their defaults (set them
     /// with [`Slave::set_inputs`] and the `inject_*` functions), no EEPROM write counted.
     pub fn from_parts(
@@ -331,7 +331,7 @@ impl Slave {
     /// settings otherwise) becomes one long past ([`PowerUp::settled`], keeping the
     /// default settings where it did), so that slaves that differ only in how long
     /// ago they were powered on become equal: for model checking with a master
-    /// (proofs/src/master_fixpoint.rs). Times before `now_us - to_us` would move to 0.
+    /// (proofs/src/master_fixpoint/joint.rs). Times before `now_us - to_us` would move to 0.
     pub fn rebase(&mut self, now_us: u64, to_us: u64) {
         let moved = |t: u64| t.saturating_add(to_us).saturating_sub(now_us);
         if let Some(since) = self.power.since_us {

@@ -5,7 +5,7 @@ use super::*;
 
 /// Moving the observer's clock (`Observer::rebase`) and forgetting what only the
 /// recommendations read (`Observer::forget_recommendations`), as the model checker of
-/// the reference master does where the master decides (proofs/src/master_fixpoint.rs),
+/// the reference master does where the master decides (proofs/src/master_fixpoint/),
 /// change no must judged afterwards: each session breaks the same musts, or none, with
 /// and without, and at the same times relative to the move.
 #[test]

@@ -1,7 +1,7 @@
 //! What the encoder took in from its serving loop, in order: the inputs a master
 //! certification's record keeps (`record.rs` plays them back through a fresh
-//! encoder), written by the encoder as it serves (`encoder.rs`). Apart from both, so
-//! that the encoder does not import the record that imports it.
+//! encoder), written by the encoder as it serves (`encoder/hooks.rs`). Apart from
+//! both, so that the encoder does not import the record that imports it.
 
 use crate::exchange::Char;
 use hiperface_model::UartSettings;

@@ -10,7 +10,7 @@ use hiperface_model::request::RequestFrame;
 use hiperface_model::{CommandId, Profile};
 
 /// What the encoder does to one request: the model's definition, shared with the
-/// search of the reference master to a fixpoint (proofs/src/master_fixpoint.rs).
+/// search of the reference master to a fixpoint (proofs/src/master_fixpoint/).
 pub use hiperface_model::slave::act::Act;
 
 /// The `nth` request (1, 2, ...) of command `on` gets `act`, or, where `or_after_ms`

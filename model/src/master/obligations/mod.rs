@@ -173,7 +173,7 @@ impl Observer {
     /// counted, the last frame for the polling gap): the rules on a normative clause
     /// (framing, pauses, the reply, power-up and reset timing, the data rate) judge
     /// what follows as before; the recommendations' judgments from here on mean
-    /// nothing. For a model checker of the musts (proofs/src/master_fixpoint.rs), where
+    /// nothing. For a model checker of the musts (proofs/src/master_fixpoint/), where
     /// that memory would make states differ that the musts cannot tell apart.
     pub fn forget_recommendations(&mut self) {
         self.memo = Recommendations::NONE;
@@ -188,7 +188,7 @@ impl Observer {
     /// window that has closed, a last frame older than the polling period. So two
     /// observers that differ only in how long ago such things happened become equal
     /// (model checking the reference master to a fixpoint,
-    /// proofs/src/master_fixpoint.rs). A judgment's figure (`measured_us`) may read the
+    /// proofs/src/master_fixpoint/joint.rs). A judgment's figure (`measured_us`) may read the
     /// moved time; its rule does not change. `to_us` must be at least
     /// [`Observer::look_back_us`]; the characters of a frame in progress older than
     /// `now_us - to_us` would be moved to 0.

@@ -21,13 +21,22 @@
 //!
 //! The slave under check is a [`StepFn`]: the model, or a deliberately defective
 //! [`mutant`] that shows what the search catches that a depth-bounded one misses.
+//!
+//! Here the events, the world and its step, the frame rules; canonical.rs the
+//! abstraction (the counter's classes, the offset's, the power-up phases),
+//! fingerprint.rs the hash of a state the search keeps, search.rs the search.
 
-use crate::invariant::{slave_invariant, COUNTER_MAX};
+use crate::invariant::COUNTER_MAX;
 use crate::model_check::{addressed, FIELDS_TO_SETTINGS};
-use hiperface_model::slave::powerup::CommState;
 use hiperface_model::{checksum, AddressByte, CommandId, Outcome, Profile, Reply, ResponseFrame, Silence, Slave};
-use std::collections::{HashSet, VecDeque};
-use std::hash::{Hash, Hasher};
+
+mod canonical;
+mod fingerprint;
+mod search;
+
+pub use canonical::{abstraction, representatives, CounterClass};
+pub(crate) use fingerprint::Fingerprint;
+pub use search::{search, Bound, Counterexample, Report};
 
 /// What the environment does: the master's frames, time, power and the sensor.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -102,106 +111,6 @@ pub fn alphabet(profile: &Profile) -> Vec<Event> {
         Event::Temperature(130),
     ])
     .collect()
-}
-
-/// The counter's classes: the values Increment Counter tells apart (000:T16, 000:T46,
-/// 002:47h), and `Beyond` for a value no state may hold, kept concrete so that the
-/// invariant sees it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum CounterClass {
-    Zero,
-    One,
-    Between,
-    BelowTop,
-    Top,
-    Beyond,
-}
-
-impl CounterClass {
-    pub fn of(counter: u32) -> CounterClass {
-        match counter {
-            0 => CounterClass::Zero,
-            1 => CounterClass::One,
-            c if c < COUNTER_MAX - 1 => CounterClass::Between,
-            c if c == COUNTER_MAX - 1 => CounterClass::BelowTop,
-            COUNTER_MAX => CounterClass::Top,
-            _ => CounterClass::Beyond,
-        }
-    }
-
-    /// The values the search runs each command from: the class's ends (the first is
-    /// the class's canonical value). `Beyond` has none: it is never abstracted.
-    pub fn representatives(self) -> &'static [u32] {
-        match self {
-            CounterClass::Zero => &[0],
-            CounterClass::One => &[1],
-            CounterClass::Between => &[2, COUNTER_MAX - 2],
-            CounterClass::BelowTop => &[COUNTER_MAX - 1],
-            CounterClass::Top => &[COUNTER_MAX],
-            CounterClass::Beyond => &[],
-        }
-    }
-}
-
-/// The offset's canonical value in its class: 0, the last step, or the middle of the
-/// range for every step between.
-fn canonical_offset(offset: u64, range: u64) -> u64 {
-    if offset == 0 || offset + 1 == range || offset >= range {
-        offset
-    } else {
-        range / 2
-    }
-}
-
-/// The start of the power-up phase `now` is in: the earliest of power-on and the
-/// windows' ends (000:T9) at or before `now` from which the state is the same.
-fn phase_start(s: &Slave, now: u64) -> u64 {
-    let p = s.profile();
-    let state = s.state(now);
-    let Some(since) = s.power_up().since_us else { return 0 };
-    let at = |ms: u16| since.saturating_add(ms as u64 * 1000);
-    [since, at(p.init_ms), at(p.default_window_ms), at(p.user_settings_ms)]
-        .into_iter()
-        .filter(|t| *t <= now && s.state(*t) == state)
-        .min()
-        .unwrap_or(now)
-}
-
-/// The abstraction: the canonical world of `w`'s class.
-pub fn abstraction(w: &World) -> World {
-    let mut a = w.clone();
-    let nv = a.slave.nonvolatile();
-    let (counter, offset, range) = (nv.counter, nv.offset, a.slave.profile().range());
-    if let Some(c) = CounterClass::of(counter).representatives().first() {
-        a.slave.set_counter(*c);
-    }
-    let offset = canonical_offset(offset, range);
-    if offset < range {
-        // The raw position is 0 in the search: the preset is the offset.
-        let raw = a.slave.inputs().position % range;
-        a.slave.adopt_preset((offset + raw) % range);
-    }
-    a.slave.reset_eeprom_writes();
-    a.now_us = phase_start(&a.slave, a.now_us);
-    a
-}
-
-/// The worlds the search runs each event from for abstract world `a`: one per
-/// representative of its counter's class.
-pub fn representatives(a: &World) -> Vec<World> {
-    let class = CounterClass::of(a.slave.nonvolatile().counter);
-    if class == CounterClass::Beyond {
-        return vec![a.clone()];
-    }
-    class
-        .representatives()
-        .iter()
-        .map(|c| {
-            let mut w = a.clone();
-            w.slave.set_counter(*c);
-            w
-        })
-        .collect()
 }
 
 /// Apply an event; the outcome of a frame, if the event was one.
@@ -291,261 +200,9 @@ pub fn frame_rules(before: &World, frame: &[u8], outcome: &Outcome, after: &Slav
     }
 }
 
-/// A 128-bit fingerprint of a world: the search keeps fingerprints of the states it
-/// has seen, not the states (about 5 KB each, most of it the data field memory), and
-/// hashes each once (hash compaction; docs/src/verification.md says what it costs).
-/// Two lanes of multiply-rotate over 8-byte words, each finished by MurmurHash3's
-/// mixer: fast in a debug build, where SipHash takes 50 µs per state.
-#[derive(Default)]
-pub(crate) struct Fingerprint {
-    a: u64,
-    b: u64,
-    len: u64,
-}
-
-impl Fingerprint {
-    pub(crate) fn of(w: &impl Hash) -> u128 {
-        let mut f = Fingerprint { a: 0x243F_6A88_85A3_08D3, b: 0x1319_8A2E_0370_7344, len: 0 };
-        w.hash(&mut f);
-        let fmix = |mut k: u64| {
-            k ^= k >> 33;
-            k = k.wrapping_mul(0xFF51_AFD7_ED55_8CCD);
-            k ^= k >> 33;
-            k = k.wrapping_mul(0xC4CE_B9FE_1A85_EC53);
-            k ^ (k >> 33)
-        };
-        let (a, b) = (fmix(f.a ^ f.len), fmix(f.b.wrapping_add(f.len)));
-        ((a as u128) << 64) | b as u128
-    }
-
-    fn words(&mut self, bytes: &[u8]) {
-        let mut chunks = bytes.chunks_exact(8);
-        for c in &mut chunks {
-            let mut w = [0u8; 8];
-            w.copy_from_slice(c);
-            self.word(u64::from_le_bytes(w));
-        }
-        let rest = chunks.remainder();
-        if !rest.is_empty() {
-            let mut w = [0u8; 8];
-            w[..rest.len()].copy_from_slice(rest);
-            self.word(u64::from_le_bytes(w) ^ ((rest.len() as u64) << 56));
-        }
-    }
-
-    fn word(&mut self, w: u64) {
-        self.a = (self.a ^ w).wrapping_mul(0x9E37_79B9_7F4A_7C15).rotate_left(31);
-        self.b = (self.b.rotate_left(27) ^ w).wrapping_mul(0xC2B2_AE3D_27D4_EB4F);
-        self.len += 1;
-    }
-}
-
-impl Hasher for Fingerprint {
-    fn write(&mut self, bytes: &[u8]) {
-        // Blocks of 64 bytes that are all FFh (erased memory) or all 00h (memory no
-        // one knows, unused status slots) are one tag each: most of a state, found by
-        // a comparison (memcmp) rather than a debug build's loop over its words. The
-        // encoding stays one-to-one: a tag, or another tag and the block's words.
-        const ERASED: [u8; 64] = [0xFF; 64];
-        const ZERO: [u8; 64] = [0; 64];
-        let mut blocks = bytes.chunks_exact(64);
-        for block in &mut blocks {
-            if block == ERASED {
-                self.word(0xE5E5_E5E5_0000_00FF);
-            } else if block == ZERO {
-                self.word(0xE5E5_E5E5_0000_0000);
-            } else {
-                self.word(0xE5E5_E5E5_0000_0B0C);
-                self.words(block);
-            }
-        }
-        self.words(blocks.remainder());
-    }
-
-    fn write_u8(&mut self, i: u8) {
-        self.word(i as u64 | 0x100);
-    }
-
-    fn write_u64(&mut self, i: u64) {
-        self.word(i);
-    }
-
-    fn finish(&self) -> u64 {
-        self.a ^ self.b
-    }
-}
-
-/// How far a search goes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Bound {
-    /// Concrete states, to this many events from the start.
-    Depth(usize),
-    /// Abstract states, until no new one appears; give up (an error) beyond this many.
-    Fixpoint { max_states: usize },
-}
-
-#[derive(Debug, Clone)]
-pub struct Report {
-    pub profile: String,
-    /// Distinct (abstract, for a fixpoint) states reached.
-    pub states: usize,
-    /// Concrete states the invariant was checked in: representatives and successors.
-    pub checked: u64,
-    pub transitions: u64,
-    /// The longest shortest path to a state, in events.
-    pub depth: usize,
-    /// No new state appeared: every reachable (abstract) state was explored.
-    pub fixpoint: bool,
-}
-
-impl core::fmt::Display for Report {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        write!(
-            f,
-            "{}: {} states, {} transitions, {} concrete states checked, depth {}, {}",
-            self.profile,
-            self.states,
-            self.transitions,
-            self.checked,
-            self.depth,
-            if self.fixpoint { "fixpoint reached" } else { "bounded" }
-        )
-    }
-}
-
-/// A violated rule and the events that lead to it from the start.
-#[derive(Debug, Clone)]
-pub struct Counterexample {
-    pub what: String,
-    pub trace: Vec<Event>,
-}
-
-impl core::fmt::Display for Counterexample {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        writeln!(f, "{} after {} events:", self.what, self.trace.len())?;
-        for e in &self.trace {
-            writeln!(f, "  {e:?}")?;
-        }
-        Ok(())
-    }
-}
-
 /// A factory-state slave of `profile`, powered on long ago, at a normal temperature.
 pub fn start(profile: Profile) -> World {
     World { slave: Slave::operational(profile), now_us: 0 }
-}
-
-/// Breadth-first search from `start` over `alphabet`, the slave stepping with `step`:
-/// the invariant in every concrete state run from and reached, the frame rules on
-/// every frame, and that a power cycle and the power-up windows lead to a reply.
-pub fn search(start: World, alphabet: &[Event], step: StepFn, bound: Bound) -> Result<Report, Counterexample> {
-    let abstracted = matches!(bound, Bound::Fixpoint { .. });
-    // A depth-bounded search compares concrete states, but for the count of EEPROM
-    // writes (the model's bookkeeping, which no command reads).
-    let key = |mut w: World| {
-        if abstracted {
-            abstraction(&w)
-        } else {
-            w.slave.reset_eeprom_writes();
-            w
-        }
-    };
-    let profile = start.slave.profile().name.as_str().to_string();
-    let first = key(start);
-    // Every state's fingerprint, and how each was first reached: (parent, event).
-    let mut seen: HashSet<u128> = HashSet::new();
-    let mut parents: Vec<(u32, u16)> = vec![(u32::MAX, 0)];
-    seen.insert(Fingerprint::of(&first));
-    // A state left unexpanded at the depth bound: no fixpoint.
-    let mut cut = false;
-    let mut queue = VecDeque::from([(first, 0u32, 0usize)]);
-    let (mut checked, mut transitions, mut depth) = (0u64, 0u64, 0usize);
-    let trace = |parents: &[(u32, u16)], mut i: u32, last: Option<u16>| {
-        let mut t: Vec<Event> = last.map(|e| alphabet[e as usize].clone()).into_iter().collect();
-        while let Some((p, e)) = parents.get(i as usize).copied().filter(|(p, _)| *p != u32::MAX) {
-            t.push(alphabet[e as usize].clone());
-            i = p;
-        }
-        t.reverse();
-        t
-    };
-    while let Some((state, id, d)) = queue.pop_front() {
-        depth = depth.max(d);
-        let fail = |parents: &[(u32, u16)], what: String, last: Option<u16>| Counterexample {
-            what,
-            trace: trace(parents, id, last),
-        };
-        if let Err(what) = recovers(&state, step) {
-            return Err(fail(&parents, what, None));
-        }
-        if matches!(bound, Bound::Depth(max) if d >= max) {
-            // Checked, not expanded.
-            cut = true;
-            if let Err(v) = slave_invariant(&state.slave) {
-                return Err(fail(&parents, format!("invariant: {v}"), None));
-            }
-            checked += 1;
-            continue;
-        }
-        let froms = if abstracted { representatives(&state) } else { vec![state.clone()] };
-        for from in &froms {
-            let counter = from.slave.nonvolatile().counter;
-            if let Err(v) = slave_invariant(&from.slave) {
-                return Err(fail(&parents, format!("invariant: {v} (counter {counter:X}h)"), None));
-            }
-            checked += 1;
-            for (i, e) in alphabet.iter().enumerate() {
-                let mut next = from.clone();
-                let outcome = apply(step, &mut next, e);
-                transitions += 1;
-                if let Err(what) = successor_rules(from, e, outcome.as_ref(), &next) {
-                    return Err(fail(&parents, format!("{what} (from counter {counter:X}h)"), Some(i as u16)));
-                }
-                checked += 1;
-                let k = key(next);
-                let print = Fingerprint::of(&k);
-                if seen.insert(print) {
-                    if let Bound::Fixpoint { max_states } = bound {
-                        if parents.len() >= max_states {
-                            return Err(fail(&parents, format!("no fixpoint within {max_states} states"), None));
-                        }
-                    }
-                    let n = parents.len() as u32;
-                    parents.push((id, i as u16));
-                    queue.push_back((k, n, d + 1));
-                }
-            }
-        }
-    }
-    Ok(Report { profile, states: seen.len(), checked, transitions, depth, fixpoint: !cut })
-}
-
-/// The rules for one event from `from` to `next`: the frame rules on a frame's
-/// outcome, and the invariant in the state reached.
-fn successor_rules(from: &World, e: &Event, outcome: Option<&Outcome>, next: &World) -> Result<(), String> {
-    if let (Some(o), Some(f)) = (outcome, frame_of(e)) {
-        // After a reset the world is the power cycle's (see `apply_frame`): a silent
-        // outcome, which reads nothing of it.
-        frame_rules(from, &f, o, &next.slave).map_err(|w| format!("frame rule: {w}"))?;
-    }
-    slave_invariant(&next.slave).map_err(|v| format!("invariant: {v}"))
-}
-
-/// A power cycle and the power-up windows lead to Operational with the stored
-/// settings, and the slave answers there. // 000:T9
-fn recovers(w: &World, step: StepFn) -> Result<(), String> {
-    let mut r = w.clone();
-    apply(step, &mut r, &Event::PowerCycle);
-    for _ in 0..4 {
-        apply(step, &mut r, &Event::Advance);
-    }
-    if r.slave.state(r.now_us) != CommState::OperationalUser {
-        return Err(format!("not Operational after the power-up windows: {:?}", r.slave.state(r.now_us)));
-    }
-    match apply(step, &mut r, &Event::Request(vec![0xFF, 0x42])).map(|o| o.reply) {
-        Some(Reply::Frame(_)) => Ok(()),
-        other => Err(format!("no reply after the power-up windows: {other:?}")),
-    }
 }
 
 /// Deliberate defects, for showing what a search catches. Never the model's own
@@ -573,6 +230,7 @@ pub mod mutant {
 mod tests {
     use super::*;
     use hiperface_model::profiles;
+    use hiperface_model::slave::powerup::CommState;
 
     fn run(profile: Profile, step: StepFn, bound: Bound) -> Result<Report, Counterexample> {
         let t = std::time::Instant::now();

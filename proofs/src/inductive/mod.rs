@@ -10,19 +10,31 @@
 //! that do not form a state satisfying the invariant, which both then skip (Kani:
 //! `kani::assume`). What the parts keep and leave out, and why that is sound, is in
 //! docs/src/verification.md, "The invariant is inductive".
+//!
+//! Here the parts, the frame rules, the command families and the whole step;
+//! field_memory.rs the field memory's operations as the whole-step harnesses' stubs
+//! take them; stack_and_fields.rs the error stack's and the data field table's parts of
+//! the invariant, each inductive on its own.
 
-use crate::invariant::{fields_invariant, slave_invariant, stack_invariant};
+use crate::invariant::slave_invariant;
 use hiperface_model::address::{AddressByte, SlaveAddress};
 use hiperface_model::frame::MAX_FIELD_BYTES;
-use hiperface_model::profile::StackOrder;
-use hiperface_model::slave::fields::{
-    DataFields, FieldMemory, FieldStatus, FieldTable, BLOCK, ERASED, MAX_FIELD_BLOCKS, MAX_MEMORY,
-};
+use hiperface_model::slave::fields::DataFields;
 use hiperface_model::slave::inputs::{PhysicalInputs, PositionFault};
 use hiperface_model::slave::powerup::PowerUp;
-use hiperface_model::slave::stack::{ErrorStack, STACK_DEPTH};
+use hiperface_model::slave::stack::STACK_DEPTH;
 use hiperface_model::slave::{Locks, NonVolatile};
-use hiperface_model::{checksum, CommandId, FaultCode, Outcome, Profile, Reply, Silence, Slave, UartSettings};
+use hiperface_model::{checksum, CommandId, Outcome, Profile, Reply, Silence, Slave, UartSettings};
+
+mod field_memory;
+mod stack_and_fields;
+
+pub use field_memory::{
+    erased_read_answer, field_memory_contents, field_memory_frees_without_panic, field_memory_reads_as_stubbed,
+    field_memory_writes_as_stubbed, memory_holds,
+};
+use stack_and_fields::stack_of;
+pub use stack_and_fields::{fields_step_keeps_invariant, stack_step_keeps_invariant, FieldsStep};
 
 /// The data fields a built state has at most: the addressed field, the last one and
 /// one before them are what the data field commands tell apart (the sizes of the
@@ -223,183 +235,6 @@ pub fn step_keeps_invariant(state: &Slave, frame: &[u8], now_us: u64, uart_fault
         "false assertion: no reply carries the warning bit"
     );
     slave_invariant(&after).is_ok() && rules_hold(state, frame, now_us, &outcome, &after)
-}
-
-/// Whether `len` bytes from `start` all lie in the field memory: what
-/// [`FieldMemory::write`] answers. The whole-step harnesses of the data field commands
-/// take the field memory's operations as stubs (proofs/src/harnesses.rs;
-/// docs/src/verification.md, "The contents of the field memory"), which answer from
-/// this; [`field_memory_writes_as_stubbed`] and its siblings prove the real ones answer
-/// the same.
-pub fn memory_holds(start: usize, len: usize) -> bool {
-    start.checked_add(len).is_some_and(|end| end <= MAX_MEMORY)
-}
-
-/// What [`FieldMemory::read`] answers on erased memory (as [`Parts`] build it) for up
-/// to [`MAX_FIELD_BYTES`] bytes, the most `DataFields::read` asks for: FFh for each
-/// byte that lies in the memory.
-pub fn erased_read_answer(start: usize, count: usize) -> Option<&'static [u8]> {
-    static ERASED_FIELD: [u8; MAX_FIELD_BYTES] = [ERASED; MAX_FIELD_BYTES];
-    if memory_holds(start, count) {
-        ERASED_FIELD.get(..count)
-    } else {
-        None
-    }
-}
-
-/// The field memory's operations on their own, what the stubs of the whole-step
-/// harnesses rely on: each answers as its stub does and never panics. Nothing else of
-/// the slave can change through them: they take only `&FieldMemory` or `&mut
-/// FieldMemory`. (What `write` and `free` do to the contents, which no stub relies on,
-/// is [`field_memory_contents`], sampled: with it in a Kani harness the 4 080-byte
-/// memory ran out of 8 GB, docs/src/verification.md.)
-///
-/// `read`: on erased memory, `count` bytes (at most [`MAX_FIELD_BYTES`], the most
-/// `DataFields::read` asks for) at `start` are what [`erased_read_answer`] answers, in
-/// length and at byte `probe` (for a symbolic `probe`, at every byte).
-pub fn field_memory_reads_as_stubbed(start: usize, count: usize, probe: usize) -> bool {
-    let memory = FieldMemory::erased();
-    let (real, stub) = (memory.read(start, count), erased_read_answer(start, count));
-    // `scripts/kani.sh --false-assertion field_memory_read`: a claim a read inside the
-    // memory breaks.
-    #[cfg(false_assertion)]
-    assert!(real.is_none(), "false assertion: no read lies in the memory");
-    count > MAX_FIELD_BYTES
-        || (real.map(<[u8]>::len) == stub.map(<[u8]>::len)
-            && real.and_then(|r| r.get(probe)) == stub.and_then(|s| s.get(probe)))
-}
-
-/// `write` of `data` at `start` answers [`memory_holds`] (what `write_answers_only`
-/// answers) and does not panic.
-pub fn field_memory_writes_as_stubbed(start: usize, data: &[u8]) -> bool {
-    let mut memory = FieldMemory::erased();
-    let written = memory.write(start, data);
-    // `scripts/kani.sh --false-assertion field_memory_write`: a claim a write inside
-    // the memory breaks.
-    #[cfg(false_assertion)]
-    assert!(!written, "false assertion: no write lies in the memory");
-    written == memory_holds(start, data.len())
-}
-
-/// `free` from `from` to `to` does not panic (`free_changes_nothing` answers nothing
-/// either): true once it returns.
-pub fn field_memory_frees_without_panic(from: usize, to: usize) -> bool {
-    let mut memory = FieldMemory::erased();
-    memory.free(from, to);
-    // `scripts/kani.sh --false-assertion field_memory_free`: a claim any range to free
-    // breaks, reached after `free` returns.
-    #[cfg(false_assertion)]
-    assert!(from >= to, "false assertion: nothing is ever freed");
-    true
-}
-
-/// What `write` and `free` do to the contents: from erased memory, a byte `write`
-/// wrote (at `start`) reads what it wrote and is known, any other byte `probe` is
-/// still erased and unknown; then after `free` from `from` to `to`, `probe`, if within
-/// the blocks it frees (from a block boundary, as the fields end on one, and below
-/// `to`), reads FFh and is unknown again.
-pub fn field_memory_contents(start: usize, data: &[u8], from: usize, to: usize, probe: usize) -> bool {
-    let mut memory = FieldMemory::erased();
-    let written = memory.write(start, data);
-    let byte = |m: &FieldMemory| m.read(probe, 1).and_then(|b| b.first().copied());
-    // Past the memory's end there is no byte to be erased.
-    let erased = |m: &FieldMemory| probe >= MAX_MEMORY || (byte(m) == Some(ERASED) && !m.is_known(probe));
-    let at = probe.checked_sub(start).filter(|i| written && *i < data.len());
-    let probed = match at {
-        Some(i) => byte(&memory) == data.get(i).copied() && memory.is_known(probe),
-        None => erased(&memory),
-    };
-    memory.free(from, to);
-    let freed = from % BLOCK == 0 && from <= probe && probe - from < MAX_FIELD_BLOCKS * BLOCK && probe < to;
-    written == memory_holds(start, data.len()) && probed && (!freed || erased(&memory))
-}
-
-/// The stack the slave has after pushing the first `len` of `codes`, in order (00h
-/// and a code already there are not stacked, `ErrorStack::push`). A loop of fixed
-/// length, for Kani.
-fn stack_of(codes: [u8; STACK_DEPTH], len: u8) -> ErrorStack {
-    let mut stack = ErrorStack::new();
-    for (i, code) in codes.iter().enumerate() {
-        if i < len as usize {
-            stack.push(FaultCode::decode(*code));
-        }
-    }
-    stack
-}
-
-/// The error stack's part of the invariant is inductive on its own: from any stack
-/// that satisfies it (`codes` pushed in order, the first `len`: every stack of at most
-/// four distinct codes other than 00h is one), one operation the slave performs on it
-/// (`op`: push `code`, pop oldest first, pop newest first, clear) keeps it, and the
-/// warning bit the slave derives from it (`is_empty`) says whether a code is left.
-/// // 000:T27, 000:2.3.4
-pub fn stack_step_keeps_invariant(codes: [u8; STACK_DEPTH], len: u8, op: u8, code: u8) -> bool {
-    let mut stack = stack_of(codes, len);
-    if stack_invariant(&stack).is_err() {
-        return true;
-    }
-    let popped = match op % 4 {
-        0 => {
-            stack.push(FaultCode::decode(code));
-            // A code pushed is on the stack afterwards (a full stack drops its oldest),
-            // unless it is 00h, never stored.
-            code == 0 || stack.contains(FaultCode::decode(code))
-        }
-        1 => stack.pop(StackOrder::OldestFirst) != FaultCode::NoFault || stack.is_empty(),
-        2 => stack.pop(StackOrder::NewestFirst) != FaultCode::NoFault || stack.is_empty(),
-        _ => {
-            stack.clear();
-            stack.is_empty()
-        }
-    };
-    // The warning bit's source agrees with the slots: empty exactly when none holds a code.
-    let mut none = true;
-    for i in 0..STACK_DEPTH {
-        none &= stack.slot(i).is_none();
-    }
-    popped && stack_invariant(&stack).is_ok() && stack.is_empty() == none
-}
-
-/// A data field table and one operation on it, as plain values (see
-/// [`fields_step_keeps_invariant`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(kani, derive(kani::Arbitrary))]
-pub struct FieldsStep {
-    pub statuses: [u8; MAX_FIELDS],
-    pub count: u8,
-    pub capacity: u8,
-    pub op: u8,
-    pub number: u8,
-    pub status: u8,
-}
-
-/// The data field table's part of the invariant is inductive on its own: from any
-/// table of at most [`MAX_FIELDS`] fields on `capacity` blocks that satisfies it, one
-/// operation Create Data Field performs on it (`op`: create a field with `status`,
-/// change field `number` to `status` (attributes, or the last field's size), delete
-/// the last) keeps it; an operation refused leaves the table as it was. Store Data
-/// (`DataFields::write`) writes contents only, never the table. // 000:2.4.2, 000:T24,
-/// DESIGN:fields
-pub fn fields_step_keeps_invariant(step: &FieldsStep) -> bool {
-    let FieldsStep { statuses, count, capacity, op, number, status } = *step;
-    let count = (count as usize).min(MAX_FIELDS);
-    let mut fields = FieldTable::from_table(capacity, &statuses, count);
-    if fields_invariant(&fields, capacity).is_err() {
-        return true;
-    }
-    let done = match op % 3 {
-        0 => fields.create(FieldStatus(status)),
-        1 => fields.modify(number, FieldStatus(status)),
-        _ => fields.delete_last(),
-    };
-    // A fixed loop (for Kani), no allocation.
-    let mut unchanged = fields.count() as usize == count;
-    for (i, s) in statuses.iter().enumerate() {
-        if i < count {
-            unchanged &= fields.status(i as u8).map(|f| f.0) == Some(s | FieldStatus::EXISTS);
-        }
-    }
-    (done || unchanged) && fields_invariant(&fields, capacity).is_ok()
 }
 
 #[cfg(test)]
