@@ -456,11 +456,19 @@ fn a_failed_certificate_puts_its_failures_first_in_every_form() {
             .output()
             .unwrap();
         let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-        let undecided = stdout.lines().any(|l| l.contains("UNKNOWN") && l.contains("counter.read"));
+        // From the report, not the console: the console's first findings list only the
+        // FAILs, and an UNKNOWN there went unseen once (2026-11-29, three busy loops).
+        let undecided = std::fs::read_to_string(dir.join("report.json"))
+            .ok()
+            .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+            .and_then(|j| j["cases"].as_array().cloned())
+            .is_some_and(|cases| cases.iter().any(|c| c["id"] == "counter.read" && c["verdict"] == "UNKNOWN"));
         let faithful = !undecided && hx1.kept_time();
-        if !faithful {
-            eprintln!("attempt {attempt}: counter.read undecided or HX-1 late; taken again:\n{stdout}");
-        }
+        // Shown with the test's output if it fails: what each run printed.
+        eprintln!(
+            "attempt {attempt}{}:\n{stdout}",
+            if faithful { "" } else { ": counter.read undecided or HX-1 late; taken again" }
+        );
         (faithful, (out, stdout, dir))
     });
     assert_eq!(out.status.code(), Some(1), "FAILED: {stdout}\n{}", String::from_utf8_lossy(&out.stderr));
