@@ -44,6 +44,10 @@ pub struct Exchange {
     /// it may have noticed a character or written its request. What it could explain
     /// is never charged to the device.
     pub harness_late_us: u64,
+    /// How long the harness's write of the request took, of the width of
+    /// `request_end` (`line::Sent::write_us`): a reading of the request's end only
+    /// that width allows is the harness's doing, and a reply is never passed on it.
+    pub request_write_us: u64,
     /// How much the line itself may have delayed the exchange, both ways, as measured
     /// beside it (a pseudo-terminal's delivery: `line::delivery`); 0 where nothing is
     /// measured. Like the harness's own lateness, never charged to the device.
@@ -326,6 +330,7 @@ impl<L: Line> BusMaster<L> {
             timeout_us: timeout,
             pause_us: settings.pause_us(self.edition),
             harness_late_us: self.line.take_lateness_us(),
+            request_write_us: sent.write_us,
             line_late: self.line.delivery_late(sent_start_us, end.max(complete.latest_us)),
             heard_late: HeardLate::default(),
         })
@@ -418,7 +423,7 @@ mod tests {
         fn send(&mut self, bytes: &[u8]) -> Result<Sent, LineError> {
             self.sent_at.push(self.now);
             self.now += bytes.len() as u64 * CT;
-            Ok(Sent { end: Window::exact(self.now) })
+            Ok(Sent::within(Window::exact(self.now)))
         }
         fn recv(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError> {
             match self.inbound.front() {

@@ -11,7 +11,7 @@
 //! playing the UART).
 
 use hiperface_suite::line::rx_clock::RxClock;
-use hiperface_suite::line::{LineError, Window};
+use hiperface_suite::line::{LineError, Sent, Window};
 
 /// The [`hiperface_suite::line::Line`] methods of a line in real time, answered by its
 /// [`RealTime`] field: sleeping until a time, the jitter graded with, and the harness's
@@ -196,12 +196,19 @@ pub fn read_until(
 /// time instead would narrow it, but on a busy machine the kernel may deliver two of
 /// them a timeout apart, and the peer would see two frames: the harness's jitter
 /// turned into the device's errors.)
+///
+/// The write reached the line somewhere between the clock read before it and the one
+/// after: the window holds that too, and says how long it was (`Sent::write_us`).
+/// Held in the write (a peer at a real-time priority taking the processor as the
+/// request arrives, a busy machine), the harness would otherwise pass a late reply on
+/// a request end it made up (2026-11-29: a reply 12 ms past its 5 ms limit PASSED
+/// once under three busy loops).
 pub fn write_whole(
     time: &RealTime,
     ct: u64,
     bytes: &[u8],
     write: impl FnOnce(&[u8]) -> Result<(), LineError>,
-) -> Result<Window, LineError> {
+) -> Result<Sent, LineError> {
     // Taken before the write: the harness may be descheduled between the write and
     // reading the clock.
     let began = time.now_us();
@@ -209,7 +216,7 @@ pub fn write_whole(
     let done = time.now_us();
     let latest_us = done + bytes.len().saturating_sub(1) as u64 * ct;
     time.sent_through(latest_us);
-    Ok(Window { earliest_us: began, latest_us })
+    Ok(Sent { end: Window { earliest_us: began, latest_us }, write_us: done.saturating_sub(began) })
 }
 
 #[cfg(test)]
@@ -224,9 +231,27 @@ mod tests {
             at = time.now_us();
             Ok(())
         })
-        .unwrap();
+        .unwrap()
+        .end;
         // A program stamps the write's arrival; a UART player three characters later.
         assert!(end.earliest_us <= at && end.latest_us >= at + 3 * 2_000, "{end:?} {at}");
+    }
+
+    #[test]
+    fn a_write_the_harness_was_held_in_says_how_long() {
+        // Held 5 ms in the write (a peer taking the processor, a busy machine): the
+        // request reached the line somewhere in those 5 ms, and the window says so.
+        let time = RealTime::new(0);
+        let sent = write_whole(&time, 1_000, &[0x40, 0x46, 0x06], |_| {
+            std::thread::sleep(std::time::Duration::from_millis(5));
+            Ok(())
+        })
+        .unwrap();
+        assert!(sent.write_us >= 5_000, "{sent:?}");
+        assert!(sent.end.latest_us - sent.end.earliest_us >= sent.write_us + 2 * 1_000, "{sent:?}");
+        // Not held: a write takes microseconds.
+        let sent = write_whole(&time, 1_000, &[0x40, 0x46, 0x06], |_| Ok(())).unwrap();
+        assert!(sent.write_us < 5_000, "{sent:?}");
     }
 
     #[test]
@@ -270,7 +295,7 @@ mod tests {
     #[test]
     fn a_request_the_simulator_took_late_is_the_harness_lateness() {
         let (clock, heard) = clock_with_simulator();
-        let end = write_whole(&clock, 1_000, &[0x40, 0x50, 0x10], |_| Ok(())).unwrap();
+        let end = write_whole(&clock, 1_000, &[0x40, 0x50, 0x10], |_| Ok(())).unwrap().end;
         assert!(clock.take_lateness_us() < 8_000, "nothing received yet: not late");
         heard.last_us.store(end.latest_us + 8_000, std::sync::atomic::Ordering::SeqCst);
         assert!(clock.take_lateness_us() >= 8_000, "taken 8 ms after it was written");
@@ -283,7 +308,7 @@ mod tests {
     #[test]
     fn a_reply_the_harness_read_late_is_the_harness_lateness() {
         let (clock, heard) = clock_with_simulator();
-        let end = write_whole(&clock, 1_000, &[0x40, 0x50, 0x10], |_| Ok(())).unwrap();
+        let end = write_whole(&clock, 1_000, &[0x40, 0x50, 0x10], |_| Ok(())).unwrap().end;
         heard.wrote_us.store(end.latest_us + 6_000, std::sync::atomic::Ordering::SeqCst);
         clock.read_at(end.latest_us + 14_000);
         assert!(clock.take_lateness_us() >= 8_000, "read 8 ms after it was written");

@@ -302,11 +302,10 @@ impl Line for SerialLine {
         let ct = self.settings.char_time_us();
         if self.pseudo_terminal {
             let port = &mut self.port;
-            let end = clock::write_whole(&self.time, ct, bytes, |b| {
+            return clock::write_whole(&self.time, ct, bytes, |b| {
                 port.write_all(b).map_err(Self::gone)?;
                 port.flush().map_err(Self::gone)
-            })?;
-            return Ok(Sent { end });
+            });
         }
         let start = self.now_us();
         self.port.write_all(bytes).map_err(Self::gone)?;
@@ -316,7 +315,7 @@ impl Line for SerialLine {
         let late = self.adapter.as_ref().map_or(0, Adapter::output_latency_us);
         // Half duplex: the line is busy until the last character is out.
         self.time.sleep_until(end);
-        Ok(Sent { end: Window { earliest_us: end, latest_us: end + late } })
+        Ok(Sent::within(Window { earliest_us: end, latest_us: end + late }))
     }
 
     fn recv(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError> {

@@ -114,12 +114,12 @@ impl Line for TcpLine {
         let ct = self.settings.char_time_us();
         let stream = &mut self.stream;
         let telnet = self.telnet.is_some();
-        let end = clock::write_whole(&self.time, ct, bytes, |b| {
+        let sent = clock::write_whole(&self.time, ct, bytes, |b| {
             let wire = if telnet { rfc2217::escape(b) } else { b.to_vec() };
             stream.write_all(&wire).map_err(|e| LineError::Gone(e.to_string()))
         })?;
         // Behind the server a UART adds one character time (a pseudo-terminal none).
-        Ok(Sent { end: Window { earliest_us: end.earliest_us, latest_us: end.latest_us + ct } })
+        Ok(Sent { end: Window { earliest_us: sent.end.earliest_us, latest_us: sent.end.latest_us + ct }, ..sent })
     }
 
     fn recv(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError> {

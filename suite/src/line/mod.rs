@@ -40,6 +40,20 @@ impl Window {
 pub struct Sent {
     /// When the slave received the request's last character (the end of its stop bit).
     pub end: Window,
+    /// How long the harness's own write of the request took, where the window holds
+    /// it (a line without a UART clock: the request reached the line somewhere in the
+    /// write): that much of the window is the harness's doing, not the line's
+    /// latitude. A device is never passed on a reading only that width allows
+    /// (`verdict::timing`); 0 where the end is known otherwise.
+    pub write_us: u64,
+}
+
+impl Sent {
+    /// A request whose end the line knows within `end`, without the harness's write
+    /// in it.
+    pub const fn within(end: Window) -> Sent {
+        Sent { end, write_us: 0 }
+    }
 }
 
 /// What kind of line it is, for reports and for what timing verdicts are worth.

@@ -141,7 +141,7 @@ impl<D: SlaveDevice> Line for VirtualLine<D> {
             }
         }
         self.now = last;
-        Ok(Sent { end: Window::exact(last) })
+        Ok(Sent::within(Window::exact(last)))
     }
 
     fn recv(&mut self, until_us: u64) -> Result<Option<RxChar>, LineError> {

@@ -79,6 +79,7 @@ impl Listener {
                 timeout_us,
                 pause_us: settings.pause_us(edition),
                 harness_late_us: 0,
+                request_write_us: 0,
                 line_late: Default::default(),
                 heard_late,
             };

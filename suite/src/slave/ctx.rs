@@ -602,6 +602,7 @@ mod tests {
             timeout_us: timeout,
             pause_us: timeout,
             harness_late_us,
+            request_write_us: 0,
             line_late: Default::default(),
             heard_late: HeardLate::default(),
         };

@@ -61,8 +61,17 @@ pub struct RecordedExchange {
     pub pause_us: u64,
     /// What the harness could not see: its own lateness and the line's measured delay.
     pub harness_late_us: u64,
+    /// How long the harness's write of the request took (`Exchange::request_write_us`);
+    /// absent in records written before it was kept, which are graded as they were.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub request_write_us: u64,
     #[serde(default)]
     pub line_late: crate::line::delivery::LineLate,
+}
+
+/// Whether `n` is zero (a field left out of the record when it is).
+fn is_zero(n: &u64) -> bool {
+    *n == 0
 }
 
 impl RecordedExchange {
@@ -80,6 +89,7 @@ impl RecordedExchange {
             timeout_us: x.timeout_us,
             pause_us: x.pause_us,
             harness_late_us: x.harness_late_us,
+            request_write_us: x.request_write_us,
             line_late: x.line_late,
         }
     }
@@ -101,6 +111,7 @@ impl RecordedExchange {
             timeout_us: self.timeout_us,
             pause_us: self.pause_us,
             harness_late_us: self.harness_late_us,
+            request_write_us: self.request_write_us,
             line_late: self.line_late,
             heard_late: HeardLate::default(),
         })

@@ -62,6 +62,11 @@ pub fn grade(
     // have started relative to the request's timeout.
     let after = x.heard_late.request_end_us as i64;
     let before = (x.harness_late_us + x.line_late.both_ways_us() + x.heard_late.reply_start_us) as i64;
+    // The part of the request's end window that the harness's own write made (it was
+    // held in it): the reply may have started that much later after the timeout than
+    // the latest reading says. Never a reading to pass a reply on; no use to an early
+    // one either (the window's earliest end is before the write).
+    let held = x.request_write_us.min(x.request_end.latest_us.saturating_sub(x.request_end.earliest_us)) as i64;
     let limit = limits.max_ms as i64 * 1000;
     let late_ms = |us: i64| us as f64 / 1000.0;
     let mut found = Vec::new();
@@ -82,7 +87,7 @@ pub fn grade(
             limits.max_ms
         );
         found.push(Finding::fail(msg, clause::COMMANDS, edition).with_figure(late(lo, limit)));
-    } else if lo - tol + after > limit {
+    } else if lo - tol + after + held > limit {
         let line = if x.line_late.both_ways_us() > 0 {
             format!(
                 ", with the line's own delivery measured beside it ({:.3} ms),",
@@ -97,7 +102,7 @@ pub fn grade(
              explain the difference either way",
             late_ms(lo),
             limits.max_ms,
-            late_ms(after.max(before))
+            late_ms((after + held).max(before))
         );
         found.push(Finding::unknown(msg).with_figure(late(lo, limit)));
     } else if hi + tol - (x.heard_late.reply_start_us as i64) < 0 {
@@ -159,6 +164,7 @@ mod tests {
             timeout_us: TIMEOUT,
             pause_us: TIMEOUT,
             harness_late_us: 0,
+            request_write_us: 0,
             line_late: Default::default(),
             heard_late: Default::default(),
         }
@@ -222,6 +228,37 @@ mod tests {
         let f = grade(&x, LIMITS, 2_000, TimingMode::Strict, Edition::Current);
         assert_eq!(f.iter().map(|f| f.verdict()).collect::<Vec<_>>(), vec![CaseVerdict::Unknown]);
         assert!(f[0].message().contains("cannot tell"), "{}", f[0].message());
+    }
+
+    #[test]
+    fn a_window_the_harness_widened_in_its_write_never_passes_a_late_reply() {
+        // A reply 16 ms after its request's timeout (limit 10 here, tolerance 2).
+        // The harness was held 6 ms in its write of the request (a peer at a
+        // real-time priority took the processor, a busy machine): the window of the
+        // request's end is 6 ms wider, and its latest reading makes the reply 10 ms
+        // minus a character.
+        let held = 6_000;
+        let end = Window { earliest_us: 100_000, latest_us: 100_000 + 2 * CT + held };
+        let s = 100_000 + 2 * CT + TIMEOUT + 16_000;
+        let x = exchange(end, Window { earliest_us: s - CT, latest_us: s });
+        // Without knowing the width was the harness's: PASSED on that reading (the
+        // defect seen 2026-11-29).
+        assert_eq!(verdicts(&x, TimingMode::Strict), vec![]);
+        // Knowing it: the reply may have been 16 ms late, or within the limit: UNKNOWN
+        // (the case is run again), never PASS.
+        let x = Exchange { request_write_us: held, ..x };
+        assert_eq!(verdicts(&x, TimingMode::Strict), vec![CaseVerdict::Unknown]);
+        // Held as long and the reply 30 ms late: late under every reading.
+        let s = 100_000 + 2 * CT + TIMEOUT + 30_000 + held;
+        let late = Exchange { reply_start: Some(Window { earliest_us: s - CT, latest_us: s }), ..x.clone() };
+        assert_eq!(verdicts(&late, TimingMode::Strict), vec![CaseVerdict::Fail]);
+        // A reply 1 ms after the timeout is on time whatever the write did.
+        let s = 100_000 + TIMEOUT + 1_000;
+        let on_time = Exchange { reply_start: Some(Window { earliest_us: s - CT, latest_us: s }), ..x.clone() };
+        assert_eq!(verdicts(&on_time, TimingMode::Strict), vec![]);
+        // No wider than the window: a write time beyond its width changes nothing.
+        let narrow = exchange(Window::exact(100_000), Window::exact(100_000 + TIMEOUT + 4_000));
+        assert_eq!(verdicts(&Exchange { request_write_us: held, ..narrow }, TimingMode::Strict), vec![]);
     }
 
     #[test]

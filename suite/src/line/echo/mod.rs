@@ -171,7 +171,7 @@ impl<L: Line> Line for EchoLine<L> {
                     return Err(off_but_echoes());
                 }
                 let end = matched.last().map_or(sent.end, |c| narrowed(sent.end, c.at_us));
-                Ok(Sent { end })
+                Ok(Sent { end, ..sent })
             }
             (false, Echo::Echoes) => {
                 let heard: Vec<u8> = matched.iter().chain(other.iter()).map(|c| c.byte).collect();
