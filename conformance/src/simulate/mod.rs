@@ -121,10 +121,11 @@ pub fn serve_with<H: Hooks>(
                 match sending.poll() {
                     Next::Write { due_us, run } => {
                         watch_until(port.as_mut(), epoch, due_us, &mut watched, &mut buf, &mut heard)?;
-                        session.hooks_mut().writing(now(epoch).saturating_sub(due_us));
+                        let began = now(epoch);
+                        session.hooks_mut().writing(began.saturating_sub(due_us));
                         port.write_all(sending.frame().get(run).unwrap_or_default())?;
                         port.flush()?;
-                        sending.written(now(epoch));
+                        sending.written(began, now(epoch));
                     }
                     Next::Wait { until_us } => {
                         watch_until(port.as_mut(), epoch, until_us, &mut watched, &mut buf, &mut heard)?

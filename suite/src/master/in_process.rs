@@ -209,7 +209,7 @@ fn run_scenario(
                             end += ct;
                             line.to_master.push_back(RxChar { byte, at_us: end, fault: None });
                         }
-                        sending.written(due_us);
+                        sending.written(due_us, due_us);
                     }
                     Next::Wait { .. } => {}
                     Next::Done { end_us } => break end_us,

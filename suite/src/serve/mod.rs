@@ -122,7 +122,9 @@ pub struct Planned {
     /// when it really ends.
     pub paced: bool,
     /// Set when sent: the longest pause inside the reply that was not planned (the
-    /// harness wrote a character late), µs; 0 when none reached [`disturbed_from_us`].
+    /// harness wrote a character late), or the longest the harness was held in a write
+    /// of it (its characters may have reached the line that much later than stamped),
+    /// µs; 0 when none reached [`disturbed_from_us`].
     pub disturbed_us: u64,
     /// Set when sent: the harness wrote a character so late that the reply has a pause
     /// of the timeout inside, which it did not plan (`gap` then holds that pause).

@@ -109,17 +109,28 @@ impl Sending {
         }
     }
 
-    /// The run [`Next::Write`] named was written (whole) at `now_us`: its characters
-    /// began a character time each before, and not before they were due to.
-    pub fn written(&mut self, now_us: u64) {
+    /// The run [`Next::Write`] named was written (whole) in a write that began at
+    /// `began_us` and returned at `now_us`: its characters began a character time each
+    /// before they reached the line, and not before they were due to.
+    ///
+    /// They reached it somewhere in the write. Stamped from its beginning, the
+    /// earliest: a master is graded against a reply that may have come that early
+    /// (its next request after the reply's end, never over it), and the harness held in
+    /// its write (a busy machine) is not charged to the master. Judged late from its
+    /// return, the latest: a pause the writing may have left in the reply is noted.
+    pub fn written(&mut self, began_us: u64, now_us: u64) {
         let Some(Op::Write(run)) = self.ops.pop_front() else { return };
         let ct = self.char_time_us;
-        let written = now_us.saturating_sub(ct).max(self.start_us);
+        let written = began_us.min(now_us).saturating_sub(ct).max(self.start_us);
+        let held = now_us.saturating_sub(began_us);
+        if held >= disturbed_from_us(ct) {
+            self.planned.disturbed_us = self.planned.disturbed_us.max(held);
+        }
         if self.first {
             self.planned.start_us = written;
             self.first = false;
         } else {
-            let late = written - self.start_us;
+            let late = now_us.saturating_sub(ct).max(self.start_us) - self.start_us;
             if late >= disturbed_from_us(ct) {
                 self.planned.disturbed_us = self.planned.disturbed_us.max(late);
             }
@@ -170,7 +181,7 @@ mod tests {
             let next = s.poll();
             steps.push(next.clone());
             match next {
-                Next::Write { due_us, .. } => s.written(due_us),
+                Next::Write { due_us, .. } => s.written(due_us, due_us),
                 Next::Wait { .. } => {}
                 Next::Done { .. } => return (steps, s.into_sent()),
             }
@@ -209,13 +220,33 @@ mod tests {
         let ct = UartSettings::DEFAULT.char_time_us();
         let mut s = Sending::new(planned(true, None), 5_730);
         let Next::Write { due_us, .. } = s.poll() else { panic!("a write first") };
-        s.written(due_us + 2_000);
+        s.written(due_us + 2_000, due_us + 2_000);
         assert_eq!(s.sent().start_us, 12_000);
         let Next::Write { due_us, .. } = s.poll() else { panic!("a write") };
-        s.written(due_us + ct / 2);
+        s.written(due_us + ct / 2, due_us + ct / 2);
         assert_eq!(s.sent().disturbed_us, 0, "under a character time: no receiver sees it");
         let Next::Write { due_us, .. } = s.poll() else { panic!("a write") };
-        s.written(due_us + 6_000);
+        s.written(due_us + 6_000, due_us + 6_000);
         assert_eq!((s.sent().disturbed_us, s.sent().gap, s.sent().split_by_harness), (6_000, Some((2, 6_000)), true));
+    }
+
+    /// The harness held 8 ms in the write of a reply's first run (a busy machine):
+    /// the reply is stamped from the write's beginning, the earliest it can have
+    /// reached the master, so that a master's next request after the reply's true end
+    /// is never taken to talk over it; a later run held as long is a pause the
+    /// writing may have left, noted as before.
+    #[test]
+    fn a_write_the_harness_was_held_in_is_stamped_from_its_beginning() {
+        let ct = UartSettings::DEFAULT.char_time_us();
+        let mut s = Sending::new(planned(true, None), 5_730);
+        let Next::Write { due_us, .. } = s.poll() else { panic!("a write first") };
+        s.written(due_us, due_us + 8_000);
+        assert_eq!(s.sent().start_us, 10_000, "as planned: it may have gone when due");
+        assert_eq!(s.sent().disturbed_us, 8_000, "or 8 ms later: noted");
+        assert!(!s.sent().split_by_harness);
+        let Next::Write { due_us, .. } = s.poll() else { panic!("a write") };
+        assert_eq!(due_us, 10_000 + 2 * ct, "the next run due after the first's character");
+        s.written(due_us, due_us + 8_000);
+        assert_eq!((s.sent().disturbed_us, s.sent().gap, s.sent().split_by_harness), (8_000, Some((1, 8_000)), true));
     }
 }

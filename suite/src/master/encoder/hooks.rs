@@ -188,7 +188,7 @@ impl Hooks for DriveEncoder {
                     d.answered_late_us as f64 / 1000.0
                 )
             } else {
-                format!("an unplanned pause of {:.3} ms in it", d.pause_us as f64 / 1000.0)
+                format!("an unplanned pause in it, or its writing held up, {:.3} ms", d.pause_us as f64 / 1000.0)
             };
             self.note(start_us, WireEntry::HARNESS, format!("the harness's own timing: {what}"));
         }
