@@ -5,7 +5,7 @@
 //! HTML, JSON, the console), so that a customer and a CI log read the same thing.
 
 use crate::report::escape;
-use crate::report::wire::UnderTest;
+use crate::report::wire::{reply_index, request_index};
 use crate::verdict::{CaseResult, CaseVerdict, Figure, WireEntry};
 use hiperface_model::CommandId;
 use serde::Serialize;
@@ -112,30 +112,6 @@ fn exchange(u: &CaseResult, at_us: u64) -> (Option<&WireEntry>, Option<&WireEntr
     (u.wire.get(i), reply_index(u, i).and_then(|r| u.wire.get(r)))
 }
 
-/// The wire entry of the reply to the request at `request` (before the next request).
-fn reply_index(u: &CaseResult, request: usize) -> Option<usize> {
-    u.wire
-        .iter()
-        .enumerate()
-        .skip(request + 1)
-        .take_while(|(_, w)| w.direction != WireEntry::REQUEST)
-        .find(|(_, w)| w.direction == WireEntry::REPLY)
-        .map(|(i, _)| i)
-}
-
-/// The wire entry of the request a finding at `at_us` is about. A slave's finding is
-/// placed at its request's end, that request's time in the wire log; a master's broken
-/// rule at the start of the frame that broke it, whose entry (stamped at its end) is
-/// the next one. So: the first request at or after `at_us` with no reply before it,
-/// else the last one sent by then (a reaction missing after a reply with a fault).
-fn request_index(u: &CaseResult, at_us: u64) -> Option<usize> {
-    let frame = |w: &WireEntry| w.direction == WireEntry::REQUEST || w.direction == WireEntry::REPLY;
-    match u.wire.iter().position(|w| w.t_us >= at_us && frame(w)) {
-        Some(i) if u.wire.get(i).is_some_and(|w| w.direction == WireEntry::REQUEST) => Some(i),
-        _ => u.wire.iter().rposition(|w| w.direction == WireEntry::REQUEST && w.t_us <= at_us),
-    }
-}
-
 /// A frame's command in words, from its hex bytes ("40 42 02" -> "42h Read Position").
 fn command_of(hex: &str) -> String {
     let bytes: Vec<u8> = hex.split_whitespace().filter_map(|b| u8::from_str_radix(b, 16).ok()).collect();
@@ -143,31 +119,6 @@ fn command_of(hex: &str) -> String {
         0 | 1 => "no command byte".to_string(),
         _ => CommandId::of_frame(&bytes).to_string(),
     }
-}
-
-/// For each wire entry, the verdicts of the findings about the frame it is ("FAIL
-/// 000:T10"), for the marks in a wire log; "" for an entry no finding is about. The
-/// frame is the one the device under test sent in the exchange: a slave's reply, or
-/// its request where none was heard; a master's request.
-pub(super) fn marks(c: &CaseResult, under: UnderTest) -> Vec<String> {
-    let mut marks: Vec<Vec<String>> = vec![Vec::new(); c.wire.len()];
-    for f in c.findings.iter().filter(|f| !matches!(f.verdict(), CaseVerdict::Pass | CaseVerdict::NotApplicable)) {
-        let frame = f.at_us().and_then(|t| request_index(c, t)).map(|i| match under {
-            UnderTest::Slave => reply_index(c, i).unwrap_or(i),
-            UnderTest::Master => i,
-        });
-        let Some(entry) = frame.and_then(|i| marks.get_mut(i)) else {
-            continue;
-        };
-        let m = match f.clause_id() {
-            "" => f.verdict().label().to_string(),
-            id => format!("{} {id}", f.verdict().label()),
-        };
-        if !entry.contains(&m) {
-            entry.push(m);
-        }
-    }
-    marks.into_iter().map(|m| m.join(", ")).collect()
 }
 
 impl Attention {
@@ -324,7 +275,7 @@ mod tests {
         assert!(lines.contains("17.904 ms measured, at most 10.000 ms allowed"), "{lines}");
         assert!(lines.contains("2 more findings like it"), "{lines}");
         // The wire log marks the reply the FAIL is about (the slave's frame), and only it.
-        let wire = crate::report::wire::text(&c, UnderTest::Slave);
+        let wire = crate::report::wire::text(&c, crate::report::wire::UnderTest::Slave);
         let marked: Vec<&str> = wire.lines().filter(|l| l.contains("<--")).collect();
         assert_eq!(marked.len(), 2, "{wire}");
         assert!(marked[1].contains("30.000 ms  S<") && marked[1].contains("FAIL 000:T10"), "{wire}");
@@ -344,7 +295,7 @@ mod tests {
         assert_eq!((a[0].request.as_deref(), a[0].at_ms), (Some("40 42 02"), Some(6.0)));
         assert_eq!(a[0].reply.as_deref(), Some("40 42 00 00 00 01 03"), "the one after 9 ms");
         assert_eq!(a[1].reply.as_deref(), Some("40 42 00 00 00 01 03"), "the reply it followed");
-        let wire = crate::report::wire::text(&c, UnderTest::Master);
+        let wire = crate::report::wire::text(&c, crate::report::wire::UnderTest::Master);
         let marked: Vec<&str> = wire.lines().filter(|l| l.contains("<--")).collect();
         assert_eq!(marked.len(), 1, "{wire}");
         assert!(marked[0].contains("9.000 ms") && marked[0].contains("FAIL 000:2.3.3, FAIL 000:2.3.4"), "{wire}");

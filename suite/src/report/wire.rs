@@ -8,7 +8,7 @@
 //! ignored), a master's request.
 
 use crate::report::escape;
-use crate::verdict::{CaseResult, WireEntry};
+use crate::verdict::{CaseResult, CaseVerdict, WireEntry};
 use hiperface_model::checksum;
 
 /// Who is under test, so whose frame carries a fault.
@@ -42,7 +42,7 @@ pub fn html(c: &CaseResult, under: UnderTest) -> String {
 }
 
 fn render(c: &CaseResult, under: UnderTest, words: &dyn Fn(&str) -> String, bad: &dyn Fn(&str) -> String) -> String {
-    let marks = super::attention::marks(c, under);
+    let marks = marks(c, under);
     let mut s = String::new();
     for (w, mark) in c.wire.iter().zip(marks) {
         let head = format!("{:>12.3} ms  {:<2}  ", w.t_us as f64 / 1000.0, w.direction);
@@ -72,6 +72,55 @@ fn render(c: &CaseResult, under: UnderTest, words: &dyn Fn(&str) -> String, bad:
         }
     }
     s
+}
+
+/// For each wire entry, the verdicts of the findings about the frame it is ("FAIL
+/// 000:T10"), for the marks in a wire log; "" for an entry no finding is about. The
+/// frame is the one the device under test sent in the exchange: a slave's reply, or
+/// its request where none was heard; a master's request.
+fn marks(c: &CaseResult, under: UnderTest) -> Vec<String> {
+    let mut marks: Vec<Vec<String>> = vec![Vec::new(); c.wire.len()];
+    for f in c.findings.iter().filter(|f| !matches!(f.verdict(), CaseVerdict::Pass | CaseVerdict::NotApplicable)) {
+        let frame = f.at_us().and_then(|t| request_index(c, t)).map(|i| match under {
+            UnderTest::Slave => reply_index(c, i).unwrap_or(i),
+            UnderTest::Master => i,
+        });
+        let Some(entry) = frame.and_then(|i| marks.get_mut(i)) else {
+            continue;
+        };
+        let m = match f.clause_id() {
+            "" => f.verdict().label().to_string(),
+            id => format!("{} {id}", f.verdict().label()),
+        };
+        if !entry.contains(&m) {
+            entry.push(m);
+        }
+    }
+    marks.into_iter().map(|m| m.join(", ")).collect()
+}
+
+/// The wire entry of the reply to the request at `request` (before the next request).
+pub(super) fn reply_index(u: &CaseResult, request: usize) -> Option<usize> {
+    u.wire
+        .iter()
+        .enumerate()
+        .skip(request + 1)
+        .take_while(|(_, w)| w.direction != WireEntry::REQUEST)
+        .find(|(_, w)| w.direction == WireEntry::REPLY)
+        .map(|(i, _)| i)
+}
+
+/// The wire entry of the request a finding at `at_us` is about. A slave's finding is
+/// placed at its request's end, that request's time in the wire log; a master's broken
+/// rule at the start of the frame that broke it, whose entry (stamped at its end) is
+/// the next one. So: the first request at or after `at_us` with no reply before it,
+/// else the last one sent by then (a reaction missing after a reply with a fault).
+pub(super) fn request_index(u: &CaseResult, at_us: u64) -> Option<usize> {
+    let frame = |w: &WireEntry| w.direction == WireEntry::REQUEST || w.direction == WireEntry::REPLY;
+    match u.wire.iter().position(|w| w.t_us >= at_us && frame(w)) {
+        Some(i) if u.wire.get(i).is_some_and(|w| w.direction == WireEntry::REQUEST) => Some(i),
+        _ => u.wire.iter().rposition(|w| w.direction == WireEntry::REQUEST && w.t_us <= at_us),
+    }
 }
 
 /// A frame's bytes, where the entry is a frame (a request, a reply, an injected one);
