@@ -28,9 +28,9 @@ fn hx_master(defect: Option<&str>) -> String {
 }
 
 /// [`certify`] until no scenario is left UNKNOWN by the harness's own lateness (the
-/// report says so: no verdict on the master), as often as `common::faithfully` tries: a run in which the test
-/// machine kept the harness from seeing is no sample of the master. A FAIL or
-/// NON-STRICT is returned at once, for the test to fail on.
+/// report says so: no verdict on the master), as often as `common::faithfully`
+/// tries: a run in which the test machine kept the harness from seeing is no sample
+/// of the master. A FAIL or NON-STRICT is returned at once, for the test to fail on.
 fn certify_seen(profile: Profile, exec: &str, scenarios: Option<&str>) -> DriveReport {
     common::faithfully(|| {
         let report = certify(profile, exec, scenarios);

@@ -67,9 +67,10 @@ fn a_sample(expected: bool, hx1: &Hx1, r: &Report) -> bool {
     expected || (hx1.kept_time() && with_verdict(r, CaseVerdict::Unknown).is_empty())
 }
 
-/// No case FAILed or ERRORed, and the run PASSED (nothing left UNKNOWN).
+/// The run PASSED: no case FAILed or ERRORed, nothing was left UNKNOWN or unexercised
+/// (`Outcome::of`).
 fn passes(r: &Report) -> bool {
-    !r.cases.iter().any(|c| matches!(c.verdict, CaseVerdict::Fail | CaseVerdict::Error)) && r.outcome().passed()
+    r.outcome().passed()
 }
 
 fn certify_pty_as(hx1: &Hx1, profile: hiperface_model::Profile) -> Report {
@@ -456,8 +457,10 @@ fn a_failed_certificate_puts_its_failures_first_in_every_form() {
             .output()
             .unwrap();
         let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-        // From the report, not the console: the console's first findings list only the
-        // FAILs, and an UNKNOWN there went unseen once (2026-11-29, three busy loops).
+        // From the report's cases, not the console's lines, which list no case by case.
+        // (The one failure of this test under three busy loops, 2026-11-29, was no
+        // UNKNOWN: the late reply PASSED on a request window the harness's held write
+        // had widened, mended in `verdict::timing`.)
         let undecided = std::fs::read_to_string(dir.join("report.json"))
             .ok()
             .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())

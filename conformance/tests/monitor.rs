@@ -57,8 +57,8 @@ fn replay_here(bus: &mut File, exchanges: &[Exchange]) -> u64 {
 /// the monitor heard it punctually enough for the verdicts this test expects (its
 /// reads returned within 4.5 ms: the late reply stays late by more than the tolerance
 /// and the lateness; a monitor that read later says UNKNOWN where it could not tell,
-/// rightly, see `decode.rs`), as often as `common::faithfully` tries. `attempt` answers both lateness
-/// figures, µs.
+/// rightly, see `decode.rs`), as often as `common::faithfully` tries. `attempt`
+/// answers both lateness figures, µs.
 fn faithfully<T>(mut attempt: impl FnMut() -> ((u64, u64), T)) -> T {
     common::faithfully(|| {
         let ((replay_us, monitor_us), result) = attempt();
