@@ -164,6 +164,69 @@ impl RunDelay {
     }
 }
 
+/// How long the kernel's unbound workers (`kworker/u*`) have waited for a processor
+/// during a run, µs: what the harness writes to a pseudo-terminal reaches the program
+/// at the other end only when one of them runs, and one that waits holds the
+/// characters back. The harness's own delivery probe (`line::delivery`) sees such a
+/// wait only where its writes went to the same worker: traced on this machine (three
+/// busy loops, a master image under QEMU), a reply's last characters reached the
+/// master 7.3 ms late, held by a worker queued on a processor the hypervisor had
+/// paused, while the probe's worker on the other processor ran at once.
+///
+/// Counted per reading: the longest wait any one worker added since the reading
+/// before. Over a span, the sum of those bounds what any one worker held back in it
+/// (one worker's wait over the span is the sum of its waits between readings), and
+/// unlike the sum over all workers it does not add up the waits of workers that
+/// delivered nothing of the line's.
+#[derive(Debug, Default)]
+pub struct KernelWorkersWait {
+    /// Each worker seen and its run delay when last read, µs.
+    workers: Vec<(u32, u64)>,
+    /// The waits counted since the first reading (per reading, the longest), µs.
+    total_us: u64,
+    /// When the workers were last listed (the kernel starts and ends them as it needs).
+    listed: Option<std::time::Instant>,
+    /// The first reading is the baseline: waits before the run are not the run's.
+    started: bool,
+}
+
+/// How often the workers are listed again (reading each one's wait is cheap, listing
+/// every process is not).
+const WORKERS_LISTED_EVERY: std::time::Duration = std::time::Duration::from_millis(50);
+
+impl KernelWorkersWait {
+    /// The workers' waits since the first call, µs; `None` where the kernel does not
+    /// count them (no delay accounting, no worker readable).
+    pub fn total_us(&mut self) -> Option<u64> {
+        let now = std::time::Instant::now();
+        if self.listed.is_none_or(|t| now.duration_since(t) >= WORKERS_LISTED_EVERY) {
+            self.listed = Some(now);
+            for (pid, _) in unbound_workers() {
+                if !self.workers.iter().any(|(p, _)| *p == pid) {
+                    // A worker started during the run: all its wait is the run's.
+                    self.workers.push((pid, if self.started { 0 } else { u64::MAX }));
+                }
+            }
+        }
+        let (mut read_any, mut longest) = (false, 0);
+        self.workers.retain_mut(|(pid, last)| {
+            let Some(us) = std::fs::read(format!("/proc/{pid}/schedstat")).ok().and_then(|t| parse_schedstat(&t))
+            else {
+                return false; // ended
+            };
+            read_any = true;
+            if *last != u64::MAX {
+                longest = longest.max(us.saturating_sub(*last));
+            }
+            *last = us;
+            true
+        });
+        self.total_us += longest;
+        self.started = true;
+        read_any.then_some(self.total_us)
+    }
+}
+
 /// How long the threads of process `pid` have waited for a processor since each
 /// started, µs (the sum of `/proc/<pid>/task/*/schedstat`): a master under test
 /// started as a process (`certify master --exec`) runs on the harness's machine, and
@@ -235,6 +298,25 @@ mod tests {
         let (there, first) = there.join().unwrap();
         assert_ne!(there, here);
         assert_eq!(first, Some(0), "a reopened measure starts from zero");
+    }
+
+    /// The kernel's workers' wait is read from the first call on, and only grows.
+    #[test]
+    #[cfg(target_os = "linux")]
+    fn the_kernels_workers_wait_is_counted_from_the_first_reading() {
+        let mut k = KernelWorkersWait::default();
+        let Some(first) = k.total_us() else {
+            eprintln!("no worker's wait readable here (no delay accounting, or no unbound worker)");
+            return;
+        };
+        assert_eq!(first, 0, "waits before the run are not the run's");
+        let mut last = first;
+        for _ in 0..20 {
+            std::thread::sleep(std::time::Duration::from_millis(5));
+            let now = k.total_us().unwrap_or(last);
+            assert!(now >= last && now < 60_000_000, "{last} then {now}");
+            last = now;
+        }
     }
 
     /// The kernel's workers are raised for a run and put back as they were (where the

@@ -191,15 +191,23 @@ pub(super) fn run_scenario(
     // How long the master's process has waited for a processor, every 5 ms: what a
     // busy machine did to its timing.
     let mut waited = Vec::new();
+    // And how long the kernel's workers, which carry the line's characters both ways
+    // on a pseudo-terminal, waited: a reply they held back may reach the master in
+    // parts, which the harness never wrote.
+    let mut kernel = crate::sched::KernelWorkersWait::default();
+    let mut kernel_waited = Vec::new();
     let served = serve_until(Box::new(encoder_end), &mut session, delivery, epoch, deadline, || {
         if let Some(us) = crate::sched::process_run_delay_us(master.id()) {
             waited.push((epoch.elapsed().as_micros() as u64, us));
+        }
+        if let Some(us) = kernel.total_us() {
+            kernel_waited.push((epoch.elapsed().as_micros() as u64, us));
         }
         exited = master.exited();
         exited.is_some() || interrupted()
     });
     let mut hooks = session.into_hooks();
-    hooks.timeline.master_waited = waited;
+    hooks.waited(waited, kernel_waited);
     let cut_short = interrupted();
     let (status, output) = master.stop();
     // The encoder has stopped before its line closes: nothing it writes is lost in a pipe.

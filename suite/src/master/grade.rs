@@ -135,7 +135,8 @@ fn grade(
         }
         if let Some(late) = timeline.unproven(o, timeout, hooks.profile()) {
             return Some(format!(
-                "the harness did not read the line for up to {:.1} ms around it (a busy machine): the timing is not proven",
+                "the harness did not read the line, or the kernel held its characters back, for up to {:.1} ms around \
+                 it (a busy machine): the timing is not proven",
                 late as f64 / 1000.0
             ));
         }
@@ -202,7 +203,15 @@ fn grade(
     let deciding: Vec<_> = timeline.disturbed.iter().filter(|d| disturbed_from.is_some_and(|f| d.at_us >= f)).collect();
     let pause = deciding.iter().map(|d| d.pause_us).max().unwrap_or(0);
     let late = deciding.iter().map(|d| d.answered_late_us).max().unwrap_or(0);
+    let held = deciding.iter().map(|d| d.delivered_late_us).max().unwrap_or(0);
     match disturbed_from {
+        Some(from) if held > 0 && late == 0 && pause == 0 => Some(format!(
+            "{} written while the kernel's workers that deliver them waited up to {:.3} ms for a processor, from \
+             {:.3} ms on (the master may have heard them with pauses or in parts), and what the master did after them",
+            replies(deciding.len()),
+            held as f64 / 1000.0,
+            from as f64 / 1000.0
+        )),
         Some(from) if late > 0 => Some(format!(
             "{} disturbed by the harness's own timing from {:.3} ms on (a request read up to {:.3} ms late, \
              answered after its limit)",

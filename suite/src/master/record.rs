@@ -136,10 +136,11 @@ impl Fact {
 }
 
 /// How the scenario run's encoder was set up.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Start {
     /// The master process's start is power-on (`--exec`).
+    #[default]
     PowerOnAtStart,
     /// A drive on a port whose power-on the operator switched.
     PowerOnByOperator,
@@ -148,7 +149,7 @@ pub enum Start {
 }
 
 /// One run of one scenario.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct ScenarioRecord {
     pub id: String,
     pub attempt: u32,
@@ -168,23 +169,21 @@ pub struct ScenarioRecord {
     /// `--echo off`): when (µs), and what. Facts about the line, never the master's.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub line_faults: Vec<(u64, String)>,
+    /// The master's process's wait for a processor as sampled (`encoder::changes_only`):
+    /// `Timeline::master_slowed`. Empty where not measured, and in older records.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub master_waited: Vec<(u64, u64)>,
+    /// The kernel's workers' wait alike: `Timeline::disturbed_by_kernel`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub kernel_waited: Vec<(u64, u64)>,
 }
 
 impl ScenarioRecord {
     /// The record of a run that ended before the encoder served (it could not start,
     /// or the master's declaration left it out): its findings as they were.
     pub fn early_of(result: &CaseResult) -> ScenarioRecord {
-        ScenarioRecord {
-            id: result.id.to_string(),
-            attempt: 1,
-            early: true,
-            start: Start::PowerOnAtStart,
-            facts: result.findings.iter().map(Fact::of).collect(),
-            inputs: Vec::new(),
-            end_us: 0,
-            cut_short: false,
-            line_faults: Vec::new(),
-        }
+        let facts = result.findings.iter().map(Fact::of).collect();
+        ScenarioRecord { id: result.id.to_string(), attempt: 1, early: true, facts, ..ScenarioRecord::default() }
     }
 }
 
@@ -287,6 +286,7 @@ pub fn replay_scenario(
         }
     }
     let mut hooks = session.into_hooks();
+    hooks.waited(r.master_waited.clone(), r.kernel_waited.clone());
     hooks.finish(r.end_us);
     hooks.timeline.line_faults.extend(r.line_faults.iter().cloned());
     let by_operator = r.start == Start::PowerOnByOperator;

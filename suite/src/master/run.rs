@@ -6,7 +6,7 @@
 //! end of the run within [`END_BUDGET`]), not run after an interrupt; each run's record
 //! kept, the results summed up in catalogue order.
 
-use super::encoder::DriveEncoder;
+use super::encoder::{changes_only, DriveEncoder};
 use super::grade::finish;
 use super::record::{compact, Fact, ScenarioRecord, Start};
 use super::scenario::Scenario;
@@ -63,6 +63,8 @@ impl ScenarioRun {
             end_us: hooks.timeline.end_us,
             cut_short,
             line_faults: hooks.timeline.line_faults.clone(),
+            master_waited: changes_only(&hooks.timeline.master_waited),
+            kernel_waited: changes_only(&hooks.timeline.kernel_waited),
         };
         let by_operator = start == Start::PowerOnByOperator;
         let disturbed = finish(&mut result, &mut hooks, scenario, duration_ms, by_operator, cut_short);

@@ -180,6 +180,7 @@ impl Hooks for DriveEncoder {
                 pause_us: planned.disturbed_us,
                 split: planned.split_by_harness,
                 answered_late_us: planned.answered_late_us,
+                delivered_late_us: 0,
             };
             self.timeline.disturbed.push(d);
             let what = if d.answered_late_us > 0 {

@@ -21,7 +21,7 @@ use std::sync::Arc;
 mod hooks;
 mod timeline;
 
-pub use timeline::{Disturbance, LoggedRequest, Timeline};
+pub use timeline::{changes_only, Disturbance, LoggedRequest, Timeline};
 
 /// The hooks: observe, inject, record.
 pub struct DriveEncoder {
@@ -222,6 +222,34 @@ impl DriveEncoder {
 
     fn note(&mut self, t_us: u64, direction: &'static str, text: String) {
         self.timeline.entries.push(WireEntry { t_us, direction, bytes: text });
+    }
+
+    /// What the machine did to the run's timing, sampled (µs since power-on, µs
+    /// waited in all): the master's process's wait for a processor, and the kernel's
+    /// workers', which deliver the line's characters on a pseudo-terminal. A reply
+    /// written while the workers waited a character time or more is a disturbance of
+    /// the harness's own line (`Timeline::disturbed_by_kernel`), noted on the wire.
+    pub fn waited(&mut self, master: Vec<(u64, u64)>, kernel: Vec<(u64, u64)>) {
+        self.timeline.master_waited = master;
+        self.timeline.kernel_waited = kernel;
+        let before: Vec<u64> =
+            self.timeline.disturbed.iter().filter(|d| d.delivered_late_us > 0).map(|d| d.at_us).collect();
+        self.timeline.disturbed_by_kernel();
+        let held: Vec<(u64, u64)> = self
+            .timeline
+            .disturbed
+            .iter()
+            .filter(|d| d.delivered_late_us > 0 && !before.contains(&d.at_us))
+            .map(|d| (d.at_us, d.delivered_late_us))
+            .collect();
+        for (at_us, us) in held {
+            let what = format!(
+                "the harness's own line: the kernel's workers, which deliver this reply to the master, waited up to \
+                 {:.3} ms for a processor while it was written (a busy machine)",
+                us as f64 / 1000.0
+            );
+            self.note(at_us, WireEntry::HARNESS, what);
+        }
     }
 
     /// Flush the observer and the timeline at the end of the scenario.
