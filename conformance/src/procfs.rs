@@ -11,6 +11,11 @@ pub struct Stat {
     pub ppid: u32,
     pub pgrp: u32,
     pub nice: i32,
+    /// The real-time priority (0 for an ordinary thread) and the scheduling policy
+    /// (0 ordinary, 1 FIFO, 2 round-robin, …): the 40th and 41st fields, 0 where the
+    /// line is shorter.
+    pub rt_priority: u32,
+    pub policy: u32,
 }
 
 /// One stat line of process `pid`. The command is in parentheses and may hold spaces
@@ -25,6 +30,8 @@ pub fn parse(pid: u32, stat: &str) -> Option<Stat> {
         ppid: fields.get(1)?.parse().ok()?,
         pgrp: fields.get(2)?.parse().ok()?,
         nice: fields.get(16)?.parse().ok()?,
+        rt_priority: fields.get(37).and_then(|f| f.parse().ok()).unwrap_or(0),
+        policy: fields.get(38).and_then(|f| f.parse().ok()).unwrap_or(0),
     })
 }
 
@@ -50,6 +57,12 @@ mod tests {
         assert_eq!((init.comm.as_str(), init.ppid, init.pgrp, init.nice), ("init", 0, 1, 0));
         assert_eq!(parse(7, "garbage"), None);
         assert_eq!(parse(7, "7 (short) S 1 7"), None, "no nice");
+        assert_eq!((s.rt_priority, s.policy), (0, 0), "not on the line: ordinary");
+        // A worker at SCHED_FIFO 51, as `/proc/PID/stat` of Linux 6.18 gives it.
+        let fifo = "2046 (kworker/u8:1-events_unbound) I 2 0 0 0 -1 69238880 0 0 0 0 0 403 0 0 -52 0 1 0 7478509 0 \
+                    0 18446744073709551615 0 0 0 0 0 0 0 2147483647 0 1 0 0 17 1 51 1 0 0 0 0 0 0 0 0 0 0 0 0 0";
+        let f = parse(2046, fifo).unwrap();
+        assert_eq!((f.nice, f.rt_priority, f.policy), (0, 51, 1));
     }
 
     #[test]
