@@ -166,7 +166,10 @@ impl Drive {
 
     /// A character from the encoder at `at`.
     fn received(&mut self, byte: u8, at: u64) {
-        self.idle_since_us = at;
+        // The line is free a timeout after its last character either way (000:2.2.2):
+        // a character heard while the request still goes out (its end is reckoned a
+        // character time ahead) does not move that back.
+        self.idle_since_us = self.idle_since_us.max(at);
         if let State::Listening { reply, .. } = &mut self.state {
             // A reply longer than any frame is cut: what fits is graded by the model.
             let _ = reply.push(byte);
