@@ -56,9 +56,9 @@ const RAISED_NICE: i32 = -20;
 /// The real-time priority the workers are raised to: above the harness's own threads
 /// (50, [`real_time_priority`]) and an emulator the firmware script runs at 50, so
 /// that a worker delivering to one of them is never behind it. Measured with the
-/// master image under QEMU and three busy loops (2026-11-29, five runs each): probe
-/// writes more than 1 ms late 14 to 51 per run, the latest 8 to 28 ms, against 214 to
-/// 531 and 25 to 40 ms at nice -20.
+/// master image under QEMU and three busy loops (2026-11-29, ten runs raised):
+/// probe writes more than 1 ms late 14 to 123 per run, the latest 8 to 28 ms, against
+/// 214 to 531 and 25 to 40 ms at nice -20.
 const RAISED_PRIORITY: u32 = 51;
 
 /// SCHED_FIFO and SCHED_RR in `/proc/PID/stat`'s policy field.
