@@ -110,17 +110,21 @@ impl KernelDelivery {
 impl Drop for KernelDelivery {
     fn drop(&mut self) {
         for (w, how) in &self.raised {
-            if *how == Raised::RealTime {
-                let priority = w.rt_priority.to_string();
-                let policy = match w.policy {
-                    FIFO => "--fifo",
-                    RR => "--rr",
-                    _ => "--other",
-                };
-                let priority = if policy == "--other" { "0" } else { priority.as_str() };
-                chrt(&[policy, "-p", priority], w.pid);
+            match how {
+                // The policy and priority back; the nice was never changed.
+                Raised::RealTime => {
+                    let priority = w.rt_priority.to_string();
+                    let (policy, priority) = match w.policy {
+                        FIFO => ("--fifo", priority.as_str()),
+                        RR => ("--rr", priority.as_str()),
+                        _ => ("--other", "0"),
+                    };
+                    chrt(&[policy, "-p", priority], w.pid);
+                }
+                Raised::Nice => {
+                    renice(w.nice, [w.pid].into_iter());
+                }
             }
-            renice(w.nice, [w.pid].into_iter());
         }
     }
 }
@@ -231,14 +235,15 @@ impl RunDelay {
 /// delivered nothing of the line's.
 #[derive(Debug, Default)]
 pub struct KernelWorkersWait {
-    /// Each worker seen and its run delay when last read, µs.
-    workers: Vec<(u32, u64)>,
+    /// Each worker seen and its run delay when last read, µs (`None`: a worker of the
+    /// first reading, its baseline not read yet).
+    workers: Vec<(u32, Option<u64>)>,
     /// The waits counted since the first reading (per reading, the longest), µs.
     total_us: u64,
-    /// When the workers were last listed (the kernel starts and ends them as it needs).
+    /// When the workers were last listed (the kernel starts and ends them as it needs);
+    /// `None` before the first reading, which is the baseline: waits before the run
+    /// are not the run's.
     listed: Option<std::time::Instant>,
-    /// The first reading is the baseline: waits before the run are not the run's.
-    started: bool,
 }
 
 /// How often the workers are listed again (reading each one's wait is cheap, listing
@@ -250,12 +255,13 @@ impl KernelWorkersWait {
     /// count them (no delay accounting, no worker readable).
     pub fn total_us(&mut self) -> Option<u64> {
         let now = std::time::Instant::now();
+        let first = self.listed.is_none();
         if self.listed.is_none_or(|t| now.duration_since(t) >= WORKERS_LISTED_EVERY) {
             self.listed = Some(now);
             for pid in unbound_workers().into_iter().map(|w| w.pid) {
                 if !self.workers.iter().any(|(p, _)| *p == pid) {
                     // A worker started during the run: all its wait is the run's.
-                    self.workers.push((pid, if self.started { 0 } else { u64::MAX }));
+                    self.workers.push((pid, if first { None } else { Some(0) }));
                 }
             }
         }
@@ -266,14 +272,13 @@ impl KernelWorkersWait {
                 return false; // ended
             };
             read_any = true;
-            if *last != u64::MAX {
+            if let Some(last) = last {
                 longest = longest.max(us.saturating_sub(*last));
             }
-            *last = us;
+            *last = Some(us);
             true
         });
         self.total_us += longest;
-        self.started = true;
         read_any.then_some(self.total_us)
     }
 }

@@ -232,17 +232,7 @@ impl DriveEncoder {
     pub fn waited(&mut self, master: Vec<(u64, u64)>, kernel: Vec<(u64, u64)>) {
         self.timeline.master_waited = master;
         self.timeline.kernel_waited = kernel;
-        let before: Vec<u64> =
-            self.timeline.disturbed.iter().filter(|d| d.delivered_late_us > 0).map(|d| d.at_us).collect();
-        self.timeline.disturbed_by_kernel();
-        let held: Vec<(u64, u64)> = self
-            .timeline
-            .disturbed
-            .iter()
-            .filter(|d| d.delivered_late_us > 0 && !before.contains(&d.at_us))
-            .map(|d| (d.at_us, d.delivered_late_us))
-            .collect();
-        for (at_us, us) in held {
+        for (at_us, us) in self.timeline.disturbed_by_kernel() {
             let what = format!(
                 "the harness's own line: the kernel's workers, which deliver this reply to the master, waited up to \
                  {:.3} ms for a processor while it was written (a busy machine)",

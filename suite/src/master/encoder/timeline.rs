@@ -50,9 +50,10 @@ pub struct Timeline {
     /// since power-on, µs waited); empty where the master is not a process here.
     pub master_waited: Vec<(u64, u64)>,
     /// The kernel's workers' wait for a processor since the run began (at each
-    /// sample, the longest any one of them added), sampled like `master_waited`: they deliver what is written to a
-    /// pseudo-terminal, and one that waits holds the characters back either way.
-    /// Empty where the master is not on a pseudo-terminal here.
+    /// sample, the longest any one of them added), sampled like `master_waited`: they
+    /// deliver what is written to a pseudo-terminal, and one that waits holds the
+    /// characters back either way. Empty where the master is not on a pseudo-terminal
+    /// here.
     pub kernel_waited: Vec<(u64, u64)>,
     /// Requests seen per command.
     pub requests: BTreeMap<u8, u32>,
@@ -121,7 +122,8 @@ impl Timeline {
     /// as a disturbance of the harness's own line, in order with the others. A master
     /// on a pseudo-terminal then heard a pause inside the reply, or two transmissions,
     /// that the harness never wrote; what it did after is not proven its own.
-    pub fn disturbed_by_kernel(&mut self) {
+    /// Returns them as `(reply start, wait)`, µs.
+    pub fn disturbed_by_kernel(&mut self) -> Vec<(u64, u64)> {
         let ct = self.longest_char_us();
         let held: Vec<Disturbance> = self
             .replies
@@ -137,6 +139,7 @@ impl Timeline {
                 })
             })
             .collect();
+        let found = held.iter().map(|d| (d.at_us, d.delivered_late_us)).collect();
         for d in held {
             match self.disturbed.iter_mut().find(|e| e.at_us == d.at_us) {
                 Some(e) => e.delivered_late_us = d.delivered_late_us,
@@ -144,6 +147,7 @@ impl Timeline {
             }
         }
         self.disturbed.sort_by_key(|d| d.at_us);
+        found
     }
 
     /// Whether `o` may be the machine's doing rather than the master's, where the
