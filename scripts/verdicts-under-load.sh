@@ -21,7 +21,8 @@
 # directory). SLAVES may name HX-1 with a defect switch as `hx-1:NAME` (its own case
 # must FAIL in every run), and `sim-link` for `hiperface simulate` reached through a symbolic link
 # to its pseudo-terminal. Each line gives the run's exit code, and ends with what the harness measured of the line
-# itself: the pseudo-terminal's delivery (the probe beside the line, line::delivery).
+# itself: the pseudo-terminal's delivery (the probe beside the line, line::delivery), and
+# how much of the processors the hypervisor took during the run (steal), where it says.
 #
 # The device under test is protected from the load as a real device is (it runs with
 # `chrt -f`, a real-time priority: a drive's or an encoder's firmware has a processor of
@@ -104,6 +105,9 @@ probe = "  | line: %.1f ms (probe: %s writes, %s > 1 ms, latest %.1f ms)" % (
 ratio = ""
 if r.get("needed_ms"):
     ratio = "  | wall %.2fx" % (r["wall_time_ms"] / r["needed_ms"])
+steal = (r.get("run_info") or {}).get("steal")
+if steal:
+    ratio += "  | steal %.1f %%" % (100.0 * steal["steal_ms"] / max(steal["processor_ms"], 1))
 try:
     rc = open(sys.argv[1].rsplit("/", 1)[0] + ".rc").read().strip()
 except OSError:

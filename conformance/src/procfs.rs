@@ -1,6 +1,7 @@
 //! The kernel's process table as `/proc/PID/stat` gives it, read one way: for ending
 //! what a master under test started (`process`) and for raising the kernel's workers
-//! that deliver a pseudo-terminal's characters (`sched`).
+//! that deliver a pseudo-terminal's characters (`sched`). And the machine's processor
+//! times (`/proc/stat`), for what its hypervisor took during a run.
 
 /// The fields of one process's stat line the harness uses.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -44,9 +45,72 @@ pub fn processes() -> Vec<Stat> {
         .collect()
 }
 
+/// The machine's processor times, summed over its processors, in the kernel's clock
+/// ticks: all of them, and those its hypervisor took (steal).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CpuTimes {
+    pub total: u64,
+    pub steal: u64,
+}
+
+/// `/proc/stat` counts in USER_HZ, which the kernel fixes at 100 a second for what it
+/// shows user space (proc(5)), whatever its own tick.
+const TICKS_PER_S: u64 = 100;
+
+impl CpuTimes {
+    /// Now; `None` where `/proc/stat` does not say (not Linux, or a kernel without
+    /// steal time).
+    pub fn now() -> Option<CpuTimes> {
+        parse_cpu_line(std::fs::read_to_string("/proc/stat").ok()?.lines().next()?)
+    }
+
+    /// What the hypervisor took from `earlier` to `self`.
+    pub fn steal_since(&self, earlier: CpuTimes) -> hiperface_suite::report::Steal {
+        let ms = |ticks: u64| ticks * 1000 / TICKS_PER_S;
+        hiperface_suite::report::Steal {
+            steal_ms: ms(self.steal.saturating_sub(earlier.steal)),
+            processor_ms: ms(self.total.saturating_sub(earlier.total)),
+        }
+    }
+}
+
+/// The first line of `/proc/stat`: "cpu  user nice system idle iowait irq softirq steal
+/// guest guest_nice". A guest's time is counted in user and nice already: the total is
+/// the first eight.
+fn parse_cpu_line(line: &str) -> Option<CpuTimes> {
+    let mut fields = line.split_ascii_whitespace();
+    if fields.next()? != "cpu" {
+        return None;
+    }
+    let ticks: Vec<u64> = fields.take(8).map(str::parse).collect::<Result<_, _>>().ok()?;
+    if ticks.len() != 8 {
+        return None;
+    }
+    Some(CpuTimes { total: ticks.iter().sum(), steal: *ticks.get(7)? })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_processors_times_and_the_steal_are_read_from_the_first_line() {
+        let a = parse_cpu_line("cpu  11616518 34228 909170 4523508 58269 0 7550 170076 0 0").unwrap();
+        assert_eq!(a.steal, 170_076);
+        assert_eq!(a.total, 11_616_518 + 34_228 + 909_170 + 4_523_508 + 58_269 + 7_550 + 170_076);
+        let b = parse_cpu_line("cpu  11616536 34228 909416 4524077 58269 0 7551 170321 0 0").unwrap();
+        // About five seconds on two processors (as sampled on this machine), near a
+        // quarter of them taken.
+        let s = b.steal_since(a);
+        assert_eq!((s.steal_ms, s.processor_ms), (2_450, 10_790));
+        assert!((s.percent() - 22.706).abs() < 0.001 && s.worth_saying());
+        // A kernel without steal time, another line, a garbled figure: nothing said.
+        assert_eq!(parse_cpu_line("cpu  1 2 3 4 5 6 7"), None);
+        assert_eq!(parse_cpu_line("cpu0 1 2 3 4 5 6 7 8 0 0"), None);
+        assert_eq!(parse_cpu_line("cpu  1 2 3 4 5 6 7 x 0 0"), None);
+        // Counters that went back (a restored snapshot) give nothing, not a wrap.
+        assert_eq!(a.steal_since(b).steal_ms, 0);
+    }
 
     #[test]
     fn a_stat_line_is_read_past_a_command_with_parentheses() {

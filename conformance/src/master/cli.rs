@@ -122,7 +122,8 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<Ended, CommandError> {
     if let Some(dir) = &args.report {
         crate::report::prepare_dir(dir)?;
     }
-    let run_info = crate::report::run_info(&profile, &args.device);
+    let mut run_info = crate::report::run_info(&profile, &args.device);
+    let processors = crate::procfs::CpuTimes::now();
     eprintln!("certifying {} against an encoder of profile {}", options.attach, profile.name);
     // On a terminal a bar with the scenario under way and its re-runs as they happen (a
     // scenario takes seconds of real time, a whole run a minute or two); in logs the
@@ -165,6 +166,7 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<Ended, CommandError> {
     if let Some(b) = bar {
         b.finish_and_clear();
     }
+    run_info.steal = crate::report::steal_since(processors);
     report.run_info = Some(run_info);
     let summary: Vec<String> = report.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
     say!("{}: {}", report.master, summary.join(", "));
@@ -184,6 +186,7 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<Ended, CommandError> {
         report.wall_time_ms / report.needed_ms.max(1.0),
         report.rerun_ms,
     );
+    crate::report::say_steal(report.run_info.as_ref().and_then(|r| r.steal));
     if let Some(dir) = &args.report {
         let certificate = super::report::MasterCertificate { report: &report, profile: &profile };
         crate::report::write_all(&certificate, dir, signer.as_ref())?;

@@ -120,6 +120,27 @@ fn move_earlier_run_aside(dir: &Path) -> std::io::Result<Option<std::path::PathB
     Ok(Some(aside))
 }
 
+/// What the hypervisor took of the processors since `start` (a reading as the run
+/// began); `None` where the machine does not count steal time, or never had any since it
+/// booted (no hypervisor that says so).
+pub fn steal_since(start: Option<crate::procfs::CpuTimes>) -> Option<hiperface_suite::report::Steal> {
+    let (start, now) = (start?, crate::procfs::CpuTimes::now()?);
+    (now.steal > 0).then(|| now.steal_since(start))
+}
+
+/// On the console, where the hypervisor took enough to matter: why a run may have had
+/// scenarios or cases run again, or left undecided.
+pub fn say_steal(steal: Option<hiperface_suite::report::Steal>) {
+    if let Some(s) = steal.filter(|s| s.worth_saying()) {
+        say!(
+            "note: during this run {}: the harness and the device's process were paused by the host in that time, \
+             which the harness measures only in part: what that could explain is run again or UNKNOWN, never \
+             charged to the device, and a quieter host needs fewer runs again",
+            s.text()
+        );
+    }
+}
+
 /// The revision the command was built from (`build.rs`: `git rev-parse`), or "unknown".
 pub const REVISION: &str = env!("HIPERFACE_REVISION");
 
@@ -146,6 +167,7 @@ pub fn run_info(profile: &hiperface_model::Profile, device: &[String]) -> RunInf
         revision: REVISION.to_string(),
         profile_digest: profile_digest(profile),
         device: device.to_vec(),
+        steal: None,
     }
 }
 

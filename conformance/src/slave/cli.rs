@@ -148,7 +148,8 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
     let Some(port) = port else { return Err(CommandError::Usage("give the device with --port".into())) };
     let profile = profile_file::resolve(&profile)?;
     let signer = sign.as_deref().map(report::signature::Signer::load).transpose()?;
-    let run_info = report::run_info(&profile, &device);
+    let mut run_info = report::run_info(&profile, &device);
+    let processors = crate::procfs::CpuTimes::now();
     if let Some(dir) = &dir {
         report::prepare_dir(dir)?;
     }
@@ -218,6 +219,9 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
     let kernel = (line.kind() == hiperface_suite::line::LineKind::PseudoTerminal)
         .then(crate::sched::KernelDelivery::raise)
         .flatten();
+    // A line in real time: the processors kept awake for the run, where permitted
+    // (`sched::KeepAwake`, released when dropped).
+    let awake = (line.kind() != hiperface_suite::line::LineKind::Virtual).then(crate::sched::KeepAwake::hold);
     eprintln!("certifying {} on {}", profile.name, line.describe());
     // A progress bar on a terminal; plain lines in logs.
     let bar = std::io::IsTerminal::is_terminal(&std::io::stderr()).then(|| {
@@ -259,9 +263,14 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
         b.finish_and_clear();
     }
     drop(simulator);
+    // In virtual time the host's pauses change nothing.
+    run_info.steal = report::steal_since(processors).filter(|_| report.line_kind != Some(LineKind::Virtual));
     report.run_info = Some(run_info);
     if let Some(k) = kernel {
         report.line_notes.push(k.note());
+    }
+    if let Some(a) = awake {
+        report.line_notes.push(crate::sched::KeepAwake::note(&a));
     }
     if let Some(g) = &rs485_guard {
         report.line_notes.push(format!("The port ran in the kernel's {} (--rs485), put back afterwards.", g.in_force));
@@ -309,6 +318,7 @@ fn summarize(report: &hiperface_suite::slave::Report, profile: &Profile) {
     for c in report.rerun_cases() {
         say!("re-run: {c}: the harness's own lateness left a verdict untold");
     }
+    crate::report::say_steal(report.run_info.as_ref().and_then(|r| r.steal));
     if let Some(a) = &report.aborted {
         say!("ABORTED: {a}");
     }

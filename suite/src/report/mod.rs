@@ -32,13 +32,57 @@ pub struct RunInfo {
     /// number, a firmware image and its digest. Signed with the report.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub device: Vec<String>,
+    /// How much of the machine's processors its hypervisor took during the run (steal
+    /// time), where the machine is a virtual one that says so: a processor paused by the
+    /// host is a harness that reads, writes and delivers late, which the harness
+    /// measures only in part. What it could explain is UNKNOWN, never charged, and a run
+    /// with much of it is a run to repeat on a quieter host.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub steal: Option<Steal>,
+}
+
+/// The processors' time the hypervisor took over a run (`/proc/stat`'s steal).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Steal {
+    /// Time taken, summed over the processors, ms.
+    pub steal_ms: u64,
+    /// The processors' time over the run (wall time times processors), ms.
+    pub processor_ms: u64,
+}
+
+impl Steal {
+    /// The share taken, in per cent (0 where no time passed).
+    pub fn percent(&self) -> f64 {
+        if self.processor_ms == 0 {
+            0.0
+        } else {
+            self.steal_ms as f64 * 100.0 / self.processor_ms as f64
+        }
+    }
+
+    /// Whether it was enough to say so on the console: a pause of the hypervisor is
+    /// milliseconds long, and a run's timing is graded to fractions of one.
+    pub fn worth_saying(&self) -> bool {
+        self.percent() >= 1.0
+    }
+
+    /// "the hypervisor took 0.3 % of the processors' time (steal: 0.4 s of 120.0 s)".
+    pub fn text(&self) -> String {
+        format!(
+            "the hypervisor took {:.1} % of the processors' time (steal: {:.1} s of {:.1} s)",
+            self.percent(),
+            self.steal_ms as f64 / 1000.0,
+            self.processor_ms as f64 / 1000.0
+        )
+    }
 }
 
 impl RunInfo {
     /// One line for the top of a certificate: when, where and how.
     pub fn line(&self) -> String {
+        let steal = self.steal.map(|s| format!("; {}", s.text())).unwrap_or_default();
         format!(
-            "run started {} (UTC) on {}, tool revision {}: {}",
+            "run started {} (UTC) on {}, tool revision {}: {}{steal}",
             self.started_utc, self.host, self.revision, self.command_line
         )
     }
@@ -54,6 +98,7 @@ impl RunInfo {
                 ("tool revision", self.revision.clone()),
                 ("profile digest", self.profile_digest.clone()),
             ])
+            .chain(self.steal.map(|s| ("hypervisor", s.text())))
             .collect()
     }
 }
@@ -262,4 +307,40 @@ pub fn page_head(title: &str) -> String {
          svg{{border:1px solid #ddd;max-width:100%;height:auto}}</style></head><body>",
         escape(title)
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(steal: Option<Steal>) -> RunInfo {
+        RunInfo {
+            started_utc: "2026-11-29T16:08:33Z".into(),
+            host: "vm".into(),
+            command_line: "hiperface certify slave --port sim".into(),
+            revision: "863fcee2d11d".into(),
+            profile_digest: "fnv1a64:b100389aa1f5a415".into(),
+            device: Vec::new(),
+            steal,
+        }
+    }
+
+    #[test]
+    fn the_hypervisors_steal_is_on_the_certificate_where_it_was_measured() {
+        let s = Steal { steal_ms: 310, processor_ms: 22_670 };
+        let with = run(Some(s));
+        assert!(with.line().ends_with("; the hypervisor took 1.4 % of the processors' time (steal: 0.3 s of 22.7 s)"));
+        assert!(with.rows().contains(&("hypervisor", s.text())));
+        // Not measured (no hypervisor that says so, or virtual time): no word of it,
+        // and a report of an earlier revision reads as before.
+        let without = run(None);
+        assert!(!without.line().contains("hypervisor") && without.rows().iter().all(|(k, _)| *k != "hypervisor"));
+        let json = serde_json::to_string(&without).unwrap();
+        assert!(!json.contains("steal"));
+        assert_eq!(serde_json::from_str::<RunInfo>(&json).unwrap(), without);
+        // Under a per cent a run is not told about it on the console; nothing passed,
+        // nothing taken.
+        assert!(s.worth_saying() && !Steal { steal_ms: 9, processor_ms: 1_000 }.worth_saying());
+        assert_eq!(Steal::default().percent(), 0.0);
+    }
 }
