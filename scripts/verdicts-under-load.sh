@@ -33,10 +33,10 @@ cd "$(dirname "$0")/.."
 RUNS=${RUNS:-5}
 LOADS=${LOADS:-"idle busy"}
 OUT=${OUT:-target/verdicts-under-load}
-MASTERS=${MASTERS:-"reference hx-m talks-during-init settings-window no-pause gap-in-request wrong-checksum \
+MASTERS=${MASTERS-"reference hx-m talks-during-init settings-window no-pause gap-in-request wrong-checksum \
 ignores-warning ignores-sync-fault retries-forever no-reset-wait no-retry ignores-extended-type-label no-baud \
 sparse-poll naive-poll late-default receive-idle"}
-SLAVES=${SLAVES:-"sim hx-1"}
+SLAVES=${SLAVES-"sim hx-1"}
 
 # The runs of one device (lines "load vector  | runs: ..." on stdin): print them under
 # "== NAME: same|DIFFERENT verdicts in N runs"; status 1 when they differ.
