@@ -161,16 +161,11 @@ fn renice(nice: i32, pids: impl Iterator<Item = u32>) -> bool {
 
 /// The processors kept out of their idle sleep for a run: `/dev/cpu_dma_latency` held
 /// at 0 µs (the kernel's PM QoS request, as `cyclictest` makes it), released when the
-/// guard goes (the file closed, by the kernel too if the harness is killed: nothing to
-/// put back by hand). An idle virtual processor otherwise halts, and its wake-up, for a
-/// character, a reply or the master's process, goes through the hypervisor: a
-/// processor woken from a halt waits for the host to run it, which the host counts as
-/// steal. Measured on this project's 2-core virtual machine (2026-11-29, the reference
-/// master idle, three runs each way in turn): held, steal 0.1-0.3 % of the processors,
-/// 13-27 probe writes more than 1 ms late, wall time over the scenarios' 1.00-1.08;
-/// not held, steal 0.3-10.7 %, 26-1 261 late, 1.08-1.70 and one run INCOMPLETE. A busy
-/// machine's processors never halt: nothing changes there. The cost: idle processors
-/// spin for the run's length.
+/// guard goes (the file closed, by the kernel too if the harness is killed). An idle
+/// virtual processor otherwise halts, and whatever wakes it waits for the host to run
+/// it again (steal). Measured 2026-11-29, the reference master idle, runs in turn:
+/// held, steal 0.1-0.3 % and wall over the scenarios' 1.00-1.08; not, 0.3-10.7 % and
+/// 1.04-1.70 (design notes, "Keeping the processors awake"). Idle processors spin.
 pub struct KeepAwake {
     _held: File,
 }
