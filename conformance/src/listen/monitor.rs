@@ -72,6 +72,11 @@ pub fn monitor(args: &MonitorArgs, stop: &AtomicBool) -> Result<Ended, CommandEr
         None => None,
     };
     eprintln!("listening on {} at {settings} (read-only); Ctrl-C ends the run with a summary", tap.name);
+    // A live bus is read in real time: the processors kept awake for the run where
+    // permitted, and what the hypervisor took meanwhile recorded (`sched::KeepAwake`).
+    let mut run_info = crate::report::run_info(&options.profile, &[]);
+    let processors = crate::procfs::CpuTimes::now();
+    let awake = crate::sched::KeepAwake::hold();
     let mut listener = Listener::new(options.clone());
     let mut view = LiveView::new(args.listening.quiet, true);
     let mut print = |h: &hiperface_suite::listen::HeardExchange| view.print(h);
@@ -179,11 +184,14 @@ pub fn monitor(args: &MonitorArgs, stop: &AtomicBool) -> Result<Ended, CommandEr
         reader_log.describe(),
     ];
     assumptions.extend(tap.notes.iter().cloned());
+    assumptions.push(crate::sched::KeepAwake::note(&awake));
+    drop(awake);
     if let Some(c) = &capture {
         assumptions.push(format!("every character heard is in {}", c.path.display()));
     }
     let source = Source { capture: tap.name.clone(), format: "live".into(), channels: vec!["bus".into()], assumptions };
-    let run_info = crate::report::run_info(&options.profile, &[]);
+    run_info.steal = crate::report::steal_since(processors);
+    crate::report::say_steal(run_info.steal);
     conclude(report(listener, source, &options), run_info, args.listening.report.as_deref())
 }
 
