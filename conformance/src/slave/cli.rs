@@ -220,8 +220,10 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
         .then(crate::sched::KernelDelivery::raise)
         .flatten();
     // A line in real time: the processors kept awake for the run, where permitted
-    // (`sched::KeepAwake`, released when dropped).
-    let awake = (line.kind() != hiperface_suite::line::LineKind::Virtual).then(crate::sched::KeepAwake::hold);
+    // (`sched::KeepAwake`, released when dropped), and what the host took meanwhile
+    // recorded; in virtual time the host's pauses change nothing.
+    let real_time = line.kind() != LineKind::Virtual;
+    let awake = real_time.then(crate::sched::KeepAwake::hold);
     eprintln!("certifying {} on {}", profile.name, line.describe());
     // A progress bar on a terminal; plain lines in logs.
     let bar = std::io::IsTerminal::is_terminal(&std::io::stderr()).then(|| {
@@ -263,8 +265,7 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
         b.finish_and_clear();
     }
     drop(simulator);
-    // In virtual time the host's pauses change nothing.
-    run_info.steal = report::steal_since(processors).filter(|_| report.line_kind != Some(LineKind::Virtual));
+    run_info.steal = report::steal_since(processors).filter(|_| real_time);
     report.run_info = Some(run_info);
     if let Some(k) = kernel {
         report.line_notes.push(k.note());
