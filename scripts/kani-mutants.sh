@@ -6,16 +6,16 @@
 # result per harness) and exits 1 if a mutant is not caught.
 #
 #   scripts/kani-mutants.sh 'FieldMemory::write' field_memory_any_write
-#       the mutants cargo-mutants makes of model/src/slave/fields.rs whose name matches
+#       the mutants cargo-mutants makes of model/src/slave/fields/memory.rs whose name matches
 #       the regular expression (cargo mutants --list --re), against field_memory_any_write
 #   scripts/kani-mutants.sh --sed 's/a/b/' 'name' field_memory_any_write
-#       one mutant of model/src/slave/fields.rs given as a sed expression (a mutant
+#       one mutant of model/src/slave/fields/memory.rs given as a sed expression (a mutant
 #       cargo-mutants does not make: `+=` for `|=`), with its name
 #   FILE=model/src/... LIMIT=... as for kani.sh
 set -uo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$PWD
-FILE=${FILE:-model/src/slave/fields.rs}
+FILE=${FILE:-model/src/slave/fields/memory.rs}
 WORK=target/kani-mutants
 mkdir -p "$WORK"
 declare -a NAMES DIFFS SEDS
