@@ -152,8 +152,9 @@ fn timing_text(r: &Report) -> String {
             d.max_us as f64 / 1000.0
         ));
     }
+    // The notes are sentences of their own: each after a full stop, never after "; ".
     for n in &r.line_notes {
-        t.push_str("; ");
+        t.push_str(if t.ends_with('.') { " " } else { ". " });
         t.push_str(n);
     }
     t
@@ -248,4 +249,21 @@ fn html(r: &Report) -> String {
     s.push_str(&crate::report::documents_html(&r.cases));
     s.push_str("</body></html>\n");
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The line's notes are sentences: each follows a full stop, none a "; " after one
+    /// ("afterwards.; The processors" was how a certificate read).
+    #[test]
+    fn the_lines_notes_read_as_sentences() {
+        let profile = hiperface_model::profiles::srs50();
+        let mut r = Report::empty(&profile, "sim", &super::super::Options::all_allowed());
+        r.line_notes = vec!["The first note ends here.".into(), "The second one too.".into()];
+        let t = timing_text(&r);
+        assert!(t.ends_with("at most 0.000 ms). The first note ends here. The second one too."), "{t}");
+        assert!(!t.contains(".;"), "{t}");
+    }
 }

@@ -73,7 +73,7 @@ pub struct Report {
 }
 
 impl Report {
-    fn empty(profile: &Profile, line: &str, options: &Options) -> Report {
+    pub(crate) fn empty(profile: &Profile, line: &str, options: &Options) -> Report {
         Report {
             tool: format!("hiperface {}", env!("CARGO_PKG_VERSION")),
             profile: profile.name.to_string(),
