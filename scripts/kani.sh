@@ -119,6 +119,12 @@ TARGET_DIR=$(realpath -m "${CARGO_TARGET_DIR:-target}")
 KANI_ARGS=(--no-assertion-reach-checks -Z unstable-options -Z stubbing --target-dir "$TARGET_DIR")
 OUT=target/kani${FALSE_ASSERTION:+-false}
 mkdir -p "$OUT"
+# CBMC and the solvers as `cargo kani` runs them: the `cargo-kani` that
+# scripts/build-kani.sh installs puts its own on PATH (its `PATH=` line), not the shell's.
+if ! command -v cbmc >/dev/null && command -v cargo-kani >/dev/null; then
+    wrapped=$(sed -n 's/^PATH=\(.*\):\$PATH$/\1/p' "$(command -v cargo-kani)" | head -1)
+    [ -n "$wrapped" ] && PATH="$wrapped:$PATH"
+fi
 echo 'int main(void) { int x; __CPROVER_assert(x != 1, "probe"); return 0; }' >"$OUT/solver-probe.c"
 probe=$(cbmc "$OUT/solver-probe.c" --sat-solver cadical 2>&1 || true)
 EXTERNAL_CADICAL=

@@ -233,3 +233,42 @@ fn free_memory_holds_nothing_of_the_past() {
     assert!(g.write(0, 0, &[0x5A; 16]));
     assert_eq!(f, g);
 }
+
+/// What the proofs compare two steps with (`Slave::same_but_contents`): blind to the
+/// contents and to which bytes the model knows, and to nothing else of the state, the
+/// table's fields and the stored parts included.
+#[test]
+fn the_same_state_but_the_contents_is_told_from_any_other_difference() {
+    use hiperface_model::profiles;
+    use hiperface_model::slave::fields::{FieldMemory, KNOWN_BYTES, MAX_MEMORY};
+    use hiperface_model::slave::Slave;
+    let mut base = Slave::operational(profiles::sek37());
+    assert!(base.adopt(&[0xC1], 6, 0));
+    let mut other_contents = base.clone();
+    other_contents.replace_field_memory(FieldMemory::from_contents([7; MAX_MEMORY], [0xFF; KNOWN_BYTES]));
+    assert!(base.same_but_contents(&other_contents) && other_contents.same_but_contents(&base));
+    assert!(base != other_contents, "the contents differ");
+    let mut counter = base.clone();
+    counter.set_counter(5);
+    let mut table = base.clone();
+    assert!(table.adopt(&[0xC1, 0x80], 5, 0));
+    let mut status = base.clone();
+    assert!(status.adopt(&[0xC2], 5, 0));
+    let mut inputs = base.clone();
+    inputs.set_inputs(hiperface_model::slave::inputs::PhysicalInputs { position: 99, ..base.inputs() });
+    let mut fault = base.clone();
+    fault.inject_i2c_fault(true);
+    let mut code = base.clone();
+    assert!(code.adopt_access_code(1, 0x12));
+    let differences = [
+        ("counter", &counter),
+        ("a field more", &table),
+        ("a status", &status),
+        ("position", &inputs),
+        ("a fault injected", &fault),
+        ("an access code", &code),
+    ];
+    for (what, s) in differences {
+        assert!(!base.same_but_contents(s), "{what}");
+    }
+}

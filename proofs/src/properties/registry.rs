@@ -262,7 +262,7 @@ pub const PROPERTIES: &[Property] = &[
     Property {
         name: "contents_blind_read_data",
         claim: "no control flow of Read Data depends on the field memory's contents or bitmap: on two memories one frame leaves the same state but the contents and the same reply but its data bytes (DESIGN:fields, 000:T21)",
-        domain: "every state of SEK37 satisfying the invariant (at most 3 data fields) on two memories in any states, every frame of Read Data (4Ah) asking for 0 to 16 or more than 128 bytes at any time, with and without a UART fault",
+        domain: "every state of SEK37 satisfying the invariant (at most 3 data fields) on two memories in any states (Kani: the memory reached only through its operations, any bytes read), every frame of Read Data (4Ah) asking for 0 to 16 or more than 128 bytes at any time, with and without a UART fault",
         exhaustive: false,
         harness: Some("contents_blind_read_data"),
         run: || contents_blind_sampled(&[(0x4A, 4)], 3000, inductive::read_data_short),
@@ -270,7 +270,7 @@ pub const PROPERTIES: &[Property] = &[
     Property {
         name: "contents_blind_store_data_one_byte",
         claim: "no control flow of Store Data depends on the field memory's contents or bitmap: on two memories one frame leaves the same state but the contents and the same reply (DESIGN:fields, 000:T22)",
-        domain: "every state of SEK37 satisfying the invariant (at most 3 data fields) on two memories in any states, every frame of Store Data (4Bh) with 1 data byte at any time, with and without a UART fault",
+        domain: "every state of SEK37 satisfying the invariant (at most 3 data fields) on two memories in any states (Kani: the memory reached only through its operations, any bytes read), every frame of Store Data (4Bh) with 1 data byte at any time, with and without a UART fault",
         exhaustive: false,
         harness: Some("contents_blind_store_data_one_byte"),
         run: || contents_blind_sampled(&[(0x4B, 5)], 3000, |_| {}),
@@ -278,7 +278,7 @@ pub const PROPERTIES: &[Property] = &[
     Property {
         name: "contents_blind_create_data_field",
         claim: "no control flow of Create Data Field depends on the field memory's contents or bitmap: on two memories one frame leaves the same state but the contents and the same reply (DESIGN:fields, 000:T24)",
-        domain: "every state of SEK37 satisfying the invariant (at most 3 data fields) on two memories in any states, every frame of Create Data Field (4Dh) at any time, with and without a UART fault",
+        domain: "every state of SEK37 satisfying the invariant (at most 3 data fields) on two memories in any states (Kani: the memory reached only through its operations, any bytes read), every frame of Create Data Field (4Dh) at any time, with and without a UART fault",
         exhaustive: false,
         harness: Some("contents_blind_create_data_field"),
         run: || contents_blind_sampled(&[(0x4D, 3)], 3000, |_| {}),
