@@ -55,9 +55,16 @@ for i in "${!NAMES[@]}"; do
         continue
     fi
     out=$(cd "$WORK/tree" && CARGO_TARGET_DIR="$ROOT/$WORK/target" scripts/kani.sh "$@" 2>&1)
-    # The harnesses' rows of kani.sh's table (not its heading): name, result, seconds.
+    # Kept per mutant, with each harness's log: the next mutant's tree replaces this one.
+    printf '%s\n' "$out" >"$WORK/mutant-$i.out"
+    rm -f "$WORK/mutant-$i-"*.log
+    for h in "$@"; do cp "$WORK/tree/target/kani/$h.log" "$WORK/mutant-$i-$h.log" 2>/dev/null; done
+    # The harnesses' rows of kani.sh's table (not its heading): name, result, seconds,
+    # and the check that failed.
     results=$(grep -E '^\| [a-z_0-9]+ +\| ' <<<"$out" | grep -v '^| harness ' |
         awk -F'|' '{gsub(/ +/, " "); printf "%s:%s in%ss,", $2, $3, $5}')
+    failed=$(cat "$WORK/mutant-$i-"*.log 2>/dev/null | grep -h '^Failed Checks: ' | sort -u | sed 's/^Failed Checks: //' | paste -sd ';' -)
+    [ -n "$failed" ] && results="${results%,} (failed: $failed),"
     if grep -qE '^\| [a-z_0-9]+ +\| FAILED ' <<<"$out"; then
         verdict=caught
     else
