@@ -285,15 +285,7 @@ fn field_memory_any_two() {
 /// without it, for commands whose stubs refuse `read`: one step, deterministic but for
 /// the stubs' answers, which no content decides.
 fn contents_blind_command<const N: usize>(command: u8, admit: fn(&[u8; N]) -> bool, twice: bool) {
-    let parts: crate::inductive::Parts = kani::any();
-    let (state, holds) = parts.state(hiperface_model::profiles::sek37());
-    kani::assume(holds);
-    let mut frame: [u8; N] = kani::any();
-    if let Some(c) = frame.get_mut(1) {
-        *c = command;
-    }
-    crate::inductive::count_store_data(&mut frame);
-    kani::assume(admit(&frame));
+    let (state, frame) = any_state_and_frame::<N>(hiperface_model::profiles::sek37, command, admit);
     let (now, fault) = (kani::any(), kani::any());
     if twice {
         assert!(crate::contents::step_blind_to_reads(&state, &frame, now, fault));
@@ -473,6 +465,18 @@ fn inductive_command_on<const N: usize>(
     command: u8,
     admit: fn(&[u8; N]) -> bool,
 ) {
+    let (state, frame) = any_state_and_frame::<N>(profile, command, admit);
+    assert!(crate::inductive::step_keeps_invariant(&state, &frame, kani::any(), kani::any()));
+}
+
+/// Any state of `profile` satisfying the invariant (`inductive::Parts`) and any frame of
+/// `command` that `admit` takes (Store Data's count byte made to match its data): what
+/// the whole-step harnesses start from.
+fn any_state_and_frame<const N: usize>(
+    profile: fn() -> hiperface_model::Profile,
+    command: u8,
+    admit: fn(&[u8; N]) -> bool,
+) -> (hiperface_model::Slave, [u8; N]) {
     let parts: crate::inductive::Parts = kani::any();
     let (state, holds) = parts.state(profile());
     kani::assume(holds);
@@ -482,7 +486,7 @@ fn inductive_command_on<const N: usize>(
     }
     crate::inductive::count_store_data(&mut frame);
     kani::assume(admit(&frame));
-    assert!(crate::inductive::step_keeps_invariant(&state, &frame, kani::any(), kani::any()));
+    (state, frame)
 }
 
 /// Domain: every state of Legacy-SRS satisfying the invariant (at most 3 data fields), every frame of Set Position with Internal Track Synchronisation (63h) at any time, with and without a UART fault.
