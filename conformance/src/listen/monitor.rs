@@ -75,8 +75,7 @@ pub fn monitor(args: &MonitorArgs, stop: &AtomicBool) -> Result<Ended, CommandEr
     // A live bus is read in real time: the processors kept awake for the run where
     // permitted, and what the hypervisor took meanwhile recorded (`sched::KeepAwake`).
     let mut run_info = crate::report::run_info(&options.profile, &[]);
-    let processors = crate::procfs::CpuTimes::now();
-    let awake = crate::sched::KeepAwake::hold();
+    let real_time = crate::report::RealTimeRun::start();
     let mut listener = Listener::new(options.clone());
     let mut view = LiveView::new(args.listening.quiet, true);
     let mut print = |h: &hiperface_suite::listen::HeardExchange| view.print(h);
@@ -184,13 +183,13 @@ pub fn monitor(args: &MonitorArgs, stop: &AtomicBool) -> Result<Ended, CommandEr
         reader_log.describe(),
     ];
     assumptions.extend(tap.notes.iter().cloned());
-    assumptions.push(crate::sched::KeepAwake::note(&awake));
-    drop(awake);
+    let (held, steal) = real_time.finish();
+    assumptions.push(held);
     if let Some(c) = &capture {
         assumptions.push(format!("every character heard is in {}", c.path.display()));
     }
     let source = Source { capture: tap.name.clone(), format: "live".into(), channels: vec!["bus".into()], assumptions };
-    run_info.steal = crate::report::steal_since(processors);
+    run_info.steal = steal;
     crate::report::say_steal(run_info.steal);
     conclude(report(listener, source, &options), run_info, args.listening.report.as_deref())
 }

@@ -123,7 +123,7 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<Ended, CommandError> {
         crate::report::prepare_dir(dir)?;
     }
     let mut run_info = crate::report::run_info(&profile, &args.device);
-    let processors = crate::procfs::CpuTimes::now();
+    let real_time = crate::report::RealTimeRun::start();
     eprintln!("certifying {} against an encoder of profile {}", options.attach, profile.name);
     // On a terminal a bar with the scenario under way and its re-runs as they happen (a
     // scenario takes seconds of real time, a whole run a minute or two); in logs the
@@ -166,7 +166,9 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<Ended, CommandError> {
     if let Some(b) = bar {
         b.finish_and_clear();
     }
-    run_info.steal = crate::report::steal_since(processors);
+    let (held, steal) = real_time.finish();
+    report.notes.push(held);
+    run_info.steal = steal;
     report.run_info = Some(run_info);
     let summary: Vec<String> = report.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
     say!("{}: {}", report.master, summary.join(", "));

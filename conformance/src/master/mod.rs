@@ -145,8 +145,6 @@ pub fn run_with(
         Attach::Exec(_) => {}
     }
     let n = chosen.len();
-    // The processors kept awake for the run, where permitted (released when dropped).
-    let awake = crate::sched::KeepAwake::hold();
     // A master on a pseudo-terminal: the kernel's delivery, measured beside the line
     // for the whole run (the reader at the encoder's real-time priority).
     let delivery = match &options.attach {
@@ -184,8 +182,6 @@ pub fn run_with(
     if let Some(k) = kernel.take() {
         report.notes.push(k.note());
     }
-    report.notes.push(crate::sched::KeepAwake::note(&awake));
-    drop(awake);
     if let Some(d) = delivery.as_ref().map(|p| p.stats()) {
         report.delivery = Some(d);
         report.notes.push(format!(

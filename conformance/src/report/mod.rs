@@ -120,12 +120,34 @@ fn move_earlier_run_aside(dir: &Path) -> std::io::Result<Option<std::path::PathB
     Ok(Some(aside))
 }
 
-/// What the hypervisor took of the processors since `start` (a reading as the run
-/// began); `None` where the machine does not count steal time, or never had any since it
-/// booted (no hypervisor that says so).
-pub fn steal_since(start: Option<crate::procfs::CpuTimes>) -> Option<hiperface_suite::report::Steal> {
-    let (start, now) = (start?, crate::procfs::CpuTimes::now()?);
-    (now.steal > 0).then(|| now.steal_since(start))
+/// A run against a line in real time, from its start to its end: the processors kept
+/// out of their idle sleep where permitted (`sched::KeepAwake`), and what the
+/// hypervisor took of them meanwhile. One for every front end that runs in real time:
+/// `certify slave` on a real line, `certify master` and `monitor`.
+pub struct RealTimeRun {
+    processors: Option<crate::procfs::CpuTimes>,
+    awake: Result<crate::sched::KeepAwake, String>,
+}
+
+impl RealTimeRun {
+    /// The run starts: the processors' times read, the processors held awake.
+    pub fn start() -> RealTimeRun {
+        RealTimeRun { processors: crate::procfs::CpuTimes::now(), awake: crate::sched::KeepAwake::hold() }
+    }
+
+    /// The run ends: the processors released. Returns what the report says of the hold
+    /// (a note, held or not), and what the hypervisor took since the start: `None` where
+    /// the machine does not count steal time, or never had any since it booted (no
+    /// hypervisor that says so).
+    pub fn finish(self) -> (String, Option<hiperface_suite::report::Steal>) {
+        let note = crate::sched::KeepAwake::note(&self.awake);
+        drop(self.awake);
+        let steal = match (self.processors, crate::procfs::CpuTimes::now()) {
+            (Some(start), Some(now)) if now.steal > 0 => Some(now.steal_since(start)),
+            _ => None,
+        };
+        (note, steal)
+    }
 }
 
 /// On the console, where the hypervisor took enough to matter: why a run may have had

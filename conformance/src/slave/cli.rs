@@ -149,7 +149,6 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
     let profile = profile_file::resolve(&profile)?;
     let signer = sign.as_deref().map(report::signature::Signer::load).transpose()?;
     let mut run_info = report::run_info(&profile, &device);
-    let processors = crate::procfs::CpuTimes::now();
     if let Some(dir) = &dir {
         report::prepare_dir(dir)?;
     }
@@ -223,7 +222,7 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
     // (`sched::KeepAwake`, released when dropped), and what the host took meanwhile
     // recorded; in virtual time the host's pauses change nothing.
     let real_time = line.kind() != LineKind::Virtual;
-    let awake = real_time.then(crate::sched::KeepAwake::hold);
+    let real_time = real_time.then(report::RealTimeRun::start);
     eprintln!("certifying {} on {}", profile.name, line.describe());
     // A progress bar on a terminal; plain lines in logs.
     let bar = std::io::IsTerminal::is_terminal(&std::io::stderr()).then(|| {
@@ -265,14 +264,13 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
         b.finish_and_clear();
     }
     drop(simulator);
-    run_info.steal = report::steal_since(processors).filter(|_| real_time);
+    let (held, steal) = real_time.map(report::RealTimeRun::finish).unzip();
+    run_info.steal = steal.flatten();
     report.run_info = Some(run_info);
     if let Some(k) = kernel {
         report.line_notes.push(k.note());
     }
-    if let Some(a) = awake {
-        report.line_notes.push(crate::sched::KeepAwake::note(&a));
-    }
+    report.line_notes.extend(held);
     if let Some(g) = &rs485_guard {
         report.line_notes.push(format!("The port ran in the kernel's {} (--rs485), put back afterwards.", g.in_force));
     }
