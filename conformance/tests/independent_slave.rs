@@ -229,7 +229,13 @@ const DEFECTS: &[Defect] = &[
         // after Set Encoder Address the old address is a neighbour, and answers
         collateral: &["address.change-restore"],
     },
-    Defect { name: "ignores-broadcast", case: "address.broadcast", clause: "000:2.3.1", collateral: &[] },
+    Defect {
+        name: "ignores-broadcast",
+        case: "address.broadcast",
+        clause: "000:2.3.1",
+        // a broadcast from the new address
+        collateral: &["address.change-restore"],
+    },
     Defect {
         name: "no-field-bounds",
         case: "fields.lifecycle",
@@ -247,14 +253,26 @@ const DEFECTS: &[Defect] = &[
         // case reads the status again, and so do the cases that answer errors
         collateral: READS_STATUS,
     },
-    Defect { name: "store-read-only", case: "fields.access-code", clause: "000:T52", collateral: &[] },
-    // every power-up case starts with an Encoder Reset, and the stored settings are
-    // taken up after one
+    Defect {
+        name: "store-read-only",
+        case: "fields.access-code",
+        clause: "000:T52",
+        // a store to the field made read-only before the reset
+        collateral: &["powerup.retains"],
+    },
+    // every power-up case starts with an Encoder Reset, and the stored and the
+    // temporary settings are each held to one
     Defect {
         name: "reset-answers",
         case: "powerup.reset",
         clause: "000:T29",
-        collateral: &["powerup.window", "powerup.default-window", "powerup.retains", "settings.stored"],
+        collateral: &[
+            "powerup.window",
+            "powerup.default-window",
+            "powerup.retains",
+            "settings.stored",
+            "settings.temporary",
+        ],
     },
     Defect { name: "no-init-silence", case: "powerup.reset", clause: "000:T9", collateral: &[] },
     Defect { name: "no-code-check", case: "position.set", clause: "000:T53", collateral: &[] },

@@ -1,6 +1,7 @@
 //! The independent slaves as processes on a pseudo-terminal, and their data sheets as
-//! profiles: HX-1 (`tests/independent/hx1_slave.py`, written from 000) and HX-L
-//! (`hxl_slave.py`, a legacy-edition slave written from 002).
+//! profiles: HX-1 (`tests/independent/hx1_slave.py`, written from 000), HX-L
+//! (`hxl_slave.py`, a legacy-edition slave written from 002) and HX-3 (`hx3_slave.py`,
+//! the blind trial's slave, written from 000 and the user documents).
 
 use hiperface_model::Profile;
 use hiperface_suite::profile_file;
@@ -15,6 +16,11 @@ pub fn dir() -> PathBuf {
 
 pub fn profile() -> Profile {
     profile_file::load(&dir().join("hx1.toml")).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// HX-3's data sheet.
+pub fn hx3_profile() -> Profile {
+    profile_file::load(&dir().join("hx3.toml")).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// HX-L's data sheet, with its stored settings byte set to `settings`.
@@ -39,12 +45,21 @@ impl Hx1 {
     /// the harness rightly FAILs (seen: late-reply's and store-read-only's replies 14 to
     /// 16 ms late in 1 of 3 runs with three busy loops on the two cores).
     pub fn start(args: &[&str]) -> Hx1 {
-        let late_log = tempfile::NamedTempFile::new().expect("a file for HX-1's lateness");
+        Hx1::start_noting_lateness("hx1_slave.py", args)
+    }
+
+    /// Start HX-3, as HX-1 (its late replies noted the same way).
+    pub fn start_hx3(args: &[&str]) -> Hx1 {
+        Hx1::start_noting_lateness("hx3_slave.py", args)
+    }
+
+    fn start_noting_lateness(program: &str, args: &[&str]) -> Hx1 {
+        let late_log = tempfile::NamedTempFile::new().expect("a file for the slave's lateness");
         let log = late_log.path().to_str().expect("a UTF-8 temporary path").to_string();
         let args: Vec<&str> = args.iter().copied().chain(["--late-log", log.as_str()]).collect();
-        let mut hx1 = Hx1::start_program("hx1_slave.py", &args, Duration::from_millis(250));
-        hx1.late_log = Some(late_log);
-        hx1
+        let mut slave = Hx1::start_program(program, &args, Duration::from_millis(250));
+        slave.late_log = Some(late_log);
+        slave
     }
 
     /// The replies the machine made HX-1 late with (its own clock's word, more than

@@ -22,8 +22,8 @@ pub const OTHER: Case =
 
 pub const CHANGE_RESTORE: Case = case!(
     "address.change-restore",
-    "Set Encoder Address answers from the new address; changed and restored",
-    [SET_ADDRESS, ADDRESS],
+    "Set Encoder Address answers from the new address, to a broadcast too; changed and restored",
+    [SET_ADDRESS, ADDRESS, BROADCAST],
     Writes,
     always,
     |c| {
@@ -37,6 +37,10 @@ pub const CHANGE_RESTORE: Case = case!(
         c.request(set(new, code0))?;
         let g = (c.address() == new).then(|| c.guard(new, set(a, code0)));
         c.request_at(new, Request::ReadPosition)?;
+        // A broadcast is answered from the new address too (000:2.3.1 "each Slave will
+        // acknowledge with their specific address", 000:T30): an address kept from
+        // power-on for broadcasts answers it from the old one (HX-3's d04).
+        c.request_at(0xFF, Request::ReadPosition)?;
         c.request_at(a, Request::ReadPosition)?; // the old address is silent now
         c.request_at(new, set(a, code0))?;
         release(c, g);

@@ -49,7 +49,7 @@ pub const RESET: Case = case!(
 
 pub const DEFAULT_WINDOW: Case = case!(
     "powerup.default-window",
-    "A request late in the default window is answered, and the default settings are kept past the switch",
+    "A request late in the default window is answered, and the default settings are kept through the switch's window and past it",
     [STATE_MACHINE, ENCODER_RESET],
     Nothing,
     current_edition,
@@ -63,7 +63,16 @@ pub const DEFAULT_WINDOW: Case = case!(
         let answered = c.request_in_state(Request::ReadPosition, CommState::DefaultCommunication)?.reply.is_some();
         let msg = format!("silent {} ms after the reset, in the default window", (at - since) / 1000);
         c.check(answered, msg, clause::STATE_MACHINE);
-        // "Any single Master request" keeps the default settings: past 1100 ms too.
+        // "Any single Master request" keeps the default settings: between 900 and
+        // 1100 ms, where the switch would have been silent, a slave that goes silent
+        // anyway is heard (HX-3's d16: with stored settings that are the default ones,
+        // nothing past 1100 ms tells it from a conformant slave)...
+        let mid = after(since, (p.default_window_ms + p.user_settings_ms) / 2);
+        wait_until(c, mid)?;
+        let kept = c.request_in_state(Request::ReadPosition, CommState::OperationalDefault)?.reply.is_some();
+        let msg = format!("silent {} ms after the reset, after a request in the default window", (mid - since) / 1000);
+        c.check(kept, msg, clause::STATE_MACHINE);
+        // ... and past 1100 ms too.
         wait_until(c, after(since, p.user_settings_ms) + SETTLE_MARGIN_US)?;
         c.request_in_state(Request::ReadPosition, CommState::OperationalDefault).map(drop)
     }
@@ -91,8 +100,8 @@ pub const WINDOW: Case = case!(
 
 pub const RETAINS: Case = case!(
     "powerup.retains",
-    "Encoder Reset keeps what is stored: the address, an access code, a data field, the position offset, the counter; restored",
-    [RESET_KEEPS, ENCODER_RESET, SET_ADDRESS, SET_ACCESS_CODE, DATA_FIELDS, SET_POSITION, READ_COUNTER],
+    "Encoder Reset keeps what is stored: the address, an access code, a read-only data field, the position offset, the counter; restored",
+    [RESET_KEEPS, ENCODER_RESET, SET_ADDRESS, SET_ACCESS_CODE, DATA_FIELDS, READ_ONLY_FIELD, SET_POSITION, READ_COUNTER],
     Writes,
     always,
     |c| {
@@ -111,14 +120,22 @@ pub const RETAINS: Case = case!(
         let here = c.address();
         let gc = (c.model.nonvolatile().codes[3] == new3).then(|| c.guard(here, set3(new3, old3)));
         let field = c.model.nonvolatile().fields.count();
-        let delete = Request::CreateDataField { field, status: 0x40, code: code0 };
+        // Deleted as it was last set (000:T24: every other status bit as stored).
+        let delete = |status: u8| Request::CreateDataField { field, status: status & 0x7F, code: code0 };
         let mut gf = None;
         if c.model.nonvolatile().fields.free_blocks() > 0 {
             c.request(Request::CreateDataField { field, status: 0xC0, code: code0 })?;
             if c.model.nonvolatile().fields.status(field).is_some() {
-                gf = Some(c.guard(here, delete));
+                gf = Some(c.guard(here, delete(0xC0)));
                 let data: Vec<u8> = (0..16u8).map(|i| i.wrapping_mul(53) ^ 0x96).collect();
                 c.request(super::fields::store(field, 0, 0x00, &data)?)?;
+                // Then read-only (its size kept: a change of status 000:2.4.2 allows),
+                // so that its protection is held to after the reset as well.
+                c.request(Request::CreateDataField { field, status: 0x80, code: code0 })?;
+                if let (Some(g), Some(s)) = (gf.take(), c.model.nonvolatile().fields.status(field)) {
+                    c.release(g);
+                    gf = Some(c.guard(here, delete(s.0)));
+                }
             }
         }
         let range = c.profile().range();
@@ -165,7 +182,14 @@ pub const RETAINS: Case = case!(
             }
             // The bytes stored: the oracle compares them.
             c.request(Request::ReadData { field, offset: 0, count: 16, code: 0x00 })?;
-            c.request(delete)?;
+            // Still read-only: a store is refused with 0Eh (000:T52), the bytes kept
+            // (a protection lost in the reset, not at power-on: HX-3's d12; 000:T29
+            // "new and future products must observe identical behavior").
+            if !status.writable() {
+                c.request(super::fields::store(field, 0, 0x00, &[0x3C])?)?;
+                c.request(Request::ReadData { field, offset: 0, count: 1, code: 0x00 })?;
+            }
+            c.request(delete(status.0))?;
             c.release(g);
         }
         if let Some((g, back)) = gp {
