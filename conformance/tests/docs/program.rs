@@ -34,6 +34,7 @@ pub(super) const PEERS: &[(&str, &str)] = &[
     ("HX-L", "conformance/tests/independent/hxl_slave.py"),
     ("HX-M", "conformance/tests/independent/hx_master.py"),
     ("HX-E", "python/tests/independent_encoder.py"),
+    ("HX-3", "conformance/tests/independent/hx3_slave.py"),
 ];
 
 /// The model checker's depth in CI (`cargo test -p hiperface-proofs`): a second in a
@@ -116,8 +117,9 @@ pub(super) fn wrong_figures(docs: &[Doc], program: &Program) -> (Vec<String>, Ha
                     .max()
                     .map(|(_, name)| name);
                 let Some(peer) = peer else {
-                    wrong
-                        .push(format!("{at}: whose defect switches? Name the peer (HX-1, HX-L, HX-M, HX-E) before it"));
+                    wrong.push(format!(
+                        "{at}: whose defect switches? Name the peer (HX-1, HX-L, HX-M, HX-E, HX-3) before it"
+                    ));
                     continue;
                 };
                 program.defect_switches.get(peer).copied()
