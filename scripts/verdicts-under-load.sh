@@ -18,7 +18,8 @@
 #
 # The busy half runs three busy loops; with BUILD=1 also a cargo build of the workspace
 # in a loop at normal priority (a copy of HEAD in $OUT/build-tree, its own target
-# directory). SLAVES may name HX-1 with a defect switch as `hx-1:NAME` (its own case
+# directory). SLAVES may name HX-3 (`hx-3`, the blind trial's slave) and HX-1 or HX-3
+# with a defect switch as `hx-1:NAME`, `hx-3:dNN` (its own case
 # must FAIL in every run), and `sim-link` for `hiperface simulate` reached through a symbolic link
 # to its pseudo-terminal. Each line gives the run's exit code, and ends with what the harness measured of the line
 # itself: the pseudo-terminal's delivery (the probe beside the line, line::delivery), and
@@ -54,7 +55,7 @@ if [ "${1:-}" = compare ]; then
     shift
     status=0
     for f in $(for d in "$@"; do ls "$d"/*.txt 2>/dev/null; done | xargs -n1 basename | sort -u); do
-        [ "$f" = hx1.path ] && continue
+        case "$f" in hx1.path | hx3.path) continue ;; esac
         for d in "$@"; do [ -f "$d/$f" ] && cat "$d/$f"; done | judge "${f%.txt}" || status=1
     done
     exit $status
@@ -134,7 +135,7 @@ certify_master() {  # name, report dir
 
 certify_slave() {  # name, report dir
     local defect=()
-    case "$1" in hx-1:*) defect=(--defect "${1#hx-1:}") ;; esac
+    case "$1" in hx-1:* | hx-3:*) defect=(--defect "${1#hx-?:}") ;; esac
     case "$1" in
         sim) local rc=0
             chrt -f 50 "$H" certify slave --port sim --report "$2" >"$2.log" 2>&1 || rc=$?
@@ -151,18 +152,20 @@ certify_slave() {  # name, report dir
             echo "$rc" > "$2.rc"
             kill "$sim" 2>/dev/null || true; wait "$sim" 2>/dev/null || true
             ;;
-        hx-1*)
-            rm -f "$OUT/hx1.path"
-            (sleep 600 | chrt -f 50 python3 conformance/tests/independent/hx1_slave.py --pty "${defect[@]}" \
-                > "$OUT/hx1.path") &
+        hx-1* | hx-3*)  # HX-1, or HX-3 (the blind trial's slave, which also has 6Bh)
+            local peer=hx1 more=()
+            case "$1" in hx-3*) peer=hx3 more=(--allow-adjustment) ;; esac
+            rm -f "$OUT/$peer.path"
+            (sleep 600 | chrt -f 50 python3 "conformance/tests/independent/${peer}_slave.py" --pty "${defect[@]}" \
+                > "$OUT/$peer.path") &
             local hx=$!
-            for _ in $(seq 50); do [ -s "$OUT/hx1.path" ] && break; sleep 0.1; done
+            for _ in $(seq 50); do [ -s "$OUT/$peer.path" ] && break; sleep 0.1; done
             sleep 0.3
             local rc=0
-            "$H" certify slave --port "$(head -1 "$OUT/hx1.path")" --profile conformance/tests/independent/hx1.toml \
-                --allow-writes --allow-counter-change --report "$2" >"$2.log" 2>&1 || rc=$?
+            "$H" certify slave --port "$(head -1 "$OUT/$peer.path")" --profile "conformance/tests/independent/$peer.toml" \
+                --allow-writes --allow-counter-change "${more[@]}" --report "$2" >"$2.log" 2>&1 || rc=$?
             echo "$rc" > "$2.rc"
-            pkill -f hx1_slave.py 2>/dev/null || true; kill "$hx" 2>/dev/null || true
+            pkill -f "${peer}_slave.py" 2>/dev/null || true; kill "$hx" 2>/dev/null || true
             ;;
     esac
 }
