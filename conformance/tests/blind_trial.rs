@@ -13,10 +13,8 @@
 
 mod common;
 
-use common::hx1::{hx3_profile, Hx1};
-use hiperface_conformance::port::{self, PortSpec};
-use hiperface_model::Grading;
-use hiperface_suite::slave::{self, Options, Report};
+use common::hx1::{certify_faithfully, hx3_profile, Hx1};
+use hiperface_suite::slave::Report;
 use hiperface_suite::verdict::CaseVerdict;
 
 /// A defect of HX-3 and the case that must FAIL it, on the clause it breaks.
@@ -56,40 +54,11 @@ const CAUGHT: &[Defect] = &[
 /// reply is within its limit. On a line with a UART clock the window is a character.
 const ARGUED: &str = "d07";
 
-/// What a user runs: every case, writes, counter and adjustment allowed, a black box.
-fn options() -> Options {
-    Options { grading: Grading::Range, ..Options::all_allowed() }
-}
-
 /// HX-3 started with `args`, certified over its pseudo-terminal as `certify slave
-/// --port <path> --profile hx3.toml` does. A run not as `expected` is taken again where
-/// the machine made HX-3 late in it, or a case was left UNKNOWN (the harness's own
-/// lateness: no verdict on HX-3); one where HX-3 kept time and every case was graded is
-/// returned as it is, for the test to fail on.
+/// --port <path> --profile hx3.toml` does, a run that is no sample of HX-3's behaviour
+/// taken again (`hx1::certify_faithfully`).
 fn certify_hx3(args: &[&str], expected: impl Fn(&Report) -> bool) -> Report {
-    common::faithfully(|| {
-        let hx3 = Hx1::start_hx3(args);
-        let profile = hx3_profile();
-        let opened =
-            port::open_for_slave(&PortSpec::Path(hx3.path.clone()), profile, &Default::default(), Default::default())
-                .unwrap_or_else(|e| panic!("{e}"));
-        let options = Options { timing: opened.default_timing.0, ..options() };
-        let r = slave::run(opened.line, profile, &options, |_, _, _| {});
-        // Decode reproduces the run: its record played back gives its verdicts.
-        common::replay::assert_replays(&r);
-        let as_expected = expected(&r);
-        if !as_expected {
-            let remarks: Vec<_> = r
-                .cases
-                .iter()
-                .filter(|c| c.verdict != CaseVerdict::Pass)
-                .map(|c| (c.id, c.verdict, &c.findings))
-                .collect();
-            eprintln!("HX-3 {args:?}: not as expected: {remarks:#?}");
-        }
-        let unknown = r.cases.iter().any(|c| c.verdict == CaseVerdict::Unknown);
-        (as_expected || (hx3.kept_time() && !unknown), r)
-    })
+    certify_faithfully(&format!("HX-3 {args:?}"), || Hx1::start_hx3(args), hx3_profile(), expected)
 }
 
 /// What is wrong with `r` as the run of HX-3 with the defect `d`: its case not FAILed

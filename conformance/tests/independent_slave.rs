@@ -16,72 +16,21 @@
 
 mod common;
 
-use common::hx1::{legacy_profile, profile, Hx1};
-use hiperface_conformance::port::{self, PortSpec};
-use hiperface_model::Grading;
+use common::hx1::{a_sample, certify_faithfully, certify_pty_as, legacy_profile, options, profile, Hx1};
+use hiperface_conformance::port::PortSpec;
 use hiperface_suite::slave::{self, Options, Report};
 use hiperface_suite::verdict::CaseVerdict;
 
-/// What a user runs: every case, writes and counter allowed, a black box.
-fn options() -> Options {
-    Options { grading: Grading::Range, ..Options::all_allowed() }
-}
-
-/// Certify over the pseudo-terminal, opened as `certify slave --port <path>` opens it
-/// (default tolerance, default timing mode).
-fn certify_pty(hx1: &Hx1) -> Report {
-    certify_pty_as(hx1, profile())
-}
-
-/// HX-1 started with `args` and certified over its pseudo-terminal. A run whose outcome
-/// is not `expected` is taken again where the machine made HX-1 late in it
-/// (`Hx1::kept_time`): a device has a processor of its own, and such a run is no sample
-/// of HX-1's behaviour; and where a case was left UNKNOWN (the harness's own lateness
-/// kept it from seeing: no verdict on HX-1). One where HX-1 kept time and every case
-/// was graded is returned as it is, for the test to fail on.
+/// HX-1 started with `args` and certified over its pseudo-terminal, a run that is no
+/// sample of HX-1's behaviour taken again (`hx1::certify_faithfully`).
 fn certify_hx1(args: &[&str], expected: impl Fn(&Report) -> bool) -> Report {
-    common::faithfully(|| {
-        let hx1 = Hx1::start(args);
-        let r = certify_pty(&hx1);
-        let expected = expected(&r);
-        if !expected {
-            // Shown with the test's output if it fails: what the run that was not as
-            // expected gave, and whether it is taken again.
-            let remarks: Vec<_> = r
-                .cases
-                .iter()
-                .filter(|c| c.verdict != CaseVerdict::Pass)
-                .map(|c| (c.id, c.verdict, &c.findings))
-                .collect();
-            eprintln!("HX-1 {args:?}: not as expected: {remarks:#?}");
-        }
-        (a_sample(expected, &hx1, &r), r)
-    })
-}
-
-/// Whether the run `r` of `hx1` is a sample of HX-1's behaviour: as the test
-/// `expected`, or else HX-1 kept time (`Hx1::kept_time`) and the harness graded every
-/// case (an UNKNOWN is the harness's own lateness keeping it from seeing: no verdict
-/// on HX-1). A run that is no sample is taken again (`common::faithfully`).
-fn a_sample(expected: bool, hx1: &Hx1, r: &Report) -> bool {
-    expected || (hx1.kept_time() && with_verdict(r, CaseVerdict::Unknown).is_empty())
+    certify_faithfully(&format!("HX-1 {args:?}"), || Hx1::start(args), profile(), expected)
 }
 
 /// The run PASSED: no case FAILed or ERRORed, nothing was left UNKNOWN or unexercised
 /// (`Outcome::of`).
 fn passes(r: &Report) -> bool {
     r.outcome().passed()
-}
-
-fn certify_pty_as(hx1: &Hx1, profile: hiperface_model::Profile) -> Report {
-    let opened =
-        port::open_for_slave(&PortSpec::Path(hx1.path.clone()), profile, &Default::default(), Default::default())
-            .unwrap_or_else(|e| panic!("{e}"));
-    let options = Options { timing: opened.default_timing.0, ..options() };
-    let report = slave::run(opened.line, profile, &options, |_, _, _| {});
-    // Decode reproduces the run: its record played back gives its verdicts.
-    common::replay::assert_replays(&report);
-    report
 }
 
 fn with_verdict(r: &Report, v: CaseVerdict) -> Vec<&'static str> {

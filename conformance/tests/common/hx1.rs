@@ -3,8 +3,11 @@
 //! (`hxl_slave.py`, a legacy-edition slave written from 002) and HX-3 (`hx3_slave.py`,
 //! the blind trial's slave, written from 000 and the user documents).
 
-use hiperface_model::Profile;
+use hiperface_conformance::port::{self, PortSpec};
+use hiperface_model::{Grading, Profile};
 use hiperface_suite::profile_file;
+use hiperface_suite::slave::{self, Options, Report};
+use hiperface_suite::verdict::CaseVerdict;
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -122,4 +125,62 @@ impl Drop for Hx1 {
         let _ = self.child.kill();
         let _ = self.child.wait();
     }
+}
+
+/// What a user runs: every case, writes, counter and adjustment allowed, a black box.
+pub fn options() -> Options {
+    Options { grading: Grading::Range, ..Options::all_allowed() }
+}
+
+/// Certify `slave` against `profile` over its pseudo-terminal, opened as `certify slave
+/// --port <path>` opens it (default tolerance, default timing mode); decode reproduces
+/// the run: its record played back gives its verdicts.
+pub fn certify_pty_as(slave: &Hx1, profile: Profile) -> Report {
+    let opened =
+        port::open_for_slave(&PortSpec::Path(slave.path.clone()), profile, &Default::default(), Default::default())
+            .unwrap_or_else(|e| panic!("{e}"));
+    let options = Options { timing: opened.default_timing.0, ..options() };
+    let report = slave::run(opened.line, profile, &options, |_, _, _| {});
+    super::replay::assert_replays(&report);
+    report
+}
+
+/// The slave `start` starts (`name` in messages), certified over its pseudo-terminal
+/// against `profile`. A run whose outcome is not `expected` is taken again where the
+/// machine made the slave late in it (`Hx1::kept_time`): a device has a processor of
+/// its own, and such a run is no sample of its behaviour; and where a case was left
+/// UNKNOWN (the harness's own lateness kept it from seeing: no verdict on the slave).
+/// One where the slave kept time and every case was graded is returned as it is, for
+/// the test to fail on.
+pub fn certify_faithfully(
+    name: &str,
+    start: impl Fn() -> Hx1,
+    profile: Profile,
+    expected: impl Fn(&Report) -> bool,
+) -> Report {
+    super::faithfully(|| {
+        let slave = start();
+        let r = certify_pty_as(&slave, profile);
+        let expected = expected(&r);
+        if !expected {
+            // Shown with the test's output if it fails: what the run that was not as
+            // expected gave, and whether it is taken again.
+            let remarks: Vec<_> = r
+                .cases
+                .iter()
+                .filter(|c| c.verdict != CaseVerdict::Pass)
+                .map(|c| (c.id, c.verdict, &c.findings))
+                .collect();
+            eprintln!("{name}: not as expected: {remarks:#?}");
+        }
+        (a_sample(expected, &slave, &r), r)
+    })
+}
+
+/// Whether the run `r` of `slave` is a sample of its behaviour: as the test `expected`,
+/// or else the slave kept time (`Hx1::kept_time`) and the harness graded every case
+/// (an UNKNOWN is the harness's own lateness keeping it from seeing: no verdict on the
+/// slave). A run that is no sample is taken again (`common::faithfully`).
+pub fn a_sample(expected: bool, slave: &Hx1, r: &Report) -> bool {
+    expected || (slave.kept_time() && r.cases.iter().all(|c| c.verdict != CaseVerdict::Unknown))
 }
