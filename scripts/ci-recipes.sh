@@ -180,7 +180,9 @@ PY
         echo "-- a device that regressed: HX-1, baseline conformant, then with a defect (expected: compare exits 1)"
         hx1() { # hx1 [--defect NAME]: starts HX-1 on a pseudo-terminal; its path in $port
             rm -f "$work/hx1.path"
-            sleep 600 | python3 "$repo/conformance/tests/independent/hx1_slave.py" --pty "$@" > "$work/hx1.path" &
+            # In a session of its own (the pipe's `sleep` included), ended as a group.
+            setsid bash -c 'sleep 600 | python3 "$@"' _ "$repo/conformance/tests/independent/hx1_slave.py" --pty "$@" \
+                > "$work/hx1.path" &
             hx1_pid=$!
             for _ in $(seq 50); do [ -s "$work/hx1.path" ] && break; sleep 0.1; done
             sleep 0.3
@@ -190,13 +192,13 @@ PY
         cp "$repo/conformance/tests/independent/hx1.toml" encoder.toml
         hx1
         HIPERFACE_PORT=$port run_commands "$work/$recipe.baseline" > "$work/hx1-baseline.txt" 2>&1 \
-            || { kill "$hx1_pid"; cat "$work/hx1-baseline.txt"; exit 1; }
-        kill "$hx1_pid" 2>/dev/null || true
+            || { kill -- -"$hx1_pid"; cat "$work/hx1-baseline.txt"; exit 1; }
+        kill -- -"$hx1_pid" 2>/dev/null || true
         tail -1 "$work/hx1-baseline.txt"
         hx1 --defect wrong-error-code
         HIPERFACE_PORT=$port run_commands "$work/$recipe.run" expect-fail > "$work/hx1-regressed.txt" 2>&1 \
-            || { kill "$hx1_pid"; cat "$work/hx1-regressed.txt"; exit 1; }
-        kill "$hx1_pid" 2>/dev/null || true
+            || { kill -- -"$hx1_pid"; cat "$work/hx1-regressed.txt"; exit 1; }
+        kill -- -"$hx1_pid" 2>/dev/null || true
         grep -iE "regress" "$work/hx1-regressed.txt" | head -5
         grep -qi "regress" "$work/hx1-regressed.txt" || { echo "compare did not name a regression"; exit 1; }
         unset CARGO_INSTALL_ROOT

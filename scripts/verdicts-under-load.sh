@@ -156,8 +156,9 @@ certify_slave() {  # name, report dir
             local peer=hx1 more=()
             case "$1" in hx-3*) peer=hx3 more=(--allow-adjustment) ;; esac
             rm -f "$OUT/$peer.path"
-            (sleep 600 | chrt -f 50 python3 "conformance/tests/independent/${peer}_slave.py" --pty "${defect[@]}" \
-                > "$OUT/$peer.path") &
+            # In a session of its own (the pipe's `sleep` included), ended as a group below.
+            setsid bash -c 'sleep 600 | chrt -f 50 python3 "$@"' _ "conformance/tests/independent/${peer}_slave.py" \
+                --pty "${defect[@]}" > "$OUT/$peer.path" &
             local hx=$!
             for _ in $(seq 50); do [ -s "$OUT/$peer.path" ] && break; sleep 0.1; done
             sleep 0.3
@@ -165,7 +166,7 @@ certify_slave() {  # name, report dir
             "$H" certify slave --port "$(head -1 "$OUT/$peer.path")" --profile "conformance/tests/independent/$peer.toml" \
                 --allow-writes --allow-counter-change "${more[@]}" --report "$2" >"$2.log" 2>&1 || rc=$?
             echo "$rc" > "$2.rc"
-            pkill -f "${peer}_slave.py" 2>/dev/null || true; kill "$hx" 2>/dev/null || true
+            kill -- -"$hx" 2>/dev/null || true; wait "$hx" 2>/dev/null || true
             ;;
     esac
 }
