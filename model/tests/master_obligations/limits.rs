@@ -283,3 +283,48 @@ fn a_retry_is_due_after_a_position_fault_too() {
     });
     assert_eq!(r, vec![Rule::NoRetry]);
 }
+
+/// A reset owed for a critical start-up fault stays owed when a later request draws an
+/// error whose reaction is a retry (02h to a locked Read Position): the retries do not
+/// postpone it (blind trial HX-M3, d15: a master that reset only once its retries ran
+/// out was let through). // 000:T74
+#[test]
+fn a_reset_owed_is_not_postponed_by_a_later_retry() {
+    let run = |reset_after: usize| {
+        rules(move |b| {
+            b.at(120 * MS).ask(&[0x40, 0x50], Response::EncoderStatus(FaultCode::AnalogLimits));
+            b.ask(
+                &[0x40, 0x52],
+                Response::TypeLabel { settings: 0xE4, type_code: 0x22, memory_blocks: 0x80, option: 0x00 },
+            );
+            for _ in 0..reset_after {
+                b.send(&[0x40, 0x42]).reply(false, Response::Error(FaultCode::AngularOffset));
+            }
+            b.send(&[0x40, 0x53]);
+        })
+    };
+    assert_eq!(run(1), vec![], "the reset as the third request");
+    assert_eq!(run(2), vec![Rule::NoResetAfterCriticalFault], "the reset as the fourth");
+}
+
+/// A frame begun while the master's settings changed: it went out at one of the two
+/// rates, so only where both are other than the encoder's is the rule broken.
+#[test]
+fn a_data_rate_changed_as_the_master_sent_is_graded_where_both_are_wrong() {
+    let mut o = Observer::new(profiles::srs50());
+    let mut seen = Vec::new();
+    o.master_data_rate_changing(150 * MS, 9600, 38400, &mut |x| seen.push(x));
+    assert!(seen.is_empty(), "9600 Bd may have been the one: {seen:?}");
+    o.master_data_rate_changing(160 * MS, 38400, 9600, &mut |x| seen.push(x));
+    assert!(seen.is_empty(), "{seen:?}");
+    o.master_data_rate_changing(170 * MS, 38400, 19200, &mut |x| seen.push(x));
+    let rates = seen.iter().map(|x| (x.rule, x.data_rates)).collect::<Vec<_>>();
+    let both = hiperface_model::master::obligations::DataRates {
+        master_bps: 19200,
+        encoder_bps: 9600,
+        changed_from_bps: Some(38400),
+    };
+    assert_eq!(rates, vec![(Rule::DataRate, Some(both))]);
+    o.master_data_rate_changing(180 * MS, 19200, 19200, &mut |x| seen.push(x));
+    assert_eq!(seen.last().and_then(|x| x.data_rates.map(|r| r.changed_from_bps)), Some(None), "held still");
+}

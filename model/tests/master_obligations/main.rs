@@ -198,7 +198,10 @@ fn the_data_rate_is_the_one_the_encoder_listens_at() {
     assert!(bus.seen.is_empty(), "{:?}", bus.seen);
     bus.observer.master_data_rate(160 * MS, 38400, &mut |o| bus.seen.push(o));
     assert_eq!(bus.rules(), vec![Rule::DataRate]);
-    assert_eq!(bus.seen[0].data_rates, Some(DataRates { master_bps: 38400, encoder_bps: 9600 }));
+    assert_eq!(
+        bus.seen[0].data_rates,
+        Some(DataRates { master_bps: 38400, encoder_bps: 9600, changed_from_bps: None })
+    );
     // The encoder has gone over to its stored 38400 Bd: now 9600 Bd is wrong.
     let mut stored = hiperface_model::UartSettings::DEFAULT;
     stored.baud = Baud::B38400;

@@ -163,7 +163,13 @@ fn grade(
         let Some(&Observation { at_us, measured_us: measured, data_rates: rates, .. }) = shown else { continue };
         let figure = match (measured, rates) {
             (Some(m), _) => format!(", {:.3} ms", m as f64 / 1000.0),
-            (None, Some(r)) => format!(", {} Bd, the encoder at {} Bd", r.master_bps, r.encoder_bps),
+            (None, Some(r)) => match r.changed_from_bps {
+                Some(from) => format!(
+                    ", {from} or {} Bd (its settings changed as it sent), the encoder at {} Bd",
+                    r.master_bps, r.encoder_bps
+                ),
+                None => format!(", {} Bd, the encoder at {} Bd", r.master_bps, r.encoder_bps),
+            },
             (None, None) => String::new(),
         };
         let times = if count > 1 { format!(" ({count} times)") } else { String::new() };

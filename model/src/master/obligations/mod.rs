@@ -265,14 +265,31 @@ impl Observer {
     /// harness can see it (a pseudo-terminal's settings), while the encoder listened at
     /// the settings last given to [`Observer::encoder_listens`]. // 000:3.3.1
     pub fn master_data_rate(&mut self, at_us: u64, master_bps: u32, out: &mut impl FnMut(Observation)) {
+        self.master_data_rate_changing(at_us, master_bps, master_bps, out);
+    }
+
+    /// A frame of the master began at `at_us` while its settings went from
+    /// `before_bps` (the line last quiet) to `now_bps`: it went out at one of the two,
+    /// which the harness cannot tell, so the rule is broken only where both differ from
+    /// the encoder's (a master that retries at 38400 and then 19200 Bd changed its
+    /// settings before each retry and was never graded; blind trial HX-M3, d11).
+    /// // 000:3.3.1
+    pub fn master_data_rate_changing(
+        &mut self,
+        at_us: u64,
+        before_bps: u32,
+        now_bps: u32,
+        out: &mut impl FnMut(Observation),
+    ) {
         let encoder_bps = self.settings.baud.bits_per_second();
-        if master_bps != encoder_bps {
+        if before_bps != encoder_bps && now_bps != encoder_bps {
+            let changed_from_bps = (before_bps != now_bps).then_some(before_bps);
             out(Observation {
                 rule: Rule::DataRate,
                 at_us,
                 measured_us: None,
                 command: None,
-                data_rates: Some(DataRates { master_bps, encoder_bps }),
+                data_rates: Some(DataRates { master_bps: now_bps, encoder_bps, changed_from_bps }),
             });
         }
     }
@@ -325,7 +342,7 @@ impl Observer {
             return;
         }
         let reaction = fault_reaction::reaction(code, fault::runtime_group(code));
-        self.memo.pending = match code.byte() {
+        let asks = match code.byte() {
             0x22 => {
                 self.memo.sync_fault = true;
                 Pending::Nothing
@@ -338,6 +355,14 @@ impl Observer {
             // persists, SW reset of Slave." (many position and other faults). // 000:T74
             _ if reaction.is_retry() => asked.map_or(Pending::Nothing, Pending::Retry),
             _ => Pending::Nothing,
+        };
+        // A reset owed for a critical fault stays owed, on its first count: a later
+        // error's retry neither discharges nor postpones it (a master that ignored a
+        // critical start-up fault and reset only once its retries of a locked Read
+        // Position ran out was let through; blind trial HX-M3, d15). // 000:T74
+        self.memo.pending = match self.memo.pending {
+            Pending::Reset { left } => Pending::Reset { left },
+            _ => asks,
         };
     }
 

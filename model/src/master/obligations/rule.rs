@@ -160,6 +160,9 @@ pub struct Observation {
 pub struct DataRates {
     pub master_bps: u32,
     pub encoder_bps: u32,
+    /// The master's rate before, where its settings changed as it sent: the frame
+    /// went out at this one or at `master_bps`, both other than the encoder's.
+    pub changed_from_bps: Option<u32>,
 }
 
 /// How many requests a master may make after a reply before it reacts (reads the

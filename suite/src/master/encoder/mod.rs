@@ -208,14 +208,27 @@ impl DriveEncoder {
             return;
         }
         match (self.peer_bps, self.peer_bps()) {
-            (Some(before), Some(now)) if before == now => {
+            (Some(before), Some(now)) => {
                 let seen = &mut self.timeline.observations;
-                self.observer.master_data_rate(start_us, now, &mut |o| seen.push(o));
+                let count = seen.len();
+                self.observer.master_data_rate_changing(start_us, before, now, &mut |o| seen.push(o));
+                // Changed, and one of the two the encoder's: which one the frame went
+                // out at is not known.
+                if before != now && seen.len() == count {
+                    self.note(
+                        start_us,
+                        WireEntry::HARNESS,
+                        format!(
+                            "data rate not graded: the master's settings changed from {before} to {now} Bd as it \
+                             sent"
+                        ),
+                    );
+                }
             }
             _ => self.note(
                 start_us,
                 WireEntry::HARNESS,
-                "data rate not graded: the master's settings changed as it sent".into(),
+                "data rate not graded: the master's settings were not read both before and as it sent".into(),
             ),
         }
     }
