@@ -71,7 +71,9 @@ enum Command {
     /// Grade a capture of a bus (a wire log, a logic analyzer's CSV, sigrok-cli's UART
     /// decoder output) without talking: both sides; exit 1 on a FAIL, 3 when nothing
     /// could be graded. A certify report is played back from the record of its wire:
-    /// the run's verdicts, graded again.
+    /// the run's verdicts graded again and its exit code (0, 1, 3); 4 when the report
+    /// does not state what its record gives, 5 when its signature does not hold
+    /// (`--verify`).
     Decode(hiperface_conformance::listen::cli::DecodeArgs),
     /// Certify reports side by side: a matrix of cases (or scenarios) by report, in
     /// Markdown, HTML, JSON and JUnit; with `--baseline`, exit 1 when a report regressed

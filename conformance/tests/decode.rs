@@ -221,6 +221,7 @@ fn decoding_a_certify_report_reproduces_its_slave_verdicts() {
     assert_eq!(code, 1, "{text}");
     assert!(text.contains(&format!("{replies} exchanges ({replies} PASS)")), "{replies} exchanges: {text}");
     assert!(text.contains("master: FAIL a frame that is no request"), "{text}");
+    assert!(text.contains("note: the master on this wire is the harness"), "said, not left to the reader: {text}");
 }
 
 /// A certify report is evidence only where its record gives what it states: each
@@ -253,6 +254,14 @@ fn a_report_that_does_not_state_what_its_record_gives_is_no_evidence() {
     let (code, text) = decode(&run.join("report.json"), &["--quiet"]);
     assert_eq!(code, 0, "{text}");
     assert!(first_line(&text).starts_with("the report states what its record gives"), "{text}");
+    // The certificate files beside it are said to be unchecked (a newcomer edited
+    // certificate.md, decoded, and took the exit 0 for it).
+    assert!(
+        text.contains(
+            "certificate.md, certificate.html, junit.xml beside it are written from a report and not checked"
+        ),
+        "{text}"
+    );
     // A NOT-APPLICABLE case turned PASS (and its count with it).
     let na = json["cases"].as_array().unwrap().iter().position(|c| c["verdict"] == "NOT-APPLICABLE");
     let na = na.expect("position.sync does not apply to SRS50");
@@ -263,6 +272,9 @@ fn a_report_that_does_not_state_what_its_record_gives_is_no_evidence() {
     assert_eq!(code, 4, "{text}");
     assert!(first_line(&text).starts_with("THE REPORT DOES NOT STATE WHAT ITS RECORD GIVES"), "{text}");
     assert!(text.contains("PASS in the report, NOT-APPLICABLE from the record"), "{text}");
+    // Its last line is no "PASSED" for a CI that reads the last line.
+    assert!(text.contains("NOT EVIDENCE: the report does not state what its record gives"), "{text}");
+    assert!(!text.lines().any(|l| l == "PASSED"), "{text}");
     // The counts inflated, the case list left alone.
     let counted = edited("counted", &|j| {
         j["summary"]["PASS"] = 800.into();
@@ -456,6 +468,13 @@ fn a_signed_certificate_verifies_and_one_changed_byte_anywhere_does_not() {
     assert_eq!(code, 0, "{text}");
     assert!(text.starts_with("the signature holds: report.json"), "first: {text}");
     assert!(text.contains("every verdict as the report states it"), "then played back: {text}");
+    // Without --verify the signature beside it is named as not checked.
+    let (code, text) = run(&[&os("decode"), report.as_os_str(), &os("--quiet")]);
+    assert_eq!(code, 0, "{text}");
+    assert!(
+        text.contains("report.sig beside it: the run was signed, and the signature is checked only with --verify"),
+        "{text}"
+    );
     let original = std::fs::read(&report).unwrap();
     let text_of = String::from_utf8(original.clone()).unwrap();
     // One byte changed: in a verdict, in the record's events, in the options; then in a

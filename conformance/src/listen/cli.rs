@@ -10,7 +10,7 @@ use hiperface_suite::listen::{HeardExchange, ListeningReport};
 use hiperface_suite::profile_file;
 use hiperface_suite::verdict::CaseVerdict;
 use std::io::{BufReader, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum FormatArg {
@@ -80,6 +80,32 @@ pub struct ListeningArgs {
     pub quiet: bool,
 }
 
+/// What decoding a report without `--verify` leaves unchecked beside it, said so that
+/// nobody takes the certificate files for checked: they are written from a report, and
+/// only a signature covers them.
+fn unchecked_beside(report: &Path) -> Vec<String> {
+    let Some(dir) = report.parent() else { return Vec::new() };
+    let dir = if dir.as_os_str().is_empty() { Path::new(".") } else { dir };
+    let mut notes = Vec::new();
+    let written: Vec<&str> =
+        ["certificate.md", "certificate.html", "junit.xml"].into_iter().filter(|f| dir.join(f).is_file()).collect();
+    if !written.is_empty() {
+        notes.push(format!(
+            "what is checked is the report against its record; {} beside it {} written from a report and not \
+             checked here (a signed run's are, with --verify)",
+            written.join(", "),
+            if written.len() == 1 { "is" } else { "are" }
+        ));
+    }
+    if dir.join(crate::report::signature::FILE).is_file() {
+        notes.push(format!(
+            "{} beside it: the run was signed, and the signature is checked only with --verify PUBKEY",
+            crate::report::signature::FILE
+        ));
+    }
+    notes
+}
+
 /// Run `decode`; exit 0 with no FAIL, 1 with one, an error for input it cannot read.
 /// A certify report with the record of its wire is played back to the catalogue
 /// instead (`slave::record`): the run's verdicts, graded again, and its exit code.
@@ -116,11 +142,12 @@ pub fn decode(args: &DecodeArgs) -> Result<Ended, CommandError> {
         None if args.listen || args.vcd.is_some() => None,
         None => recorded::read_any(&args.file)?,
     };
+    let beside = if args.verify.is_some() { Vec::new() } else { unchecked_beside(&args.file) };
     match recorded {
         Some(AnyRecorded::Slave(r)) => {
-            return recorded::decode(*r, args.listening.report.as_deref(), args.listening.quiet)
+            return recorded::decode(*r, args.listening.report.as_deref(), args.listening.quiet, &beside)
         }
-        Some(AnyRecorded::Master(r)) => return recorded::decode_master(*r, args.listening.quiet),
+        Some(AnyRecorded::Master(r)) => return recorded::decode_master(*r, args.listening.quiet, &beside),
         None => {}
     }
     let (profile, _) = bus(&args.listening.profile, args.listening.baud)?;
@@ -156,6 +183,15 @@ pub fn decode(args: &DecodeArgs) -> Result<Ended, CommandError> {
         master_channel: args.master_channel.clone(),
         polling_period_ms: args.listening.polling_period_ms,
     };
+    let a_certify_report = || matches!(recorded::read_any(&args.file), Ok(Some(AnyRecorded::Slave(_))));
+    if args.listen && args.file.as_os_str() != "-" && a_certify_report() {
+        // A newcomer took the harness's own faults for FAILs of the run.
+        say!(
+            "note: the master on this wire is the harness, whose requests carry faults on purpose (a wrong \
+             checksum, a wrong length, the error bit): graded as a listener would, they are the master's FAILs \
+             below, not the device's; decode without --listen plays the run back as it was graded"
+        );
+    }
     let mut view = LiveView::new(args.listening.quiet, false);
     let report = grade_capture(input, &name, &options, &mut |h| view.print(h))?;
     drop(view);

@@ -345,15 +345,23 @@ fn say_verdict_on_report(differences: &[String], agreed: String) {
     }
 }
 
+/// The last line: the played-back outcome, or, where the report states otherwise,
+/// that it is no evidence (a CI that reads the last line must not read PASSED there).
+fn say_outcome(outcome: hiperface_suite::verdict::Outcome, differences: &[String]) {
+    if differences.is_empty() {
+        say!("{}", outcome.label());
+    } else {
+        say!(
+            "NOT EVIDENCE: the report does not state what its record gives (its record's run: {}; exit 4)",
+            outcome.label()
+        );
+    }
+}
+
 /// Take a master run's record in again, say first whether it gives what the report
 /// states, then each scenario; exit as the run did, or 4 where they differ.
-pub fn decode_master(recorded: MasterRecorded, quiet: bool) -> Result<Ended, CommandError> {
+pub fn decode_master(recorded: MasterRecorded, quiet: bool, beside: &[String]) -> Result<Ended, CommandError> {
     let MasterRecorded { name, record, stated } = recorded;
-    eprintln!(
-        "{name}: the record of a certify master run ({}, {} scenario runs), taken in again",
-        record.tool,
-        record.runs.len()
-    );
     let (profile, again, notes) =
         master_record::replay(&record).map_err(|source| CommandError::Replay { name: name.clone(), source })?;
     let n = again.len();
@@ -371,6 +379,14 @@ pub fn decode_master(recorded: MasterRecorded, quiet: bool) -> Result<Ended, Com
              states it, and its counts and outcome"
         ),
     );
+    eprintln!(
+        "{name}: the record of a certify master run ({}, {} scenario runs), taken in again",
+        record.tool,
+        record.runs.len()
+    );
+    for note in beside {
+        say!("note: {note}");
+    }
     for (i, r) in again.iter().enumerate() {
         if quiet {
             break;
@@ -386,23 +402,23 @@ pub fn decode_master(recorded: MasterRecorded, quiet: bool) -> Result<Ended, Com
     }
     let summary: Vec<String> = given.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
     say!("master (encoder {}): {}", profile.name, summary.join(", "));
-    say!("{}", outcome.label());
+    say_outcome(outcome, &differences);
     Ok(if differences.is_empty() { Ended::Graded(outcome) } else { Ended::Disagrees })
 }
 
 /// Play the record back, say first whether it gives what the report states, then each
 /// case; write the reports; exit as the run did (the played-back outcome), or 4 where
 /// the report states otherwise.
-pub fn decode(recorded: Recorded, report_dir: Option<&Path>, quiet: bool) -> Result<Ended, CommandError> {
+pub fn decode(
+    recorded: Recorded,
+    report_dir: Option<&Path>,
+    quiet: bool,
+    beside: &[String],
+) -> Result<Ended, CommandError> {
     let Recorded { name, record, stated } = recorded;
     if let Some(dir) = report_dir {
         crate::report::prepare_dir(dir)?;
     }
-    eprintln!(
-        "{name}: the record of a certify slave run ({}, {} events), played back to this catalogue",
-        record.tool,
-        record.events.len()
-    );
     let mut lines = Vec::new();
     let report = slave::replay(&record, |i, n, r| {
         if quiet {
@@ -426,6 +442,14 @@ pub fn decode(recorded: Recorded, report_dir: Option<&Path>, quiet: bool) -> Res
             report.cases.len()
         ),
     );
+    eprintln!(
+        "{name}: the record of a certify slave run ({}, {} events), played back to this catalogue",
+        record.tool,
+        record.events.len()
+    );
+    for note in beside {
+        say!("note: {note}");
+    }
     for line in lines {
         say!("{line}");
     }
@@ -434,7 +458,7 @@ pub fn decode(recorded: Recorded, report_dir: Option<&Path>, quiet: bool) -> Res
     }
     let summary: Vec<String> = report.summary.iter().map(|(k, v)| format!("{v} {k}")).collect();
     say!("{}: {}", report.profile, summary.join(", "));
-    say!("{}", report.outcome().label());
+    say_outcome(report.outcome(), &differences);
     if let Some(dir) = report_dir {
         crate::report::write_all(&report, dir, None)?;
         eprintln!("reports written to {}", dir.display());
