@@ -369,7 +369,7 @@ impl Line for SerialLine {
 
     fn carries_parity(&self) -> Result<(), &'static str> {
         if self.pseudo_terminal {
-            Err("a pseudo-terminal carries no parity bit: a parity error cannot be sent on it")
+            Err("a pseudo-terminal carries no parity bit: a parity error cannot be sent on it; a serial port or the virtual line (--port virtual) runs it")
         } else {
             Ok(())
         }

@@ -193,6 +193,8 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<Ended, CommandError> {
         let certificate = super::report::MasterCertificate { report: &report, profile: &profile };
         crate::report::write_all(&certificate, dir, signer.as_ref())?;
         eprintln!("reports written to {}", dir.display());
+    } else {
+        eprintln!("{}", crate::report::NO_REPORT);
     }
     crate::report::say_attention(&report.attention());
     say!("{}", report.outcome().label());

@@ -210,7 +210,8 @@ pub fn run_with(
          while the time for runs again stays within {:.0} % of the scenarios' own). What such a disturbance could \
          explain is UNKNOWN, never charged to the master.",
         report.real_time_scenarios,
-        n - not_run,
+        // The scenarios served: a NOT-APPLICABLE one never started an encoder.
+        report.scenarios.iter().filter(|s| s.verdict != hiperface_suite::verdict::CaseVerdict::NotApplicable).count(),
         MAX_ATTEMPTS - 1,
         MAX_ATTEMPTS,
         END_BUDGET * 100.0

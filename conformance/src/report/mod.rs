@@ -50,6 +50,11 @@ fn write_files<R: Reports>(r: &R, dir: &Path, signer: Option<&signature::Signer>
     }
 }
 
+/// Said where a certify run was given no `--report`: nothing of it is kept (a newcomer
+/// looked for the certificate the README's main command had not written).
+pub const NO_REPORT: &str =
+    "no certificate written: --report DIR writes certificate.md, certificate.html, report.json and junit.xml";
+
 /// The files a report directory receives (a certify run's certificate, or a listening
 /// report's).
 const WRITTEN: [&str; 11] = [

@@ -275,9 +275,12 @@ pub fn certify_slave(args: CertifySlaveArgs) -> Result<Ended, CommandError> {
         report.line_notes.push(format!("The port ran in the kernel's {} (--rs485), put back afterwards.", g.in_force));
     }
     summarize(&report, &profile);
-    if let Some(dir) = dir {
-        report::write_all(&report, &dir, signer.as_ref())?;
-        eprintln!("reports written to {}", dir.display());
+    match dir {
+        Some(dir) => {
+            report::write_all(&report, &dir, signer.as_ref())?;
+            eprintln!("reports written to {}", dir.display());
+        }
+        None => eprintln!("{}", report::NO_REPORT),
     }
     Ok(Ended::Graded(report.outcome()))
 }

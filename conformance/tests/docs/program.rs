@@ -191,7 +191,8 @@ pub(super) fn program() -> Program {
 
 /// The lines of the README's excerpt of the main command's output (the `text` block
 /// after the command) that the command does not print; "..." leaves lines out, and
-/// the wall-time line, a measurement, is compared with its numbers left out.
+/// the wall-time line, a measurement, and the first line, which names the
+/// pseudo-terminal, are compared with their numbers left out.
 pub(super) fn excerpt_not_printed(readme: &str, output: &str) -> Vec<String> {
     let after = readme.split_once("certify slave --port sim\n```\n").expect("the main command in the README").1;
     let excerpt = after
@@ -209,7 +210,10 @@ pub(super) fn excerpt_not_printed(readme: &str, output: &str) -> Vec<String> {
             let again = |o: &str| o.strip_prefix(*l).is_some_and(|rest| rest.starts_with(" ("));
             !output
                 .lines()
-                .any(|o| o == *l || again(o) || (l.starts_with("wall time ") && numbers_out(o) == numbers_out(l)))
+                .any(|o| {
+                    let measured = l.starts_with("wall time ") || l.starts_with("certifying ");
+                    o == *l || again(o) || (measured && numbers_out(o) == numbers_out(l))
+                })
         })
         .map(str::to_string)
         .collect()

@@ -69,8 +69,9 @@ pub enum BadCommand {
 pub fn declaration_note(not_used: &[CommandId]) -> Option<String> {
     (!not_used.is_empty()).then(|| {
         let list: Vec<String> = not_used.iter().map(|c| c.to_string()).collect();
+        let them = if list.len() == 1 { "it" } else { "them" };
         format!(
-            "The master declared that it never sends {} (--not-used): the scenarios about them are NOT-APPLICABLE, \
+            "The master declared that it never sends {} (--not-used): the scenarios about {them} are NOT-APPLICABLE, \
              and a master seen sending one has that declaration contradicted (UNKNOWN) where it did.",
             list.join(", ")
         )

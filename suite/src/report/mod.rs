@@ -111,62 +111,95 @@ pub fn profile_digest(profile: &hiperface_model::Profile) -> String {
     format!("fnv1a64:{hash:016x}")
 }
 
-/// Units not run for one reason (NOT-APPLICABLE): the reason says what would run them
-/// ("writes EEPROM; run with --allow-writes", "declared not used").
+/// Units NOT-APPLICABLE for one reason: the reason says what would run them ("writes
+/// EEPROM; run with --allow-writes", "declared not used"). Most were never run; `ran`
+/// sets apart those that ran and had their replies graded but whose point the line
+/// cannot show (a pseudo-terminal carries no data rate): a newcomer read "Not run" over
+/// a case that had written the EEPROM.
 #[derive(Debug, Clone, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct NotRun {
     pub reason: String,
     pub cases: Vec<String>,
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub ran: bool,
 }
 
+/// The heading over the units that ran but are NOT-APPLICABLE, and what it means.
+const RAN_HEADING: &str = "Ran, not applicable on this line";
+const RAN_MEANS: &str = "These ran and their replies were graded (a FAIL among them would show above), but what \
+                         they are about cannot be observed on this line.";
+
 impl NotRun {
-    /// The NOT-APPLICABLE cases of `cases`, grouped by their reason, in run order.
+    /// The NOT-APPLICABLE cases of `cases`, grouped by their reason and by whether
+    /// they ran (any exchange), in run order.
     pub fn of(cases: &[crate::verdict::CaseResult]) -> Vec<NotRun> {
         let mut out: Vec<NotRun> = Vec::new();
         for c in cases.iter().filter(|c| c.verdict == CaseVerdict::NotApplicable) {
             let reason = c.findings.first().map_or("not applicable", |f| f.message()).to_string();
-            match out.iter_mut().find(|n| n.reason == reason) {
+            let ran = c.exchanges > 0;
+            match out.iter_mut().find(|n| n.reason == reason && n.ran == ran) {
                 Some(n) => n.cases.push(c.id.to_string()),
-                None => out.push(NotRun { reason, cases: vec![c.id.to_string()] }),
+                None => out.push(NotRun { reason, cases: vec![c.id.to_string()], ran }),
             }
         }
         out
     }
 
-    /// The certificate's section, in Markdown ("" where everything ran).
+    /// The certificate's sections, in Markdown ("" where everything ran and applied).
     pub fn markdown(groups: &[NotRun]) -> String {
         let mut s = String::new();
-        if !groups.is_empty() {
-            s.push_str("\n## Not run\n\n");
-        }
-        for n in groups {
-            let ids: Vec<String> = n.cases.iter().map(|c| format!("`{c}`")).collect();
-            s.push_str(&format!("- {} ({}): {}\n", n.reason, n.cases.len(), ids.join(", ")));
+        for (ran, heading) in [(false, "Not run"), (true, RAN_HEADING)] {
+            let of: Vec<&NotRun> = groups.iter().filter(|n| n.ran == ran).collect();
+            if of.is_empty() {
+                continue;
+            }
+            s.push_str(&format!("\n## {heading}\n\n"));
+            if ran {
+                s.push_str(&format!("{RAN_MEANS}\n\n"));
+            }
+            for n in of {
+                let ids: Vec<String> = n.cases.iter().map(|c| format!("`{c}`")).collect();
+                s.push_str(&format!("- {} ({}): {}\n", n.reason, n.cases.len(), ids.join(", ")));
+            }
         }
         s
     }
 
-    /// The certificate's section, in HTML.
+    /// The certificate's sections, in HTML.
     pub fn html(groups: &[NotRun]) -> String {
-        if groups.is_empty() {
-            return String::new();
+        let mut s = String::new();
+        for (ran, heading) in [(false, "Not run"), (true, RAN_HEADING)] {
+            let of: Vec<&NotRun> = groups.iter().filter(|n| n.ran == ran).collect();
+            if of.is_empty() {
+                continue;
+            }
+            s.push_str(&format!("<h2>{heading}</h2>"));
+            if ran {
+                s.push_str(&format!("<p>{}</p>", escape(RAN_MEANS)));
+            }
+            s.push_str("<ul>");
+            for n in of {
+                s.push_str(&format!(
+                    "<li>{} ({}): <code>{}</code></li>",
+                    escape(&n.reason),
+                    n.cases.len(),
+                    n.cases.join(", ")
+                ));
+            }
+            s.push_str("</ul>");
         }
-        let mut s = String::from("<h2>Not run</h2><ul>");
-        for n in groups {
-            s.push_str(&format!(
-                "<li>{} ({}): <code>{}</code></li>",
-                escape(&n.reason),
-                n.cases.len(),
-                n.cases.join(", ")
-            ));
-        }
-        s.push_str("</ul>");
         s
     }
 
     /// The console's lines.
     pub fn lines(groups: &[NotRun]) -> Vec<String> {
-        groups.iter().map(|n| format!("not run ({}): {}: {}", n.cases.len(), n.reason, n.cases.join(", "))).collect()
+        groups
+            .iter()
+            .map(|n| {
+                let what = if n.ran { "ran, not applicable on this line" } else { "not run" };
+                format!("{what} ({}): {}: {}", n.cases.len(), n.reason, n.cases.join(", "))
+            })
+            .collect()
     }
 }
 
@@ -188,9 +221,15 @@ pub fn documents_cited(units: &[crate::verdict::CaseResult]) -> Vec<(&'static st
     DOCUMENTS.into_iter().filter(|(prefix, _)| cited(prefix)).collect()
 }
 
+/// How a clause id reads, for a reader who has only the certificate.
+const CLAUSE_IDS: &str = "A clause id is the document, a colon and the place in it: `000:T10` is Table 10 of \
+                          000, `000:2.3.4` its section 2.3.4; a suffix (`/master`) names one rule of several \
+                          there. A finding above quotes the sentence of the clause it cites; `hiperface \
+                          clauses` lists every clause and what checks it.";
+
 /// The certificate's "Documents cited" section in Markdown.
 pub fn documents_markdown(units: &[crate::verdict::CaseResult]) -> String {
-    let mut s = String::from("\n## Documents cited\n\n");
+    let mut s = format!("\n## Documents cited\n\n{CLAUSE_IDS}\n\n");
     for (prefix, what) in documents_cited(units) {
         s.push_str(&format!("- `{prefix}`: {what}\n"));
     }
@@ -199,7 +238,7 @@ pub fn documents_markdown(units: &[crate::verdict::CaseResult]) -> String {
 
 /// The certificate's "Documents cited" section in HTML.
 pub fn documents_html(units: &[crate::verdict::CaseResult]) -> String {
-    let mut s = String::from("<h2>Documents cited</h2><ul>");
+    let mut s = format!("<h2>Documents cited</h2><p>{}</p><ul>", escape(CLAUSE_IDS));
     for (prefix, what) in documents_cited(units) {
         s.push_str(&format!("<li><code>{prefix}</code>: {}</li>", escape(what)));
     }

@@ -27,8 +27,10 @@ pub const EVERY_EXCHANGE: [Normative; 2] = [clause::NO_UNSOLICITED, clause::REPL
 /// What the run accumulates across cases.
 #[derive(Debug, Default)]
 pub(crate) struct Tally {
-    /// Response times per command byte (the most the line's uncertainty allows), µs.
-    pub response_times: BTreeMap<u8, Vec<i64>>,
+    /// Response times per command byte of the command's own replies (not error
+    /// responses): the least and the most the line's uncertainty allows, µs; and the
+    /// command's limit, ms (000:T10).
+    pub response_times: BTreeMap<u8, (Vec<(i64, i64)>, u32)>,
     /// What the run's exchanges take on a real line, with a perfect master and the
     /// device's own response times (a pseudo-terminal can be faster), µs.
     pub line_time_us: u64,
@@ -438,8 +440,14 @@ impl Ctx<'_> {
         self.tally.harness_late_us = self.tally.harness_late_us.max(x.harness_late_us);
         self.tally.line_late_us = self.tally.line_late_us.max(x.line_late.both_ways_us());
         self.tally.line_time_us += physical_time_us(x, plan.limits.max_ms);
-        if let (Some(cmd), Some(t)) = (plan.command, timing::at_most_us(x)) {
-            self.tally.response_times.entry(cmd.byte()).or_default().push(t);
+        // The command's own reply (its command byte echoed), not an error response
+        // (50h's format): a newcomer read "53h Encoder Reset | 1 reply" beside "53h:
+        // no frame". // 000:2.3.4
+        let own = observed.and_then(|r| r.get(1)).zip(plan.command).is_some_and(|(b, c)| b & 0x7F == c.byte());
+        if let (true, Some(cmd), Some(t)) = (own, plan.command, x.response_time_us()) {
+            let (times, limit) = self.tally.response_times.entry(cmd.byte()).or_default();
+            times.push(t);
+            *limit = plan.limits.max_ms as u32;
         }
         Ok(())
     }

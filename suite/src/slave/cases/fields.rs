@@ -7,7 +7,7 @@ use hiperface_model::frame::FieldBytes;
 use hiperface_model::{Profile, Request};
 
 fn with_etl(p: &Profile) -> Option<&'static str> {
-    p.extended_type_label.is_none().then_some("the profile has no Extended Type Label")
+    p.extended_type_label.is_none().then_some("the profile has no Extended Type Label; a profile with one runs it")
 }
 
 /// If the model holds field `n`, guard its deletion (status bits as now stored).

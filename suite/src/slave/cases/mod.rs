@@ -92,7 +92,8 @@ fn lacks(p: &Profile, id: CommandId, why: &'static str) -> Option<&'static str> 
 }
 
 fn current_edition(p: &Profile) -> Option<&'static str> {
-    (p.edition != Edition::Current).then_some("the legacy edition has no silent settings-change window")
+    (p.edition != Edition::Current)
+        .then_some("the legacy edition has no silent settings-change window; a profile of the current edition runs it")
 }
 
 /// A supported data rate other than the default, for 67h.

@@ -6,16 +6,20 @@ use crate::slave::{Case, CaseError, Ctx};
 use hiperface_model::{CommandId, Profile, Request, Response};
 
 fn with_6a(p: &Profile) -> Option<&'static str> {
-    lacks(p, CommandId::SetPositionWithSync, "6Ah is optional and the profile lacks it")
+    lacks(p, CommandId::SetPositionWithSync, "6Ah is optional and the profile lacks it; a profile with 6Ah runs it")
 }
 fn with_6b(p: &Profile) -> Option<&'static str> {
-    lacks(p, CommandId::SensorAdjustment, "6Bh is optional and the profile lacks it")
+    lacks(p, CommandId::SensorAdjustment, "6Bh is optional and the profile lacks it; a profile with 6Bh runs it")
 }
 fn with_6c(p: &Profile) -> Option<&'static str> {
-    lacks(p, CommandId::ReadSyncOffset, "6Ch is optional and the profile lacks it")
+    lacks(p, CommandId::ReadSyncOffset, "6Ch is optional and the profile lacks it; a profile with 6Ch runs it")
 }
 fn with_63(p: &Profile) -> Option<&'static str> {
-    lacks(p, CommandId::SetPositionInternalSync, "63h exists in the legacy edition only")
+    lacks(
+        p,
+        CommandId::SetPositionInternalSync,
+        "63h exists in the legacy edition only; a legacy profile (Legacy-SRS) runs it",
+    )
 }
 
 pub const READ: Case = case!("position.read", "Read Position", [READ_POSITION], Nothing, always, |c| {

@@ -8,8 +8,14 @@ use hiperface_model::slave::powerup::CommState;
 use hiperface_model::{CommandId, FaultCode, Profile, Request, Response, UartSettings};
 
 fn with_67(p: &Profile) -> Option<&'static str> {
-    lacks(p, CommandId::TemporarilySetSerialInterface, "67h is optional and the profile lacks it")
-        .or_else(|| other_baud(p).is_none().then_some("the profile supports a single data rate"))
+    lacks(
+        p,
+        CommandId::TemporarilySetSerialInterface,
+        "67h is optional and the profile lacks it; a profile with 67h runs it",
+    )
+    .or_else(|| {
+        other_baud(p).is_none().then_some("the profile supports a single data rate; a profile with two runs it")
+    })
 }
 
 pub const INVALID: Case = case!(
@@ -38,8 +44,9 @@ pub const INVALID: Case = case!(
 );
 
 fn with_other_rate(p: &Profile) -> Option<&'static str> {
-    lacks(p, CommandId::SetSerialInterface, "the profile lacks 57h")
-        .or_else(|| other_baud(p).is_none().then_some("the profile supports a single data rate"))
+    lacks(p, CommandId::SetSerialInterface, "the profile lacks 57h; a profile with 57h runs it").or_else(|| {
+        other_baud(p).is_none().then_some("the profile supports a single data rate; a profile with two runs it")
+    })
 }
 
 /// On a line without a data rate, what the case cannot see said as such: the replies
@@ -49,7 +56,7 @@ fn unobserved_rate(c: &mut crate::slave::Ctx<'_>) {
     if let Err(why) = c.line_carries_data_rate() {
         c.push(Finding::not_applicable(format!(
             "{why}: that the device listens and answers at the other data rate (000:T4) is not observed here, only \
-             its replies"
+             its replies; a serial port or the virtual line (--port virtual) observes it"
         )));
     }
 }
