@@ -35,6 +35,7 @@ pub(super) const PEERS: &[(&str, &str)] = &[
     ("HX-M", "conformance/tests/independent/hx_master.py"),
     ("HX-E", "python/tests/independent_encoder.py"),
     ("HX-3", "conformance/tests/independent/hx3_slave.py"),
+    ("HX-M3", "conformance/tests/independent/hxm3_master.py"),
 ];
 
 /// The model checker's depth in CI (`cargo test -p hiperface-proofs`): a second in a
@@ -118,7 +119,7 @@ pub(super) fn wrong_figures(docs: &[Doc], program: &Program) -> (Vec<String>, Ha
                     .map(|(_, name)| name);
                 let Some(peer) = peer else {
                     wrong.push(format!(
-                        "{at}: whose defect switches? Name the peer (HX-1, HX-L, HX-M, HX-E, HX-3) before it"
+                        "{at}: whose defect switches? Name the peer (HX-1, HX-L, HX-M, HX-E, HX-3, HX-M3) before it"
                     ));
                     continue;
                 };
@@ -262,8 +263,8 @@ fn the_deeper_model_checking_figures_are_the_programs() {
 /// The peer's defect switches, as it lists them.
 pub(super) fn defect_switches(script: &str) -> u64 {
     let path = root().join(script);
-    if script.ends_with("hx_master.py") {
-        // HX-M names the ones it knows when given one it does not.
+    if script.ends_with("_master.py") {
+        // HX-M and HX-M3 name the ones they know when given one they do not.
         let out = Command::new("python3").arg(&path).args(["/dev/null", "--defect", "?"]).output().expect("python3");
         let err = String::from_utf8_lossy(&out.stderr);
         let known = err.split_once("known: ").unwrap_or_else(|| panic!("{script}: {err}")).1;

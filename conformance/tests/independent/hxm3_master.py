@@ -780,8 +780,9 @@ def main():
     args = ap.parse_args()
     if args.defect is not None:
         d = args.defect.lower()
-        if not (len(d) == 3 and d[0] == "d" and d[1:].isdigit() and 1 <= int(d[1:]) <= 16):
-            ap.error("--defect takes d01 ... d16")
+        known = ["d%02d" % i for i in range(1, 17)]
+        if d not in known:
+            ap.error("unknown defect %s; known: %s" % (args.defect, ", ".join(known)))
         DEFECT = d
 
     def on_term(signum, frame):
