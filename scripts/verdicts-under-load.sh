@@ -21,7 +21,8 @@
 # directory). SLAVES may name HX-3 (`hx-3`, the blind trial's slave) and HX-1 or HX-3
 # with a defect switch as `hx-1:NAME`, `hx-3:dNN` (its own case
 # must FAIL in every run), and `sim-link` for `hiperface simulate` reached through a symbolic link
-# to its pseudo-terminal. Each line gives the run's exit code, and ends with what the harness measured of the line
+# to its pseudo-terminal. MASTERS may name HX-M3 (`hx-m3`, the master of the blind
+# trial) and its sealed defects as `hx-m3:dNN`. Each line gives the run's exit code, and ends with what the harness measured of the line
 # itself: the pseudo-terminal's delivery (the probe beside the line, line::delivery), and
 # how much of the processors the hypervisor took during the run (steal), where it says.
 #
@@ -121,6 +122,9 @@ master_exec() {
     case "$1" in
         reference) echo "chrt -f 50 $H master --port {port}" ;;
         hx-m) echo "chrt -f 50 python3 $PWD/conformance/tests/independent/hx_master.py {port}" ;;
+        # HX-M3, the master of the blind trial, conformant or with a sealed defect (hx-m3:d15).
+        hx-m3) echo "chrt -f 50 python3 $PWD/conformance/tests/independent/hxm3_master.py {port}" ;;
+        hx-m3:*) echo "chrt -f 50 python3 $PWD/conformance/tests/independent/hxm3_master.py {port} --defect ${1#hx-m3:}" ;;
         *) echo "chrt -f 50 python3 $PWD/conformance/tests/independent/hx_master.py {port} --defect $1" ;;
     esac
 }

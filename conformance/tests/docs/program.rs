@@ -209,12 +209,10 @@ pub(super) fn excerpt_not_printed(readme: &str, output: &str) -> Vec<String> {
         .filter(|l| {
             // A case run again on a busy machine says so after its id: the same line.
             let again = |o: &str| o.strip_prefix(*l).is_some_and(|rest| rest.starts_with(" ("));
-            !output
-                .lines()
-                .any(|o| {
-                    let measured = l.starts_with("wall time ") || l.starts_with("certifying ");
-                    o == *l || again(o) || (measured && numbers_out(o) == numbers_out(l))
-                })
+            !output.lines().any(|o| {
+                let measured = l.starts_with("wall time ") || l.starts_with("certifying ");
+                o == *l || again(o) || (measured && numbers_out(o) == numbers_out(l))
+            })
         })
         .map(str::to_string)
         .collect()

@@ -47,7 +47,7 @@ impl Identity {
                 "type label (52h)",
                 self.type_label.map_or_else(unread, |t| {
                     format!(
-                        "settings {:02X}h, type {:02X}h, memory {} blocks of 16 bytes, option {:02X}h",
+                        "settings {:02X}h, type {:02X}h, memory {} blocks of 16 bytes in all (000:T28; Memory Status counts the user memory's free blocks), option {:02X}h",
                         t.settings, t.type_code, t.memory_blocks, t.option
                     )
                 }),
