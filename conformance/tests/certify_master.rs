@@ -22,7 +22,13 @@ use std::path::Path;
 /// test runs at a real-time priority, so that a busy test machine does not make it
 /// late on the wire (a master that is really late is rightly FAILed).
 fn hx_master(defect: Option<&str>) -> String {
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/independent/hx_master.py");
+    independent_master("hx_master.py", defect)
+}
+
+/// The command line of the independent master `script` (in `tests/independent/`),
+/// with the defect switch `defect`.
+fn independent_master(script: &str, defect: Option<&str>) -> String {
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/independent").join(script);
     let defect = defect.map_or(String::new(), |d| format!(" --defect {d}"));
     format!("{}python3 {} {{port}}{defect}", common::real_time_prefix(), script.display())
 }
@@ -271,9 +277,7 @@ const DEFECTS: &[Defect] = &[
 /// 000 and the user documents by someone who saw no code, with 16 defects sealed until
 /// the catalogue had graded them (`tests/independent/hxm3-defects.md`).
 fn hxm3_master(defect: Option<&str>) -> String {
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/independent/hxm3_master.py");
-    let defect = defect.map_or(String::new(), |d| format!(" --defect {d}"));
-    format!("{}python3 {} {{port}}{defect}", common::real_time_prefix(), script.display())
+    independent_master("hxm3_master.py", defect)
 }
 
 /// Each of HX-M3's sealed defects, the scenario it shows in, its clause and verdict

@@ -181,13 +181,7 @@ pub fn certify_master(args: &CertifyMasterArgs) -> Result<Ended, CommandError> {
     for n in &report.notes_per_scenario {
         say!("re-run: {n}");
     }
-    say!(
-        "wall time {:.0} ms for {:.0} ms of scenarios: ratio {:.2}, repeated runs ({:.0} ms) included",
-        report.wall_time_ms,
-        report.needed_ms,
-        report.wall_time_ms / report.needed_ms.max(1.0),
-        report.rerun_ms,
-    );
+    say!("wall time {}", report.wall_time_text());
     crate::report::say_steal(report.run_info.as_ref().and_then(|r| r.steal));
     if let Some(dir) = &args.report {
         let certificate = super::report::MasterCertificate { report: &report, profile: &profile };

@@ -329,8 +329,18 @@ fn parse_any(path: &Path, bytes: &[u8]) -> Result<AnyRecorded, CommandError> {
     }
 }
 
-/// Say whether the report states what its record gives, first, with each difference.
-fn say_verdict_on_report(differences: &[String], agreed: String) {
+/// Say whether the report states what its record gives, first, with each difference;
+/// then which run's record it was (`identified`, on standard error) and what was left
+/// unchecked beside it (`beside`).
+fn say_verdict_on_report(differences: &[String], agreed: String, identified: String, beside: &[String]) {
+    say_differences(differences, agreed);
+    eprintln!("{identified}");
+    for note in beside {
+        say!("note: {note}");
+    }
+}
+
+fn say_differences(differences: &[String], agreed: String) {
     if differences.is_empty() {
         say!("{agreed}");
     } else {
@@ -378,15 +388,13 @@ pub fn decode_master(recorded: MasterRecorded, quiet: bool, beside: &[String]) -
             "the report states what its record gives: {n} scenarios graded again, every verdict as the report \
              states it, and its counts and outcome"
         ),
+        format!(
+            "{name}: the record of a certify master run ({}, {} scenario runs), taken in again",
+            record.tool,
+            record.runs.len()
+        ),
+        beside,
     );
-    eprintln!(
-        "{name}: the record of a certify master run ({}, {} scenario runs), taken in again",
-        record.tool,
-        record.runs.len()
-    );
-    for note in beside {
-        say!("note: {note}");
-    }
     for (i, r) in again.iter().enumerate() {
         if quiet {
             break;
@@ -441,15 +449,13 @@ pub fn decode(
              verdict as the report states it, and its counts, outcome and grading options",
             report.cases.len()
         ),
+        format!(
+            "{name}: the record of a certify slave run ({}, {} events), played back to this catalogue",
+            record.tool,
+            record.events.len()
+        ),
+        beside,
     );
-    eprintln!(
-        "{name}: the record of a certify slave run ({}, {} events), played back to this catalogue",
-        record.tool,
-        record.events.len()
-    );
-    for note in beside {
-        say!("note: {note}");
-    }
     for line in lines {
         say!("{line}");
     }

@@ -125,6 +125,18 @@ pub struct DriveReport {
 }
 
 impl DriveReport {
+    /// The run's wall time against its scenarios' own, as the console and the
+    /// certificate give it.
+    pub fn wall_time_text(&self) -> String {
+        format!(
+            "{:.0} ms for {:.0} ms of scenarios: ratio {:.2}, repeated runs ({:.0} ms) included",
+            self.wall_time_ms,
+            self.needed_ms,
+            self.wall_time_ms / self.needed_ms.max(1.0),
+            self.rerun_ms
+        )
+    }
+
     /// The report of a run before its first scenario, with an empty record of the
     /// wire: `master` names the master, the notes are the caller's.
     pub fn new(profile: &Profile, master: String, polling_period_ms: u32, not_used: &[CommandId]) -> DriveReport {

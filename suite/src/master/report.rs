@@ -67,16 +67,7 @@ fn run_rows(r: &DriveReport) -> Vec<(&'static str, String)> {
     ];
     rows.extend(port_rows(r));
     // As the console says it, and as a slave's certificate has it.
-    rows.push((
-        "wall time",
-        format!(
-            "{:.0} ms for {:.0} ms of scenarios (ratio {:.2}), runs again ({:.0} ms) included",
-            r.wall_time_ms,
-            r.needed_ms,
-            r.wall_time_ms / r.needed_ms.max(1.0),
-            r.rerun_ms
-        ),
-    ));
+    rows.push(("wall time", r.wall_time_text()));
     if let Some(c) = &r.cut_short {
         rows.push(("cut short", c.clone()));
     }

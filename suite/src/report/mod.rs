@@ -145,17 +145,22 @@ impl NotRun {
         out
     }
 
+    /// The certificate's sections: each heading, what it means where it needs saying,
+    /// and its groups; none without a group.
+    fn sections(groups: &[NotRun]) -> impl Iterator<Item = (&'static str, Option<&'static str>, Vec<&NotRun>)> {
+        [("Not run", None, false), (RAN_HEADING, Some(RAN_MEANS), true)]
+            .into_iter()
+            .map(|(heading, means, ran)| (heading, means, groups.iter().filter(|n| n.ran == ran).collect::<Vec<_>>()))
+            .filter(|(_, _, of)| !of.is_empty())
+    }
+
     /// The certificate's sections, in Markdown ("" where everything ran and applied).
     pub fn markdown(groups: &[NotRun]) -> String {
         let mut s = String::new();
-        for (ran, heading) in [(false, "Not run"), (true, RAN_HEADING)] {
-            let of: Vec<&NotRun> = groups.iter().filter(|n| n.ran == ran).collect();
-            if of.is_empty() {
-                continue;
-            }
+        for (heading, means, of) in NotRun::sections(groups) {
             s.push_str(&format!("\n## {heading}\n\n"));
-            if ran {
-                s.push_str(&format!("{RAN_MEANS}\n\n"));
+            if let Some(means) = means {
+                s.push_str(&format!("{means}\n\n"));
             }
             for n in of {
                 let ids: Vec<String> = n.cases.iter().map(|c| format!("`{c}`")).collect();
@@ -168,14 +173,10 @@ impl NotRun {
     /// The certificate's sections, in HTML.
     pub fn html(groups: &[NotRun]) -> String {
         let mut s = String::new();
-        for (ran, heading) in [(false, "Not run"), (true, RAN_HEADING)] {
-            let of: Vec<&NotRun> = groups.iter().filter(|n| n.ran == ran).collect();
-            if of.is_empty() {
-                continue;
-            }
+        for (heading, means, of) in NotRun::sections(groups) {
             s.push_str(&format!("<h2>{heading}</h2>"));
-            if ran {
-                s.push_str(&format!("<p>{}</p>", escape(RAN_MEANS)));
+            if let Some(means) = means {
+                s.push_str(&format!("<p>{}</p>", escape(means)));
             }
             s.push_str("<ul>");
             for n in of {
