@@ -293,6 +293,10 @@ const HXM3_DEFECTS: &[Defect] = &[
     hxm3("d08", "startup.user-settings", "000:3.3.1", CaseVerdict::Fail),
     hxm3("d09", "startup.extended-type-label", "000:2.2/cycle", CaseVerdict::Fail),
     hxm3("d10", "fault.unknown-code", "000:3.3.1", CaseVerdict::Fail),
+    // Let through until a frame at another data rate than the encoder's was heard as
+    // noise, as a real line garbles it: the retry at 38400 Bd is then not answered
+    // either, and the one at 19200 Bd is surely at a wrong rate.
+    hxm3("d11", "reply.silent", "000:3.3.1", CaseVerdict::Fail),
     hxm3("d12", "protocol.checksum-error", "000:2.2.2/master-pause", CaseVerdict::Fail),
     hxm3("d13", "reply.silent", "DESIGN:reply-window", CaseVerdict::NonStrict),
     hxm3("d14", "protocol.unknown-command", "000:3.3.4", CaseVerdict::NonStrict),
@@ -305,10 +309,8 @@ const fn hxm3(name: &'static str, scenario: &'static str, clause: &'static str, 
     Defect { name, scenario, clause, verdict, untouched: None }
 }
 
-/// The blind trial, kept: the conformant HX-M3 passes every scenario, each sealed
-/// defect is told in its scenario on its clause, and d11 (retries at other data rates,
-/// set just before each write) is still let through on a pseudo-terminal: when a
-/// change catches it, this test says so and the trial's notes are to be updated.
+/// The blind trial, kept: the conformant HX-M3 passes every scenario, and each sealed
+/// defect is told in its scenario on its clause.
 #[test]
 #[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
 fn the_blind_trial_master_passes_and_each_of_its_sealed_defects_is_told() {
@@ -322,13 +324,6 @@ fn the_blind_trial_master_passes_and_each_of_its_sealed_defects_is_told() {
         if own.verdict != d.verdict || !cited {
             problems.push(format!("{}: {} is {:?}: {:#?}", d.name, d.scenario, own.verdict, own.findings));
         }
-    }
-    let argued = certify_seen(profiles::srs50(), &hxm3_master(Some("d11")), Some("reply.silent"));
-    if argued.outcome() != Outcome::Passed {
-        problems.push(format!(
-            "d11 is no longer let through (update hxm3-defects.md and this test): {:#?}",
-            argued.scenarios
-        ));
     }
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }

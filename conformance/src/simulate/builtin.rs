@@ -29,8 +29,9 @@ struct Punctuality {
 }
 
 impl Hooks for Punctuality {
-    fn received(&mut self, ch: RxChar, _listening: Option<UartSettings>) {
+    fn received(&mut self, ch: RxChar, _listening: Option<UartSettings>) -> bool {
         self.heard.last_us.fetch_max(ch.at_us, Ordering::SeqCst);
+        true
     }
     fn read(&mut self, unwatched_us: u64) {
         self.late_us.fetch_max(unwatched_us, Ordering::SeqCst);

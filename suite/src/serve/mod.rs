@@ -74,8 +74,12 @@ impl Serving {
 /// model as it is.
 pub trait Hooks {
     /// A character from the master, stamped at the end of its stop bit, and the
-    /// settings the slave listens at then (`None` while it does not listen).
-    fn received(&mut self, _ch: RxChar, _listening: Option<UartSettings>) {}
+    /// settings the slave listens at then (`None` while it does not listen); whether
+    /// the slave hears it (`false`: it went out at a data rate the slave does not
+    /// listen at, which a real line garbles into noise that no slave answers).
+    fn received(&mut self, _ch: RxChar, _listening: Option<UartSettings>) -> bool {
+        true
+    }
     /// The characters of one read follow (`received` for each): the line had not been
     /// read for `unwatched_us` before it (0 when it was watched; the harness was busy
     /// writing a reply, or not scheduled). They may have come any time in that

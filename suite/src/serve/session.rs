@@ -87,8 +87,9 @@ impl<H: Hooks> Session<H> {
     /// A character of the master, stamped at the end of its stop bit, received at
     /// `listening` (the settings the model listened at when it came).
     pub fn receive(&mut self, ch: RxChar, listening: Option<UartSettings>) {
-        self.hooks.received(ch, listening);
-        self.steps.extend(self.slave.receive(ch));
+        if self.hooks.received(ch, listening) {
+            self.steps.extend(self.slave.receive(ch));
+        }
     }
 
     /// The master's characters in the order they came: each received at the settings

@@ -14,12 +14,12 @@ use hiperface_model::slave::act::{Acted, ActedReply};
 use hiperface_model::{CommandId, Frame, Hex, RequestFrame, Slave, Step, UartSettings};
 
 impl Hooks for DriveEncoder {
-    fn received(&mut self, ch: RxChar, listening: Option<UartSettings>) {
+    fn received(&mut self, ch: RxChar, listening: Option<UartSettings>) -> bool {
         // A flood is cut here: nothing more is kept (the run, its record and its
         // observations stay bounded) and the serving loop ends (`wants_stop`).
         if self.timeline.characters >= MAX_CHARACTERS {
             self.timeline.characters += 1;
-            return;
+            return true;
         }
         let listening_hex = inputs::settings_hex(listening);
         self.log.push(inputs::Input::Received { ch: ch.into(), listening: listening_hex });
@@ -49,6 +49,7 @@ impl Hooks for DriveEncoder {
         }
         let seen = &mut self.timeline.observations;
         self.observer.master_char(ch, &mut |o| seen.push(o));
+        !self.noise
     }
 
     fn wants_stop(&self) -> bool {

@@ -44,6 +44,9 @@ pub struct DriveEncoder {
     peer: Option<Box<dyn MasterSettings>>,
     /// The master's data rate as last read while the line was quiet.
     peer_bps: Option<u32>,
+    /// The frame being heard went out at another data rate than the encoder listens
+    /// at, as far as the master's settings tell (`frame_begins`): noise to the encoder.
+    noise: bool,
     /// What the encoder listened at when the last character came.
     listening: Option<UartSettings>,
     /// How long the line had gone unwatched before the read whose characters come.
@@ -107,6 +110,7 @@ impl DriveEncoder {
             heard: Vec::new(),
             peer,
             peer_bps: None,
+            noise: false,
             listening: None,
             read_late_us: 0,
             situation: scenario.situation,
@@ -202,12 +206,32 @@ impl DriveEncoder {
 
     /// A frame of the master begins at `start_us`: grade its data rate if the
     /// master's settings held still since the line was last quiet (otherwise the
-    /// harness cannot tell which settings the characters were sent with).
+    /// harness cannot tell which settings the characters were sent with), and hear it
+    /// as noise where the master's settings as it sent are not the encoder's.
     fn frame_begins(&mut self, start_us: u64) {
-        if !self.reads_peer() || self.listening.is_none() {
-            return;
+        self.noise = false;
+        let Some(listening) = self.listening.filter(|_| self.reads_peer()) else { return };
+        let now = self.peer_bps();
+        // On a real line a frame at another data rate reaches the encoder as framing
+        // errors and bytes that are not the master's: no request, no reply. A
+        // pseudo-terminal passes the bytes whatever the settings, so the encoder does
+        // not hear them here. The settings as the frame's first character came are
+        // taken for the frame's: a master sets its port before it writes (where they
+        // changed since the line was quiet, the one before is the other candidate,
+        // graded below only where both are wrong). // 000:3.3.1
+        let encoder_bps = listening.baud.bits_per_second();
+        if let Some(bps) = now.filter(|bps| *bps != encoder_bps) {
+            self.noise = true;
+            self.note(
+                start_us,
+                WireEntry::HARNESS,
+                format!(
+                    "heard as noise: the master's settings were {bps} Bd as this frame began, the encoder listens at \
+                     {encoder_bps} Bd (a real line garbles such a frame; no reply)"
+                ),
+            );
         }
-        match (self.peer_bps, self.peer_bps()) {
+        match (self.peer_bps, now) {
             (Some(before), Some(now)) => {
                 let seen = &mut self.timeline.observations;
                 let count = seen.len();

@@ -267,3 +267,59 @@ fn a_sampled_wait_keeps_its_changes_only() {
     assert_eq!(changes_only(&[]), Vec::<(u64, u64)>::new());
     assert_eq!(changes_only(&[(7, 1)]), vec![(7, 1)]);
 }
+
+/// The master's settings as `bps` says, read as a pseudo-terminal's are.
+struct FixedRate(std::sync::Arc<std::sync::atomic::AtomicU32>);
+
+impl MasterSettings for FixedRate {
+    fn data_rate(&self) -> Option<u32> {
+        Some(self.0.load(std::sync::atomic::Ordering::Relaxed))
+    }
+}
+
+/// A frame the master sends at another data rate than the encoder listens at reaches
+/// a real encoder as noise: the served encoder does not hear it (no request, no
+/// reply), says so on the timeline, and grades the rate where both readings are
+/// wrong; a frame at the encoder's rate is heard. HX-M3's d11 retried an unanswered
+/// request at 38400 Bd, set just before it wrote, and was answered on a
+/// pseudo-terminal, which passes any rate (000:3.3.1).
+#[test]
+fn a_frame_at_another_data_rate_is_noise_to_the_encoder() {
+    use crate::serve::Hooks;
+    use std::sync::atomic::{AtomicU32, Ordering};
+    let p = hiperface_model::profiles::srs50();
+    let scenario = crate::master::scenarios::catalogue().into_iter().next().unwrap();
+    let rate = std::sync::Arc::new(AtomicU32::new(9600));
+    let peer = Box::new(FixedRate(rate.clone()));
+    let mut encoder = DriveEncoder::new(p, &scenario, false, Some(peer));
+    let listening = Some(UartSettings::DEFAULT);
+    let ct = UartSettings::DEFAULT.char_time_us();
+    // Each frame: the line quiet (the master's rate read then), the master's port set
+    // to `sent_bps`, then Read Position's 3 bytes; whether the encoder heard each.
+    let frame = |at_us: u64, sent_bps: u32, encoder: &mut DriveEncoder| -> Vec<bool> {
+        // The serving loop's watch of the quiet line: the first ends the frame before,
+        // the next reads the master's rate.
+        encoder.idle(at_us - 1000);
+        encoder.idle(at_us);
+        rate.store(sent_bps, Ordering::Relaxed);
+        [0x40u8, 0x42, 0x02]
+            .into_iter()
+            .enumerate()
+            .map(|(i, b)| encoder.received(RxChar::ok(b, at_us + (i as u64 + 1) * ct), listening))
+            .collect()
+    };
+    let noise = |e: &DriveEncoder| e.timeline.entries.iter().filter(|e| e.bytes.starts_with("heard as noise")).count();
+    let rated = |e: &DriveEncoder| e.timeline.observations.iter().filter(|o| o.rule == Rule::DataRate).count();
+    assert_eq!(frame(100_000, 9600, &mut encoder), [true; 3], "at the encoder's rate: heard");
+    // Changed as it sent (9600 Bd when the line was quiet, 38400 at the frame): which
+    // one it went out at is not known, so not graded; taken at 38400 for hearing, as
+    // set last.
+    assert_eq!(frame(200_000, 38_400, &mut encoder), [false; 3], "set to 38400 Bd as it sent: noise");
+    assert_eq!((noise(&encoder), rated(&encoder)), (1, 0));
+    // Both readings wrong (38400 quiet, 19200 as it sent): noise, and graded.
+    assert_eq!(frame(300_000, 19_200, &mut encoder), [false; 3]);
+    assert_eq!((noise(&encoder), rated(&encoder)), (2, 1));
+    // Set back to 9600 Bd as it sent: heard (the other reading is 19200, not graded).
+    assert_eq!(frame(400_000, 9600, &mut encoder), [true; 3]);
+    assert_eq!((noise(&encoder), rated(&encoder)), (2, 1));
+}
