@@ -21,6 +21,11 @@
 #                                                    each scenario (a power-on each)
 #   scripts/firmware-certify.sh --master --features defect-master-no-pause
 #                                                    the master image with a planted defect
+#   FIRMWARE_BUILD_ONLY=1 scripts/firmware-certify.sh --c
+#                                                    the image and the harness built only
+#   FIRMWARE_PREBUILT=1 scripts/firmware-certify.sh --c
+#                                                    run what FIRMWARE_BUILD_ONLY built,
+#                                                    with no build
 #   scripts/firmware-certify.sh --cases 'timing.*' --tolerance-ms 0
 #                                                    any further arguments go to
 #                                                    `hiperface certify slave`
@@ -82,8 +87,24 @@ command -v qemu-system-arm >/dev/null || {
   exit 2
 }
 
-# One build at a time: the image (for thumbv7m-none-eabi), then the harness.
 if [ "$variant" = c ]; then
+  image_name="firmware/encoder-c${defect:+ (DEFECT_$defect)}"
+else
+  bin=hiperface-encoder-fw
+  [ "$variant" = master ] && bin=hiperface-master-fw
+  image_name="firmware/encoder-rs $bin${feature:+ (feature $feature)}"
+fi
+hiperface=$root/target/release/hiperface
+# One build at a time: the image (for thumbv7m-none-eabi), then the harness; copied to
+# $out/image.elf, which is what runs. FIRMWARE_PREBUILT=1: no build (no cargo, which
+# would wait for the build directory another cargo holds), the image of an earlier
+# FIRMWARE_BUILD_ONLY=1 run.
+if [ -n "${FIRMWARE_PREBUILT:-}" ]; then
+  [ -f "$out/image.elf" ] && [ -x "$hiperface" ] || {
+    echo "FIRMWARE_PREBUILT: nothing built for $image_name: run with FIRMWARE_BUILD_ONLY=1 first" >&2
+    exit 2
+  }
+elif [ "$variant" = c ]; then
   command -v arm-none-eabi-gcc >/dev/null || {
     echo "arm-none-eabi-gcc not found: apt-get install -y gcc-arm-none-eabi" >&2
     exit 2
@@ -94,21 +115,22 @@ if [ "$variant" = c ]; then
     --crate-type staticlib
   make -s -C firmware/encoder-c OUT="$out/build" ${defect:+DEFECT="$defect"} \
     LIB="$root/target/thumbv7m-none-eabi/c-release/libhiperface.a"
-  image=$out/build/encoder-c.elf
-  image_name="firmware/encoder-c${defect:+ (DEFECT_$defect)}"
+  cp "$out/build/encoder-c.elf" "$out/image.elf"
 else
   (
     cd firmware/encoder-rs
     cargo build -q --release --locked ${feature:+--features "$feature"}
   )
-  bin=hiperface-encoder-fw
-  [ "$variant" = master ] && bin=hiperface-master-fw
-  image=$root/firmware/encoder-rs/target/thumbv7m-none-eabi/release/$bin
-  image_name="firmware/encoder-rs $bin${feature:+ (feature $feature)}"
+  cp "$root/firmware/encoder-rs/target/thumbv7m-none-eabi/release/$bin" "$out/image.elf"
 fi
-cp "$image" "$out/image.elf"
-cargo build -q --release -p hiperface-conformance
-hiperface=$root/target/release/hiperface
+image=$out/image.elf
+[ -n "${FIRMWARE_PREBUILT:-}" ] || cargo build -q --release -p hiperface-conformance
+# FIRMWARE_BUILD_ONLY=1: the image and the harness built, nothing run (CI builds every
+# image first, then runs them with FIRMWARE_PREBUILT=1 beside its Kani step).
+if [ -n "${FIRMWARE_BUILD_ONLY:-}" ]; then
+  echo "built: $image_name ($image)"
+  exit 0
+fi
 
 sha=$(sha256sum "$image" | cut -d' ' -f1)
 qemu_version=$(qemu-system-arm --version | head -1)
