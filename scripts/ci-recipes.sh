@@ -167,12 +167,10 @@ PY
         export CARGO_INSTALL_ROOT=$work/cargo
         export PATH=$CARGO_INSTALL_ROOT/bin:$PATH
         [ -f "$work/$recipe.baseline" ] || { echo "$page has no baseline command for the rig"; exit 1; }
-        # The job installs the command first; the baseline is made with it too. Built
-        # in this repository's target directory, where CI has built the release
-        # already (a directory of its own would build it all again: minutes of CI).
+        # The job installs the command first; the baseline is made with it too.
         head -1 "$work/$recipe.commands" > "$work/$recipe.install"
         grep -q "^cargo install" "$work/$recipe.install" || { echo "the rig's first command does not install hiperface"; exit 1; }
-        CARGO_TARGET_DIR=$repo/target run_commands "$work/$recipe.install"
+        run_commands "$work/$recipe.install"
         tail -n +2 "$work/$recipe.commands" > "$work/$recipe.run"
         cargo run -q --release -p hiperface-conformance --manifest-path "$repo/Cargo.toml" -- export-profile SRS50 > encoder.toml
         HIPERFACE_PORT=sim run_commands "$work/$recipe.baseline"

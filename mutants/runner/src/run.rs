@@ -82,23 +82,46 @@ pub struct WorkerLine {
 
 struct Worker {
     child: Child,
+    /// The last lines the worker wrote to its standard error (a stack overflow's
+    /// message), for the result of a mutant it died on.
+    said: Said,
     /// The ids it has not answered for, the one it works on first.
     left: VecDeque<u32>,
     last: Instant,
 }
+
+/// The last lines a worker wrote to its standard error, at most [`SAID_LINES`] of at
+/// most [`SAID_CHARS`] characters each: a mutant that overflows the stack or aborts
+/// says why there, and it goes into that mutant's result instead of the run's log.
+type Said = std::sync::Arc<std::sync::Mutex<VecDeque<String>>>;
+const SAID_LINES: usize = 4;
+const SAID_CHARS: usize = 200;
 
 fn spawn(
     family: Family,
     ids: &VecDeque<u32>,
     index: usize,
     tx: &mpsc::Sender<(usize, String)>,
-) -> std::io::Result<Child> {
+) -> std::io::Result<(Child, Said)> {
     let list: Vec<String> = ids.iter().map(u32::to_string).collect();
     let mut child = Command::new(std::env::current_exe()?)
         .args(["worker", "--family", family.name(), "--ids", &list.join(",")])
         .stdout(Stdio::piped())
-        .stderr(Stdio::inherit())
+        .stderr(Stdio::piped())
         .spawn()?;
+    let said = Said::default();
+    if let Some(err) = child.stderr.take() {
+        let said = said.clone();
+        std::thread::spawn(move || {
+            for line in BufReader::new(err).lines().map_while(Result::ok) {
+                let Ok(mut kept) = said.lock() else { break };
+                if kept.len() == SAID_LINES {
+                    kept.pop_front();
+                }
+                kept.push_back(line.chars().take(SAID_CHARS).collect());
+            }
+        });
+    }
     if let Some(out) = child.stdout.take() {
         let tx = tx.clone();
         std::thread::spawn(move || {
@@ -109,7 +132,7 @@ fn spawn(
             }
         });
     }
-    Ok(child)
+    Ok((child, said))
 }
 
 /// Certify `ids` of `family` on `jobs` workers; a mutant with no result after
@@ -130,8 +153,8 @@ pub fn certify_all(
         lists[i % jobs].push_back(*id);
     }
     for (index, left) in lists.into_iter().enumerate() {
-        let child = spawn(family, &left, index, &tx)?;
-        workers.push(Worker { child, left, last: Instant::now() });
+        let (child, said) = spawn(family, &left, index, &tx)?;
+        workers.push(Worker { child, said, left, last: Instant::now() });
     }
     let mut results = BTreeMap::new();
     let total = ids.len();
@@ -142,6 +165,10 @@ pub fn certify_all(
                 let w = &mut workers[index];
                 if w.left.front() == Some(&found.id) {
                     w.left.pop_front();
+                }
+                // What it says from now on is of its next mutant.
+                if let Ok(mut said) = w.said.lock() {
+                    said.clear();
                 }
                 w.last = Instant::now();
                 progress(results.len() + 1, total, found.id, &found);
@@ -166,7 +193,13 @@ pub fn certify_all(
                 let why = if stuck {
                     format!("no result within {} s: the device never gave the run control back", timeout.as_secs())
                 } else {
-                    "the worker process died on it (a stack overflow or an abort in the device)".to_string()
+                    let said: Vec<String> = w.said.lock().map(|s| s.iter().cloned().collect()).unwrap_or_default();
+                    let said = said.iter().map(|l| l.trim()).filter(|l| !l.is_empty()).collect::<Vec<_>>().join(" / ");
+                    if said.is_empty() {
+                        "the worker process died on it (a stack overflow or an abort in the device)".to_string()
+                    } else {
+                        format!("the worker process died on it: {said}")
+                    }
                 };
                 let hung = WorkerLine {
                     id,
@@ -186,7 +219,7 @@ pub fn certify_all(
             }
             w.last = Instant::now();
             if !w.left.is_empty() {
-                w.child = spawn(family, &w.left, index, &tx)?;
+                (w.child, w.said) = spawn(family, &w.left, index, &tx)?;
             }
         }
     }
