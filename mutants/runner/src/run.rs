@@ -193,8 +193,10 @@ pub fn certify_all(
                 let why = if stuck {
                     format!("no result within {} s: the device never gave the run control back", timeout.as_secs())
                 } else {
-                    let said: Vec<String> = w.said.lock().map(|s| s.iter().cloned().collect()).unwrap_or_default();
-                    let said = said.iter().map(|l| l.trim()).filter(|l| !l.is_empty()).collect::<Vec<_>>().join(" / ");
+                    let said = w.said.lock().map_or_else(
+                        |_| String::new(),
+                        |s| s.iter().map(|l| l.trim()).filter(|l| !l.is_empty()).collect::<Vec<_>>().join(" / "),
+                    );
                     if said.is_empty() {
                         "the worker process died on it (a stack overflow or an abort in the device)".to_string()
                     } else {

@@ -83,7 +83,7 @@ const MAX_MASTER_CHARACTERS: usize = 2 * super::encoder::MAX_CHARACTERS;
 /// The master's data rate as it sent last, read by the encoder as it reads a
 /// pseudo-terminal's.
 #[derive(Clone)]
-struct Rate(Arc<AtomicU32>);
+pub(crate) struct Rate(pub(crate) Arc<AtomicU32>);
 
 impl MasterSettings for Rate {
     fn data_rate(&self) -> Option<u32> {

@@ -268,15 +268,6 @@ fn a_sampled_wait_keeps_its_changes_only() {
     assert_eq!(changes_only(&[(7, 1)]), vec![(7, 1)]);
 }
 
-/// The master's settings as `bps` says, read as a pseudo-terminal's are.
-struct FixedRate(std::sync::Arc<std::sync::atomic::AtomicU32>);
-
-impl MasterSettings for FixedRate {
-    fn data_rate(&self) -> Option<u32> {
-        Some(self.0.load(std::sync::atomic::Ordering::Relaxed))
-    }
-}
-
 /// A frame the master sends at another data rate than the encoder listens at reaches
 /// a real encoder as noise: the served encoder does not hear it (no request, no
 /// reply), says so on the timeline, and grades the rate where both readings are
@@ -290,7 +281,7 @@ fn a_frame_at_another_data_rate_is_noise_to_the_encoder() {
     let p = hiperface_model::profiles::srs50();
     let scenario = crate::master::scenarios::catalogue().into_iter().next().unwrap();
     let rate = std::sync::Arc::new(AtomicU32::new(9600));
-    let peer = Box::new(FixedRate(rate.clone()));
+    let peer = Box::new(crate::master::in_process::Rate(rate.clone()));
     let mut encoder = DriveEncoder::new(p, &scenario, false, Some(peer));
     let listening = Some(UartSettings::DEFAULT);
     let ct = UartSettings::DEFAULT.char_time_us();
