@@ -87,7 +87,41 @@ struct Worker {
     said: Said,
     /// The ids it has not answered for, the one it works on first.
     left: VecDeque<u32>,
-    last: Instant,
+    /// Since its last result (or its start).
+    since: OwnTime,
+}
+
+/// The time a worker has had since a mark: the wall clock less the time the machine
+/// kept it waiting for a processor (its threads' run-queue delay, Linux's
+/// `/proc/PID/task/*/schedstat`). A mutant that loops or blocks is hung after the same
+/// time of its own on an idle machine and on a loaded one (CI runs the catalogue at
+/// nice 19 beside the real-time tests); where that delay cannot be read, the wall
+/// clock.
+struct OwnTime {
+    mark: Instant,
+    waited_ns: u64,
+}
+
+impl OwnTime {
+    fn start(pid: u32) -> OwnTime {
+        OwnTime { mark: Instant::now(), waited_ns: run_queue_delay_ns(pid) }
+    }
+
+    fn elapsed(&self, pid: u32) -> Duration {
+        let waited = run_queue_delay_ns(pid).saturating_sub(self.waited_ns);
+        self.mark.elapsed().saturating_sub(Duration::from_nanos(waited))
+    }
+}
+
+/// The time the threads of process `pid` have waited on a run queue, ns (0 where it
+/// cannot be read). Bounded reads: a schedstat line is three numbers.
+fn run_queue_delay_ns(pid: u32) -> u64 {
+    let Ok(tasks) = std::fs::read_dir(format!("/proc/{pid}/task")) else { return 0 };
+    tasks
+        .filter_map(Result::ok)
+        .filter_map(|t| std::fs::read_to_string(t.path().join("schedstat")).ok())
+        .filter_map(|line| line.split_whitespace().nth(1)?.parse::<u64>().ok())
+        .fold(0u64, u64::saturating_add)
 }
 
 /// The last lines a worker wrote to its standard error, at most [`SAID_LINES`] of at
@@ -154,7 +188,8 @@ pub fn certify_all(
     }
     for (index, left) in lists.into_iter().enumerate() {
         let (child, said) = spawn(family, &left, index, &tx)?;
-        workers.push(Worker { child, said, left, last: Instant::now() });
+        let since = OwnTime::start(child.id());
+        workers.push(Worker { child, said, left, since });
     }
     let mut results = BTreeMap::new();
     let total = ids.len();
@@ -170,7 +205,7 @@ pub fn certify_all(
                 if let Ok(mut said) = w.said.lock() {
                     said.clear();
                 }
-                w.last = Instant::now();
+                w.since = OwnTime::start(w.child.id());
                 progress(results.len() + 1, total, found.id, &found);
                 results.insert(found.id, found);
             }
@@ -179,19 +214,24 @@ pub fn certify_all(
         }
         for (index, w) in workers.iter_mut().enumerate() {
             let exited = matches!(w.child.try_wait(), Ok(Some(_)));
-            let stuck = w.last.elapsed() > timeout;
+            // Read while the process is there (an exited one's delay is gone with it).
+            let own = w.since.elapsed(w.child.id());
+            let stuck = !exited && own > timeout;
             if w.left.is_empty() || !(exited || stuck) {
                 continue;
             }
             // An exit with work left: let its last lines arrive first.
-            if exited && !stuck && w.last.elapsed() < Duration::from_secs(1) {
+            if exited && !stuck && w.since.mark.elapsed() < Duration::from_secs(1) {
                 continue;
             }
             let _ = w.child.kill();
             let _ = w.child.wait();
             if let Some(id) = w.left.pop_front() {
                 let why = if stuck {
-                    format!("no result within {} s: the device never gave the run control back", timeout.as_secs())
+                    format!(
+                        "no result within {} s of its own time: the device never gave the run control back",
+                        timeout.as_secs()
+                    )
                 } else {
                     let said = w.said.lock().map_or_else(
                         |_| String::new(),
@@ -214,19 +254,59 @@ pub fn certify_all(
                         crashed: Some(why),
                     },
                     witness: None,
-                    ms: w.last.elapsed().as_secs_f64() * 1000.0,
+                    ms: own.as_secs_f64() * 1000.0,
                 };
                 progress(results.len() + 1, total, id, &hung);
                 results.insert(id, hung);
             }
-            w.last = Instant::now();
             if !w.left.is_empty() {
                 (w.child, w.said) = spawn(family, &w.left, index, &tx)?;
             }
+            w.since = OwnTime::start(w.child.id());
         }
     }
     for mut w in workers {
         let _ = w.child.wait();
     }
     Ok(results)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two threads busy on one processor each wait for it half of the time: their
+    /// delay is read and taken off, and a process that is gone reads as no delay.
+    #[test]
+    fn own_time_leaves_out_the_wait_for_a_processor() {
+        let me = std::process::id();
+        let start = OwnTime::start(me);
+        let busy = || {
+            let t = Instant::now();
+            let mut x = 0u64;
+            while t.elapsed() < Duration::from_millis(300) {
+                x = std::hint::black_box(x.wrapping_add(1));
+            }
+        };
+        // More busy threads than processors: some of them wait on a run queue.
+        let threads = std::thread::available_parallelism().map_or(2, |n| n.get()) * 2;
+        std::thread::scope(|s| {
+            let handles: Vec<_> = (0..threads).map(|_| s.spawn(busy)).collect();
+            // Read while the threads are there (an exited thread's delay is gone).
+            std::thread::sleep(Duration::from_millis(250));
+            let own = start.elapsed(me);
+            let wall = start.mark.elapsed();
+            // Twice as many busy threads as processors for 250 ms: together they waited
+            // about 250 ms per processor; a fifth of one is taken as shown.
+            let taken_off = wall.saturating_sub(own);
+            assert!(
+                taken_off >= Duration::from_millis(50),
+                "own {own:?} against wall {wall:?}: the run-queue delay was not taken off"
+            );
+            for h in handles {
+                let _ = h.join();
+            }
+        });
+        assert_eq!(run_queue_delay_ns(u32::MAX), 0);
+    }
 }
