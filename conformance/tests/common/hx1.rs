@@ -1,7 +1,9 @@
 //! The independent slaves as processes on a pseudo-terminal, and their data sheets as
 //! profiles: HX-1 (`tests/independent/hx1_slave.py`, written from 000), HX-L
-//! (`hxl_slave.py`, a legacy-edition slave written from 002) and HX-3 (`hx3_slave.py`,
-//! the blind trial's slave, written from 000 and the user documents).
+//! (`hxl_slave.py`, a legacy-edition slave written from 002), HX-3 (`hx3_slave.py`,
+//! the blind trial's slave, written from 000 and the user documents) and HX-4
+//! (`hx4_slave.py`, the second blind trial's, a legacy-edition slave written from 002,
+//! 000 and the user documents).
 
 use hiperface_conformance::port::{self, PortSpec};
 use hiperface_model::{Grading, Profile};
@@ -24,6 +26,11 @@ pub fn profile() -> Profile {
 /// HX-3's data sheet.
 pub fn hx3_profile() -> Profile {
     profile_file::load(&dir().join("hx3.toml")).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// HX-4's data sheet.
+pub fn hx4_profile() -> Profile {
+    profile_file::load(&dir().join("hx4.toml")).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// HX-L's data sheet, with its stored settings byte set to `settings`.
@@ -88,6 +95,12 @@ impl Hx1 {
     /// settings for about a second before the stored ones (002:57h).
     pub fn start_legacy(args: &[&str]) -> Hx1 {
         Hx1::start_program("hxl_slave.py", args, Duration::from_millis(1200))
+    }
+
+    /// Start HX-4, the second blind trial's legacy-edition slave, past its power-up as
+    /// HX-L (002's default window of about a second).
+    pub fn start_hx4(args: &[&str]) -> Hx1 {
+        Hx1::start_program("hx4_slave.py", args, Duration::from_millis(1200))
     }
 
     fn start_program(program: &str, args: &[&str], power_up: Duration) -> Hx1 {

@@ -13,7 +13,7 @@ use crate::profile::AnalogSource;
 use crate::response::{Response, ResponseError, ResponseFrame, Version};
 use crate::settings::Edition;
 use crate::slave::fields::Contents;
-use crate::slave::{Outcome, Reply, Slave};
+use crate::slave::{Outcome, Reply, Silence, Slave};
 use core::fmt;
 
 mod before;
@@ -173,8 +173,19 @@ impl Oracle {
         let command = CommandId::of_frame(request);
         let (expected_frame, decoded) = match (expected.reply, observed) {
             (Reply::Silent(_), None) => return Grade::pass(expected.clause),
-            (Reply::Silent(_), Some(_)) => {
-                return Grade::against(Deviation::UnexpectedReply, expected.clause, edition);
+            (Reply::Silent(silence), Some(_)) => {
+                // An answer while initializing: the state machine's rule (000:T9) binds
+                // current devices; a legacy device's initialization is 000:T29's, the
+                // one it shares ("respond to new requests after initialization time
+                // (100 ms) plus timeout"; 002: a reset "runs through the same
+                // initialisation process as ... when the supply voltage is switched
+                // on"), as for a silent reply below (HX-4's d13).
+                let c = if silence == Silence::NotListening && edition == Edition::Legacy {
+                    clause::ENCODER_RESET
+                } else {
+                    expected.clause
+                };
+                return Grade::against(Deviation::UnexpectedReply, c, edition);
             }
             (Reply::Frame(_), None) => {
                 // A silent broadcast breaks 2.3.1 whatever the command. // 000:2.3.1

@@ -1,14 +1,26 @@
 //! Addressing: broadcast, other addresses, Set Encoder Address. // 000:2.3.1, 000:T5, 000:T31
 
-use super::{always, case, code0, release};
+use super::{always, case, code0, errors_not_stacked, release};
 use crate::slave::Case;
 use hiperface_model::Request;
 
-pub const BROADCAST: Case =
-    case!("address.broadcast", "Broadcast FFh is answered with the own address", [BROADCAST], Nothing, always, |c| {
+pub const BROADCAST: Case = case!(
+    "address.broadcast",
+    "Broadcast FFh is answered with the own address, an error response too",
+    [BROADCAST, UNKNOWN_COMMAND, CHECKSUM_ERROR],
+    Nothing,
+    always,
+    |c| {
         c.request_at(0xFF, Request::ReadPosition)?;
-        c.request_at(0xFF, Request::ReadTypeLabel).map(drop)
-    });
+        c.request_at(0xFF, Request::ReadTypeLabel)?;
+        // "Each Slave will acknowledge with their specific address" (000:2.3.1), with an
+        // error response as with any other: one that echoes FFh (HX-4's d03) is no
+        // slave's address (000:T5).
+        c.ask(&[0xFF, 0x45])?; // an unknown command: 0Bh
+        c.send_frame(&[0xFF, 0x42, 0x00])?; // a bad checksum: 0Ah
+        errors_not_stacked(c)
+    }
+);
 
 pub const OTHER: Case =
     case!("address.other", "Frames for other addresses draw silence", [ADDRESS, CHECK_ORDER], Nothing, always, |c| {

@@ -10,7 +10,13 @@ use hiperface_model::{clause, CommandId, Request, Response};
 /// Send Encoder Reset; when the model's slave started again (000:T29: after the
 /// request's timeout), µs.
 fn reset(c: &mut Ctx<'_>) -> Result<u64, CaseError> {
-    let x = c.request(Request::EncoderReset)?.exchange;
+    let address = c.address();
+    reset_at(c, address)
+}
+
+/// [`reset`] sent to `address` (FFh: a broadcast).
+fn reset_at(c: &mut Ctx<'_>, address: u8) -> Result<u64, CaseError> {
+    let x = c.request_at(address, Request::EncoderReset)?.exchange;
     Ok(c.model.power_up().since_us.unwrap_or(x.complete_us()))
 }
 
@@ -43,7 +49,13 @@ pub const RESET: Case = case!(
             u64::from(init) + SETTLE_MARGIN_US / 1000
         );
         c.check(answered, msg, clause::ENCODER_RESET);
-        c.request(Request::ReadEncoderStatus).map(drop)
+        c.request(Request::ReadEncoderStatus)?;
+        // A broadcast Encoder Reset draws no reply either: "A correct 'Encoder Reset'
+        // request will not be followed by a Slave response message" (000:T29); a slave
+        // that acknowledges every broadcast (HX-4's d10) answers this one.
+        let since = reset_at(c, 0xFF)?;
+        wait_until(c, after(since, init) + SETTLE_MARGIN_US)?;
+        c.request_in_state(Request::ReadPosition, CommState::DefaultCommunication).map(drop)
     }
 );
 

@@ -80,46 +80,72 @@ pub const STORED: Case = case!(
             return Ok(());
         }
         unobserved_rate(c);
-        let set = |s: UartSettings| Request::SetSerialInterface { settings: s.byte(), code0 };
-        c.request(set(other))?;
-        // The guard talks as the model says the device listens: in the old settings
-        // until a reset, in the new ones after it (or at power-on, in the default
-        // window, whatever was stored: 000:T9).
-        let g = c.guard(a, set(stored));
-        // Still the old settings until a reset (000:T32): a device that took the new
-        // ones at once hears this request garbled (or not at all).
-        // (A reply that does not decode is the oracle's to FAIL, not this rule's.)
-        let reply = c.request(Request::ReadPosition)?.reply;
-        let decodes = decoded(reply.as_deref(), CommandId::ReadPosition);
-        let heard = match reply {
-            None => false,
-            Some(_) => !matches!(decodes, Some(Response::Error(FaultCode::Parity))),
-        };
-        let msg = "after Set Serial Interface, a request in the old settings is not heard: the new settings are in \
-                   use before an Encoder Reset";
-        c.check(heard, msg, hiperface_model::clause::SET_SERIAL);
-        // Read Type Label reports the stored settings, the new ones already (000:T28;
-        // the active ones are NON-STRICT).
-        c.request(Request::ReadTypeLabel)?;
-        // At the other data rate, a pause of the default rate's timeout and frame before
-        // each request: a listener that does not follow the rate (a wire log is read at
-        // one) still tells the frames apart.
-        let apart = |c: &mut crate::slave::Ctx<'_>| c.wait_ms(20);
-        for target in [other, stored] {
-            if target == stored {
-                apart(c)?;
-                c.request(set(stored))?;
-                c.release(g);
-                apart(c)?;
-            }
-            let reset_at = c.request(Request::EncoderReset)?.exchange.complete_us();
-            let p = c.profile();
-            wait_until(c, reset_at + p.user_settings_ms as u64 * 1000 + 50_000)?;
-            c.request_in_state(Request::ReadPosition, CommState::OperationalUser)?;
+        // The fastest rate the profile offers and the slowest below the default: a
+        // timeout kept at another rate's length (HX-4's d08, a timer that saturates
+        // at 9600 Bd) is early at the slower one, whatever the line (000:2.2.2).
+        let slower = slowest_below_default(&c.profile()).map(|baud| UartSettings { baud, ..stored });
+        for other in std::iter::once(other).chain(slower.filter(|s| *s != other && s.baud != stored.baud)) {
+            stored_then_restored(c, a, code0, stored, other)?;
         }
         Ok(())
     }
 );
+
+/// The slowest data rate the profile offers below the default one.
+fn slowest_below_default(p: &Profile) -> Option<hiperface_model::settings::Baud> {
+    hiperface_model::settings::Baud::ALL
+        .into_iter()
+        .find(|b| b.bits_per_second() < UartSettings::DEFAULT.baud.bits_per_second() && p.supports_baud(*b))
+}
+
+/// `settings.stored` at `other`: the old settings until a reset, `other` after it,
+/// then `stored` again after the next.
+fn stored_then_restored(
+    c: &mut crate::slave::Ctx<'_>,
+    a: u8,
+    code0: u8,
+    stored: UartSettings,
+    other: UartSettings,
+) -> Result<(), crate::slave::CaseError> {
+    let set = |s: UartSettings| Request::SetSerialInterface { settings: s.byte(), code0 };
+    c.request(set(other))?;
+    // The guard talks as the model says the device listens: in the old settings
+    // until a reset, in the new ones after it (or at power-on, in the default
+    // window, whatever was stored: 000:T9).
+    let g = c.guard(a, set(stored));
+    // Still the old settings until a reset (000:T32): a device that took the new
+    // ones at once hears this request garbled (or not at all).
+    // (A reply that does not decode is the oracle's to FAIL, not this rule's.)
+    let reply = c.request(Request::ReadPosition)?.reply;
+    let decodes = decoded(reply.as_deref(), CommandId::ReadPosition);
+    let heard = match reply {
+        None => false,
+        Some(_) => !matches!(decodes, Some(Response::Error(FaultCode::Parity))),
+    };
+    let msg = "after Set Serial Interface, a request in the old settings is not heard: the new settings are in \
+               use before an Encoder Reset";
+    c.check(heard, msg, hiperface_model::clause::SET_SERIAL);
+    // Read Type Label reports the stored settings, the new ones already (000:T28;
+    // the active ones are NON-STRICT).
+    c.request(Request::ReadTypeLabel)?;
+    // At the other data rate, a pause of the default rate's timeout and frame before
+    // each request: a listener that does not follow the rate (a wire log is read at
+    // one) still tells the frames apart.
+    let apart = |c: &mut crate::slave::Ctx<'_>| c.wait_ms(20);
+    for target in [other, stored] {
+        if target == stored {
+            apart(c)?;
+            c.request(set(stored))?;
+            c.release(g);
+            apart(c)?;
+        }
+        let reset_at = c.request(Request::EncoderReset)?.exchange.complete_us();
+        let p = c.profile();
+        wait_until(c, reset_at + p.user_settings_ms as u64 * 1000 + 50_000)?;
+        c.request_in_state(Request::ReadPosition, CommState::OperationalUser)?;
+    }
+    Ok(())
+}
 
 pub const TEMPORARY: Case = case!(
     "settings.temporary",
