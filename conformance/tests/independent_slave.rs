@@ -132,6 +132,7 @@ struct Defect {
 /// The cases that read Read Encoder Status besides identity.status: the power-up case,
 /// and those that answer errors (nothing of them is stacked, 000:T37).
 const READS_STATUS: &[&str] = &[
+    "address.broadcast",
     "powerup.reset",
     "protocol.checksum",
     "protocol.unknown-command",
@@ -192,7 +193,13 @@ const DEFECTS: &[Defect] = &[
         // reads at the end of the Extended Type Label
         collateral: &["fields.extended-type-label"],
     },
-    Defect { name: "wrong-error-code", case: "protocol.unknown-command", clause: "000:T49", collateral: &[] },
+    Defect {
+        name: "wrong-error-code",
+        case: "protocol.unknown-command",
+        clause: "000:T49",
+        // a broadcast unknown command too
+        collateral: &["address.broadcast"],
+    },
     Defect {
         name: "warning-stuck",
         case: "identity.status",

@@ -36,6 +36,7 @@ pub(super) const PEERS: &[(&str, &str)] = &[
     ("HX-E", "python/tests/independent_encoder.py"),
     ("HX-3", "conformance/tests/independent/hx3_slave.py"),
     ("HX-M3", "conformance/tests/independent/hxm3_master.py"),
+    ("HX-4", "conformance/tests/independent/hx4_slave.py"),
 ];
 
 /// The model checker's depth in CI (`cargo test -p hiperface-proofs`): a second in a
@@ -119,7 +120,7 @@ pub(super) fn wrong_figures(docs: &[Doc], program: &Program) -> (Vec<String>, Ha
                     .map(|(_, name)| name);
                 let Some(peer) = peer else {
                     wrong.push(format!(
-                        "{at}: whose defect switches? Name the peer (HX-1, HX-L, HX-M, HX-E, HX-3, HX-M3) before it"
+                        "{at}: whose defect switches? Name the peer (HX-1, HX-L, HX-M, HX-E, HX-3, HX-M3, HX-4) before it"
                     ));
                     continue;
                 };
