@@ -142,3 +142,23 @@ fn silence_in_the_power_up_windows_breaks_the_state_machine_rule() {
         }
     }
 }
+
+/// An answer while the slave initializes FAILs on the state machine (000:T9) for a
+/// current device and on 000:T29 for a legacy one (000:T9 binds current devices only;
+/// HX-4's d13); a frame for another address answered stays the address rule's in
+/// either edition.
+#[test]
+fn an_answer_while_initializing_fails_on_the_editions_rule() {
+    let reply = sealed(&hex("40 42 00 00 00 00"));
+    for (profile, clause) in [(profiles::srs50(), "000:T9"), (profiles::legacy_srs(), "000:T29")] {
+        let s = Slave::new(profile);
+        let g = grade(&s, &hex("40 42 02"), Some(&reply), Grading::Range);
+        assert_eq!(
+            (g.verdict(), g.clause().id(), g.deviation()),
+            (Verdict::Fail, clause, Some(Deviation::UnexpectedReply))
+        );
+        let o = operational(profile);
+        let g = grade(&o, &hex("41 42 03"), Some(&sealed(&hex("41 42 00 00 00 00"))), Grading::Range);
+        assert_eq!((g.deviation(), g.clause().id()), (Some(Deviation::UnexpectedReply), "000:T5"), "{g}");
+    }
+}
