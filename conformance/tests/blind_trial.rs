@@ -104,7 +104,7 @@ fn certify_hx4(args: &[&str], expected: impl Fn(&Report) -> bool) -> Report {
     certify_faithfully(&format!("HX-4 {args:?}"), || Hx1::start_hx4(args), hx4_profile(), expected)
 }
 
-/// What is wrong with `r` as the run of HX-3 with the defect `d`: its case not FAILed
+/// What is wrong with `r` as the run of a trial's slave with the defect `d`: its case not FAILed
 /// on its clause, or a harness ERROR.
 fn problems(d: &Defect, r: &Report) -> Vec<String> {
     let mut found = Vec::new();
@@ -137,15 +137,9 @@ fn the_conformant_hx3_passes_over_a_pseudo_terminal() {
 #[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
 fn every_sealed_defect_is_failed_by_its_case_or_argued() {
     let _one = common::one_at_a_time();
-    let names = listed_defects("hx3_slave.py");
-    let mut covered: Vec<&str> = CAUGHT.iter().map(|d| d.name).chain([ARGUED]).collect();
-    covered.sort_unstable();
-    assert_eq!(names, covered, "every defect HX-3 has is either caught here or argued");
-    let mut found = Vec::new();
-    let runs = common::two_at_a_time(CAUGHT, |d| certify_hx3(&["--defect", d.name], |r| problems(d, r).is_empty()));
-    for (d, r) in CAUGHT.iter().zip(&runs) {
-        found.extend(problems(d, r));
-    }
+    let mut found = caught_problems("hx3_slave.py", CAUGHT, ARGUED, |d| {
+        certify_hx3(&["--defect", d.name], |r| problems(d, r).is_empty())
+    });
     // The argued survivor: no FAIL on a pseudo-terminal.
     let r = certify_hx3(&["--defect", ARGUED], |r| r.outcome().passed());
     if !r.outcome().passed() {
@@ -154,14 +148,26 @@ fn every_sealed_defect_is_failed_by_its_case_or_argued() {
     assert!(found.is_empty(), "{}", found.join("\n"));
 }
 
-/// The defect switches `program` lists (`--list-defects`).
-fn listed_defects(program: &str) -> Vec<String> {
+/// A trial's caught defects, run two at a time (`certify` with each one switched on):
+/// what is wrong with each run ([`problems`]). First, every defect switch `program`
+/// lists (`--list-defects`) must be either `caught` or `argued`.
+fn caught_problems(
+    program: &str,
+    caught: &[Defect],
+    argued: &str,
+    certify: impl Fn(&Defect) -> Report + Sync,
+) -> Vec<String> {
     let listed = std::process::Command::new("python3")
         .arg(common::hx1::dir().join(program))
         .arg("--list-defects")
         .output()
         .expect("python3, to list the slave's defects");
-    String::from_utf8_lossy(&listed.stdout).lines().map(str::to_string).collect()
+    let names: Vec<String> = String::from_utf8_lossy(&listed.stdout).lines().map(str::to_string).collect();
+    let mut covered: Vec<&str> = caught.iter().map(|d| d.name).chain([argued]).collect();
+    covered.sort_unstable();
+    assert_eq!(names, covered, "every defect {program} has is either caught here or argued");
+    let runs = common::two_at_a_time(caught, certify);
+    caught.iter().zip(&runs).flat_map(|(d, r)| problems(d, r)).collect()
 }
 
 #[test]
@@ -183,14 +189,9 @@ fn the_conformant_hx4_passes_over_a_pseudo_terminal() {
 #[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
 fn every_sealed_defect_of_hx4_is_failed_by_its_case_or_argued() {
     let _one = common::one_at_a_time();
-    let mut covered: Vec<&str> = HX4_CAUGHT.iter().map(|d| d.name).chain([HX4_ARGUED]).collect();
-    covered.sort_unstable();
-    assert_eq!(listed_defects("hx4_slave.py"), covered, "every defect HX-4 has is either caught here or argued");
-    let mut found = Vec::new();
-    let runs = common::two_at_a_time(HX4_CAUGHT, |d| certify_hx4(&["--defect", d.name], |r| problems(d, r).is_empty()));
-    for (d, r) in HX4_CAUGHT.iter().zip(&runs) {
-        found.extend(problems(d, r));
-    }
+    let mut found = caught_problems("hx4_slave.py", HX4_CAUGHT, HX4_ARGUED, |d| {
+        certify_hx4(&["--defect", d.name], |r| problems(d, r).is_empty())
+    });
     // The argued survivor: PASSED, its watchdog fault NON-STRICT where the reset is.
     let r = certify_hx4(&["--defect", HX4_ARGUED], |r| r.outcome().passed());
     let reset = r.cases.iter().find(|c| c.id == "powerup.reset").expect("a case of the catalogue");

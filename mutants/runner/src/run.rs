@@ -275,8 +275,8 @@ pub fn certify_all(
 mod tests {
     use super::*;
 
-    /// Two threads busy on one processor each wait for it half of the time: their
-    /// delay is read and taken off, and a process that is gone reads as no delay.
+    /// Twice as many busy threads as processors wait for one about half of the time:
+    /// their delay is read and taken off, and a process that is gone reads as no delay.
     #[test]
     fn own_time_leaves_out_the_wait_for_a_processor() {
         let me = std::process::id();
