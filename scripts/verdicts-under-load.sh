@@ -18,8 +18,8 @@
 #
 # The busy half runs three busy loops; with BUILD=1 also a cargo build of the workspace
 # in a loop at normal priority (a copy of HEAD in $OUT/build-tree, its own target
-# directory). SLAVES may name HX-3 (`hx-3`, the blind trial's slave) and HX-1 or HX-3
-# with a defect switch as `hx-1:NAME`, `hx-3:dNN` (its own case
+# directory). SLAVES may name HX-3 and HX-4 (`hx-3`, `hx-4`, the blind trials' slaves) and
+# HX-1, HX-3 or HX-4 with a defect switch as `hx-1:NAME`, `hx-3:dNN`, `hx-4:dNN` (its own case
 # must FAIL in every run), and `sim-link` for `hiperface simulate` reached through a symbolic link
 # to its pseudo-terminal. MASTERS may name HX-M3 (`hx-m3`, the master of the blind
 # trial) and its sealed defects as `hx-m3:dNN`. Each line gives the run's exit code, and ends with what the harness measured of the line
@@ -56,7 +56,7 @@ if [ "${1:-}" = compare ]; then
     shift
     status=0
     for f in $(for d in "$@"; do ls "$d"/*.txt 2>/dev/null; done | xargs -n1 basename | sort -u); do
-        case "$f" in hx1.path | hx3.path) continue ;; esac
+        case "$f" in hx1.path | hx3.path | hx4.path) continue ;; esac
         for d in "$@"; do [ -f "$d/$f" ] && cat "$d/$f"; done | judge "${f%.txt}" || status=1
     done
     exit $status
@@ -139,7 +139,7 @@ certify_master() {  # name, report dir
 
 certify_slave() {  # name, report dir
     local defect=()
-    case "$1" in hx-1:* | hx-3:*) defect=(--defect "${1#hx-?:}") ;; esac
+    case "$1" in hx-1:* | hx-3:* | hx-4:*) defect=(--defect "${1#hx-?:}") ;; esac
     case "$1" in
         sim) local rc=0
             chrt -f 50 "$H" certify slave --port sim --report "$2" >"$2.log" 2>&1 || rc=$?
@@ -156,16 +156,20 @@ certify_slave() {  # name, report dir
             echo "$rc" > "$2.rc"
             kill "$sim" 2>/dev/null || true; wait "$sim" 2>/dev/null || true
             ;;
-        hx-1* | hx-3*)  # HX-1, or HX-3 (the blind trial's slave, which also has 6Bh)
-            local peer=hx1 more=()
-            case "$1" in hx-3*) peer=hx3 more=(--allow-adjustment) ;; esac
+        hx-1* | hx-3* | hx-4*)  # HX-1, HX-3 (a blind trial's slave, which also has 6Bh) or HX-4
+            local peer=hx1 more=() power_up=0.3
+            case "$1" in
+                hx-3*) peer=hx3 more=(--allow-adjustment) ;;
+                # A legacy device: past its initialization and window of default settings.
+                hx-4*) peer=hx4 power_up=1.2 ;;
+            esac
             rm -f "$OUT/$peer.path"
             # In a session of its own (the pipe's `sleep` included), ended as a group below.
             setsid bash -c 'sleep 600 | chrt -f 50 python3 "$@"' _ "conformance/tests/independent/${peer}_slave.py" \
                 --pty "${defect[@]}" > "$OUT/$peer.path" &
             local hx=$!
             for _ in $(seq 50); do [ -s "$OUT/$peer.path" ] && break; sleep 0.1; done
-            sleep 0.3
+            sleep "$power_up"
             local rc=0
             "$H" certify slave --port "$(head -1 "$OUT/$peer.path")" --profile "conformance/tests/independent/$peer.toml" \
                 --allow-writes --allow-counter-change "${more[@]}" --report "$2" >"$2.log" 2>&1 || rc=$?
