@@ -192,7 +192,7 @@ clauses! {
     [normative Both] DATA_FIELDS = "000:2.4.2/data-fields": "Data fields of 16 to 128 bytes in multiples of 16, consecutive numbers from 0, linked to Code0...Code3, read-only or write-enabled; only the last field can change size; fields can be deleted.";
     [normative Current] EXTENDED_TYPE_LABEL = "000:T20": "Extended Type Label: virtual data field FFh, at least 64 bytes, XOR checksum at offset 00h, read-only, no access code, not counted as a data field.";
     [normative Both] READ_DATA = "000:T21": "Read Data 4Ah: field, offset, count (1...128), access code; offset + count must not exceed the field size.";
-    [normative Both] STORE_DATA = "000:T22": "Store Data 4Bh: field, offset, count, access code, data; not to read-only fields.";
+    [normative Both] STORE_DATA = "000:T22": "Store Data 4Bh: field, offset, count, access code, data; offset + count must not exceed the field size; not to read-only fields.";
     [normative Both] FIELD_STATUS = "000:T23": "Data Field Status 4Ch: bits 0-2 size/16-1, bit 3 code enabled, bits 4-5 code number, bit 6 write-enabled, bit 7 exists.";
     [normative Both] CREATE_FIELD = "000:T24": "Create Data Field 4Dh: new number = next available; bit 7 = 1 create/modify, 0 delete; delete or resize only the last field; the access code byte must correspond to the field's code even if disabled.";
     [normative Both] MEMORY_STATUS = "000:T25": "Memory Status 4Eh: free user memory in 16 byte blocks, number of data fields.";

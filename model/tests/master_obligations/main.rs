@@ -258,6 +258,8 @@ fn every_rule_is_in_the_list_of_rules() {
         Rule::ExtendedTypeLabelNotRead => 17,
         Rule::NoCyclicRequest => 18,
         Rule::DataRate => 19,
+        Rule::ReadOutsideField => 20,
+        Rule::StoreOutsideField => 21,
     };
     for (i, r) in Rule::ALL.iter().enumerate() {
         assert_eq!(place(*r), i, "{r:?}");
@@ -274,6 +276,8 @@ fn must_rules_are_normative_and_should_rules_are_not() {
         (Rule::DuringInitialization, true),
         (Rule::TooSoonAfterReset, true),
         (Rule::DataRate, true),
+        (Rule::ReadOutsideField, true),
+        (Rule::StoreOutsideField, true),
         (Rule::ReplyWindow, false),
         (Rule::StatusNotRead, false),
         (Rule::WarningIgnored, false),
@@ -389,4 +393,51 @@ fn every_rule_says_what_it_asks_in_its_own_words() {
     assert_eq!(texts.len(), Rule::ALL.len(), "distinct");
     assert!(texts.iter().all(|t| t.len() > 10 && t.chars().all(|c| c.is_ascii_graphic() || c == ' ' || !c.is_ascii())));
     assert_eq!(Rule::Malformed.text(), "a frame that is no request");
+}
+
+/// What the encoder itself answered (`served_reply`, a harness that serves the model):
+/// 11h to a Read Data or a Store Data is a request outside its field, on 000:T21 or
+/// 000:T22; 11h to another command, or another error to these, is nothing of the kind.
+#[test]
+fn a_data_field_request_the_encoder_refuses_for_its_offset_is_outside_the_field() {
+    use hiperface_model::CommandId;
+    let reply = |code| ResponseFrame { address: 0x40, warning: false, response: Response::Error(code) };
+    let seen = |command, code| {
+        let mut observer = Observer::new(profiles::sek37());
+        let mut rules = Vec::new();
+        observer.served_reply(command, &reply(code), 7_000, &mut |o: Observation| rules.push((o.rule, o.at_us)));
+        rules
+    };
+    assert_eq!(seen(CommandId::ReadData, FaultCode::WrongOffset), vec![(Rule::ReadOutsideField, 7_000)]);
+    assert_eq!(seen(CommandId::StoreData, FaultCode::WrongOffset), vec![(Rule::StoreOutsideField, 7_000)]);
+    assert_eq!(Rule::ReadOutsideField.clause().id(), "000:T21");
+    assert_eq!(Rule::StoreOutsideField.clause().id(), "000:T22");
+    for (command, code) in [
+        (CommandId::ReadData, FaultCode::WrongFieldNumber),
+        (CommandId::StoreData, FaultCode::WrongAccessCode),
+        (CommandId::ReadPosition, FaultCode::WrongOffset),
+    ] {
+        assert_eq!(seen(command, code), vec![], "{command:?} {code:?}");
+    }
+}
+
+/// A request sent a character at a time, each after a 10 ms tick (HX-M4's d04): one
+/// gap inside a request, not three frames that are no request; and a Store Data in
+/// three parts the same. A fragment that cannot grow into a request (its command
+/// byte names none) stands alone as before.
+#[test]
+fn a_request_sent_in_more_than_two_parts_is_a_gap_inside_it() {
+    let mut bus = Bus::new(profiles::srs50());
+    conformant_start(&mut bus);
+    bus.send_raw(&[0x40, 0x42, 0x02], &[(1, 10 * MS), (2, 10 * MS)]);
+    assert_eq!(bus.rules(), vec![Rule::GapInRequest]);
+    let mut bus = Bus::new(profiles::srs50());
+    conformant_start(&mut bus);
+    let store = common::sealed(&[0x40, 0x4B, 0x01, 0x00, 0x02, 0x55, 0x12, 0x34]);
+    bus.send_raw(&store, &[(2, 7 * MS), (5, 7 * MS)]);
+    assert_eq!(bus.rules(), vec![Rule::GapInRequest]);
+    let mut bus = Bus::new(profiles::srs50());
+    conformant_start(&mut bus);
+    bus.send_raw(&[0x40, 0x01], &[]).wait_ms(10).send_raw(&[0x02], &[]);
+    assert_eq!(bus.rules(), vec![Rule::Malformed, Rule::Malformed]);
 }

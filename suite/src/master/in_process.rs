@@ -390,4 +390,58 @@ mod tests {
             record.runs[0].inputs.iter().filter(|i| matches!(i, super::super::inputs::Input::Received { .. })).count();
         assert_eq!(received, super::super::encoder::MAX_CHARACTERS);
     }
+
+    /// The encoder the harness serves knows its fields: a master that reads the
+    /// Extended Type Label (64 bytes, field FFh) past its end breaks 000:T21's "offset
+    /// plus byte count must not be larger than data field size", a FAIL in the scenario
+    /// it does it in (HX-M4's d16 read a chunk at offset 40h); the same reads within
+    /// the label are not.
+    #[test]
+    fn a_read_past_the_extended_type_labels_end_fails_on_read_datas_clause() {
+        struct Reader {
+            offsets: Vec<u8>,
+            sent: usize,
+        }
+        impl MasterUnderTest for Reader {
+            fn power_on(&mut self) {
+                self.sent = 0;
+            }
+            fn step(&mut self, now_us: u64, heard: &[RxChar]) -> MasterAction {
+                let mut action = MasterAction::default();
+                if !heard.is_empty() {
+                    return action;
+                }
+                // Past the encoder's initialization, then one Read Data every 100 ms.
+                match self.offsets.get(self.sent) {
+                    _ if now_us < 300_000 => action.wake_us = Some(300_000),
+                    Some(offset) => {
+                        let mut bytes = vec![0x40, 0x4A, 0xFF, *offset, 0x10, 0x00];
+                        bytes.push(bytes.iter().fold(0, |x, b| x ^ b));
+                        action.send = Some(Transmit { bytes, start_us: now_us, bps: 9600 });
+                        action.wake_us = Some(now_us + 100_000);
+                        self.sent += 1;
+                    }
+                    None => {}
+                }
+                action
+            }
+        }
+        use hiperface_model::master::obligations::Rule;
+        let options = Options { scenarios: Some("startup.extended-type-label".into()), ..Options::default() };
+        let outside = |offsets: Vec<u8>| {
+            let mut master = Reader { offsets, sent: 0 };
+            let report = run(&mut master, "reader", hiperface_model::profiles::srs50(), &options);
+            let s = report.scenarios.into_iter().next().unwrap();
+            let told: Vec<_> =
+                s.findings.iter().filter(|f| f.clause_id() == Rule::ReadOutsideField.clause().id()).cloned().collect();
+            (s.verdict, told)
+        };
+        let (_, within) = outside(vec![0x00, 0x10, 0x20, 0x30]);
+        assert!(within.is_empty(), "{within:?}");
+        let (verdict, past) = outside(vec![0x00, 0x10, 0x20, 0x30, 0x40]);
+        assert_eq!(verdict, crate::verdict::CaseVerdict::Fail, "{past:?}");
+        assert_eq!(past.len(), 1, "{past:?}");
+        assert_eq!(past[0].verdict(), crate::verdict::CaseVerdict::Fail);
+        assert!(past[0].message().contains("outside its data field"), "{past:?}");
+    }
 }

@@ -68,6 +68,21 @@ pub(super) struct Held {
     pub(super) start_us: u64,
 }
 
+/// Whether `bytes`, no request, may be the start of one: an address alone, or shorter
+/// than the longest request of the command its second byte names.
+fn may_grow(bytes: &[u8]) -> bool {
+    use crate::command::DataLength;
+    let Some(byte) = bytes.get(1) else { return !bytes.is_empty() };
+    let longest = match CommandByte::decode(*byte).filter(|c| !c.error_bit).and_then(|c| c.id.spec()) {
+        Some(spec) => match spec.master_data {
+            DataLength::Fixed(n) | DataLength::Range { max: n, .. } => 3 + usize::from(n),
+            DataLength::NoFrame => 0,
+        },
+        None => 0,
+    };
+    bytes.len() < longest
+}
+
 /// Where the requests of a frame end, last first: at most one per three bytes.
 pub(super) struct Ends {
     at: [usize; MAX_FRAME / 3 + 1],
@@ -130,7 +145,7 @@ impl super::Observer {
         }
         let framer = core::mem::replace(&mut self.framer, Framer::new());
         let bytes = framer.bytes.as_bytes();
-        // Two fragments of one request: a gap inside it.
+        // Fragments of one request: a gap inside it.
         if let Some(h) = self.held.take() {
             let mut joined = h.framer.bytes;
             let joins = bytes.iter().all(|b| joined.push(*b).is_ok());
@@ -144,6 +159,17 @@ impl super::Observer {
                     command,
                     data_rates: None,
                 });
+                return;
+            }
+            // A request sent in more than two parts (a character at a time on a slow
+            // tick): the parts so far are held together while they may still become
+            // one, too short for the command they name.
+            if joins && may_grow(joined.as_bytes()) {
+                let mut parts = h.framer;
+                for (i, b) in bytes.iter().enumerate() {
+                    parts.push(*b, framer.ends_us.get(i).copied().unwrap_or(0));
+                }
+                self.held = Some(Held { framer: parts, start_us: h.start_us });
                 return;
             }
             self.held = Some(h);

@@ -294,6 +294,27 @@ impl Observer {
         }
     }
 
+    /// What the encoder itself answered the request `command` that began at `at_us`,
+    /// before anything a harness put in its place: it knows what a listener does not,
+    /// its data fields' sizes. A Read Data or Store Data it refuses with 11h (Wrong data
+    /// field offset) asked outside its field, which 000 forbids the master ("Offset plus
+    /// byte count must not be larger than data field size"). Only a caller that serves
+    /// the encoder as the model answers says so. // 000:T21, 000:T22
+    pub fn served_reply(
+        &mut self,
+        command: CommandId,
+        reply: &ResponseFrame,
+        at_us: u64,
+        out: &mut impl FnMut(Observation),
+    ) {
+        let rule = match (command, reply.response) {
+            (CommandId::ReadData, Response::Error(FaultCode::WrongOffset)) => Rule::ReadOutsideField,
+            (CommandId::StoreData, Response::Error(FaultCode::WrongOffset)) => Rule::StoreOutsideField,
+            _ => return,
+        };
+        out(Observation { rule, at_us, measured_us: None, command: Some(command), data_rates: None });
+    }
+
     /// The encoder sent a reply from `start_us` to `end_us` (end of the last stop bit):
     /// `reply` as it decodes, `None` for a reply the master cannot read (a corrupted
     /// one injected on purpose).

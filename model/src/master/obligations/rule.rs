@@ -62,11 +62,17 @@ pub enum Rule {
     /// settings until the default window has passed, the stored ones after it.
     /// // 000:3.3.1, 000:T9
     DataRate,
+    /// A Read Data outside its data field: the offset past the field's end, or the
+    /// offset plus the count over its size. Told by an encoder that knows its fields
+    /// (the one `certify master` serves), never by a listener. // 000:T21
+    ReadOutsideField,
+    /// A Store Data outside its data field, as for Read Data. // 000:T22
+    StoreOutsideField,
 }
 
 impl Rule {
     /// Every rule.
-    pub const ALL: [Rule; 20] = [
+    pub const ALL: [Rule; 22] = [
         Rule::Malformed,
         Rule::ErrorBit,
         Rule::AddressFormat,
@@ -87,6 +93,8 @@ impl Rule {
         Rule::ExtendedTypeLabelNotRead,
         Rule::NoCyclicRequest,
         Rule::DataRate,
+        Rule::ReadOutsideField,
+        Rule::StoreOutsideField,
     ];
 
     /// The clause the rule rests on; a FAIL only where it is normative.
@@ -111,6 +119,8 @@ impl Rule {
             Rule::UnknownCodeIgnored => clause::MASTER_UNKNOWN_CODE,
             Rule::NoCyclicRequest => clause::MASTER_CYCLIC,
             Rule::ExtendedTypeLabelNotRead => clause::MASTER_EXTENDED_TYPE_LABEL,
+            Rule::ReadOutsideField => clause::READ_DATA.clause(),
+            Rule::StoreOutsideField => clause::STORE_DATA.clause(),
         }
     }
 
@@ -137,6 +147,8 @@ impl Rule {
             Rule::ExtendedTypeLabelNotRead => "type FFh, and position read without the Extended Type Label",
             Rule::DataRate => "a request at a data rate other than the encoder's",
             Rule::NoCyclicRequest => "no request within the polling period",
+            Rule::ReadOutsideField => "a Read Data outside its data field (offset plus count over its size)",
+            Rule::StoreOutsideField => "a Store Data outside its data field (offset plus count over its size)",
         }
     }
 }

@@ -121,6 +121,14 @@ impl Hooks for DriveEncoder {
         planned.paced = true;
         // `frame` saw this frame first, and found which injections are due on it.
         let bytes = step.received.bytes.as_bytes();
+        // What the model itself answers, before any injection: it knows its data fields.
+        let served = self.answered.and_then(|c| Some((c, ResponseFrame::decode(&planned.frame, c).ok()?)));
+        if let Some((command, frame)) = served {
+            let char_us = self.listening.unwrap_or_default().char_time_us();
+            let begin_us = step.received.first_us.saturating_sub(char_us);
+            let seen = &mut self.timeline.observations;
+            self.observer.served_reply(command, &frame, begin_us, &mut |o| seen.push(o));
+        }
         let due: Vec<Injection> = self.due.iter().filter_map(|i| self.plan.get(*i).copied()).collect();
         for inj in due {
             if inj.act.position_fault().is_some() {
