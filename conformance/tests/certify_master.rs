@@ -2,19 +2,21 @@
 //! master (`hiperface master`) and the independent HX-M (Python, written from 000's
 //! text) pass every scenario with nothing to remark; each of HX-M's defect switches is
 //! caught in the scenario it breaks, with its clause, and leaves a scenario it does not
-//! touch clean. Real time: each scenario runs its full duration.
+//! touch clean. Real time: each scenario runs its full duration. The blind trials'
+//! masters (HX-M3, HX-M4) are in master_blind_trials.rs.
 //!
 //! Long because: every test runs a master's process on pseudo-terminals through the
 //! same helpers, and HX-M's defect switches are checked switch by switch as one table.
 
 mod common;
 
+use common::master::{assert_clean, certify, certify_seen, independent_master, Defect};
+
 use hiperface_conformance::master::{self, Attach, Options, PowerOn};
-use hiperface_model::{profiles, Profile};
+use hiperface_model::profiles;
 use hiperface_suite::line::echo::{Echo, EchoMode};
-use hiperface_suite::master::DriveReport;
+use hiperface_suite::verdict::CaseVerdict;
 use hiperface_suite::verdict::Outcome;
-use hiperface_suite::verdict::{CaseResult, CaseVerdict};
 use std::path::Path;
 
 /// HX-M's command line (the tests that use it are ignored where python3 is missing).
@@ -23,53 +25,6 @@ use std::path::Path;
 /// late on the wire (a master that is really late is rightly FAILed).
 fn hx_master(defect: Option<&str>) -> String {
     independent_master("hx_master.py", defect)
-}
-
-/// The command line of the independent master `script` (in `tests/independent/`),
-/// with the defect switch `defect`.
-fn independent_master(script: &str, defect: Option<&str>) -> String {
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/independent").join(script);
-    let defect = defect.map_or(String::new(), |d| format!(" --defect {d}"));
-    format!("{}python3 {} {{port}}{defect}", common::real_time_prefix(), script.display())
-}
-
-/// [`certify`] until no scenario is left UNKNOWN by the harness's own lateness (the
-/// report says so: no verdict on the master), as often as `common::faithfully`
-/// tries: a run in which the test machine kept the harness from seeing is no sample
-/// of the master. A FAIL or NON-STRICT is returned at once, for the test to fail on.
-fn certify_seen(profile: Profile, exec: &str, scenarios: Option<&str>) -> DriveReport {
-    common::faithfully(|| {
-        let report = certify(profile, exec, scenarios);
-        let unknown: Vec<&CaseResult> = report.scenarios.iter().filter(|s| s.verdict == CaseVerdict::Unknown).collect();
-        for s in &unknown {
-            // Shown with the test's output if it fails: why each run was taken again.
-            eprintln!("{exec}: {} UNKNOWN, taken again: {:#?}", s.id, s.findings);
-        }
-        (unknown.is_empty(), report)
-    })
-}
-
-fn certify(profile: Profile, exec: &str, scenarios: Option<&str>) -> DriveReport {
-    let options = Options {
-        attach: Attach::Exec(exec.into()),
-        scenarios: scenarios.map(str::to_string),
-        polling_period_ms: hiperface_model::master::obligations::POLLING_PERIOD_MS,
-        not_used: Vec::new(),
-        interrupt: None,
-    };
-    let report = master::run(profile, &options, |_| {});
-    // Decode reproduces the run: the record taken in again grades every scenario alike.
-    common::replay::assert_master_replays(&report);
-    report
-}
-
-/// Every scenario PASS: no FAIL, no NON-STRICT, no ERROR, nothing left unexercised.
-fn assert_clean(report: &DriveReport) {
-    let remarks: Vec<&CaseResult> = report.scenarios.iter().filter(|s| s.verdict != CaseVerdict::Pass).collect();
-    assert!(remarks.is_empty(), "{remarks:#?}\n{:#?}", report.output);
-    assert_eq!(report.scenarios.len(), hiperface_suite::master::scenarios::catalogue().len());
-    // The catalogue took about as long as its scenarios need (nothing hung).
-    assert!(report.wall_time_ms - report.rerun_ms < report.needed_ms * 1.2 + 2000.0, "{} ms", report.wall_time_ms);
 }
 
 #[test]
@@ -137,18 +92,6 @@ fn the_independent_master_set_for_user_settings_passes_the_user_settings_scenari
     assert_eq!(s.verdict, CaseVerdict::Pass, "{:#?}", s.findings);
     // It did talk at 38400 Bd, after the window: the rate check saw frames to grade.
     assert!(s.wire.iter().any(|w| w.direction == "M>" && w.t_us > 1_100_000), "{:#?}", s.wire);
-}
-
-/// A defect of HX-M, the scenario it is caught in, the clause and verdict there.
-struct Defect {
-    /// The defect switch, and HX-M's other options it needs.
-    name: &'static str,
-    scenario: &'static str,
-    clause: &'static str,
-    verdict: CaseVerdict,
-    /// A scenario the defect does not touch: it must stay clean there (`None` where the
-    /// defect shows in every scenario, at start-up).
-    untouched: Option<&'static str>,
 }
 
 const DEFECTS: &[Defect] = &[
@@ -272,130 +215,6 @@ const DEFECTS: &[Defect] = &[
         untouched: None,
     },
 ];
-
-/// HX-M3 (`tests/independent/hxm3_master.py`), the blind trial's master: written from
-/// 000 and the user documents by someone who saw no code, with 16 defects sealed until
-/// the catalogue had graded them (`tests/independent/hxm3-defects.md`).
-fn hxm3_master(defect: Option<&str>) -> String {
-    independent_master("hxm3_master.py", defect)
-}
-
-/// Each of HX-M3's sealed defects, the scenario it shows in, its clause and verdict
-/// there (`untouched` unused: HX-M3's conformant run covers every scenario).
-const HXM3_DEFECTS: &[Defect] = &[
-    hxm3("d01", "fault.unknown-code", "000:2.3/master", CaseVerdict::Fail),
-    hxm3("d02", "startup.extended-type-label", "000:2.3/master", CaseVerdict::Fail),
-    hxm3("d03", "warning.one-code", "000:2.3.4/master", CaseVerdict::Fail),
-    hxm3("d04", "fault.unknown-code", "000:T5", CaseVerdict::Fail),
-    hxm3("d05", "warning.one-code", "000:2.2.2/master-gap", CaseVerdict::Fail),
-    hxm3("d06", "fault.unknown-code", "000:T29/master", CaseVerdict::Fail),
-    hxm3("d07", "fault.multiturn-sync", "000:2.3/master", CaseVerdict::Fail),
-    hxm3("d08", "startup.user-settings", "000:3.3.1", CaseVerdict::Fail),
-    hxm3("d09", "startup.extended-type-label", "000:2.2/cycle", CaseVerdict::Fail),
-    hxm3("d10", "fault.unknown-code", "000:3.3.1", CaseVerdict::Fail),
-    // Let through until a frame at another data rate than the encoder's was heard as
-    // noise, as a real line garbles it: the retry at 38400 Bd is then not answered
-    // either, and the one at 19200 Bd is surely at a wrong rate.
-    hxm3("d11", "reply.silent", "000:3.3.1", CaseVerdict::Fail),
-    hxm3("d12", "protocol.checksum-error", "000:2.2.2/master-pause", CaseVerdict::Fail),
-    hxm3("d13", "reply.silent", "DESIGN:reply-window", CaseVerdict::NonStrict),
-    hxm3("d14", "protocol.unknown-command", "000:3.3.4", CaseVerdict::NonStrict),
-    // Let through until the reset owed for a critical fault stayed owed (000:T74).
-    hxm3("d15", "fault.critical-at-start", "000:3.3.4", CaseVerdict::NonStrict),
-    hxm3("d16", "fault.unknown-code", "000:3.3.4/unknown", CaseVerdict::NonStrict),
-];
-
-const fn hxm3(name: &'static str, scenario: &'static str, clause: &'static str, verdict: CaseVerdict) -> Defect {
-    Defect { name, scenario, clause, verdict, untouched: None }
-}
-
-/// The blind trial, kept: the conformant HX-M3 passes every scenario, and each sealed
-/// defect is told in its scenario on its clause.
-#[test]
-#[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
-fn the_blind_trial_master_passes_and_each_of_its_sealed_defects_is_told() {
-    let _one = common::one_at_a_time();
-    assert_clean(&certify_seen(profiles::srs50(), &hxm3_master(None), None));
-    let mut problems = Vec::new();
-    for d in HXM3_DEFECTS {
-        let report = certify_seen(profiles::srs50(), &hxm3_master(Some(d.name)), Some(d.scenario));
-        let own = report.scenarios.iter().find(|s| s.id == d.scenario).expect("the scenario ran");
-        let cited = own.findings.iter().any(|f| f.verdict() == d.verdict && f.clause_id() == d.clause);
-        if own.verdict != d.verdict || !cited {
-            problems.push(format!("{}: {} is {:?}: {:#?}", d.name, d.scenario, own.verdict, own.findings));
-        }
-    }
-    assert!(problems.is_empty(), "{}", problems.join("\n"));
-}
-
-/// HX-M4 (`tests/independent/hxm4_master.py`), the second blind trial of the master
-/// catalogue: a drive for a legacy-edition encoder (`hxm4.toml`), its defects sealed
-/// in `hxm4-defects.md` until the catalogue had graded them.
-fn hxm4_master(defect: Option<&str>) -> String {
-    independent_master("hxm4_master.py", defect)
-}
-
-fn hxm4_profile() -> Profile {
-    let path = common::hx1::dir().join("hxm4.toml");
-    hiperface_suite::profile_file::load(&path).unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// Each of HX-M4's sealed defects, the scenario it shows in, its clause and verdict
-/// there; the two argued (PASS, `hxm4-defects.md` says why) on the clause they would
-/// break.
-const HXM4_DEFECTS: &[Defect] = &[
-    // Argued: a retry into an encoder's unannounced restart; the master cannot know.
-    hxm3("d01", "encoder.restart", "000:3.3.1", CaseVerdict::Pass),
-    // Argued: 44 bit times after a reply is the legacy edition's pause (002).
-    hxm3("d02", "polling.long", "000:2.2.2/master-pause", CaseVerdict::Pass),
-    hxm3("d03", "startup.default", "000:3.3.1/status", CaseVerdict::NonStrict),
-    // Told as "a frame that is no request" three times until parts were held together.
-    hxm3("d04", "protocol.checksum-error", "000:2.2.2/master-gap", CaseVerdict::Fail),
-    hxm3("d05", "fault.critical-at-start", "000:2.3/master", CaseVerdict::Fail),
-    // Told only where the harness's reading of the pseudo-terminal's settings falls
-    // between the master's change to 19200 Bd and its write (`hxm4-defects.md`): PASS
-    // or FAIL on its clause, never another verdict (`HXM4_EITHER`).
-    hxm3("d06", "reply.silent", "000:3.3.1", CaseVerdict::Fail),
-    hxm3("d07", "warning.one-code", "000:2.3.4/master", CaseVerdict::Fail),
-    hxm3("d08", "fault.critical-at-start", "000:T29/master", CaseVerdict::Fail),
-    hxm3("d09", "warning.four-codes", "000:2.3.4/warning", CaseVerdict::NonStrict),
-    hxm3("d10", "startup.extended-type-label", "000:2.3/master", CaseVerdict::Fail),
-    hxm3("d11", "fault.critical-at-start", "000:3.3.1", CaseVerdict::Fail),
-    hxm3("d12", "fault.unknown-code", "000:3.3.4/unknown", CaseVerdict::NonStrict),
-    hxm3("d13", "warning.four-codes", "000:2.3/master", CaseVerdict::Fail),
-    hxm3("d14", "fault.critical-at-start", "000:T29/master", CaseVerdict::Fail),
-    hxm3("d15", "fault.multiturn-sync", "000:3.2.2/cyclic", CaseVerdict::NonStrict),
-    // Let through until the served encoder's refusal of a read outside its field (11h)
-    // was the master's FAIL of Read Data's must.
-    hxm3("d16", "startup.extended-type-label", "000:T21", CaseVerdict::Fail),
-];
-
-/// HX-M4's defects a pseudo-terminal lets the harness see only now and then: a frame
-/// written right after the master changed its data rate may have gone out at either
-/// rate (000:3.3.1 is graded only where both readings are wrong).
-const HXM4_EITHER: &[&str] = &["d06"];
-
-/// The second blind trial, kept: the conformant HX-M4 passes every scenario against its
-/// legacy encoder, each sealed defect is told in its scenario on its clause, and the
-/// two argued ones stay PASS there (a change that grades them is argued again).
-#[test]
-#[cfg_attr(not(has_python3), ignore = "python3 is not installed")]
-fn the_legacy_blind_trial_master_passes_and_each_of_its_sealed_defects_is_told_or_argued() {
-    let _one = common::one_at_a_time();
-    assert_clean(&certify_seen(hxm4_profile(), &hxm4_master(None), None));
-    let mut problems = Vec::new();
-    for d in HXM4_DEFECTS {
-        let report = certify_seen(hxm4_profile(), &hxm4_master(Some(d.name)), Some(d.scenario));
-        let own = report.scenarios.iter().find(|s| s.id == d.scenario).expect("the scenario ran");
-        let cited = d.verdict == CaseVerdict::Pass
-            || own.findings.iter().any(|f| f.verdict() == d.verdict && f.clause_id() == d.clause);
-        let either = HXM4_EITHER.contains(&d.name) && own.verdict == CaseVerdict::Pass;
-        if !either && (own.verdict != d.verdict || !cited) {
-            problems.push(format!("{}: {} is {:?}: {:#?}", d.name, d.scenario, own.verdict, own.findings));
-        }
-    }
-    assert!(problems.is_empty(), "{}", problems.join("\n"));
-}
 
 /// A master that never reads a data field and says so (`--not-used 4Ah`): the
 /// scenarios about data fields are NOT-APPLICABLE, "declared not used", the run is

@@ -5,6 +5,7 @@
 
 pub mod hx1;
 pub mod line_emulator;
+pub mod master;
 // The record played back is the core's (`hiperface_suite`); its check is the suite's
 // tests' own, shared with the harness's tests from there.
 #[path = "../../../suite/tests/common/replay.rs"]

@@ -440,4 +440,9 @@ fn a_request_sent_in_more_than_two_parts_is_a_gap_inside_it() {
     conformant_start(&mut bus);
     bus.send_raw(&[0x40, 0x01], &[]).wait_ms(10).send_raw(&[0x02], &[]);
     assert_eq!(bus.rules(), vec![Rule::Malformed, Rule::Malformed]);
+    // Parts as long as the command's request, with a wrong checksum: no longer held.
+    let mut bus = Bus::new(profiles::srs50());
+    conformant_start(&mut bus);
+    bus.send_raw(&[0x40, 0x42], &[]).wait_ms(10).send_raw(&[0x03], &[]);
+    assert_eq!(bus.rules(), vec![Rule::Malformed, Rule::Malformed]);
 }

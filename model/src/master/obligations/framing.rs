@@ -68,18 +68,15 @@ pub(super) struct Held {
     pub(super) start_us: u64,
 }
 
-/// Whether `bytes`, no request, may be the start of one: an address alone, or shorter
-/// than the longest request of the command its second byte names.
+/// Whether `bytes`, parts joined that are no request, may be the start of one:
+/// shorter than the longest request of the command its second byte names.
 fn may_grow(bytes: &[u8]) -> bool {
     use crate::command::DataLength;
-    let Some(byte) = bytes.get(1) else { return !bytes.is_empty() };
-    let longest = match CommandByte::decode(*byte).filter(|c| !c.error_bit).and_then(|c| c.id.spec()) {
-        Some(spec) => match spec.master_data {
-            DataLength::Fixed(n) | DataLength::Range { max: n, .. } => 3 + usize::from(n),
-            DataLength::NoFrame => 0,
-        },
-        None => 0,
-    };
+    let spec = bytes.get(1).and_then(|b| CommandByte::decode(*b)).filter(|c| !c.error_bit).and_then(|c| c.id.spec());
+    let longest = spec.map_or(0, |spec| match spec.master_data {
+        DataLength::Fixed(n) | DataLength::Range { max: n, .. } => 3 + usize::from(n),
+        DataLength::NoFrame => 0,
+    });
     bytes.len() < longest
 }
 
