@@ -21,8 +21,8 @@
 # directory). SLAVES may name HX-3 and HX-4 (`hx-3`, `hx-4`, the blind trials' slaves) and
 # HX-1, HX-3 or HX-4 with a defect switch as `hx-1:NAME`, `hx-3:dNN`, `hx-4:dNN` (its own case
 # must FAIL in every run), and `sim-link` for `hiperface simulate` reached through a symbolic link
-# to its pseudo-terminal. MASTERS may name HX-M3 (`hx-m3`, the master of the blind
-# trial) and its sealed defects as `hx-m3:dNN`. Each line gives the run's exit code, and ends with what the harness measured of the line
+# to its pseudo-terminal. MASTERS may name HX-M3 and HX-M4 (`hx-m3`, `hx-m4`, the masters
+# of the blind trials) and their sealed defects as `hx-m3:dNN`, `hx-m4:dNN`. Each line gives the run's exit code, and ends with what the harness measured of the line
 # itself: the pseudo-terminal's delivery (the probe beside the line, line::delivery), and
 # how much of the processors the hypervisor took during the run (steal), where it says.
 #
@@ -125,6 +125,9 @@ master_exec() {
         # HX-M3, the master of the blind trial, conformant or with a sealed defect (hx-m3:d15).
         hx-m3) echo "chrt -f 50 python3 $PWD/conformance/tests/independent/hxm3_master.py {port}" ;;
         hx-m3:*) echo "chrt -f 50 python3 $PWD/conformance/tests/independent/hxm3_master.py {port} --defect ${1#hx-m3:}" ;;
+        # HX-M4, the drive for a legacy encoder of the second master trial (its profile below).
+        hx-m4) echo "chrt -f 50 python3 $PWD/conformance/tests/independent/hxm4_master.py {port}" ;;
+        hx-m4:*) echo "chrt -f 50 python3 $PWD/conformance/tests/independent/hxm4_master.py {port} --defect ${1#hx-m4:}" ;;
         *) echo "chrt -f 50 python3 $PWD/conformance/tests/independent/hx_master.py {port} --defect $1" ;;
     esac
 }
@@ -132,6 +135,7 @@ master_exec() {
 certify_master() {  # name, report dir
     local extra=()
     [ "$1" = talks-during-init ] && extra=(--profile "$(cd "$OUT" && pwd)/long-init.toml")
+    case "$1" in hx-m4*) extra=(--profile "$PWD/conformance/tests/independent/hxm4.toml") ;; esac
     local rc=0
     "$H" certify master --exec "$(master_exec "$1")" --report "$2" "${extra[@]}" > "$2.log" 2>&1 || rc=$?
     echo "$rc" > "$2.rc"
