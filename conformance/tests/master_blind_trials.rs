@@ -22,31 +22,39 @@ fn hxm3_master(defect: Option<&str>) -> String {
 /// Each of HX-M3's sealed defects, the scenario it shows in, its clause and verdict
 /// there (`untouched` unused: HX-M3's conformant run covers every scenario).
 const HXM3_DEFECTS: &[Defect] = &[
-    hxm3("d01", "fault.unknown-code", "000:2.3/master", CaseVerdict::Fail),
-    hxm3("d02", "startup.extended-type-label", "000:2.3/master", CaseVerdict::Fail),
-    hxm3("d03", "warning.one-code", "000:2.3.4/master", CaseVerdict::Fail),
-    hxm3("d04", "fault.unknown-code", "000:T5", CaseVerdict::Fail),
-    hxm3("d05", "warning.one-code", "000:2.2.2/master-gap", CaseVerdict::Fail),
-    hxm3("d06", "fault.unknown-code", "000:T29/master", CaseVerdict::Fail),
-    hxm3("d07", "fault.multiturn-sync", "000:2.3/master", CaseVerdict::Fail),
-    hxm3("d08", "startup.user-settings", "000:3.3.1", CaseVerdict::Fail),
-    hxm3("d09", "startup.extended-type-label", "000:2.2/cycle", CaseVerdict::Fail),
-    hxm3("d10", "fault.unknown-code", "000:3.3.1", CaseVerdict::Fail),
+    sealed("d01", "fault.unknown-code", "000:2.3/master", CaseVerdict::Fail),
+    sealed("d02", "startup.extended-type-label", "000:2.3/master", CaseVerdict::Fail),
+    sealed("d03", "warning.one-code", "000:2.3.4/master", CaseVerdict::Fail),
+    sealed("d04", "fault.unknown-code", "000:T5", CaseVerdict::Fail),
+    sealed("d05", "warning.one-code", "000:2.2.2/master-gap", CaseVerdict::Fail),
+    sealed("d06", "fault.unknown-code", "000:T29/master", CaseVerdict::Fail),
+    sealed("d07", "fault.multiturn-sync", "000:2.3/master", CaseVerdict::Fail),
+    sealed("d08", "startup.user-settings", "000:3.3.1", CaseVerdict::Fail),
+    sealed("d09", "startup.extended-type-label", "000:2.2/cycle", CaseVerdict::Fail),
+    sealed("d10", "fault.unknown-code", "000:3.3.1", CaseVerdict::Fail),
     // Let through until a frame at another data rate than the encoder's was heard as
     // noise, as a real line garbles it: the retry at 38400 Bd is then not answered
     // either, and the one at 19200 Bd is surely at a wrong rate.
-    hxm3("d11", "reply.silent", "000:3.3.1", CaseVerdict::Fail),
-    hxm3("d12", "protocol.checksum-error", "000:2.2.2/master-pause", CaseVerdict::Fail),
-    hxm3("d13", "reply.silent", "DESIGN:reply-window", CaseVerdict::NonStrict),
-    hxm3("d14", "protocol.unknown-command", "000:3.3.4", CaseVerdict::NonStrict),
+    sealed("d11", "reply.silent", "000:3.3.1", CaseVerdict::Fail),
+    sealed("d12", "protocol.checksum-error", "000:2.2.2/master-pause", CaseVerdict::Fail),
+    sealed("d13", "reply.silent", "DESIGN:reply-window", CaseVerdict::NonStrict),
+    sealed("d14", "protocol.unknown-command", "000:3.3.4", CaseVerdict::NonStrict),
     // Let through until the reset owed for a critical fault stayed owed (000:T74).
-    hxm3("d15", "fault.critical-at-start", "000:3.3.4", CaseVerdict::NonStrict),
-    hxm3("d16", "fault.unknown-code", "000:3.3.4/unknown", CaseVerdict::NonStrict),
+    sealed("d15", "fault.critical-at-start", "000:3.3.4", CaseVerdict::NonStrict),
+    sealed("d16", "fault.unknown-code", "000:3.3.4/unknown", CaseVerdict::NonStrict),
 ];
 
-const fn hxm3(name: &'static str, scenario: &'static str, clause: &'static str, verdict: CaseVerdict) -> Defect {
+const fn sealed(name: &'static str, scenario: &'static str, clause: &'static str, verdict: CaseVerdict) -> Defect {
     Defect { name, scenario, clause, verdict, untouched: None }
 }
+
+/// HX-M3's defects whose scenario may also end otherwise, with the verdict and clause
+/// it may end on instead: d13's 10 ms reply timer, counted from the write, retries
+/// into a reply that starts after it but within the response time wherever the
+/// harness's reply comes a fraction of a millisecond late: then it talks over a reply
+/// in time (FAIL, 000:2.2, as `hxm3-defects.md` says) before the window it cuts short
+/// is seen.
+const HXM3_EITHER: &[(&str, CaseVerdict, &str)] = &[("d13", CaseVerdict::Fail, "000:2.2/cycle")];
 
 /// The blind trial, kept: the conformant HX-M3 passes every scenario, and each sealed
 /// defect is told in its scenario on its clause.
@@ -55,15 +63,7 @@ const fn hxm3(name: &'static str, scenario: &'static str, clause: &'static str, 
 fn the_blind_trial_master_passes_and_each_of_its_sealed_defects_is_told() {
     let _one = common::one_at_a_time();
     assert_clean(&certify_seen(profiles::srs50(), &hxm3_master(None), None));
-    let mut problems = Vec::new();
-    for d in HXM3_DEFECTS {
-        let report = certify_seen(profiles::srs50(), &hxm3_master(Some(d.name)), Some(d.scenario));
-        let own = report.scenarios.iter().find(|s| s.id == d.scenario).expect("the scenario ran");
-        let cited = own.findings.iter().any(|f| f.verdict() == d.verdict && f.clause_id() == d.clause);
-        if own.verdict != d.verdict || !cited {
-            problems.push(format!("{}: {} is {:?}: {:#?}", d.name, d.scenario, own.verdict, own.findings));
-        }
-    }
+    let problems = told_problems(HXM3_DEFECTS, HXM3_EITHER, profiles::srs50(), hxm3_master);
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
 
@@ -84,35 +84,35 @@ fn hxm4_profile() -> Profile {
 /// break.
 const HXM4_DEFECTS: &[Defect] = &[
     // Argued: a retry into an encoder's unannounced restart; the master cannot know.
-    hxm3("d01", "encoder.restart", "000:3.3.1", CaseVerdict::Pass),
+    sealed("d01", "encoder.restart", "000:3.3.1", CaseVerdict::Pass),
     // Argued: 44 bit times after a reply is the legacy edition's pause (002).
-    hxm3("d02", "polling.long", "000:2.2.2/master-pause", CaseVerdict::Pass),
-    hxm3("d03", "startup.default", "000:3.3.1/status", CaseVerdict::NonStrict),
+    sealed("d02", "polling.long", "000:2.2.2/master-pause", CaseVerdict::Pass),
+    sealed("d03", "startup.default", "000:3.3.1/status", CaseVerdict::NonStrict),
     // Told as "a frame that is no request" three times until parts were held together.
-    hxm3("d04", "protocol.checksum-error", "000:2.2.2/master-gap", CaseVerdict::Fail),
-    hxm3("d05", "fault.critical-at-start", "000:2.3/master", CaseVerdict::Fail),
+    sealed("d04", "protocol.checksum-error", "000:2.2.2/master-gap", CaseVerdict::Fail),
+    sealed("d05", "fault.critical-at-start", "000:2.3/master", CaseVerdict::Fail),
     // Told only where the harness's reading of the pseudo-terminal's settings falls
     // between the master's change to 19200 Bd and its write (`hxm4-defects.md`): PASS
     // or FAIL on its clause, never another verdict (`HXM4_EITHER`).
-    hxm3("d06", "reply.silent", "000:3.3.1", CaseVerdict::Fail),
-    hxm3("d07", "warning.one-code", "000:2.3.4/master", CaseVerdict::Fail),
-    hxm3("d08", "fault.critical-at-start", "000:T29/master", CaseVerdict::Fail),
-    hxm3("d09", "warning.four-codes", "000:2.3.4/warning", CaseVerdict::NonStrict),
-    hxm3("d10", "startup.extended-type-label", "000:2.3/master", CaseVerdict::Fail),
-    hxm3("d11", "fault.critical-at-start", "000:3.3.1", CaseVerdict::Fail),
-    hxm3("d12", "fault.unknown-code", "000:3.3.4/unknown", CaseVerdict::NonStrict),
-    hxm3("d13", "warning.four-codes", "000:2.3/master", CaseVerdict::Fail),
-    hxm3("d14", "fault.critical-at-start", "000:T29/master", CaseVerdict::Fail),
-    hxm3("d15", "fault.multiturn-sync", "000:3.2.2/cyclic", CaseVerdict::NonStrict),
+    sealed("d06", "reply.silent", "000:3.3.1", CaseVerdict::Fail),
+    sealed("d07", "warning.one-code", "000:2.3.4/master", CaseVerdict::Fail),
+    sealed("d08", "fault.critical-at-start", "000:T29/master", CaseVerdict::Fail),
+    sealed("d09", "warning.four-codes", "000:2.3.4/warning", CaseVerdict::NonStrict),
+    sealed("d10", "startup.extended-type-label", "000:2.3/master", CaseVerdict::Fail),
+    sealed("d11", "fault.critical-at-start", "000:3.3.1", CaseVerdict::Fail),
+    sealed("d12", "fault.unknown-code", "000:3.3.4/unknown", CaseVerdict::NonStrict),
+    sealed("d13", "warning.four-codes", "000:2.3/master", CaseVerdict::Fail),
+    sealed("d14", "fault.critical-at-start", "000:T29/master", CaseVerdict::Fail),
+    sealed("d15", "fault.multiturn-sync", "000:3.2.2/cyclic", CaseVerdict::NonStrict),
     // Let through until the served encoder's refusal of a read outside its field (11h)
     // was the master's FAIL of Read Data's must.
-    hxm3("d16", "startup.extended-type-label", "000:T21", CaseVerdict::Fail),
+    sealed("d16", "startup.extended-type-label", "000:T21", CaseVerdict::Fail),
 ];
 
-/// HX-M4's defects a pseudo-terminal lets the harness see only now and then: a frame
-/// written right after the master changed its data rate may have gone out at either
-/// rate (000:3.3.1 is graded only where both readings are wrong).
-const HXM4_EITHER: &[&str] = &["d06"];
+/// HX-M4's defects a pseudo-terminal lets the harness see only now and then (PASS
+/// instead): a frame written right after the master changed its data rate may have
+/// gone out at either rate (000:3.3.1 is graded only where both readings are wrong).
+const HXM4_EITHER: &[(&str, CaseVerdict, &str)] = &[("d06", CaseVerdict::Pass, "")];
 
 /// The second blind trial, kept: the conformant HX-M4 passes every scenario against its
 /// legacy encoder, each sealed defect is told in its scenario on its clause, and the
@@ -122,16 +122,32 @@ const HXM4_EITHER: &[&str] = &["d06"];
 fn the_legacy_blind_trial_master_passes_and_each_of_its_sealed_defects_is_told_or_argued() {
     let _one = common::one_at_a_time();
     assert_clean(&certify_seen(hxm4_profile(), &hxm4_master(None), None));
+    let problems = told_problems(HXM4_DEFECTS, HXM4_EITHER, hxm4_profile(), hxm4_master);
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+/// Each of a trial's `defects` certified in its scenario (the master's command line from
+/// `master`): what is wrong, where the scenario ends neither on the defect's verdict and
+/// clause nor on one `either` allows it (a PASS cites nothing).
+fn told_problems(
+    defects: &[Defect],
+    either: &[(&str, CaseVerdict, &str)],
+    profile: Profile,
+    master: fn(Option<&str>) -> String,
+) -> Vec<String> {
     let mut problems = Vec::new();
-    for d in HXM4_DEFECTS {
-        let report = certify_seen(hxm4_profile(), &hxm4_master(Some(d.name)), Some(d.scenario));
+    for d in defects {
+        let report = certify_seen(profile, &master(Some(d.name)), Some(d.scenario));
         let own = report.scenarios.iter().find(|s| s.id == d.scenario).expect("the scenario ran");
-        let cited = d.verdict == CaseVerdict::Pass
-            || own.findings.iter().any(|f| f.verdict() == d.verdict && f.clause_id() == d.clause);
-        let either = HXM4_EITHER.contains(&d.name) && own.verdict == CaseVerdict::Pass;
-        if !either && (own.verdict != d.verdict || !cited) {
+        let ends_on = |verdict: CaseVerdict, clause: &str| {
+            own.verdict == verdict
+                && (verdict == CaseVerdict::Pass
+                    || own.findings.iter().any(|f| f.verdict() == verdict && f.clause_id() == clause))
+        };
+        let allowed = either.iter().any(|(name, v, clause)| *name == d.name && ends_on(*v, clause));
+        if !ends_on(d.verdict, d.clause) && !allowed {
             problems.push(format!("{}: {} is {:?}: {:#?}", d.name, d.scenario, own.verdict, own.findings));
         }
     }
-    assert!(problems.is_empty(), "{}", problems.join("\n"));
+    problems
 }
