@@ -122,10 +122,11 @@ impl Hooks for DriveEncoder {
         // `frame` saw this frame first, and found which injections are due on it.
         let bytes = step.received.bytes.as_bytes();
         // What the model itself answers, before any injection: it knows its data fields.
-        let served = self.answered.and_then(|c| Some((c, ResponseFrame::decode(&planned.frame, c).ok()?)));
-        if let Some((command, frame)) = served {
-            let char_us = self.listening.unwrap_or_default().char_time_us();
-            let begin_us = step.received.first_us.saturating_sub(char_us);
+        // The request is the one `frame` logged last (it logs each one it decodes).
+        let asked =
+            self.answered.and(self.timeline.requests_log.last()).map(|r| (r.request.request.command(), r.begin_us));
+        let served = asked.and_then(|(c, at)| Some((c, at, ResponseFrame::decode(&planned.frame, c).ok()?)));
+        if let Some((command, begin_us, frame)) = served {
             let seen = &mut self.timeline.observations;
             self.observer.served_reply(command, &frame, begin_us, &mut |o| seen.push(o));
         }
