@@ -52,6 +52,10 @@ pub struct Exchange {
     /// beside it (a pseudo-terminal's delivery: `line::delivery`); 0 where nothing is
     /// measured. Like the harness's own lateness, never charged to the device.
     pub line_late: crate::line::delivery::LineLate,
+    /// How long the device's own processor was held during the exchange, where it runs
+    /// on this machine (`line::delivery::DeviceHeld`): what could have split the
+    /// request as the device heard it is never charged to the device.
+    pub device_held: crate::line::delivery::DeviceHeld,
     /// How late a listener may have heard the request's end and the reply's start,
     /// measured for each (zero where the harness took the stamps itself).
     pub heard_late: HeardLate,
@@ -332,6 +336,7 @@ impl<L: Line> BusMaster<L> {
             harness_late_us: self.line.take_lateness_us(),
             request_write_us: sent.write_us,
             line_late: self.line.delivery_late(sent_start_us, end.max(complete.latest_us)),
+            device_held: self.line.device_held(),
             heard_late: HeardLate::default(),
         })
     }

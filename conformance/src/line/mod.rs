@@ -7,6 +7,8 @@
 pub mod adapter;
 pub mod clock;
 pub mod delivery;
+pub mod device_held;
+pub mod host_pauses;
 pub mod rfc2217;
 pub mod rs485;
 pub mod serial;

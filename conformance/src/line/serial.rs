@@ -38,6 +38,9 @@ pub struct SerialLine {
     notes: Vec<String>,
     /// On a pseudo-terminal: how late the kernel delivers, measured beside the line.
     delivery: Option<super::delivery::DeliveryProbe>,
+    /// On a pseudo-terminal: the device's processes at its other end, which this
+    /// machine's processors run.
+    device: Option<super::device_held::DeviceProcesses>,
 }
 
 fn parity(s: UartSettings) -> Parity {
@@ -197,6 +200,25 @@ impl SerialLine {
             None => path.to_string(),
         };
         let mut line = SerialLine::from_port(port, name, settings, pseudo_terminal);
+        if pseudo_terminal {
+            line.device = super::device_held::DeviceProcesses::of_pseudo_terminal(path);
+            if let Some(d) = &line.device {
+                let pids: Vec<String> = d.pids().iter().map(u32::to_string).collect();
+                let how = match d.processors_watched() {
+                    Some(n) => format!(
+                        "its process's wait for a processor, and the pauses of the machine's {n} processors, which a \
+                         sentinel at a real-time priority on each timed"
+                    ),
+                    None => "its process's wait for a processor, and the hypervisor's steal in 10 ms steps".into(),
+                };
+                line.notes.push(format!(
+                    "The device runs on this machine (process {} at the pseudo-terminal's other end): how long this \
+                     machine held it is measured around each exchange ({how}), and an answer a request heard in two \
+                     parts explains, or a reply late by less than the hold, is not charged.",
+                    pids.join(", ")
+                ));
+            }
+        }
         if !pseudo_terminal {
             line.adapter = Adapter::detect(path, std::path::Path::new("/sys"));
             if let Some(a) = line.adapter.as_mut() {
@@ -234,6 +256,7 @@ impl SerialLine {
             declared_latency_us: 0,
             notes,
             delivery,
+            device: None,
         }
     }
 
@@ -302,10 +325,18 @@ impl Line for SerialLine {
         let ct = self.settings.char_time_us();
         if self.pseudo_terminal {
             let port = &mut self.port;
-            return clock::write_whole(&self.time, ct, bytes, |b| {
+            let sent = clock::write_whole(&self.time, ct, bytes, |b| {
                 port.write_all(b).map_err(Self::gone)?;
                 port.flush().map_err(Self::gone)
             });
+            if let Some(d) = self.device.as_mut() {
+                // The device has heard the request when its characters and the longest
+                // timeout of either edition after them have passed (000:2.2.2).
+                use hiperface_model::Edition::{Current, Legacy};
+                let timeout = self.settings.timeout_us(Current).max(self.settings.timeout_us(Legacy));
+                d.mark(Duration::from_micros(bytes.len() as u64 * ct + timeout));
+            }
+            return sent;
         }
         let start = self.now_us();
         self.port.write_all(bytes).map_err(Self::gone)?;
@@ -382,6 +413,10 @@ impl Line for SerialLine {
 
     fn delivery_stats(&self) -> Option<hiperface_suite::line::delivery::DeliveryStats> {
         self.delivery.as_ref().map(|p| p.stats())
+    }
+
+    fn device_held(&mut self) -> hiperface_suite::line::delivery::DeviceHeld {
+        self.device.as_mut().map(|d| d.held()).unwrap_or_default()
     }
 
     fn kind(&self) -> LineKind {

@@ -164,6 +164,12 @@ pub trait Line {
     fn delivery_stats(&self) -> Option<delivery::DeliveryStats> {
         None
     }
+    /// How long the device's own processor was held since the last [`Line::send`],
+    /// where the device runs on this machine (see [`delivery::DeviceHeld`]); zero
+    /// where it has a processor of its own or nothing is measured.
+    fn device_held(&mut self) -> delivery::DeviceHeld {
+        delivery::DeviceHeld::default()
+    }
     fn kind(&self) -> LineKind;
     /// A short description for reports ("virtual", "/dev/pts/3", ...).
     fn describe(&self) -> String;
@@ -220,6 +226,9 @@ impl<L: Line + ?Sized> Line for Box<L> {
     }
     fn delivery_stats(&self) -> Option<delivery::DeliveryStats> {
         (**self).delivery_stats()
+    }
+    fn device_held(&mut self) -> delivery::DeviceHeld {
+        (**self).device_held()
     }
     fn kind(&self) -> LineKind {
         (**self).kind()

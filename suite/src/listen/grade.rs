@@ -81,6 +81,7 @@ impl Listener {
                 harness_late_us: 0,
                 request_write_us: 0,
                 line_late: Default::default(),
+                device_held: Default::default(),
                 heard_late,
             };
             let limits = self.options.profile.response_limit(command);

@@ -82,7 +82,8 @@ fn trailing_pause(x: &Exchange) -> Option<TrailingPause> {
     let (last, next) = (x.reply.last()?, x.trailing.first()?);
     let gap = next.at_us.saturating_sub(last.at_us);
     let pause = gap.saturating_sub(x.settings.char_time_us());
-    let late = x.reply_unseen_late_us();
+    // A device this machine held may have paused for that long inside its reply.
+    let late = x.reply_unseen_late_us() + x.device_held.exchange.at_most_us();
     Some(if late > 0 && gap.saturating_sub(late) < x.timeout_us {
         TrailingPause::LatenessCouldExplain
     } else if pause.saturating_sub(late) >= x.timeout_us {
@@ -96,6 +97,64 @@ fn trailing_pause(x: &Exchange) -> Option<TrailingPause> {
     } else {
         TrailingPause::WithinOneCharacter
     })
+}
+
+/// Why a device that runs on this machine may have heard `x`'s request, which the
+/// harness sent whole, in two parts: it answered as a device answers the first part of
+/// a frame (0Ah for its checksum, 0Ch for its length, or nothing where a reply was
+/// due), and its processor was held while the request was on its way for at least the
+/// pause that ends a request between two of its characters (000:2.2.2). `None` where
+/// either is not so: a device with a processor of its own is never held by this
+/// machine. A frame sent with the wrong parity is left to its own grade.
+fn heard_split(x: &Exchange, wrong_parity: bool, expected: &Outcome, observed: Option<&[u8]>) -> Option<String> {
+    use hiperface_model::FaultCode::{Checksum, WrongLength};
+    let held = x.device_held.request;
+    // The pause between two characters' ends that ends a request, less the character.
+    let splits_us = x.timeout_us.saturating_sub(x.settings.char_time_us());
+    if wrong_parity || x.request.len() < 2 || held.at_most_us() < splits_us.max(1) {
+        return None;
+    }
+    let answer = match observed {
+        None if matches!(expected.reply, Reply::Frame(_)) => "no reply".to_string(),
+        Some(&[_, command, code, _]) if command & 0x7F == 0x50 => {
+            let fault = hiperface_model::FaultCode::decode(code);
+            if !matches!(fault, Checksum | WrongLength) {
+                return None;
+            }
+            format!("error {code:02X}h ({})", fault.name())
+        }
+        _ => return None,
+    };
+    let ms = |us: u64| us as f64 / 1000.0;
+    Some(format!(
+        "not graded: {answer} to [{}], sent whole, is how a device answers the first part of a frame heard in two; \
+         the device runs on this machine, which held it for up to {:.1} ms while the request was on its way (its \
+         process waited {:.1} ms for a processor, a processor stopped for {:.1} ms, the hypervisor's steal counted \
+         {:.0} ms), and a pause of {:.1} ms between two characters ends a request (000:2.2.2): not charged to the \
+         device, the case is run again",
+        Hex(&x.request),
+        ms(held.at_most_us()),
+        ms(held.waited_us),
+        ms(held.paused_us),
+        ms(held.steal_us),
+        ms(splits_us),
+    ))
+}
+
+/// A first part of `frame` that draws the error `observed` says the device answered:
+/// the frame with a wrong checksum (0Ah) or its first two bytes (0Ch); `None` for
+/// silence, which needs no part.
+fn part_heard(frame: &[u8], observed: Option<&[u8]>) -> Option<Vec<u8>> {
+    match observed? {
+        [_, _, 0x0A, _] => {
+            let mut part = frame.to_vec();
+            if let Some(last) = part.last_mut() {
+                *last ^= 0xFF;
+            }
+            Some(part)
+        }
+        _ => frame.get(..2).map(<[u8]>::to_vec),
+    }
 }
 
 /// The frame of `request` to the address byte `address`.
@@ -143,10 +202,12 @@ fn trailing_finding(x: &Exchange, edition: Edition) -> (Finding, bool) {
         Some(TrailingPause::LatenessCouldExplain) => (
             Finding::unknown(format!(
                 "cannot tell whether the reply had a pause of the timeout inside: {} more characters [{}] came \
-                 after one as read, but the harness and the line may have been up to {:.3} ms late",
+                 after one as read, but the harness and the line may have been up to {:.3} ms late, and this \
+                 machine may have held the device's processor up to {:.3} ms",
                 bytes.len(),
                 Hex(&bytes),
-                x.reply_unseen_late_us() as f64 / 1000.0
+                x.reply_unseen_late_us() as f64 / 1000.0,
+                x.device_held.exchange.at_most_us() as f64 / 1000.0
             )),
             true,
         ),
@@ -359,7 +420,7 @@ impl Ctx<'_> {
         let taken = self.exchange(frame, wrong_parity, &plan)?;
         let observed = taken.x.reply_bytes();
         self.keep(frame, &plan, &taken, observed.as_deref())?;
-        let (graded, found) = self.grade(frame, &plan, &taken, observed.as_deref());
+        let (graded, found, heard_in_two) = self.grade(frame, &plan, &taken, observed.as_deref());
         if let (Some(bytes), Some(cmd)) = (&observed, plan.command) {
             self.learn(cmd, bytes, graded);
         }
@@ -368,7 +429,8 @@ impl Ctx<'_> {
         for f in found {
             self.push(f.at(taken.x.request_end.earliest_us));
         }
-        if let Some(s) = taken.expected.then_settings {
+        // A request the device may have heard in two did not change its settings.
+        if let (Some(s), false) = (taken.expected.then_settings, heard_in_two) {
             self.master.configure(s)?;
         }
         Ok(Graded { exchange: taken.x, verdict, reply: observed })
@@ -454,18 +516,37 @@ impl Ctx<'_> {
 
     /// The oracle's verdict on the answer, and the findings of the exchange: the
     /// oracle's, characters outside the reply, the reply's end, its timing. Where the
-    /// harness's own timing leaves one untold, the case is marked to run again.
+    /// harness's own timing leaves one untold, the case is marked to run again; and
+    /// whether the device may have heard the request in two parts (see
+    /// [`heard_split`]), in which case the model is put where such a device is.
     fn grade(
         &mut self,
         frame: &[u8],
         plan: &Plan,
         taken: &Taken,
         observed: Option<&[u8]>,
-    ) -> (CaseVerdict, Vec<Finding>) {
+    ) -> (CaseVerdict, Vec<Finding>, bool) {
         let Taken { x, expected, taken_at, across_change } = taken;
         let grade = self.oracle.grade(&plan.before, frame, *taken_at, expected, observed);
-        let graded = CaseVerdict::from(grade.verdict());
-        let mut found: Vec<Finding> = if *across_change {
+        let mut graded = CaseVerdict::from(grade.verdict());
+        let split = (graded == CaseVerdict::Fail)
+            .then(|| heard_split(x, plan.listen.wrong_parity, expected, observed))
+            .flatten();
+        let heard_in_two = split.is_some();
+        let mut found: Vec<Finding> = if let Some(why) = split {
+            // The device's processor is this machine's, which held it: what it heard
+            // may not be what was sent. Not the device's; run the case again. The
+            // model goes on from where such a device is: the request not carried
+            // out, the part it heard answered (seen: a Delete Data Field heard in two
+            // left the field there, and the case's run again FAILed on it).
+            self.disturbed = true;
+            graded = CaseVerdict::Unknown;
+            *self.model = plan.before.clone();
+            if let Some(part) = part_heard(frame, observed) {
+                let _ = handle(self.model, &part, false, *taken_at);
+            }
+            vec![Finding::unknown(why)]
+        } else if *across_change {
             // The harness's own timing put the request there (a case never plans it):
             // not the device's; run the case again.
             self.disturbed = true;
@@ -495,7 +576,7 @@ impl Ctx<'_> {
             self.disturbed |= timing.iter().any(|f| f.verdict() == CaseVerdict::Unknown);
             found.extend(timing);
         }
-        (graded, found)
+        (graded, found, heard_in_two)
     }
 
     fn log(&mut self, frame: &[u8], x: &Exchange, observed: Option<&[u8]>) {
@@ -612,6 +693,7 @@ mod tests {
             harness_late_us,
             request_write_us: 0,
             line_late: Default::default(),
+            device_held: Default::default(),
             heard_late: HeardLate::default(),
         };
         assert_eq!(trailing_pause(&x(0)), Some(TrailingPause::Ended));

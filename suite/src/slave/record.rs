@@ -67,6 +67,11 @@ pub struct RecordedExchange {
     pub request_write_us: u64,
     #[serde(default)]
     pub line_late: crate::line::delivery::LineLate,
+    /// How long the device's processor was held (`Exchange::device_held`); absent
+    /// where nothing was measured (a device with a processor of its own) and in
+    /// records written before it was kept.
+    #[serde(default, skip_serializing_if = "crate::line::delivery::DeviceHeld::is_zero")]
+    pub device_held: crate::line::delivery::DeviceHeld,
 }
 
 /// Whether `n` is zero (a field left out of the record when it is).
@@ -91,6 +96,7 @@ impl RecordedExchange {
             harness_late_us: x.harness_late_us,
             request_write_us: x.request_write_us,
             line_late: x.line_late,
+            device_held: x.device_held,
         }
     }
 
@@ -113,6 +119,7 @@ impl RecordedExchange {
             harness_late_us: self.harness_late_us,
             request_write_us: self.request_write_us,
             line_late: self.line_late,
+            device_held: self.device_held,
             heard_late: HeardLate::default(),
         })
     }

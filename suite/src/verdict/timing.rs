@@ -61,7 +61,10 @@ pub fn grade(
     // How much later (after) and earlier (before) than measured the reply may truly
     // have started relative to the request's timeout.
     let after = x.heard_late.request_end_us as i64;
-    let before = (x.harness_late_us + x.line_late.both_ways_us() + x.heard_late.reply_start_us) as i64;
+    // A device this machine held (one at a pseudo-terminal: `Exchange::device_held`)
+    // may have replied that much later than it would have: a late reply only.
+    let device = x.device_held.exchange.at_most_us() as i64;
+    let before = (x.harness_late_us + x.line_late.both_ways_us() + x.heard_late.reply_start_us) as i64 + device;
     // The part of the request's end window that the harness's own write made (it was
     // held in it): the reply may have started that much later after the timeout than
     // the latest reading says. Never a reading to pass a reply on; no use to an early
@@ -88,14 +91,17 @@ pub fn grade(
         );
         found.push(Finding::fail(msg, clause::COMMANDS, edition).with_figure(late(lo, limit)));
     } else if lo - tol + after + held > limit {
-        let line = if x.line_late.both_ways_us() > 0 {
-            format!(
-                ", with the line's own delivery measured beside it ({:.3} ms),",
+        let mut with = Vec::new();
+        if x.line_late.both_ways_us() > 0 {
+            with.push(format!(
+                "the line's own delivery measured beside it ({:.3} ms)",
                 late_ms(x.line_late.both_ways_us() as i64)
-            )
-        } else {
-            String::new()
-        };
+            ));
+        }
+        if device > 0 {
+            with.push(format!("the device's processor held by this machine (up to {:.3} ms)", late_ms(device)));
+        }
+        let line = if with.is_empty() { String::new() } else { format!(", with {},", with.join(" and ")) };
         let msg = format!(
             "cannot tell whether the reply was on time: it started {:.3} ms after the request's timeout \
              as measured, the limit is {} ms, and the harness's own lateness{line} ({:.3} ms in all) could \
@@ -166,6 +172,7 @@ mod tests {
             harness_late_us: 0,
             request_write_us: 0,
             line_late: Default::default(),
+            device_held: Default::default(),
             heard_late: Default::default(),
         }
     }

@@ -243,6 +243,9 @@ impl<L: Line> Line for EchoLine<L> {
     fn delivery_stats(&self) -> Option<super::delivery::DeliveryStats> {
         self.inner.delivery_stats()
     }
+    fn device_held(&mut self) -> super::delivery::DeviceHeld {
+        self.inner.device_held()
+    }
     fn kind(&self) -> LineKind {
         self.inner.kind()
     }
