@@ -350,6 +350,14 @@ struct LateHarness<L: Line> {
     held: DeviceHeld,
 }
 
+impl<D: SlaveDevice> LateHarness<VirtualLine<D>> {
+    /// The harness late by `late_us` in its first `disturbed` Read Positions.
+    fn late_by(late_us: u64, disturbed: usize, device: D) -> Self {
+        let line = VirtualLine::new(device);
+        LateHarness { line, late_us, disturbed, read_positions: 0, held: DeviceHeld::default() }
+    }
+}
+
 impl<L: Line> LateHarness<L> {
     fn disturbed_now(&self) -> bool {
         (1..=self.disturbed).contains(&self.read_positions)
@@ -409,13 +417,7 @@ fn a_case_the_harness_was_too_late_to_judge_is_run_again() {
     let run = |disturbed: usize| {
         let mut d = Defective::new(keep);
         d.delay_us = 12_000;
-        let line = LateHarness {
-            line: VirtualLine::new(d),
-            late_us: 5_000,
-            disturbed,
-            read_positions: 0,
-            held: DeviceHeld::default(),
-        };
+        let line = LateHarness::late_by(5_000, disturbed, d);
         let options = Options { cases: Some("position.read".into()), ..Options::default() };
         slave::run(Box::new(line), profiles::srs50(), &options, |_, _, _| {})
     };
@@ -599,13 +601,7 @@ fn a_case_undecided_after_its_runs_is_run_again_at_the_end() {
     let run = |disturbed: usize| {
         let mut d = Defective::new(keep);
         d.delay_us = 12_000;
-        let line = LateHarness {
-            line: VirtualLine::new(d),
-            late_us: 5_000,
-            disturbed,
-            read_positions: 0,
-            held: DeviceHeld::default(),
-        };
+        let line = LateHarness::late_by(5_000, disturbed, d);
         // Other cases after it give the run the time for a run again at its end.
         let options =
             Options { cases: Some("position.read,fields.*".into()), allow_writes: true, ..Options::default() };

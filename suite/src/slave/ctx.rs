@@ -675,6 +675,22 @@ mod tests {
     use hiperface_model::UartSettings;
 
     #[test]
+    fn the_part_a_device_heard_of_a_split_request_draws_the_error_it_answered() {
+        let frame = [0x40, 0x4D, 0x00, 0x40, 0x55, 0x18];
+        let part = |observed: Option<&[u8]>| part_heard(&frame, observed);
+        assert_eq!(part(Some(&[0x40, 0x50, 0x0A, 0x1A])), Some(vec![0x40, 0x4D, 0x00, 0x40, 0x55, 0xE7]));
+        assert_eq!(part(Some(&[0x40, 0x50, 0x0C, 0x1C])), Some(vec![0x40, 0x4D]));
+        assert_eq!(part(None), None);
+        // The model's answer to each part is the error the device gave.
+        let mut model = Slave::operational(hiperface_model::profiles::srs50());
+        for (observed, code) in [([0x40, 0x50, 0x0A, 0x1A], 0x0A), ([0x40, 0x50, 0x0C, 0x1C], 0x0C)] {
+            let Some(p) = part(Some(&observed)) else { panic!("a part") };
+            let Reply::Frame(reply) = handle(&mut model, &p, false, 0).reply else { panic!("an answer") };
+            assert_eq!(reply.encode().as_bytes().get(2), Some(&code), "{observed:02X?}");
+        }
+    }
+
+    #[test]
     fn a_pause_in_a_reply_is_charged_only_where_it_ended_the_reply_whatever_the_lateness() {
         let ct = UartSettings::DEFAULT.char_time_us();
         let timeout = UartSettings::DEFAULT.timeout_us(hiperface_model::Edition::Current);
