@@ -38,11 +38,16 @@ pub fn parse(pid: u32, stat: &str) -> Option<Stat> {
 
 /// Every process this harness can see.
 pub fn processes() -> Vec<Stat> {
-    let Ok(dir) = std::fs::read_dir("/proc") else { return Vec::new() };
-    dir.flatten()
+    pids().filter_map(|pid| parse(pid, &std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?)).collect()
+}
+
+/// The ids of the processes this harness can see (`/proc`'s numbered entries).
+pub fn pids() -> impl Iterator<Item = u32> {
+    std::fs::read_dir("/proc")
+        .into_iter()
+        .flatten()
+        .flatten()
         .filter_map(|e| e.file_name().to_str().and_then(|n| n.parse::<u32>().ok()))
-        .filter_map(|pid| parse(pid, &std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?))
-        .collect()
 }
 
 /// The machine's processor times, summed over its processors, in the kernel's clock

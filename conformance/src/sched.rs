@@ -18,13 +18,18 @@ use std::os::unix::fs::FileExt;
 /// privilege, a container's limits) the thread stays as it was, and timing is still
 /// checked: correctness never depends on it. Returns whether it was granted.
 pub fn real_time_priority() -> bool {
+    real_time_priority_at(50)
+}
+
+/// As [`real_time_priority`], at SCHED_FIFO `priority` (1 to 99).
+pub fn real_time_priority_at(priority: u8) -> bool {
     use thread_priority::unix::{
         set_thread_priority_and_policy, thread_native_id, RealtimeThreadSchedulePolicy, ThreadSchedulePolicy,
     };
     use thread_priority::ThreadPriority;
+    let Ok(value) = priority.try_into() else { return false };
     let policy = ThreadSchedulePolicy::Realtime(RealtimeThreadSchedulePolicy::Fifo);
-    let priority = ThreadPriority::Crossplatform(50u8.try_into().unwrap_or_default());
-    set_thread_priority_and_policy(thread_native_id(), priority, policy).is_ok()
+    set_thread_priority_and_policy(thread_native_id(), ThreadPriority::Crossplatform(value), policy).is_ok()
 }
 
 /// What is written to a pseudo-terminal reaches the other end through the kernel's

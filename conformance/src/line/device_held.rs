@@ -29,17 +29,26 @@ use std::time::{Duration, Instant};
 #[derive(Debug)]
 pub struct DeviceProcesses {
     pids: Arc<Vec<u32>>,
-    /// The reading at the last write, and its number.
-    at_write: Option<(u64, Reading)>,
+    /// The request written last and not measured yet.
+    marked: Option<Marked>,
+    /// How many requests were written (each one's number for the thread's reading).
     written: u64,
     /// The thread that takes the reading once the device has heard the request.
     heard: mpsc::Sender<(u64, Instant)>,
     /// Its last reading, and the write it is of.
     slot: Arc<Slot>,
-    /// When the last request was written, and when the device had heard it.
-    spans: Option<(Instant, Instant)>,
     /// The processors' pauses, where a sentinel watches them; else the steal counts.
     pauses: Option<super::host_pauses::HostPauses>,
+}
+
+/// A request as written: its number, the reading then, when it was written and when
+/// the device had heard it.
+#[derive(Debug, Clone, Copy)]
+struct Marked {
+    write: u64,
+    reading: Reading,
+    at: Instant,
+    heard_at: Instant,
 }
 
 /// The thread's last reading and the number of the write it is of, and its signal.
@@ -53,10 +62,13 @@ struct Reading {
 }
 
 impl Reading {
-    fn of(pids: &[u32]) -> Reading {
+    /// Now; the steal only `with_steal` (where no sentinel times the pauses: then
+    /// `/proc/stat`, which the kernel writes out whole, is not read for nothing).
+    fn of(pids: &[u32], with_steal: bool) -> Reading {
+        let steal = || crate::procfs::CpuTimes::now().map_or(0, |t| t.steal * STEAL_STEP_US);
         Reading {
             waited_us: pids.iter().filter_map(|p| crate::sched::process_run_delay_us(*p)).sum(),
-            steal_us: crate::procfs::CpuTimes::now().map_or(0, |t| t.steal * STEAL_STEP_US),
+            steal_us: if with_steal { steal() } else { 0 },
         }
     }
 
@@ -89,6 +101,8 @@ impl DeviceProcesses {
         if pids.is_empty() {
             return None;
         }
+        let pauses = super::host_pauses::HostPauses::start();
+        let with_steal = pauses.is_none();
         let (heard, deadlines) = mpsc::channel::<(u64, Instant)>();
         let slot: Arc<Slot> = Arc::new((Mutex::new(None), Condvar::new()));
         {
@@ -101,7 +115,7 @@ impl DeviceProcesses {
                     crate::sched::real_time_priority();
                     while let Ok((write, at)) = deadlines.recv() {
                         std::thread::sleep(at.saturating_duration_since(Instant::now()));
-                        let reading = Reading::of(&pids);
+                        let reading = Reading::of(&pids, with_steal);
                         let (lock, ready) = &*slot;
                         if let Ok(mut s) = lock.lock() {
                             *s = Some((write, reading));
@@ -111,8 +125,7 @@ impl DeviceProcesses {
                 })
                 .ok()?;
         }
-        let pauses = super::host_pauses::HostPauses::start();
-        Some(DeviceProcesses { pids, at_write: None, written: 0, heard, slot, spans: None, pauses })
+        Some(DeviceProcesses { pids, marked: None, written: 0, heard, slot, pauses })
     }
 
     /// The processes found.
@@ -124,29 +137,29 @@ impl DeviceProcesses {
     /// device has heard it: `heard_in` from now (its characters and its timeout).
     pub fn mark(&mut self, heard_in: Duration) {
         self.written += 1;
-        self.at_write = Some((self.written, Reading::of(&self.pids)));
-        let now = Instant::now();
-        self.spans = Some((now, now + heard_in));
-        let _ = self.heard.send((self.written, now + heard_in));
+        let reading = Reading::of(&self.pids, self.pauses.is_none());
+        let at = Instant::now();
+        let marked = Marked { write: self.written, reading, at, heard_at: at + heard_in };
+        self.marked = Some(marked);
+        let _ = self.heard.send((marked.write, marked.heard_at));
     }
 
     /// What held the device since [`DeviceProcesses::mark`]: until it had heard the
     /// request, and until now. Zero where it was not marked.
     pub fn held(&mut self) -> DeviceHeld {
-        let Some((write, at_write)) = self.at_write.take() else { return DeviceHeld::default() };
-        let now = Reading::of(&self.pids);
+        let Some(m) = self.marked.take() else { return DeviceHeld::default() };
+        let now = Reading::of(&self.pids, self.pauses.is_none());
         // The reading when the device had heard the request; where it is not there in
         // time (the thread held up), now's, which only widens the span.
-        let heard = self.heard_reading(write).map_or(now, |r| r.earlier(now));
-        let (mut request, mut exchange) = (at_write.to(heard), at_write.to(now));
+        let heard = self.heard_reading(m.write).map_or(now, |r| r.earlier(now));
+        let (mut request, mut exchange) = (m.reading.to(heard), m.reading.to(now));
         // Where the sentinels watch the processors, their pauses in each span, to the
         // microsecond, instead of the steal's 10 ms steps.
-        if let (Some(p), Some((written, heard_at))) = (&self.pauses, self.spans.take()) {
+        if let Some(p) = &self.pauses {
             let end = Instant::now();
             let us = |d: Duration| u64::try_from(d.as_micros()).unwrap_or(u64::MAX);
-            request.paused_us = us(p.longest_within(written, heard_at.min(end)));
-            exchange.paused_us = us(p.longest_within(written, end));
-            (request.steal_us, exchange.steal_us) = (0, 0);
+            request.paused_us = us(p.longest_within(m.at, m.heard_at.min(end)));
+            exchange.paused_us = us(p.longest_within(m.at, end));
         }
         DeviceHeld { request, exchange }
     }
@@ -169,9 +182,7 @@ impl DeviceProcesses {
 /// pseudo-terminal is `/dev/pts/<index>` (`tty-index` in its fdinfo, Linux 4.14 on).
 fn holders(index: u32) -> Vec<u32> {
     let own = std::process::id();
-    let Ok(dir) = std::fs::read_dir("/proc") else { return Vec::new() };
-    let pids = dir.flatten().filter_map(|e| e.file_name().to_str().and_then(|n| n.parse::<u32>().ok()));
-    pids.filter(|pid| *pid != own && holds(*pid, index)).collect()
+    crate::procfs::pids().filter(|pid| *pid != own && holds(*pid, index)).collect()
 }
 
 fn holds(pid: u32, index: u32) -> bool {
@@ -235,6 +246,6 @@ mod tests {
         assert!(found.heard_reading(found.written).is_some());
         let held = found.held();
         assert!(held.request.waited_us <= held.exchange.waited_us && held.request.steal_us <= held.exchange.steal_us);
-        assert!(found.at_write.is_none());
+        assert!(found.marked.is_none());
     }
 }

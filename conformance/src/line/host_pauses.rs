@@ -64,7 +64,7 @@ impl HostPauses {
         for cpu in &cpus {
             let (cpu, pauses, stopped, started) = (*cpu, pauses.clone(), stop.clone(), started.clone());
             let spawned = std::thread::Builder::new().name(format!("host-pauses-{cpu}")).spawn(move || {
-                let ok = pin_to(cpu) && real_time(PRIORITY);
+                let ok = pin_to(cpu) && crate::sched::real_time_priority_at(PRIORITY);
                 let _ = started.send(ok);
                 if ok {
                     watch(&pauses, &stopped);
@@ -123,17 +123,6 @@ fn watch(pauses: &Mutex<VecDeque<Pause>>, stop: &AtomicBool) {
 fn pin_to(cpu: usize) -> bool {
     let mut set = nix::sched::CpuSet::new();
     set.set(cpu).is_ok() && nix::sched::sched_setaffinity(nix::unistd::Pid::from_raw(0), &set).is_ok()
-}
-
-/// SCHED_FIFO at `priority` for the calling thread; whether it was permitted.
-fn real_time(priority: u8) -> bool {
-    use thread_priority::unix::{
-        set_thread_priority_and_policy, thread_native_id, RealtimeThreadSchedulePolicy, ThreadSchedulePolicy,
-    };
-    use thread_priority::ThreadPriority;
-    let Ok(value) = priority.try_into() else { return false };
-    let policy = ThreadSchedulePolicy::Realtime(RealtimeThreadSchedulePolicy::Fifo);
-    set_thread_priority_and_policy(thread_native_id(), ThreadPriority::Crossplatform(value), policy).is_ok()
 }
 
 #[cfg(test)]
