@@ -25,6 +25,7 @@ pub mod port;
 pub mod process;
 pub mod procfs;
 pub mod report;
+pub mod run_delay;
 pub mod sched;
 pub mod simulate;
 pub mod slave;

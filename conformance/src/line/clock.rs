@@ -42,7 +42,7 @@ pub struct RealTime {
     pub rx: RxClock,
     pub tolerance_us: u64,
     lateness_us: std::cell::Cell<u64>,
-    run_delay: std::cell::RefCell<crate::sched::RunDelay>,
+    run_delay: std::cell::RefCell<crate::run_delay::RunDelay>,
     /// The harness's own device on the far end (the simulator behind `--port sim`):
     /// how late it was since the last call, which is the harness's too (the model on
     /// a busy machine is late, not wrong).
@@ -103,7 +103,7 @@ impl RealTime {
             rx: RxClock::default(),
             tolerance_us,
             lateness_us: Default::default(),
-            run_delay: std::cell::RefCell::new(crate::sched::RunDelay::of_this_thread()),
+            run_delay: std::cell::RefCell::new(crate::run_delay::RunDelay::of_this_thread()),
             peer_lateness: None,
             peer_heard: None,
             sent_through_us: Default::default(),

@@ -67,7 +67,7 @@ impl Reading {
     fn of(pids: &[u32], with_steal: bool) -> Reading {
         let steal = || crate::procfs::CpuTimes::now().map_or(0, |t| t.steal * STEAL_STEP_US);
         Reading {
-            waited_us: pids.iter().filter_map(|p| crate::sched::process_run_delay_us(*p)).sum(),
+            waited_us: pids.iter().filter_map(|p| crate::run_delay::process_run_delay_us(*p)).sum(),
             steal_us: if with_steal { steal() } else { 0 },
         }
     }

@@ -94,7 +94,7 @@ pub fn monitor(args: &MonitorArgs, stop: &AtomicBool) -> Result<Ended, CommandEr
     let ended_by = std::thread::scope(|scope| {
         let reader = scope.spawn(|| {
             let mut log = ReaderLog { real_time: crate::sched::real_time_priority(), ..ReaderLog::default() };
-            let mut run_delay = crate::sched::RunDelay::of_this_thread();
+            let mut run_delay = crate::run_delay::RunDelay::of_this_thread();
             log.run_delay_counted = run_delay.available();
             let mut buf = [0u8; 4096];
             let mut last_us = now_us();

@@ -194,10 +194,10 @@ pub(super) fn run_scenario(
     // And how long the kernel's workers, which carry the line's characters both ways
     // on a pseudo-terminal, waited: a reply they held back may reach the master in
     // parts, which the harness never wrote.
-    let mut kernel = crate::sched::KernelWorkersWait::default();
+    let mut kernel = crate::run_delay::KernelWorkersWait::default();
     let mut kernel_waited = Vec::new();
     let served = serve_until(Box::new(encoder_end), &mut session, delivery, epoch, deadline, || {
-        if let Some(us) = crate::sched::process_run_delay_us(master.id()) {
+        if let Some(us) = crate::run_delay::process_run_delay_us(master.id()) {
             waited.push((epoch.elapsed().as_micros() as u64, us));
         }
         if let Some(us) = kernel.total_us() {

@@ -72,7 +72,8 @@ pub fn serve_with<H: Hooks>(
     let now = |e: Instant| e.elapsed().as_micros() as u64;
     let mut buf = [0u8; 64];
     let mut port_settings = None;
-    let mut watched = Watched { read_us: now(epoch), run_delay: crate::sched::RunDelay::of_this_thread(), delivery };
+    let mut watched =
+        Watched { read_us: now(epoch), run_delay: crate::run_delay::RunDelay::of_this_thread(), delivery };
     // What the master sent while a reply went out, as it was read.
     let mut heard: Vec<Chunk> = Vec::new();
     // The master's characters as the encoder's UART received them.
@@ -166,7 +167,7 @@ struct Watched {
     /// When the last read returned: a read returns at least every timeout it is given.
     read_us: u64,
     /// The reading thread's wait for a processor (a read woken late on a busy machine).
-    run_delay: crate::sched::RunDelay,
+    run_delay: crate::run_delay::RunDelay,
     /// The pseudo-terminal's own delivery, measured beside the line.
     delivery: Option<std::sync::Arc<crate::line::delivery::DeliveryProbe>>,
 }
