@@ -9,7 +9,7 @@
 //! taking 7 to 9 % of the processors, the encoder images under QEMU answered a valid
 //! Encoder Reset with 0Ch in an exchange whose steal count had not moved. The
 //! sentinels see each pause to within their period, and time-stamp it, so a span is
-//! asked about after the fact (`line::device_held`).
+//! asked about after the fact (`line::device_held`; a master's scenario run sums them).
 //!
 //! They run only where a real-time priority is permitted: at an ordinary one they
 //! would see every busy thread's turn as a pause.

@@ -20,7 +20,7 @@ use hiperface_suite::line::reply_echo::ReplyEcho;
 use hiperface_suite::master::run::{run_catalogue, Catalogue, Progress, ScenarioLine, ScenarioRun};
 use hiperface_suite::master::scenario::Scenario;
 use hiperface_suite::verdict::{CaseResult, Finding, END_BUDGET, MAX_ATTEMPTS};
-use scenario_run::{echo_slack_us, on_port, open_port, run_scenario, Drive};
+use scenario_run::{echo_slack_us, on_port, open_port, run_scenario, Drive, Watched};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
@@ -173,14 +173,29 @@ pub fn run_with(
             Attach::Exec(_) => crate::sched::KernelDelivery::raise(),
             Attach::Port { .. } => None,
         },
+        // A master process here: the processors' pauses timed, where permitted (a
+        // process on a stopped processor stops with it, and its run delay does not
+        // count that).
+        pauses: match &options.attach {
+            Attach::Exec(_) => crate::line::host_pauses::HostPauses::start(),
+            Attach::Port { .. } => None,
+        },
     };
     let catalogue = Catalogue { chosen: &chosen, profile, not_used: &options.not_used };
     let not_run = run_catalogue(&mut report, &catalogue, &mut line, &mut progress);
     let interrupted = line.interrupted();
-    let HarnessLine { reply_echo, delivery, mut kernel, .. } = line;
+    let HarnessLine { reply_echo, delivery, mut kernel, pauses, .. } = line;
     report.echo = reply_echo.map(|e| (e.echo(), e.mode()));
     if let Some(k) = kernel.take() {
         report.notes.push(k.note());
+    }
+    if let Some(p) = pauses {
+        report.notes.push(format!(
+            "The processors' pauses were timed on {} processors (a sentinel thread on each, at a real-time priority): \
+             a rule a slow master breaks, broken by less than its process waited for a processor and the processors \
+             stopped, is never a FAIL.",
+            p.processors
+        ));
     }
     if let Some(d) = delivery.as_ref().map(|p| p.stats()) {
         report.delivery = Some(d);
@@ -230,6 +245,7 @@ struct HarnessLine<'a> {
     reply_echo: Option<ReplyEcho>,
     delivery: Option<Arc<crate::line::delivery::DeliveryProbe>>,
     kernel: Option<crate::sched::KernelDelivery>,
+    pauses: Option<crate::line::host_pauses::HostPauses>,
 }
 
 impl ScenarioLine for HarnessLine<'_> {
@@ -242,8 +258,8 @@ impl ScenarioLine for HarnessLine<'_> {
         let mut run = match (&options.attach, &self.port) {
             (Attach::Exec(exec), _) => {
                 let not_used = &options.not_used;
-                let delivery = self.delivery.clone();
-                run_scenario(profile, scenario, exec, options.polling_period_ms, not_used, delivery, &interrupted)
+                let watched = Watched { delivery: self.delivery.clone(), pauses: self.pauses.as_ref() };
+                run_scenario(profile, scenario, exec, options.polling_period_ms, not_used, watched, &interrupted)
             }
             (Attach::Port { power_on, echo: mode, path }, Some(Ok(port))) => {
                 let echo =

@@ -148,6 +148,13 @@ fn wait_for_quiet(port: &mut dyn SerialPort, echo: &mut ReplyEcho, quiet: Durati
     let _ = port.set_timeout(before);
 }
 
+/// What the run watches beside a master process's line: the pseudo-terminal's
+/// delivery, and the processors' pauses. `None` where not measured.
+pub(super) struct Watched<'a> {
+    pub delivery: Option<std::sync::Arc<crate::line::delivery::DeliveryProbe>>,
+    pub pauses: Option<&'a crate::line::host_pauses::HostPauses>,
+}
+
 /// One scenario: a fresh encoder on a fresh pseudo-terminal, the master started on it.
 pub(super) fn run_scenario(
     profile: Profile,
@@ -155,9 +162,10 @@ pub(super) fn run_scenario(
     exec: &str,
     polling_period_ms: u32,
     not_used: &[CommandId],
-    delivery: Option<std::sync::Arc<crate::line::delivery::DeliveryProbe>>,
+    watched: Watched,
     interrupted: &dyn Fn() -> bool,
 ) -> ScenarioRun {
+    let Watched { delivery, pauses } = watched;
     let started = Instant::now();
     let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
     let (encoder_end, master_end) = match crate::line::pty_pair() {
@@ -196,6 +204,10 @@ pub(super) fn run_scenario(
     // parts, which the harness never wrote.
     let mut kernel = crate::run_delay::KernelWorkersWait::default();
     let mut kernel_waited = Vec::new();
+    // And how long the processors stopped: at each sample, the longest any one
+    // stopped since the sample before, added up (a pause of the hypervisor's stops the
+    // master's process without its waiting for a processor).
+    let (mut paused, mut paused_us, mut paused_since) = (Vec::new(), 0u64, epoch);
     let served = serve_until(Box::new(encoder_end), &mut session, delivery, epoch, deadline, || {
         if let Some(us) = crate::run_delay::process_run_delay_us(master.id()) {
             waited.push((epoch.elapsed().as_micros() as u64, us));
@@ -203,11 +215,17 @@ pub(super) fn run_scenario(
         if let Some(us) = kernel.total_us() {
             kernel_waited.push((epoch.elapsed().as_micros() as u64, us));
         }
+        if let Some(p) = pauses {
+            let now = Instant::now();
+            paused_us += p.longest_within(paused_since, now).as_micros() as u64;
+            paused_since = now;
+            paused.push((now.duration_since(epoch).as_micros() as u64, paused_us));
+        }
         exited = master.exited();
         exited.is_some() || interrupted()
     });
     let mut hooks = session.into_hooks();
-    hooks.waited(waited, kernel_waited);
+    hooks.waited(waited, kernel_waited, paused);
     let cut_short = interrupted();
     let (status, output) = master.stop();
     // The encoder has stopped before its line closes: nothing it writes is lost in a pipe.

@@ -128,8 +128,8 @@ fn grade(
     let unproven = |o: &Observation| -> Option<String> {
         if let Some(waited) = timeline.master_slowed(o, timeout, hooks.profile(), hooks.polling_period_us()) {
             return Some(format!(
-                "the master's own process waited {:.1} ms for a processor before it (a busy machine): its timing \
-                 was the machine's, not proven the master's",
+                "the master's own process waited for a processor, or the processors were stopped, for up to {:.1} ms \
+                 before it (a busy machine): its timing was the machine's, not proven the master's",
                 waited as f64 / 1000.0
             ));
         }

@@ -65,6 +65,7 @@ impl ScenarioRun {
             line_faults: hooks.timeline.line_faults.clone(),
             master_waited: changes_only(&hooks.timeline.master_waited),
             kernel_waited: changes_only(&hooks.timeline.kernel_waited),
+            host_paused: changes_only(&hooks.timeline.host_paused),
         };
         let by_operator = start == Start::PowerOnByOperator;
         let disturbed = finish(&mut result, &mut hooks, scenario, duration_ms, by_operator, cut_short);

@@ -262,13 +262,15 @@ impl DriveEncoder {
     }
 
     /// What the machine did to the run's timing, sampled (µs since power-on, µs
-    /// waited in all): the master's process's wait for a processor, and the kernel's
-    /// workers', which deliver the line's characters on a pseudo-terminal. A reply
+    /// waited in all): the master's process's wait for a processor, the kernel's
+    /// workers', which deliver the line's characters on a pseudo-terminal, and the
+    /// processors' pauses (`Timeline::host_paused`). A reply
     /// written while the workers waited a character time or more is a disturbance of
     /// the harness's own line (`Timeline::disturbed_by_kernel`), noted on the wire.
-    pub fn waited(&mut self, master: Vec<(u64, u64)>, kernel: Vec<(u64, u64)>) {
+    pub fn waited(&mut self, master: Vec<(u64, u64)>, kernel: Vec<(u64, u64)>, paused: Vec<(u64, u64)>) {
         self.timeline.master_waited = master;
         self.timeline.kernel_waited = kernel;
+        self.timeline.host_paused = paused;
         for (at_us, us) in self.timeline.disturbed_by_kernel() {
             let what = format!(
                 "the harness's own line: the kernel's workers, which deliver this reply to the master, waited up to \

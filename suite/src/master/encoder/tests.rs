@@ -34,6 +34,31 @@ fn a_late_request_from_a_master_process_that_waited_as_long_for_a_processor_is_n
     assert_eq!(t.master_slowed(&observation(Rule::NoPause, 2_000_000, 0), timeout, &p, 1_000_000), None);
 }
 
+/// A master process on a processor the hypervisor stopped stops with it without
+/// waiting for a processor: its run delay does not show the pause, the sentinels do.
+/// Seen as a gap inside a request from the master image under QEMU.
+#[test]
+fn a_request_in_two_parts_while_a_processor_stopped_as_long_is_not_proven() {
+    let p = hiperface_model::profiles::srs50();
+    let timeout = UartSettings::DEFAULT.timeout_us(p.edition);
+    // Two parts 7.3 ms apart: 1.57 ms over the timeout.
+    let gap = observation(Rule::GapInRequest, 2_000_000, 7_300);
+    let mut t = Timeline { master_waited: vec![(1_995_000, 40_000), (2_010_000, 40_200)], ..Default::default() };
+    assert_eq!(t.master_slowed(&gap, timeout, &p, 1_000_000), None, "0.2 ms waited: it stands");
+    // A processor stopped 1.2 ms within the gap: with the 0.2 ms waited, short of 1.57.
+    t.host_paused = vec![(1_995_000, 9_000), (2_010_000, 10_200)];
+    assert_eq!(t.master_slowed(&gap, timeout, &p, 1_000_000), None, "1.4 ms in all: it stands");
+    // Stopped 7.1 ms within it: the gap may be the machine's.
+    t.host_paused = vec![(1_995_000, 9_000), (2_010_000, 16_100)];
+    assert_eq!(t.master_slowed(&gap, timeout, &p, 1_000_000), Some(7_300));
+    // A pause outside the gap's samples explains nothing.
+    t.host_paused = vec![(1_000_000, 0), (1_995_000, 9_000), (2_010_000, 9_000), (2_500_000, 16_100)];
+    assert_eq!(t.master_slowed(&gap, timeout, &p, 1_000_000), None);
+    // Nor a rule a slow master cannot break.
+    t.host_paused = vec![(1_995_000, 0), (2_010_000, 100_000)];
+    assert_eq!(t.master_slowed(&observation(Rule::NoPause, 2_000_000, 0), timeout, &p, 1_000_000), None);
+}
+
 #[test]
 fn a_rule_broken_by_less_than_the_harness_was_late_is_not_proven() {
     let p = hiperface_model::profiles::srs50();

@@ -55,6 +55,12 @@ pub struct Timeline {
     /// characters back either way. Empty where the master is not on a pseudo-terminal
     /// here.
     pub kernel_waited: Vec<(u64, u64)>,
+    /// How long the machine's processors stopped since the run began (at each sample,
+    /// the longest any one of them stopped since the sample before: the hypervisor
+    /// pausing it), sampled like `master_waited`: a master process running on a
+    /// stopped processor is not waiting for one, and its run delay does not count it.
+    /// Empty where the master is not a process here, or the pauses are not timed.
+    pub host_paused: Vec<(u64, u64)>,
     /// Requests seen per command.
     pub requests: BTreeMap<u8, u32>,
     /// The master's well-formed requests as the encoder framed them.
@@ -110,6 +116,12 @@ impl Timeline {
         waited_in(&self.master_waited, from_us, to_us)
     }
 
+    /// How long a processor stopped between `from_us` and `to_us`, at most, µs: a
+    /// master's process on it stopped with it. 0 where it was not measured.
+    pub fn host_paused_in(&self, from_us: u64, to_us: u64) -> u64 {
+        waited_in(&self.host_paused, from_us, to_us)
+    }
+
     /// How long the kernel's workers waited for a processor between `from_us` and
     /// `to_us`, at most, µs: what was written to the pseudo-terminal then may have
     /// reached the other end that much later. 0 where it was not measured.
@@ -152,8 +164,9 @@ impl Timeline {
 
     /// Whether `o` may be the machine's doing rather than the master's, where the
     /// master is a process on it: a rule a slow master breaks (a request too late, a
-    /// pause too long) broken by less than the master's process waited for a processor
-    /// before it. The wait, µs, or `None` when the observation stands.
+    /// pause too long) broken by less than the master's process waited for a processor,
+    /// and the processors stopped, before it. The two together, µs, or `None` when the
+    /// observation stands.
     pub fn master_slowed(&self, o: &Observation, timeout_us: u64, profile: &Profile, period_us: u64) -> Option<u64> {
         let measured = o.measured_us?;
         let (window, margin) = match o.rule {
@@ -167,7 +180,7 @@ impl Timeline {
             Rule::NoCyclicRequest => ((o.at_us, o.at_us + measured), measured.saturating_sub(period_us)),
             _ => return None,
         };
-        let waited = self.master_waited_in(window.0, window.1);
+        let waited = self.master_waited_in(window.0, window.1) + self.host_paused_in(window.0, window.1);
         (waited > 0 && waited >= margin).then_some(waited)
     }
 
