@@ -94,6 +94,21 @@ impl HostPauses {
             .max()
             .unwrap_or(Duration::ZERO)
     }
+
+    /// The longest pause that ended within `from`..=`to`, whole (from its start, also
+    /// before `from`). Summed over consecutive spans it counts each pause once, in the
+    /// span it ended in: a pause still going on at a span's end is not seen yet (its
+    /// sentinel notes it as it wakes), and clipped to the span it would lose its part
+    /// before the next one.
+    pub fn longest_ending_within(&self, from: Instant, to: Instant) -> Duration {
+        let Ok(pauses) = self.pauses.lock() else { return Duration::ZERO };
+        pauses
+            .iter()
+            .filter(|p| p.to > from && p.to <= to)
+            .map(|p| p.to.saturating_duration_since(p.from))
+            .max()
+            .unwrap_or(Duration::ZERO)
+    }
 }
 
 impl Drop for HostPauses {
@@ -130,7 +145,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_longest_pause_within_a_span_counts_its_part_inside() {
+    fn a_pause_counts_its_part_inside_a_span_or_whole_in_the_span_it_ended_in() {
         let t0 = Instant::now();
         let at = |ms: u64| t0 + Duration::from_millis(ms);
         let h = HostPauses {
@@ -145,6 +160,11 @@ mod tests {
         assert_eq!(h.longest_within(at(13), at(40)), Duration::from_millis(3));
         assert_eq!(h.longest_within(at(12), at(14)), Duration::from_millis(2));
         assert_eq!(h.longest_within(at(16), at(30)), Duration::ZERO);
+        // Whole, in the span it ended in: spans 0..12, 12..31, 31..40 count 0, 6 and 3
+        // ms, where clipped they would count 2, 6 and 2 (a pause sampled in progress).
+        let ending = |a, b| h.longest_ending_within(at(a), at(b));
+        assert_eq!([ending(0, 12), ending(12, 31), ending(31, 40)], [0, 6, 3].map(Duration::from_millis));
+        assert_eq!(ending(16, 33), Duration::from_millis(3), "the one that ended at the span's start is not its");
     }
 
     /// Where a real-time priority is permitted (root, as in CI), the sentinels start,

@@ -204,9 +204,9 @@ pub(super) fn run_scenario(
     // parts, which the harness never wrote.
     let mut kernel = crate::run_delay::KernelWorkersWait::default();
     let mut kernel_waited = Vec::new();
-    // And how long the processors stopped: at each sample, the longest any one
-    // stopped since the sample before, added up (a pause of the hypervisor's stops the
-    // master's process without its waiting for a processor).
+    // And how long the processors stopped: at each sample, the longest pause of any
+    // one that ended since the sample before, added up (a pause of the hypervisor's
+    // stops the master's process without its waiting for a processor).
     let (mut paused, mut paused_us, mut paused_since) = (Vec::new(), 0u64, epoch);
     let served = serve_until(Box::new(encoder_end), &mut session, delivery, epoch, deadline, || {
         if let Some(us) = crate::run_delay::process_run_delay_us(master.id()) {
@@ -217,7 +217,7 @@ pub(super) fn run_scenario(
         }
         if let Some(p) = pauses {
             let now = Instant::now();
-            paused_us += p.longest_within(paused_since, now).as_micros() as u64;
+            paused_us += p.longest_ending_within(paused_since, now).as_micros() as u64;
             paused_since = now;
             paused.push((now.duration_since(epoch).as_micros() as u64, paused_us));
         }

@@ -56,8 +56,8 @@ pub struct Timeline {
     /// here.
     pub kernel_waited: Vec<(u64, u64)>,
     /// How long the machine's processors stopped since the run began (at each sample,
-    /// the longest any one of them stopped since the sample before: the hypervisor
-    /// pausing it), sampled like `master_waited`: a master process running on a
+    /// the longest pause of any one of them that ended since the sample before: the
+    /// hypervisor pausing it), sampled like `master_waited`: a master process running on a
     /// stopped processor is not waiting for one, and its run delay does not count it.
     /// Empty where the master is not a process here, or the pauses are not timed.
     pub host_paused: Vec<(u64, u64)>,
