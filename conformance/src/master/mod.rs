@@ -20,7 +20,7 @@ use hiperface_suite::line::reply_echo::ReplyEcho;
 use hiperface_suite::master::run::{run_catalogue, Catalogue, Progress, ScenarioLine, ScenarioRun};
 use hiperface_suite::master::scenario::Scenario;
 use hiperface_suite::verdict::{CaseResult, Finding, END_BUDGET, MAX_ATTEMPTS};
-use scenario_run::{echo_slack_us, on_port, open_port, run_scenario, Drive, Watched};
+use scenario_run::{echo_slack_us, on_port, open_port, run_scenario, Drive, MachineWatch};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
@@ -258,7 +258,7 @@ impl ScenarioLine for HarnessLine<'_> {
         let mut run = match (&options.attach, &self.port) {
             (Attach::Exec(exec), _) => {
                 let not_used = &options.not_used;
-                let watched = Watched { delivery: self.delivery.clone(), pauses: self.pauses.as_ref() };
+                let watched = MachineWatch { delivery: self.delivery.clone(), pauses: self.pauses.as_ref() };
                 run_scenario(profile, scenario, exec, options.polling_period_ms, not_used, watched, &interrupted)
             }
             (Attach::Port { power_on, echo: mode, path }, Some(Ok(port))) => {

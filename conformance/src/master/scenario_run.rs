@@ -148,9 +148,9 @@ fn wait_for_quiet(port: &mut dyn SerialPort, echo: &mut ReplyEcho, quiet: Durati
     let _ = port.set_timeout(before);
 }
 
-/// What the run watches beside a master process's line: the pseudo-terminal's
-/// delivery, and the processors' pauses. `None` where not measured.
-pub(super) struct Watched<'a> {
+/// What the run watches of the machine beside a master process's line: the
+/// pseudo-terminal's delivery, and the processors' pauses. `None` where not measured.
+pub(super) struct MachineWatch<'a> {
     pub delivery: Option<std::sync::Arc<crate::line::delivery::DeliveryProbe>>,
     pub pauses: Option<&'a crate::line::host_pauses::HostPauses>,
 }
@@ -162,10 +162,10 @@ pub(super) fn run_scenario(
     exec: &str,
     polling_period_ms: u32,
     not_used: &[CommandId],
-    watched: Watched,
+    watched: MachineWatch,
     interrupted: &dyn Fn() -> bool,
 ) -> ScenarioRun {
-    let Watched { delivery, pauses } = watched;
+    let MachineWatch { delivery, pauses } = watched;
     let started = Instant::now();
     let mut result = CaseResult::named(scenario.id, scenario.title, scenario.clauses);
     let (encoder_end, master_end) = match crate::line::pty_pair() {
