@@ -477,7 +477,7 @@ fn an_answer_a_request_heard_in_two_parts_explains_is_not_charged_where_the_devi
     let run_late = |rewrite: fn(&mut Step), delay_us: u64, disturbed: usize, held: DeviceHeld| {
         let mut d = Defective::new(rewrite);
         d.delay_us = delay_us;
-        let line = LateHarness { line: VirtualLine::new(d), late_us: 0, disturbed, read_positions: 0, held };
+        let line = LateHarness { held, ..LateHarness::late_by(0, disturbed, d) };
         let options = Options { cases: Some("position.read".into()), ..Options::default() };
         let r = slave::run(Box::new(line), profiles::srs50(), &options, |_, _, _| {});
         // The record keeps what held the device: played back, the same verdicts.
@@ -580,13 +580,8 @@ fn after_a_request_heard_in_two_the_model_is_where_the_device_is() {
         done: false,
     };
     let hold = Hold { waited_us: 10_000, ..Hold::default() };
-    let line = LateHarness {
-        line: VirtualLine::new(device),
-        late_us: 0,
-        disturbed: usize::MAX,
-        read_positions: 1,
-        held: DeviceHeld { request: hold, exchange: hold },
-    };
+    let held = DeviceHeld { request: hold, exchange: hold };
+    let line = LateHarness { read_positions: 1, held, ..LateHarness::late_by(0, usize::MAX, device) };
     let options = Options { cases: Some("fields.lifecycle".into()), allow_writes: true, ..Options::default() };
     let r = slave::run(Box::new(line), profiles::srs50(), &options, |_, _, _| {});
     let case = &r.cases[0];

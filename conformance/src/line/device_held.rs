@@ -13,12 +13,14 @@
 //! and the timeout after them: a thread of its own takes that reading), and to the
 //! exchange's end: the run delay of the processes that hold the pseudo-terminal's
 //! other end (found by the `tty-index` of their `/dev/ptmx` descriptors), and the
-//! machine's steal (`/proc/stat`). Both are upper bounds of what held the device; the
-//! grade uses the first only to leave untold an answer a split request explains, the
-//! second a reply late by less than it (`slave::ctx`, `verdict::timing`), and the case
-//! is run again. The first span is kept short on purpose: the steal is counted in
-//! 10 ms steps, and over a silent exchange's whole wait (100 ms and more) one is
-//! nearly certain (seen: every silent exchange of a crashed image taken for a split).
+//! longest pause of any processor as the sentinels time it (`line::host_pauses`), or
+//! where they may not run the machine's steal (`/proc/stat`, in 10 ms steps). Both
+//! spans are upper bounds of what held the device; the grade uses the first only to
+//! leave untold an answer a split request explains, the second a reply late by less
+//! than it (`slave::ctx`, `verdict::timing`), and the case is run again. The first
+//! span is kept short on purpose: over a silent exchange's whole wait (100 ms and
+//! more) a 10 ms step of steal is nearly certain (seen: every silent exchange of a
+//! crashed image taken for a split).
 
 use hiperface_suite::line::delivery::{DeviceHeld, Hold, STEAL_STEP_US};
 use std::sync::{mpsc, Arc, Condvar, Mutex};

@@ -53,8 +53,8 @@ pub struct Hold {
     #[serde(default)]
     pub waited_us: u64,
     /// The longest any of this machine's processors stopped (a sentinel at a real-time
-    /// priority on each saw no time pass: the hypervisor's pauses): the device's process
-    /// may have been on it.
+    /// priority on each saw no time pass: the hypervisor's pauses, or whatever else
+    /// stopped it): the device's process may have been on it.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub paused_us: u64,
     /// Where no sentinel runs (a real-time priority not permitted): the processor time
@@ -64,7 +64,8 @@ pub struct Hold {
     pub steal_us: u64,
 }
 
-fn is_zero(n: &u64) -> bool {
+/// Whether `n` is zero (a field left out of a record when it is).
+pub(crate) fn is_zero(n: &u64) -> bool {
     *n == 0
 }
 

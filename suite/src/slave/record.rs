@@ -63,7 +63,7 @@ pub struct RecordedExchange {
     pub harness_late_us: u64,
     /// How long the harness's write of the request took (`Exchange::request_write_us`);
     /// absent in records written before it was kept, which are graded as they were.
-    #[serde(default, skip_serializing_if = "is_zero")]
+    #[serde(default, skip_serializing_if = "crate::line::delivery::is_zero")]
     pub request_write_us: u64,
     #[serde(default)]
     pub line_late: crate::line::delivery::LineLate,
@@ -72,11 +72,6 @@ pub struct RecordedExchange {
     /// records written before it was kept.
     #[serde(default, skip_serializing_if = "crate::line::delivery::DeviceHeld::is_zero")]
     pub device_held: crate::line::delivery::DeviceHeld,
-}
-
-/// Whether `n` is zero (a field left out of the record when it is).
-fn is_zero(n: &u64) -> bool {
-    *n == 0
 }
 
 impl RecordedExchange {
